@@ -1,0 +1,38 @@
+/* semloc — strict reading of ini values: every error names the section and key. */
+#pragma once
+
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CLoadableOptions.h>
+
+#include <string>
+#include <vector>
+
+namespace semloc::config
+{
+/** Reads a finite number in [lo, hi]; keeps `value` when the key is absent.
+ *  Throws "ini [section] key: 'text' is not a number" and the like. */
+void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                const std::string& key, double& value, double lo, double hi);
+
+/** Reads an integer in [lo, hi]; keeps `value` when the key is absent. */
+void readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
+             const std::string& key, int& value, int lo, int hi);
+
+/** Reads a boolean (true/false/1/0/yes/no); keeps `value` when absent. */
+void readBool(const mrpt::config::CConfigFileBase& c, const std::string& section,
+              const std::string& key, bool& value);
+
+/** Reads a string that must be one of `choices`; keeps `value` when absent. */
+void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                const std::string& key, std::string& value,
+                const std::vector<std::string>& choices);
+
+/** Throws if `section` holds a key not in `known` (MRPT ignores unknown keys
+ *  silently, which hides typos). */
+void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                       const std::vector<std::string>& known);
+
+/** The keys an options struct writes in saveToConfigFile (its complete key set). */
+std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o);
+
+}  // namespace semloc::config

@@ -1,0 +1,108 @@
+/* semloc — semantic-aided particle filter localization for AUVs.
+ * World description: the one source of every map (DESIGN.md, "World file"). */
+#pragma once
+
+#include <mrpt/math/TPoint2D.h>
+
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace mrpt::containers
+{
+class yaml;
+}
+
+namespace semloc
+{
+/** Shape of a world object, as written in the world YAML (`shape:`). */
+enum class ShapeType
+{
+    Box,       //!< Rotated rectangle: `center`, `size: [sx, sy]`, optional `yaw_deg`.
+    Cylinder,  //!< Vertical cylinder: `center`, `radius`.
+    Polygon,   //!< Simple polygon: `points: [[x, y], ...]`, at least 3 vertices.
+    Point      //!< Seen by the detector, invisible to the sonar: `center`.
+};
+
+/** Name of a shape as written in the world YAML ("box", "cylinder", ...). */
+const char* shapeName(ShapeType s);
+
+/** One labelled object of the world. */
+struct WorldObject
+{
+    /** Unique positive identifier. */
+    int id = 0;
+    /** Object class, free string (e.g. "wellhead"). */
+    std::string label;
+    /** Shape of the outline seen by the sonar (none for Point). */
+    ShapeType shape = ShapeType::Point;
+    /** Semantic position: the centre (the vertex centroid for a polygon) [m]. */
+    mrpt::math::TPoint2D center{0, 0};
+    /** Depth/height of the object's reference point [m] (optional key `z`). */
+    double z = 0;
+    /** Box: full side lengths [m]. */
+    double size_x = 0, size_y = 0;
+    /** Box: rotation [rad] (key `yaw_deg` in degrees). */
+    double yaw = 0;
+    /** Cylinder: radius [m]. */
+    double radius = 0;
+    /** Polygon: vertices as given; Box: its 4 corners (counter-clockwise). */
+    std::vector<mrpt::math::TPoint2D> points;
+    /** Radius of the smallest centre-based disc containing the outline [m]
+     *  (key `extent_m` for points; computed for every other shape). */
+    double extent_m = 0;
+};
+
+/** Axis-aligned area particles may occupy [m]. */
+struct WorldBounds
+{
+    double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
+    bool contains(double x, double y) const
+    {
+        return x >= x_min && x <= x_max && y >= y_min && y <= y_max;
+    }
+};
+
+/** Optional path for the simulator: waypoints followed at constant speed. */
+struct WorldTrajectory
+{
+    /** Cruise speed [m/s]. */
+    double speed_mps = 0.5;
+    /** Waypoints [m], at least two. */
+    std::vector<mrpt::math::TPoint2D> waypoints;
+};
+
+/** A world: bounds, labelled objects with outlines, and an optional trajectory.
+ *
+ * Loaded from the YAML schema of DESIGN.md and validated strictly: every error
+ * names the file, the object index (and id) and the key, and is thrown as an
+ * MRPT exception (std::exception). */
+class World
+{
+public:
+    /** Name of the world (`name:`). */
+    std::string name;
+    /** Area particles may occupy. */
+    WorldBounds bounds;
+    /** Objects in file order. */
+    std::vector<WorldObject> objects;
+    /** Optional trajectory for the simulator. */
+    std::optional<WorldTrajectory> trajectory;
+    /** Where the world was read from (used in error messages). */
+    std::string source;
+
+    /** Reads and validates a world YAML file. Throws on any error. */
+    static World FromFile(const std::string& path);
+    /** Parses and validates world YAML text; `sourceName` is used in messages. */
+    static World FromText(const std::string& yamlText, const std::string& sourceName);
+
+    /** Writes this world in the YAML schema of DESIGN.md (round-trips through FromFile). */
+    void saveToFile(const std::string& path) const;
+    /** The world as YAML text, one object per line in flow style. */
+    std::string toYamlText() const;
+
+    /** Index of the object with this id in `objects`, or -1. */
+    int indexOfId(int id) const;
+};
+
+}  // namespace semloc

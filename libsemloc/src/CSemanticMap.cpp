@@ -1,0 +1,936 @@
+/* semloc — CSemanticMap: labelled objects, grid index and the semantic likelihoods. */
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/core/format.h>
+#include <mrpt/opengl/CCylinder.h>
+#include <mrpt/opengl/CSetOfObjects.h>
+#include <mrpt/opengl/CText.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/filesystem.h>
+#include <semloc/CSemanticMap.h>
+#include <semloc/ConfigHelpers.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "FastMath.h"
+#include "LabelIndex.h"
+
+using mrpt::math::TPose2D;
+
+//  =========== Map definition (CMultiMetricMap factory) ============
+MAP_DEFINITION_REGISTER("semanticMap,semloc::CSemanticMap", semloc::CSemanticMap)
+
+namespace semloc
+{
+namespace
+{
+/** Directory of the ini file a map definition was read from, to resolve a
+ *  relative `world_file` next to its ini when it is not found from the cwd. */
+std::string iniDirectoryOf(const mrpt::config::CConfigFileBase& source)
+{
+    if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
+    {
+        return mrpt::system::extractFileDirectory(f->getAssociatedFile());
+    }
+    return {};
+}
+}  // namespace
+
+CSemanticMap::TMapDefinition::TMapDefinition() = default;
+
+void CSemanticMap::TMapDefinition::loadFromConfigFile_map_specific(
+    const mrpt::config::CConfigFileBase& source, const std::string& sectionNamePrefix)
+{
+    const std::string sc = sectionNamePrefix + "_creationOpts";
+    config::rejectUnknownKeys(source, sc, {"world_file"});
+    world_file = source.read_string(sc, "world_file", world_file);
+    if (!world_file.empty() && !mrpt::system::fileExists(world_file))
+    {
+        const std::string dir = iniDirectoryOf(source);
+        if (!dir.empty() && world_file[0] != '/' && mrpt::system::fileExists(dir + world_file))
+        {
+            world_file = dir + world_file;
+        }
+    }
+    likelihoodOpts.loadFromConfigFile(source, sectionNamePrefix + "_likelihoodOpts");
+    insertionOpts.loadFromConfigFile(source, sectionNamePrefix + "_insertOpts");
+}
+
+void CSemanticMap::TMapDefinition::dumpToTextStream_map_specific(std::ostream& out) const
+{
+    out << "world_file = " << world_file << "\n";
+    likelihoodOpts.dumpToTextStream(out);
+    insertionOpts.dumpToTextStream(out);
+}
+
+mrpt::maps::CMetricMap* CSemanticMap::internal_CreateFromMapDefinition(
+    const mrpt::maps::TMetricMapInitializer& _def)
+{
+    const auto& def = dynamic_cast<const CSemanticMap::TMapDefinition&>(_def);
+    auto* m = new CSemanticMap();
+    m->likelihoodOptions = def.likelihoodOpts;
+    m->insertionOptions = def.insertionOpts;
+    if (!def.world_file.empty())
+    {
+        try
+        {
+            m->loadFromWorldFile(def.world_file);
+        }
+        catch (...)
+        {
+            delete m;
+            throw;
+        }
+    }
+    return m;
+}
+}  // namespace semloc
+//  =========== End of map definition ============
+
+IMPLEMENTS_SERIALIZABLE(CSemanticMap, CMetricMap, semloc)
+
+namespace semloc
+{
+// ------------------------------------------------------------------ options
+
+namespace
+{
+const char* modelName(CSemanticMap::Model m)
+{
+    return m == CSemanticMap::Model::Paper ? "paper" : "probabilistic";
+}
+}  // namespace
+
+void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(
+    const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    config::rejectUnknownKeys(c, s, config::keysOf(*this));
+    std::string m = modelName(model);
+    config::readChoice(c, s, "model", m, {"paper", "probabilistic"});
+    model = (m == "paper") ? Model::Paper : Model::Probabilistic;
+    config::readDouble(c, s, "sigma_range_m", sigma_range_m, 1e-6, 1e6);
+    config::readDouble(c, s, "sigma_bearing_deg", sigma_bearing_deg, 1e-6, 360);
+    config::readDouble(c, s, "unmatched_penalty", unmatched_penalty, 1e-12, 0.999999);
+    config::readDouble(c, s, "p_detect_near", p_detect_near, 1e-6, 0.999999);
+    config::readDouble(c, s, "p_detect_far", p_detect_far, 1e-6, 0.999999);
+    config::readDouble(c, s, "clutter_per_scan", clutter_per_scan, 1e-9, 1e6);
+    config::readDouble(c, s, "p_confusion", p_confusion, 0, 0.999999);
+    config::readDouble(c, s, "min_confidence", min_confidence, 0, 1);
+    config::readDouble(c, s, "max_range_m", max_range_m, 0, 1e6);
+    config::readDouble(c, s, "fov_deg", fov_deg, 0, 360);
+    config::readDouble(c, s, "index_cell_m", index_cell_m, 0.01, 1e6);
+}
+
+void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                        const std::string& s) const
+{
+    c.write(s, "model", std::string(modelName(model)), 24, 24, "paper | probabilistic");
+    c.write(s, "sigma_range_m", sigma_range_m, 24, 24, "range noise sigma_rho [m]");
+    c.write(s, "sigma_bearing_deg", sigma_bearing_deg, 24, 24, "bearing noise sigma_theta [deg]");
+    c.write(s, "unmatched_penalty", unmatched_penalty, 24, 24,
+            "paper: factor per object in one observation only, (0,1)");
+    c.write(s, "p_detect_near", p_detect_near, 24, 24, "probabilistic: P_D at range 0");
+    c.write(s, "p_detect_far", p_detect_far, 24, 24, "probabilistic: P_D at max range");
+    c.write(s, "clutter_per_scan", clutter_per_scan, 24, 24,
+            "probabilistic: mean false positives per scan");
+    c.write(s, "p_confusion", p_confusion, 24, 24, "probabilistic: P(wrong label)");
+    c.write(s, "min_confidence", min_confidence, 24, 24, "ignore detections below this");
+    c.write(s, "max_range_m", max_range_m, 24, 24, ">0 overrides the observation's max range");
+    c.write(s, "fov_deg", fov_deg, 24, 24, ">0 overrides the observation's field of view");
+    c.write(s, "index_cell_m", index_cell_m, 24, 24, "cell of the object index [m]");
+}
+
+void CSemanticMap::TInsertionOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                                         const std::string& s)
+{
+    config::rejectUnknownKeys(c, s, config::keysOf(*this));
+    config::readDouble(c, s, "merge_distance_m", merge_distance_m, 0, 1e6);
+    landmark_label = c.read_string(s, "landmark_label", landmark_label);
+    if (landmark_label.empty() || landmark_label.find_first_of(" \t") != std::string::npos)
+    {
+        THROW_EXCEPTION("ini [" + s + "] landmark_label: must be a non-empty word");
+    }
+}
+
+void CSemanticMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                       const std::string& s) const
+{
+    c.write(s, "merge_distance_m", merge_distance_m, 24, 24,
+            "merge a detection into a same-label object this close [m]");
+    c.write(s, "landmark_label", landmark_label, 24, 24,
+            "label of CObservationBearingRange landmarks");
+}
+
+// ------------------------------------------------------------------ index
+
+/** Objects sorted by grid cell (row-major), structure-of-arrays, so the cells of one
+ *  grid row that overlap the detector's disc are one contiguous range. */
+struct CSemanticMap::Index
+{
+    double x0 = 0, y0 = 0, cell = 10, inv_cell = 0.1;
+    int nx = 0, ny = 0;
+    std::vector<uint32_t> cellStart;  // nx*ny + 1
+    std::vector<double> x, y;
+    std::vector<int32_t> label;
+    std::vector<int32_t> objIdx;  // index into m_objects
+    std::unordered_map<int32_t, int32_t> idToSorted;
+};
+
+CSemanticMap::CSemanticMap() : m_labels(std::make_unique<LabelIndex>()), m_index(std::make_unique<Index>())
+{
+}
+
+CSemanticMap::~CSemanticMap() = default;
+
+CSemanticMap::CSemanticMap(const CSemanticMap& o)
+    : mrpt::maps::CMetricMap(o),
+      likelihoodOptions(o.likelihoodOptions),
+      insertionOptions(o.insertionOptions),
+      m_objects(o.m_objects),
+      m_bounds(o.m_bounds),
+      m_hasBounds(o.m_hasBounds),
+      m_labels(std::make_unique<LabelIndex>()),
+      m_index(std::make_unique<Index>())
+{
+    rebuildIndex();
+}
+
+CSemanticMap& CSemanticMap::operator=(const CSemanticMap& o)
+{
+    if (this != &o)
+    {
+        mrpt::maps::CMetricMap::operator=(o);
+        likelihoodOptions = o.likelihoodOptions;
+        insertionOptions = o.insertionOptions;
+        m_objects = o.m_objects;
+        m_bounds = o.m_bounds;
+        m_hasBounds = o.m_hasBounds;
+        rebuildIndex();
+    }
+    return *this;
+}
+
+void CSemanticMap::rebuildIndex()
+{
+    m_labels->clear();
+    Index& ix = *m_index;
+    ix = Index();
+    const size_t n = m_objects.size();
+    if (n == 0)
+    {
+        return;
+    }
+    double xmin = m_objects[0].x, xmax = xmin, ymin = m_objects[0].y, ymax = ymin;
+    for (const auto& o : m_objects)
+    {
+        m_labels->intern(o.label);
+        xmin = std::min(xmin, o.x);
+        xmax = std::max(xmax, o.x);
+        ymin = std::min(ymin, o.y);
+        ymax = std::max(ymax, o.y);
+    }
+    ix.cell = likelihoodOptions.index_cell_m;
+    // Keep the grid at most ~1M cells whatever the extent.
+    while (((xmax - xmin) / ix.cell + 1) * ((ymax - ymin) / ix.cell + 1) > 1e6)
+    {
+        ix.cell *= 2;
+    }
+    ix.inv_cell = 1.0 / ix.cell;
+    ix.x0 = xmin;
+    ix.y0 = ymin;
+    ix.nx = static_cast<int>((xmax - xmin) * ix.inv_cell) + 1;
+    ix.ny = static_cast<int>((ymax - ymin) * ix.inv_cell) + 1;
+    const size_t ncell = static_cast<size_t>(ix.nx) * static_cast<size_t>(ix.ny);
+    std::vector<uint32_t> cellOf(n);
+    ix.cellStart.assign(ncell + 1, 0);
+    for (size_t i = 0; i < n; i++)
+    {
+        const int cx = std::min(ix.nx - 1, static_cast<int>((m_objects[i].x - ix.x0) * ix.inv_cell));
+        const int cy = std::min(ix.ny - 1, static_cast<int>((m_objects[i].y - ix.y0) * ix.inv_cell));
+        cellOf[i] = static_cast<uint32_t>(cy * ix.nx + cx);
+        ix.cellStart[cellOf[i] + 1]++;
+    }
+    for (size_t c = 0; c < ncell; c++)
+    {
+        ix.cellStart[c + 1] += ix.cellStart[c];
+    }
+    ix.x.resize(n);
+    ix.y.resize(n);
+    ix.label.resize(n);
+    ix.objIdx.resize(n);
+    std::vector<uint32_t> fill(ix.cellStart.begin(), ix.cellStart.end() - 1);
+    for (size_t i = 0; i < n; i++)
+    {
+        const uint32_t k = fill[cellOf[i]]++;
+        ix.x[k] = m_objects[i].x;
+        ix.y[k] = m_objects[i].y;
+        ix.label[k] = m_labels->find(m_objects[i].label);
+        ix.objIdx[k] = static_cast<int32_t>(i);
+        ix.idToSorted[m_objects[i].id] = static_cast<int32_t>(k);
+    }
+}
+
+size_t CSemanticMap::labelCount() const { return m_labels->size(); }
+
+void CSemanticMap::internal_clear()
+{
+    m_objects.clear();
+    m_hasBounds = false;
+    rebuildIndex();
+}
+
+void CSemanticMap::loadFromWorld(const World& world)
+{
+    m_objects.clear();
+    for (const auto& wo : world.objects)
+    {
+        TObject o;
+        o.id = wo.id;
+        o.label = wo.label;
+        o.x = wo.center.x;
+        o.y = wo.center.y;
+        o.z = wo.z;
+        o.extent_m = wo.extent_m;
+        m_objects.push_back(std::move(o));
+    }
+    m_bounds = world.bounds;
+    m_hasBounds = true;
+    rebuildIndex();
+}
+
+void CSemanticMap::loadFromWorldFile(const std::string& path) { loadFromWorld(World::FromFile(path)); }
+
+void CSemanticMap::addObject(const TObject& o)
+{
+    ASSERT_GT_(o.id, 0);
+    ASSERT_(!o.label.empty());
+    ASSERT_(std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z));
+    if (m_index->idToSorted.count(o.id))
+    {
+        THROW_EXCEPTION_FMT("CSemanticMap::addObject: duplicate object id %d", o.id);
+    }
+    m_objects.push_back(o);
+    rebuildIndex();
+}
+
+int CSemanticMap::nextFreeId() const
+{
+    int id = 0;
+    for (const auto& o : m_objects)
+    {
+        id = std::max(id, o.id);
+    }
+    return id + 1;
+}
+
+World CSemanticMap::toWorld() const
+{
+    World w;
+    w.name = "semantic_map";
+    if (m_hasBounds)
+    {
+        w.bounds = m_bounds;
+    }
+    else if (!m_objects.empty())
+    {
+        w.bounds = {m_objects[0].x, m_objects[0].x, m_objects[0].y, m_objects[0].y};
+        for (const auto& o : m_objects)
+        {
+            w.bounds.x_min = std::min(w.bounds.x_min, o.x - 1);
+            w.bounds.x_max = std::max(w.bounds.x_max, o.x + 1);
+            w.bounds.y_min = std::min(w.bounds.y_min, o.y - 1);
+            w.bounds.y_max = std::max(w.bounds.y_max, o.y + 1);
+        }
+    }
+    else
+    {
+        w.bounds = {0, 1, 0, 1};
+    }
+    for (const auto& o : m_objects)
+    {
+        WorldObject wo;
+        wo.id = o.id;
+        wo.label = o.label;
+        wo.shape = ShapeType::Point;
+        wo.center = {o.x, o.y};
+        wo.z = o.z;
+        wo.extent_m = o.extent_m;
+        w.objects.push_back(std::move(wo));
+    }
+    return w;
+}
+
+// ------------------------------------------------------------------ likelihood
+
+namespace
+{
+/** A detection prepared for matching. */
+struct Det
+{
+    double r, b;     // range [m], bearing wrapped to [-pi, pi]
+    int32_t label;   // label id, or -1 = any label (MRPT landmarks without id)
+    int32_t fixed;   // sorted index of the object it names, or -1
+};
+
+/** A map object predicted visible from the particle: z^k. */
+struct Vis
+{
+    double r, lx, ly;  // range and position in the sensor frame
+    double b;          // bearing, computed on first use
+    int32_t label, sorted;
+    bool hasB;
+};
+
+struct Pair
+{
+    double gain;
+    uint32_t j, v;
+};
+
+/** Per-thread scratch: no allocation per particle once warmed up, and safe for
+ *  concurrent const calls from many threads. */
+struct Scratch
+{
+    std::vector<Det> dets;
+    std::vector<Vis> vis;
+    std::vector<Pair> pairs;
+    std::vector<uint8_t> usedV;
+};
+
+Scratch& scratch()
+{
+    thread_local Scratch s;
+    return s;
+}
+
+/** Sensor geometry for one particle. */
+struct Geom
+{
+    double sx, sy, c, s;  // sensor position and heading cos/sin in the world
+    double R, fov, cosHalf;
+};
+
+/** cos(v) with a one-entry per-thread cache: the per-call angles (half FOV, sensor
+ *  yaw on the vehicle) are the same for every particle of a step. */
+double cachedCos(double v, double& key, double& val)
+{
+    if (v != key)
+    {
+        key = v;
+        val = std::cos(v);
+    }
+    return val;
+}
+
+Geom makeGeom(const TPose2D& pose, double ox, double oy, double oyaw, double R, double fov)
+{
+    thread_local double kHalf = std::numeric_limits<double>::quiet_NaN(), vHalf = 0;
+    thread_local double kYawC = std::numeric_limits<double>::quiet_NaN(), vYawC = 0;
+    thread_local double kYawS = std::numeric_limits<double>::quiet_NaN(), vYawS = 0;
+    Geom g;
+    const double cp = std::cos(pose.phi), sp = std::sin(pose.phi);
+    g.sx = pose.x + cp * ox - sp * oy;
+    g.sy = pose.y + sp * ox + cp * oy;
+    if (oyaw == 0)
+    {
+        g.c = cp;
+        g.s = sp;
+    }
+    else
+    {
+        const double cy = cachedCos(oyaw, kYawC, vYawC);
+        const double sy = cachedCos(oyaw - M_PI_2, kYawS, vYawS);  // sin(a) = cos(a - pi/2)
+        g.c = cp * cy - sp * sy;
+        g.s = sp * cy + cp * sy;
+    }
+    g.R = R;
+    g.fov = fov;
+    g.cosHalf = fov >= 2 * M_PI ? -2.0 : cachedCos(0.5 * fov, kHalf, vHalf);
+    return g;
+}
+
+/** Fills `vis` with the objects inside range and FOV (z^k). */
+void predictVisible(const CSemanticMap::Index& ix, const Geom& g, std::vector<Vis>& vis)
+{
+    vis.clear();
+    if (ix.nx == 0)
+    {
+        return;
+    }
+    const double R2 = g.R * g.R;
+    const int cx0 = std::max(0, static_cast<int>(std::floor((g.sx - g.R - ix.x0) * ix.inv_cell)));
+    const int cx1 = std::min(ix.nx - 1, static_cast<int>(std::floor((g.sx + g.R - ix.x0) * ix.inv_cell)));
+    const int cy0 = std::max(0, static_cast<int>(std::floor((g.sy - g.R - ix.y0) * ix.inv_cell)));
+    const int cy1 = std::min(ix.ny - 1, static_cast<int>(std::floor((g.sy + g.R - ix.y0) * ix.inv_cell)));
+    if (cx0 > cx1 || cy0 > cy1)
+    {
+        return;
+    }
+    for (int cy = cy0; cy <= cy1; cy++)
+    {
+        const uint32_t a = ix.cellStart[static_cast<size_t>(cy * ix.nx + cx0)];
+        const uint32_t b = ix.cellStart[static_cast<size_t>(cy * ix.nx + cx1 + 1)];
+        for (uint32_t k = a; k < b; k++)
+        {
+            const double dx = ix.x[k] - g.sx, dy = ix.y[k] - g.sy;
+            const double d2 = dx * dx + dy * dy;
+            if (d2 > R2)
+            {
+                continue;
+            }
+            const double lx = g.c * dx + g.s * dy;
+            const double d = std::sqrt(d2);
+            if (lx < g.cosHalf * d - 1e-12)
+            {
+                continue;  // outside the field of view
+            }
+            vis.push_back({d, lx, -g.s * dx + g.c * dy, 0.0, ix.label[k], static_cast<int32_t>(k), false});
+        }
+    }
+}
+
+double bearingOf(Vis& v)
+{
+    if (!v.hasB)
+    {
+        v.b = detail::fastAtan2(v.ly, v.lx);
+        v.hasB = true;
+    }
+    return v.b;
+}
+
+/** Wraps a bearing into [-pi, pi] (detectors may report [0, 2pi)). */
+double wrapBearing(double b)
+{
+    return (b >= -M_PI && b <= M_PI) ? b : std::remainder(b, 2 * M_PI);
+}
+
+/** Greedy one-to-one assignment, best pair first; ties broken by (j, v) so the
+ *  result never depends on the sort implementation. Returns the summed gain. */
+double assignGreedy(std::vector<Pair>& pairs, size_t nd, size_t nv, std::vector<uint8_t>& used,
+                    size_t& matched)
+{
+    std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
+        if (a.gain != b.gain)
+        {
+            return a.gain > b.gain;
+        }
+        return a.j != b.j ? a.j < b.j : a.v < b.v;
+    });
+    used.assign(nd + nv, 0);
+    double sum = 0;
+    matched = 0;
+    for (const auto& p : pairs)
+    {
+        if (used[p.j] || used[nd + p.v])
+        {
+            continue;
+        }
+        used[p.j] = used[nd + p.v] = 1;
+        sum += p.gain;
+        matched++;
+    }
+    return sum;
+}
+
+/** Candidate (detection, object) pairs: the named object, else same label (or any
+ *  label when `anyLabel`), each with the log-gain of matching them (from `pairGain`). */
+template <typename GainFn>
+void collectPairs(const std::vector<Det>& dets, std::vector<Vis>& vis, bool anyLabel,
+                  std::vector<Pair>& pairs, GainFn&& pairGain)
+{
+    pairs.clear();
+    for (uint32_t j = 0; j < dets.size(); j++)
+    {
+        const Det& d = dets[j];
+        for (uint32_t v = 0; v < vis.size(); v++)
+        {
+            Vis& o = vis[v];
+            if (d.fixed >= 0 ? o.sorted != d.fixed
+                             : (!anyLabel && d.label >= 0 && o.label != d.label))
+            {
+                continue;
+            }
+            const double dr = d.r - o.r;
+            const double db = detail::wrapDiff(d.b - bearingOf(o));
+            const double g = pairGain(d, o, dr, db);
+            if (g > 0)
+            {
+                pairs.push_back({g, j, v});
+            }
+        }
+    }
+}
+
+double scorePaper(const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc)
+{
+    const double ir = 1.0 / opt.sigma_range_m;
+    const double ib = 1.0 / (opt.sigma_bearing_deg * M_PI / 180.0);
+    const double logPu = std::log(opt.unmatched_penalty);
+    // Matching a pair instead of leaving both unmatched gains s - 2 log(p_u).
+    collectPairs(sc.dets, sc.vis, false, sc.pairs,
+                 [&](const Det&, const Vis&, double dr, double db) {
+                     const double s = -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib);
+                     return s - 2 * logPu;
+                 });
+    size_t m = 0;
+    const double gain = assignGreedy(sc.pairs, sc.dets.size(), sc.vis.size(), sc.usedV, m);
+    // sum(s_i) + d log p_u  with d = q + l - 2m  ==  (q + l) log p_u + sum(gain_i)
+    return static_cast<double>(sc.dets.size() + sc.vis.size()) * logPu + gain;
+}
+
+double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels,
+                          const Geom& g, Scratch& sc)
+{
+    const double sr = opt.sigma_range_m, sb = opt.sigma_bearing_deg * M_PI / 180.0;
+    const double logNorm = -std::log(2 * M_PI * sr * sb);
+    const double K = static_cast<double>(std::max<size_t>(1, nLabels));
+    const double lambda = opt.clutter_per_scan;
+    const double logKappa = std::log(lambda / (g.R * std::min(g.fov, 2 * M_PI) * K));
+    const double logSame = std::log(1 - opt.p_confusion);
+    const bool confusable = opt.p_confusion > 0 && nLabels > 1;
+    const double logOther = confusable ? std::log(opt.p_confusion / (K - 1)) : 0;
+    auto pd = [&](double r) {
+        const double p = opt.p_detect_near + (opt.p_detect_far - opt.p_detect_near) * (r / g.R);
+        return std::clamp(p, 1e-6, 1 - 1e-6);
+    };
+    double base = -lambda + static_cast<double>(sc.dets.size()) * logKappa;
+    for (const auto& v : sc.vis)
+    {
+        base += std::log1p(-pd(v.r));
+    }
+    const double ir = 1.0 / sr, ib = 1.0 / sb;
+    collectPairs(sc.dets, sc.vis, confusable, sc.pairs,
+                 [&](const Det& d, const Vis& v, double dr, double db) {
+                     const double p = pd(v.r);
+                     double logC = 0;  // landmarks without a label: no label term
+                     if (d.label >= 0)
+                     {
+                         logC = (d.label == v.label) ? logSame : logOther;
+                     }
+                     return std::log(p) - std::log1p(-p) + logC + logNorm - 0.5 * (dr * ir) * (dr * ir) -
+                            0.5 * (db * ib) * (db * ib) - logKappa;
+                 });
+    size_t m = 0;
+    return base + assignGreedy(sc.pairs, sc.dets.size(), sc.vis.size(), sc.usedV, m);
+}
+
+/** Lowest value returned: keeps MRPT's finite-likelihood assertion true even if an
+ *  extreme option set ever made the sum overflow. */
+constexpr double kMinLogLik = -1e300;
+
+double finite(double v) { return std::isfinite(v) ? v : kMinLogLik; }
+
+}  // namespace
+
+double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs, const TPose2D& pose) const
+{
+    Scratch& sc = scratch();
+    const double R = likelihoodOptions.max_range_m > 0 ? likelihoodOptions.max_range_m : obs.maxRange_m;
+    const double fov = likelihoodOptions.fov_deg > 0 ? likelihoodOptions.fov_deg * M_PI / 180.0 : obs.fov_rad;
+    if (!(R > 0) || !std::isfinite(R) || !(fov > 0) || !std::isfinite(fov))
+    {
+        return 0;  // nothing usable: uninformative, identical for every particle
+    }
+    if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.phi))
+    {
+        return kMinLogLik;
+    }
+    sc.dets.clear();
+    for (const auto& d : obs.detections)
+    {
+        if (!CObservationSemantic::isValid(d, R, fov) || d.confidence < likelihoodOptions.min_confidence)
+        {
+            continue;
+        }
+        int32_t fixed = -1;
+        if (d.object_id >= 0)
+        {
+            const auto it = m_index->idToSorted.find(d.object_id);
+            fixed = it == m_index->idToSorted.end() ? -1 : it->second;
+        }
+        const int32_t label = m_labels->find(d.label);
+        if (fixed < 0 && label < 0)
+        {
+            continue;  // unknown to the map: a constant factor at every particle
+        }
+        sc.dets.push_back({d.range_m, wrapBearing(d.bearing_rad), label, fixed});
+    }
+    const Geom g = makeGeom(pose, obs.sensorPose.x(), obs.sensorPose.y(), obs.sensorPose.yaw(), R, fov);
+    predictVisible(*m_index, g, sc.vis);
+    const double ll = likelihoodOptions.model == Model::Paper
+                          ? scorePaper(likelihoodOptions, sc)
+                          : scoreProbabilistic(likelihoodOptions, m_labels->size(), g, sc);
+    return finite(ll);
+}
+
+double CSemanticMap::computeLogLikelihood(const mrpt::obs::CObservationBearingRange& obs,
+                                          const TPose2D& pose) const
+{
+    Scratch& sc = scratch();
+    double R = likelihoodOptions.max_range_m > 0 ? likelihoodOptions.max_range_m : obs.maxSensorDistance;
+    double fov = likelihoodOptions.fov_deg > 0 ? likelihoodOptions.fov_deg * M_PI / 180.0
+                                               : static_cast<double>(obs.fieldOfView_yaw);
+    if (!(R > 0) || !std::isfinite(R) || !std::isfinite(fov))
+    {
+        return 0;
+    }
+    if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.phi))
+    {
+        return kMinLogLik;
+    }
+    if (!(fov > 0))
+    {
+        fov = 2 * M_PI;
+    }
+    sc.dets.clear();
+    for (const auto& m : obs.sensedData)
+    {
+        const double r = m.range, b = m.yaw;
+        if (!std::isfinite(r) || !std::isfinite(b) || r < 0 || r > R ||
+            std::abs(wrapBearing(b)) > 0.5 * fov + 1e-9)
+        {
+            continue;
+        }
+        int32_t fixed = -1;
+        if (m.landmarkID >= 0)
+        {
+            const auto it = m_index->idToSorted.find(m.landmarkID);
+            if (it == m_index->idToSorted.end())
+            {
+                continue;  // an id the map does not have
+            }
+            fixed = it->second;
+        }
+        sc.dets.push_back({r, wrapBearing(b), -1, fixed});
+    }
+    const auto& sp = obs.sensorLocationOnRobot;
+    const Geom g = makeGeom(pose, sp.x(), sp.y(), sp.yaw(), R, fov);
+    predictVisible(*m_index, g, sc.vis);
+    const double ll = likelihoodOptions.model == Model::Paper
+                          ? scorePaper(likelihoodOptions, sc)
+                          : scoreProbabilistic(likelihoodOptions, m_labels->size(), g, sc);
+    return finite(ll);
+}
+
+CSemanticMap::TObservationCheck CSemanticMap::check(const CObservationSemantic& obs) const
+{
+    TObservationCheck c;
+    const double R = likelihoodOptions.max_range_m > 0 ? likelihoodOptions.max_range_m : obs.maxRange_m;
+    const double fov = likelihoodOptions.fov_deg > 0 ? likelihoodOptions.fov_deg * M_PI / 180.0 : obs.fov_rad;
+    for (const auto& d : obs.detections)
+    {
+        if (!CObservationSemantic::isValid(d, R, fov) || d.confidence < likelihoodOptions.min_confidence)
+        {
+            c.invalid++;
+        }
+        else if (m_labels->find(d.label) < 0 &&
+                 (d.object_id < 0 || !m_index->idToSorted.count(d.object_id)))
+        {
+            c.unknown++;
+        }
+        else
+        {
+            c.used++;
+        }
+    }
+    return c;
+}
+
+bool CSemanticMap::internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const
+{
+    return dynamic_cast<const CObservationSemantic*>(&obs) != nullptr ||
+           dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs) != nullptr;
+}
+
+double CSemanticMap::internal_computeObservationLikelihood(const mrpt::obs::CObservation& obs,
+                                                           const mrpt::poses::CPose3D& takenFrom) const
+{
+    const TPose2D pose(takenFrom.x(), takenFrom.y(), takenFrom.yaw());
+    if (const auto* o = dynamic_cast<const CObservationSemantic*>(&obs))
+    {
+        return computeLogLikelihood(*o, pose);
+    }
+    if (const auto* o = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
+    {
+        return computeLogLikelihood(*o, pose);
+    }
+    return 0;
+}
+
+// ------------------------------------------------------------------ insertion
+
+bool CSemanticMap::internal_insertObservation(const mrpt::obs::CObservation& obs,
+                                              const std::optional<const mrpt::poses::CPose3D>& robotPose)
+{
+    const mrpt::poses::CPose3D vehicle = robotPose ? *robotPose : mrpt::poses::CPose3D();
+    struct NewDet
+    {
+        std::string label;
+        int32_t id;
+        double wx, wy;
+    };
+    std::vector<NewDet> news;
+    auto toWorld = [&](const mrpt::poses::CPose3D& sensorOnVehicle, double r, double b) {
+        const mrpt::poses::CPose3D s = vehicle + sensorOnVehicle;
+        const double a = s.yaw() + b;
+        return std::make_pair(s.x() + r * std::cos(a), s.y() + r * std::sin(a));
+    };
+    if (const auto* o = dynamic_cast<const CObservationSemantic*>(&obs))
+    {
+        for (const auto& d : o->detections)
+        {
+            if (!o->isValid(d) || d.confidence < likelihoodOptions.min_confidence)
+            {
+                continue;
+            }
+            const auto [wx, wy] = toWorld(o->sensorPose, d.range_m, d.bearing_rad);
+            news.push_back({d.label, d.object_id, wx, wy});
+        }
+    }
+    else if (const auto* o = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
+    {
+        for (const auto& m : o->sensedData)
+        {
+            if (!std::isfinite(m.range) || !std::isfinite(m.yaw) || m.range < 0)
+            {
+                continue;
+            }
+            const auto [wx, wy] = toWorld(o->sensorLocationOnRobot, m.range, m.yaw);
+            news.push_back({insertionOptions.landmark_label, m.landmarkID, wx, wy});
+        }
+    }
+    else
+    {
+        return false;
+    }
+    for (const auto& n : news)
+    {
+        // Merge into the object it names, else the nearest same-label object in reach.
+        TObject* target = nullptr;
+        if (n.id >= 0)
+        {
+            for (auto& ob : m_objects)
+            {
+                if (ob.id == n.id)
+                {
+                    target = &ob;
+                }
+            }
+        }
+        if (!target && n.id < 0)
+        {
+            double best = insertionOptions.merge_distance_m;
+            for (auto& ob : m_objects)
+            {
+                const double dd = std::hypot(ob.x - n.wx, ob.y - n.wy);
+                if (ob.label == n.label && dd <= best)
+                {
+                    best = dd;
+                    target = &ob;
+                }
+            }
+        }
+        if (target)
+        {
+            // Running mean of the merged detections.
+            const double k = 1.0 / (target->n_observations + 1.0);
+            target->x += (n.wx - target->x) * k;
+            target->y += (n.wy - target->y) * k;
+            target->n_observations++;
+        }
+        else
+        {
+            TObject ob;
+            ob.id = n.id > 0 ? n.id : nextFreeId();
+            ob.label = n.label;
+            ob.x = n.wx;
+            ob.y = n.wy;
+            ob.z = 0;
+            m_objects.push_back(std::move(ob));
+        }
+    }
+    rebuildIndex();
+    return !news.empty();
+}
+
+// ------------------------------------------------------------------ I/O
+
+uint8_t CSemanticMap::serializeGetVersion() const { return 0; }
+
+void CSemanticMap::serializeTo(mrpt::serialization::CArchive& out) const
+{
+    out << genericMapParams;
+    out << m_hasBounds << m_bounds.x_min << m_bounds.x_max << m_bounds.y_min << m_bounds.y_max;
+    out.WriteAs<uint32_t>(m_objects.size());
+    for (const auto& o : m_objects)
+    {
+        out << o.id << o.label << o.x << o.y << o.z << o.extent_m << o.n_observations;
+    }
+}
+
+void CSemanticMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t version)
+{
+    switch (version)
+    {
+        case 0:
+        {
+            in >> genericMapParams;
+            in >> m_hasBounds >> m_bounds.x_min >> m_bounds.x_max >> m_bounds.y_min >> m_bounds.y_max;
+            const auto n = in.ReadAs<uint32_t>();
+            if (n > (1u << 24))
+            {
+                THROW_EXCEPTION_FMT("CSemanticMap: corrupted data: %u objects", static_cast<unsigned>(n));
+            }
+            m_objects.resize(n);
+            for (auto& o : m_objects)
+            {
+                in >> o.id >> o.label >> o.x >> o.y >> o.z >> o.extent_m >> o.n_observations;
+            }
+            rebuildIndex();
+            break;
+        }
+        default:
+            MRPT_THROW_UNKNOWN_SERIALIZATION_VERSION(version);
+    }
+}
+
+void CSemanticMap::saveMetricMapRepresentationToFile(const std::string& prefix) const
+{
+    toWorld().saveToFile(prefix + "_semantic.yaml");
+}
+
+std::string CSemanticMap::asString() const
+{
+    return mrpt::format("CSemanticMap: %u objects, %u labels, model '%s'",
+                        static_cast<unsigned>(m_objects.size()), static_cast<unsigned>(m_labels->size()),
+                        modelName(likelihoodOptions.model));
+}
+
+void CSemanticMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const
+{
+    if (!genericMapParams.enableSaveAs3DObject)
+    {
+        return;
+    }
+    for (const auto& o : m_objects)
+    {
+        // One stable colour per label.
+        const int lab = m_labels->find(o.label);
+        const float hue = static_cast<float>((lab * 0.618034) - std::floor(lab * 0.618034));
+        const float r = std::max(0.2f, hue), g = std::max(0.2f, 1.0f - hue), b = 0.6f;
+        const float rad = static_cast<float>(std::max(0.3, o.extent_m));
+        auto cyl = mrpt::opengl::CCylinder::Create(rad, rad, 1.0f);
+        cyl->setLocation(o.x, o.y, o.z);
+        cyl->setColor(r, g, b);
+        outObj.insert(cyl);
+        auto txt = mrpt::opengl::CText::Create(o.label + " #" + std::to_string(o.id));
+        txt->setLocation(o.x, o.y, o.z + 1.5);
+        outObj.insert(txt);
+    }
+}
+
+}  // namespace semloc

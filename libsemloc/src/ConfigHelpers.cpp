@@ -1,0 +1,181 @@
+/* semloc — strict ini value parsing. */
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/core/exceptions.h>
+#include <semloc/ConfigHelpers.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+
+namespace semloc::config
+{
+namespace
+{
+std::string trim(const std::string& s)
+{
+    const auto b = s.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos)
+    {
+        return {};
+    }
+    const auto e = s.find_last_not_of(" \t\r\n");
+    return s.substr(b, e - b + 1);
+}
+
+[[noreturn]] void fail(const std::string& section, const std::string& key, const std::string& what)
+{
+    THROW_EXCEPTION("ini [" + section + "] " + key + ": " + what);
+}
+
+bool readRaw(const mrpt::config::CConfigFileBase& c, const std::string& section,
+             const std::string& key, std::string& out)
+{
+    if (!c.keyExists(section, key))
+    {
+        return false;
+    }
+    out = trim(c.read_string(section, key, "", false));
+    return true;
+}
+
+std::string numText(double v)
+{
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+    return std::string(buf, r.ptr);
+}
+}  // namespace
+
+void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                const std::string& key, double& value, double lo, double hi)
+{
+    std::string s;
+    if (!readRaw(c, section, key, s))
+    {
+        return;
+    }
+    const char* b = s.data();
+    if (!s.empty() && s[0] == '+')
+    {
+        ++b;
+    }
+    double v = 0;
+    const auto r = std::from_chars(b, s.data() + s.size(), v);
+    if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size())
+    {
+        fail(section, key, "'" + s + "' is not a number");
+    }
+    if (!std::isfinite(v))
+    {
+        fail(section, key, "'" + s + "' is not a finite number");
+    }
+    if (v < lo || v > hi)
+    {
+        fail(section, key, "value " + s + " is out of range [" + numText(lo) + ", " + numText(hi) +
+                               "]");
+    }
+    value = v;
+}
+
+void readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
+             const std::string& key, int& value, int lo, int hi)
+{
+    std::string s;
+    if (!readRaw(c, section, key, s))
+    {
+        return;
+    }
+    long long v = 0;
+    const char* b = s.data();
+    if (!s.empty() && s[0] == '+')
+    {
+        ++b;
+    }
+    const auto r = std::from_chars(b, s.data() + s.size(), v);
+    if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size())
+    {
+        fail(section, key, "'" + s + "' is not an integer");
+    }
+    if (v < lo || v > hi)
+    {
+        fail(section, key,
+             "value " + s + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                 "]");
+    }
+    value = static_cast<int>(v);
+}
+
+void readBool(const mrpt::config::CConfigFileBase& c, const std::string& section,
+              const std::string& key, bool& value)
+{
+    std::string s;
+    if (!readRaw(c, section, key, s))
+    {
+        return;
+    }
+    std::string l = s;
+    std::transform(l.begin(), l.end(), l.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    if (l == "true" || l == "1" || l == "yes" || l == "on")
+    {
+        value = true;
+    }
+    else if (l == "false" || l == "0" || l == "no" || l == "off")
+    {
+        value = false;
+    }
+    else
+    {
+        fail(section, key, "'" + s + "' is not a boolean (true/false)");
+    }
+}
+
+void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                const std::string& key, std::string& value,
+                const std::vector<std::string>& choices)
+{
+    std::string s;
+    if (!readRaw(c, section, key, s))
+    {
+        return;
+    }
+    if (std::find(choices.begin(), choices.end(), s) == choices.end())
+    {
+        std::string list;
+        for (const auto& ch : choices)
+        {
+            list += (list.empty() ? "" : ", ") + ch;
+        }
+        fail(section, key, "'" + s + "' is not one of: " + list);
+    }
+    value = s;
+}
+
+void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                       const std::vector<std::string>& known)
+{
+    std::vector<std::string> keys;
+    c.getAllKeys(section, keys);
+    for (const auto& k : keys)
+    {
+        if (std::find(known.begin(), known.end(), k) == known.end())
+        {
+            std::string list;
+            for (const auto& kn : known)
+            {
+                list += (list.empty() ? "" : ", ") + kn;
+            }
+            fail(section, k, "unknown key (known keys: " + list + ")");
+        }
+    }
+}
+
+std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o)
+{
+    mrpt::config::CConfigFileMemory mem;
+    o.saveToConfigFile(mem, "s");
+    std::vector<std::string> keys;
+    mem.getAllKeys("s", keys);
+    return keys;
+}
+
+}  // namespace semloc::config

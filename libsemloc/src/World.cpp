@@ -1,0 +1,562 @@
+/* semloc — World: loading and validating world YAML files. */
+#include <mrpt/containers/yaml.h>
+#include <mrpt/core/exceptions.h>
+#include <semloc/World.h>
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+namespace semloc
+{
+namespace
+{
+using mrpt::containers::yaml;
+using node_t = mrpt::containers::yaml::node_t;
+using mrpt::math::TPoint2D;
+
+/** Where in the file a value is: composes the prefix of every error message. */
+struct Where
+{
+    const std::string& file;
+    std::string object;  // e.g. "objects[3] (id 7)", empty at top level
+
+    [[noreturn]] void fail(const std::string& key, const std::string& what) const
+    {
+        std::string msg = "world file '" + file + "': ";
+        if (!object.empty())
+        {
+            msg += object + ": ";
+        }
+        if (!key.empty())
+        {
+            msg += "key '" + key + "': ";
+        }
+        THROW_EXCEPTION(msg + what);
+    }
+};
+
+std::string scalarText(const node_t& n, const Where& w, const std::string& key)
+{
+    if (!n.isScalar())
+    {
+        w.fail(key, "expected a scalar value, got a " + n.typeName());
+    }
+    try
+    {
+        return n.as<std::string>();
+    }
+    catch (const std::exception&)
+    {
+        // Programmatically built documents hold typed scalars.
+        std::ostringstream ss;
+        ss.precision(17);
+        ss << n.as<double>();
+        return ss.str();
+    }
+}
+
+double toNumber(const node_t& n, const Where& w, const std::string& key)
+{
+    const std::string s = scalarText(n, w, key);
+    const char* b = s.data();
+    const char* e = s.data() + s.size();
+    while (b < e && std::isspace(static_cast<unsigned char>(*b)))
+    {
+        ++b;
+    }
+    while (e > b && std::isspace(static_cast<unsigned char>(e[-1])))
+    {
+        --e;
+    }
+    if (b < e && *b == '+')
+    {
+        ++b;
+    }
+    double v = 0;
+    const auto r = std::from_chars(b, e, v);
+    if (r.ec != std::errc() || r.ptr != e || b == e)
+    {
+        w.fail(key, "'" + s + "' is not a number");
+    }
+    if (!std::isfinite(v))
+    {
+        w.fail(key, "'" + s + "' is not a finite number");
+    }
+    return v;
+}
+
+int toInt(const node_t& n, const Where& w, const std::string& key)
+{
+    const double v = toNumber(n, w, key);
+    if (v != std::floor(v) || std::abs(v) > 2e9)
+    {
+        w.fail(key, "expected an integer, got '" + scalarText(n, w, key) + "'");
+    }
+    return static_cast<int>(v);
+}
+
+TPoint2D toPoint(const node_t& n, const Where& w, const std::string& key)
+{
+    if (!n.isSequence() || n.asSequence().size() != 2)
+    {
+        w.fail(key, "expected a point [x, y]");
+    }
+    const auto& s = n.asSequence();
+    return {toNumber(s[0], w, key), toNumber(s[1], w, key)};
+}
+
+const node_t& requireKey(const yaml::map_t& m, const std::string& key, const Where& w)
+{
+    for (const auto& kv : m)
+    {
+        if (kv.first.as<std::string>() == key)
+        {
+            return kv.second;
+        }
+    }
+    w.fail(key, "missing required key");
+}
+
+const node_t* findKey(const yaml::map_t& m, const std::string& key)
+{
+    for (const auto& kv : m)
+    {
+        if (kv.first.as<std::string>() == key)
+        {
+            return &kv.second;
+        }
+    }
+    return nullptr;
+}
+
+void checkKeys(const yaml::map_t& m, const std::set<std::string>& allowed, const Where& w)
+{
+    for (const auto& kv : m)
+    {
+        const auto k = kv.first.as<std::string>();
+        if (!allowed.count(k))
+        {
+            std::string list;
+            for (const auto& a : allowed)
+            {
+                list += (list.empty() ? "" : ", ") + a;
+            }
+            w.fail(k, "unknown key (allowed here: " + list + ")");
+        }
+    }
+}
+
+double cross(const TPoint2D& o, const TPoint2D& a, const TPoint2D& b)
+{
+    return (a.x - o.x) * (b.y - o.y) - (a.y - o.y) * (b.x - o.x);
+}
+
+bool onSegment(const TPoint2D& p, const TPoint2D& a, const TPoint2D& b)
+{
+    return std::min(a.x, b.x) <= p.x && p.x <= std::max(a.x, b.x) && std::min(a.y, b.y) <= p.y &&
+           p.y <= std::max(a.y, b.y);
+}
+
+/** True if closed segments [a,b] and [c,d] share at least one point. */
+bool segmentsTouch(const TPoint2D& a, const TPoint2D& b, const TPoint2D& c, const TPoint2D& d)
+{
+    const double d1 = cross(c, d, a), d2 = cross(c, d, b);
+    const double d3 = cross(a, b, c), d4 = cross(a, b, d);
+    if (((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)))
+    {
+        return true;
+    }
+    return (d1 == 0 && onSegment(a, c, d)) || (d2 == 0 && onSegment(b, c, d)) ||
+           (d3 == 0 && onSegment(c, a, b)) || (d4 == 0 && onSegment(d, a, b));
+}
+
+void finishPolygon(WorldObject& o, const Where& w)
+{
+    const auto& p = o.points;
+    const size_t n = p.size();
+    double a2 = 0, cx = 0, cy = 0;
+    for (size_t i = 0; i < n; i++)
+    {
+        const auto& u = p[i];
+        const auto& v = p[(i + 1) % n];
+        const double c = u.x * v.y - v.x * u.y;
+        a2 += c;
+        cx += (u.x + v.x) * c;
+        cy += (u.y + v.y) * c;
+    }
+    if (std::abs(a2) < 1e-12)
+    {
+        w.fail("points", "polygon has zero area");
+    }
+    for (size_t i = 0; i < n; i++)
+    {
+        for (size_t j = i + 1; j < n; j++)
+        {
+            const bool adjacent = (j == i + 1) || (i == 0 && j == n - 1);
+            if (adjacent)
+            {
+                continue;
+            }
+            if (segmentsTouch(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n]))
+            {
+                w.fail("points", "polygon is self-intersecting (edges " + std::to_string(i) +
+                                     " and " + std::to_string(j) + ")");
+            }
+        }
+    }
+    o.center = {cx / (3 * a2), cy / (3 * a2)};
+}
+
+void finishBox(WorldObject& o)
+{
+    const double c = std::cos(o.yaw), s = std::sin(o.yaw);
+    const double hx = 0.5 * o.size_x, hy = 0.5 * o.size_y;
+    const double corners[4][2] = {{-hx, -hy}, {hx, -hy}, {hx, hy}, {-hx, hy}};
+    o.points.clear();
+    for (const auto& k : corners)
+    {
+        o.points.emplace_back(o.center.x + c * k[0] - s * k[1], o.center.y + s * k[0] + c * k[1]);
+    }
+}
+
+WorldObject parseObject(const node_t& n, size_t index, const std::string& file)
+{
+    Where w{file, "objects[" + std::to_string(index) + "]"};
+    if (!n.isMap())
+    {
+        w.fail("", "expected a map {id: ..., label: ..., shape: ...}");
+    }
+    const auto& m = n.asMap();
+    WorldObject o;
+    o.id = toInt(requireKey(m, "id", w), w, "id");
+    w.object += " (id " + std::to_string(o.id) + ")";
+    if (o.id <= 0)
+    {
+        w.fail("id", "must be a positive integer");
+    }
+    o.label = scalarText(requireKey(m, "label", w), w, "label");
+    if (o.label.empty() || o.label.find_first_of(" \t\r\n") != std::string::npos)
+    {
+        w.fail("label", "must be a non-empty word without blanks, got '" + o.label + "'");
+    }
+    const std::string shape = scalarText(requireKey(m, "shape", w), w, "shape");
+    if (const auto* z = findKey(m, "z"))
+    {
+        o.z = toNumber(*z, w, "z");
+    }
+    if (shape == "box")
+    {
+        checkKeys(m, {"id", "label", "shape", "z", "center", "size", "yaw_deg"}, w);
+        o.shape = ShapeType::Box;
+        o.center = toPoint(requireKey(m, "center", w), w, "center");
+        const auto sz = toPoint(requireKey(m, "size", w), w, "size");
+        o.size_x = sz.x;
+        o.size_y = sz.y;
+        if (o.size_x <= 0 || o.size_y <= 0)
+        {
+            w.fail("size", "both sides must be > 0");
+        }
+        if (const auto* y = findKey(m, "yaw_deg"))
+        {
+            o.yaw = toNumber(*y, w, "yaw_deg") * M_PI / 180.0;
+        }
+        finishBox(o);
+        o.extent_m = std::hypot(0.5 * o.size_x, 0.5 * o.size_y);
+    }
+    else if (shape == "cylinder")
+    {
+        checkKeys(m, {"id", "label", "shape", "z", "center", "radius"}, w);
+        o.shape = ShapeType::Cylinder;
+        o.center = toPoint(requireKey(m, "center", w), w, "center");
+        o.radius = toNumber(requireKey(m, "radius", w), w, "radius");
+        if (o.radius <= 0)
+        {
+            w.fail("radius", "must be > 0");
+        }
+        o.extent_m = o.radius;
+    }
+    else if (shape == "polygon")
+    {
+        checkKeys(m, {"id", "label", "shape", "z", "points"}, w);
+        o.shape = ShapeType::Polygon;
+        const auto& pts = requireKey(m, "points", w);
+        if (!pts.isSequence() || pts.asSequence().size() < 3)
+        {
+            w.fail("points", "expected a list of at least 3 points [[x, y], ...]");
+        }
+        for (const auto& p : pts.asSequence())
+        {
+            o.points.push_back(toPoint(p, w, "points"));
+        }
+        finishPolygon(o, w);
+        for (const auto& p : o.points)
+        {
+            o.extent_m = std::max(o.extent_m, std::hypot(p.x - o.center.x, p.y - o.center.y));
+        }
+    }
+    else if (shape == "point")
+    {
+        checkKeys(m, {"id", "label", "shape", "z", "center", "extent_m"}, w);
+        o.shape = ShapeType::Point;
+        o.center = toPoint(requireKey(m, "center", w), w, "center");
+        if (const auto* e = findKey(m, "extent_m"))
+        {
+            o.extent_m = toNumber(*e, w, "extent_m");
+            if (o.extent_m < 0)
+            {
+                w.fail("extent_m", "must be >= 0");
+            }
+        }
+    }
+    else
+    {
+        w.fail("shape", "unknown shape '" + shape + "' (expected box, cylinder, polygon or point)");
+    }
+    return o;
+}
+
+World parseWorld(const yaml& doc, const std::string& file)
+{
+    const Where top{file, ""};
+    if (!doc.isMap())
+    {
+        top.fail("", "expected a YAML map with keys name, bounds, objects");
+    }
+    const auto& m = doc.asMap();
+    checkKeys(m, {"name", "bounds", "objects", "trajectory"}, top);
+    World world;
+    world.source = file;
+    if (const auto* n = findKey(m, "name"))
+    {
+        world.name = scalarText(*n, top, "name");
+    }
+
+    const auto& b = requireKey(m, "bounds", top);
+    if (!b.isMap())
+    {
+        top.fail("bounds", "expected {x_min, x_max, y_min, y_max}");
+    }
+    const Where wb{file, "bounds"};
+    checkKeys(b.asMap(), {"x_min", "x_max", "y_min", "y_max"}, wb);
+    world.bounds.x_min = toNumber(requireKey(b.asMap(), "x_min", wb), wb, "x_min");
+    world.bounds.x_max = toNumber(requireKey(b.asMap(), "x_max", wb), wb, "x_max");
+    world.bounds.y_min = toNumber(requireKey(b.asMap(), "y_min", wb), wb, "y_min");
+    world.bounds.y_max = toNumber(requireKey(b.asMap(), "y_max", wb), wb, "y_max");
+    if (!(world.bounds.x_min < world.bounds.x_max) || !(world.bounds.y_min < world.bounds.y_max))
+    {
+        top.fail("bounds", "empty area: need x_min < x_max and y_min < y_max");
+    }
+
+    const auto& objs = requireKey(m, "objects", top);
+    if (objs.isNullNode())
+    {
+        // "objects:" with nothing after it: an empty world is allowed.
+    }
+    else if (!objs.isSequence())
+    {
+        top.fail("objects", "expected a list of objects");
+    }
+    else
+    {
+        std::set<int> ids;
+        size_t i = 0;
+        for (const auto& on : objs.asSequence())
+        {
+            WorldObject o = parseObject(on, i, file);
+            const Where w{file, "objects[" + std::to_string(i) + "] (id " + std::to_string(o.id) +
+                                    ")"};
+            if (!ids.insert(o.id).second)
+            {
+                w.fail("id", "duplicate id " + std::to_string(o.id));
+            }
+            if (!world.bounds.contains(o.center.x, o.center.y))
+            {
+                w.fail(o.shape == ShapeType::Polygon ? "points" : "center",
+                       "object centre is outside bounds");
+            }
+            world.objects.push_back(std::move(o));
+            i++;
+        }
+    }
+
+    if (const auto* t = findKey(m, "trajectory"))
+    {
+        const Where wt{file, "trajectory"};
+        if (!t->isMap())
+        {
+            top.fail("trajectory", "expected {speed_mps, waypoints}");
+        }
+        checkKeys(t->asMap(), {"speed_mps", "waypoints"}, wt);
+        WorldTrajectory tr;
+        if (const auto* s = findKey(t->asMap(), "speed_mps"))
+        {
+            tr.speed_mps = toNumber(*s, wt, "speed_mps");
+        }
+        if (tr.speed_mps <= 0)
+        {
+            wt.fail("speed_mps", "must be > 0");
+        }
+        const auto& wp = requireKey(t->asMap(), "waypoints", wt);
+        if (!wp.isSequence() || wp.asSequence().size() < 2)
+        {
+            wt.fail("waypoints", "expected at least 2 points [[x, y], ...]");
+        }
+        for (const auto& p : wp.asSequence())
+        {
+            const auto q = toPoint(p, wt, "waypoints");
+            if (!world.bounds.contains(q.x, q.y))
+            {
+                wt.fail("waypoints", "waypoint outside bounds");
+            }
+            tr.waypoints.push_back(q);
+        }
+        world.trajectory = std::move(tr);
+    }
+    return world;
+}
+
+std::string num(double v)
+{
+    char buf[64];
+    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+    return std::string(buf, r.ptr);
+}
+
+std::string pt(const TPoint2D& p) { return "[" + num(p.x) + ", " + num(p.y) + "]"; }
+
+}  // namespace
+
+const char* shapeName(ShapeType s)
+{
+    switch (s)
+    {
+        case ShapeType::Box:
+            return "box";
+        case ShapeType::Cylinder:
+            return "cylinder";
+        case ShapeType::Polygon:
+            return "polygon";
+        case ShapeType::Point:
+            return "point";
+    }
+    return "?";
+}
+
+World World::FromText(const std::string& yamlText, const std::string& sourceName)
+{
+    yaml doc;
+    try
+    {
+        doc = yaml::FromText(yamlText);
+    }
+    catch (const std::exception& e)
+    {
+        THROW_EXCEPTION("world file '" + sourceName + "': not valid YAML: " + e.what());
+    }
+    return parseWorld(doc, sourceName);
+}
+
+World World::FromFile(const std::string& path)
+{
+    std::ifstream f(path);
+    if (!f)
+    {
+        THROW_EXCEPTION("world file '" + path + "': cannot open for reading");
+    }
+    std::stringstream ss;
+    ss << f.rdbuf();
+    if (f.bad())
+    {
+        THROW_EXCEPTION("world file '" + path + "': read error");
+    }
+    return FromText(ss.str(), path);
+}
+
+std::string World::toYamlText() const
+{
+    std::ostringstream o;
+    if (!name.empty())
+    {
+        o << "name: " << name << "\n";
+    }
+    o << "bounds: {x_min: " << num(bounds.x_min) << ", x_max: " << num(bounds.x_max)
+      << ", y_min: " << num(bounds.y_min) << ", y_max: " << num(bounds.y_max) << "}\n";
+    o << "objects:" << (objects.empty() ? " []" : "") << "\n";
+    for (const auto& ob : objects)
+    {
+        o << "  - {id: " << ob.id << ", label: " << ob.label << ", shape: " << shapeName(ob.shape);
+        switch (ob.shape)
+        {
+            case ShapeType::Box:
+                o << ", center: " << pt(ob.center) << ", size: [" << num(ob.size_x) << ", "
+                  << num(ob.size_y) << "], yaw_deg: " << num(ob.yaw * 180.0 / M_PI);
+                break;
+            case ShapeType::Cylinder:
+                o << ", center: " << pt(ob.center) << ", radius: " << num(ob.radius);
+                break;
+            case ShapeType::Polygon:
+            {
+                o << ", points: [";
+                for (size_t i = 0; i < ob.points.size(); i++)
+                {
+                    o << (i ? ", " : "") << pt(ob.points[i]);
+                }
+                o << "]";
+                break;
+            }
+            case ShapeType::Point:
+                o << ", center: " << pt(ob.center);
+                if (ob.extent_m > 0)
+                {
+                    o << ", extent_m: " << num(ob.extent_m);
+                }
+                break;
+        }
+        if (ob.z != 0)
+        {
+            o << ", z: " << num(ob.z);
+        }
+        o << "}\n";
+    }
+    if (trajectory)
+    {
+        o << "trajectory:\n  speed_mps: " << num(trajectory->speed_mps) << "\n  waypoints: [";
+        for (size_t i = 0; i < trajectory->waypoints.size(); i++)
+        {
+            o << (i ? ", " : "") << pt(trajectory->waypoints[i]);
+        }
+        o << "]\n";
+    }
+    return o.str();
+}
+
+void World::saveToFile(const std::string& path) const
+{
+    std::ofstream f(path);
+    if (!f)
+    {
+        THROW_EXCEPTION("cannot write world file '" + path + "'");
+    }
+    f << toYamlText();
+    if (!f)
+    {
+        THROW_EXCEPTION("write error on world file '" + path + "'");
+    }
+}
+
+int World::indexOfId(int id) const
+{
+    for (size_t i = 0; i < objects.size(); i++)
+    {
+        if (objects[i].id == id)
+        {
+            return static_cast<int>(i);
+        }
+    }
+    return -1;
+}
+
+}  // namespace semloc

@@ -1,0 +1,14 @@
+/* semloc — registers semloc's serializable classes with MRPT when libsemloc.so is
+ * loaded (also through `rawlog-edit -p libsemloc.so`). IMPLEMENTS_SERIALIZABLE does
+ * not register by itself: without this, reading a rawlog stops silently at the first
+ * semloc object. */
+#include <mrpt/core/initializer.h>
+#include <mrpt/rtti/CObject.h>
+#include <semloc/CObservationSemantic.h>
+#include <semloc/CSemanticMap.h>
+
+MRPT_INITIALIZER(semloc_registerAllClasses)
+{
+    mrpt::rtti::registerClass(CLASS_ID(semloc::CObservationSemantic));
+    mrpt::rtti::registerClass(CLASS_ID(semloc::CSemanticMap));
+}
