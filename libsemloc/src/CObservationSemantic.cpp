@@ -18,24 +18,10 @@ namespace
 constexpr uint32_t kMaxSerializedDetections = 1u << 20;
 }  // namespace
 
-bool CObservationSemantic::isValid(const TSemanticDetection& d, double maxRange_m, double fov_rad)
+uint8_t CObservationSemantic::serializeGetVersion() const
 {
-    if (d.label.empty() || !std::isfinite(d.range_m) || !std::isfinite(d.bearing_rad) ||
-        !std::isfinite(d.confidence))
-    {
-        return false;
-    }
-    if (d.range_m < 0 || d.range_m > maxRange_m || d.confidence < 0 || d.confidence > 1)
-    {
-        return false;
-    }
-    const double b = (d.bearing_rad >= -M_PI && d.bearing_rad <= M_PI)
-                         ? d.bearing_rad
-                         : std::remainder(d.bearing_rad, 2 * M_PI);
-    return std::abs(b) <= 0.5 * fov_rad + 1e-9;
+    return 0;
 }
-
-uint8_t CObservationSemantic::serializeGetVersion() const { return 0; }
 
 void CObservationSemantic::serializeTo(mrpt::serialization::CArchive& out) const
 {

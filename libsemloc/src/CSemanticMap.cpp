@@ -104,8 +104,8 @@ const char* modelName(CSemanticMap::Model m)
 }
 }  // namespace
 
-void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(
-    const mrpt::config::CConfigFileBase& c, const std::string& s)
+void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                                          const std::string& s)
 {
     config::rejectUnknownKeys(c, s, config::keysOf(*this));
     std::string m = modelName(model);
@@ -179,7 +179,8 @@ struct CSemanticMap::Index
     std::unordered_map<int32_t, int32_t> idToSorted;
 };
 
-CSemanticMap::CSemanticMap() : m_labels(std::make_unique<LabelIndex>()), m_index(std::make_unique<Index>())
+CSemanticMap::CSemanticMap()
+    : m_labels(std::make_unique<LabelIndex>()), m_index(std::make_unique<Index>())
 {
 }
 
@@ -248,8 +249,10 @@ void CSemanticMap::rebuildIndex()
     ix.cellStart.assign(ncell + 1, 0);
     for (size_t i = 0; i < n; i++)
     {
-        const int cx = std::min(ix.nx - 1, static_cast<int>((m_objects[i].x - ix.x0) * ix.inv_cell));
-        const int cy = std::min(ix.ny - 1, static_cast<int>((m_objects[i].y - ix.y0) * ix.inv_cell));
+        const int cx =
+            std::min(ix.nx - 1, static_cast<int>((m_objects[i].x - ix.x0) * ix.inv_cell));
+        const int cy =
+            std::min(ix.ny - 1, static_cast<int>((m_objects[i].y - ix.y0) * ix.inv_cell));
         cellOf[i] = static_cast<uint32_t>(cy * ix.nx + cx);
         ix.cellStart[cellOf[i] + 1]++;
     }
@@ -273,7 +276,10 @@ void CSemanticMap::rebuildIndex()
     }
 }
 
-size_t CSemanticMap::labelCount() const { return m_labels->size(); }
+size_t CSemanticMap::labelCount() const
+{
+    return m_labels->size();
+}
 
 void CSemanticMap::internal_clear()
 {
@@ -301,7 +307,10 @@ void CSemanticMap::loadFromWorld(const World& world)
     rebuildIndex();
 }
 
-void CSemanticMap::loadFromWorldFile(const std::string& path) { loadFromWorld(World::FromFile(path)); }
+void CSemanticMap::loadFromWorldFile(const std::string& path)
+{
+    loadFromWorld(World::FromFile(path));
+}
 
 void CSemanticMap::addObject(const TObject& o)
 {
@@ -370,16 +379,16 @@ namespace
 /** A detection prepared for matching. */
 struct Det
 {
-    double r, b;     // range [m], bearing wrapped to [-pi, pi]
-    int32_t label;   // label id, or -1 = any label (MRPT landmarks without id)
-    int32_t fixed;   // sorted index of the object it names, or -1
+    double r, b;    // range [m], bearing wrapped to [-pi, pi]
+    int32_t label;  // label id, or -1 = any label (MRPT landmarks without id)
+    int32_t fixed;  // sorted index of the object it names, or -1
 };
 
-/** A map object predicted visible from the particle: z^k. */
+/** A map object predicted visible from the particle: one element of z^k. */
 struct Vis
 {
-    double r, lx, ly;  // range and position in the sensor frame
-    double b;          // bearing, computed on first use
+    double lx, ly;  // position in the sensor frame
+    double r, b;    // range; bearing, computed on first use
     int32_t label, sorted;
     bool hasB;
 };
@@ -390,14 +399,34 @@ struct Pair
     uint32_t j, v;
 };
 
-/** Per-thread scratch: no allocation per particle once warmed up, and safe for
- *  concurrent const calls from many threads. */
+/** Lazily recomputed value of f(key): the per-step angles and options are the same
+ *  for every particle of a step, so their trig/log is computed once per change. */
+struct Memo
+{
+    double key = std::numeric_limits<double>::quiet_NaN(), val = 0;
+    template <typename F>
+    double get(double k, F&& f)
+    {
+        if (k != key)
+        {
+            key = k;
+            val = f(k);
+        }
+        return val;
+    }
+};
+
+/** Per-thread scratch (one TLS access per call): no allocation per particle once
+ *  warmed up, and safe for concurrent const calls from many threads. */
 struct Scratch
 {
     std::vector<Det> dets;
-    std::vector<Vis> vis;
+    std::vector<Vis> vis;  // first nVis entries are valid
+    size_t nVis = 0;
+    std::vector<uint32_t> byLabel, labelStart;
     std::vector<Pair> pairs;
-    std::vector<uint8_t> usedV;
+    std::vector<uint8_t> used;
+    Memo cosHalf, cosYaw, sinYaw, logPu;
 };
 
 Scratch& scratch()
@@ -413,23 +442,9 @@ struct Geom
     double R, fov, cosHalf;
 };
 
-/** cos(v) with a one-entry per-thread cache: the per-call angles (half FOV, sensor
- *  yaw on the vehicle) are the same for every particle of a step. */
-double cachedCos(double v, double& key, double& val)
+Geom makeGeom(Scratch& sc, const TPose2D& pose, double ox, double oy, double oyaw, double R,
+              double fov)
 {
-    if (v != key)
-    {
-        key = v;
-        val = std::cos(v);
-    }
-    return val;
-}
-
-Geom makeGeom(const TPose2D& pose, double ox, double oy, double oyaw, double R, double fov)
-{
-    thread_local double kHalf = std::numeric_limits<double>::quiet_NaN(), vHalf = 0;
-    thread_local double kYawC = std::numeric_limits<double>::quiet_NaN(), vYawC = 0;
-    thread_local double kYawS = std::numeric_limits<double>::quiet_NaN(), vYawS = 0;
     Geom g;
     const double cp = std::cos(pose.phi), sp = std::sin(pose.phi);
     g.sx = pose.x + cp * ox - sp * oy;
@@ -441,55 +456,93 @@ Geom makeGeom(const TPose2D& pose, double ox, double oy, double oyaw, double R, 
     }
     else
     {
-        const double cy = cachedCos(oyaw, kYawC, vYawC);
-        const double sy = cachedCos(oyaw - M_PI_2, kYawS, vYawS);  // sin(a) = cos(a - pi/2)
+        const double cy = sc.cosYaw.get(oyaw, [](double a) { return std::cos(a); });
+        const double sy = sc.sinYaw.get(oyaw, [](double a) { return std::sin(a); });
         g.c = cp * cy - sp * sy;
         g.s = sp * cy + cp * sy;
     }
     g.R = R;
     g.fov = fov;
-    g.cosHalf = fov >= 2 * M_PI ? -2.0 : cachedCos(0.5 * fov, kHalf, vHalf);
+    g.cosHalf =
+        fov >= 2 * M_PI ? -1.0 : sc.cosHalf.get(0.5 * fov, [](double a) { return std::cos(a); });
     return g;
 }
 
-/** Fills `vis` with the objects inside range and FOV (z^k). */
-void predictVisible(const CSemanticMap::Index& ix, const Geom& g, std::vector<Vis>& vis)
+/** Fills sc.vis with the objects inside range and FOV (z^k) and buckets them by label.
+ *  The scan is branch-free (compaction by a counter) and takes no square root until an
+ *  object is known to be visible: most candidates are not, and mispredicted branches
+ *  and sqrt latency were the cost of this loop. */
+void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g, Scratch& sc)
 {
-    vis.clear();
-    if (ix.nx == 0)
+    auto& vis = sc.vis;
+    size_t cnt = 0;
+    if (ix.nx > 0)
     {
-        return;
-    }
-    const double R2 = g.R * g.R;
-    const int cx0 = std::max(0, static_cast<int>(std::floor((g.sx - g.R - ix.x0) * ix.inv_cell)));
-    const int cx1 = std::min(ix.nx - 1, static_cast<int>(std::floor((g.sx + g.R - ix.x0) * ix.inv_cell)));
-    const int cy0 = std::max(0, static_cast<int>(std::floor((g.sy - g.R - ix.y0) * ix.inv_cell)));
-    const int cy1 = std::min(ix.ny - 1, static_cast<int>(std::floor((g.sy + g.R - ix.y0) * ix.inv_cell)));
-    if (cx0 > cx1 || cy0 > cy1)
-    {
-        return;
-    }
-    for (int cy = cy0; cy <= cy1; cy++)
-    {
-        const uint32_t a = ix.cellStart[static_cast<size_t>(cy * ix.nx + cx0)];
-        const uint32_t b = ix.cellStart[static_cast<size_t>(cy * ix.nx + cx1 + 1)];
-        for (uint32_t k = a; k < b; k++)
+        if (vis.size() < ix.x.size())
         {
-            const double dx = ix.x[k] - g.sx, dy = ix.y[k] - g.sy;
-            const double d2 = dx * dx + dy * dy;
-            if (d2 > R2)
+            vis.resize(ix.x.size());
+        }
+        const double R2 = g.R * g.R;
+        const double ch2 = g.cosHalf * g.cosHalf;
+        const bool narrow = g.cosHalf >= 0;  // FOV <= 180 deg
+        const double fx0 = std::floor((g.sx - g.R - ix.x0) * ix.inv_cell);
+        const double fx1 = std::floor((g.sx + g.R - ix.x0) * ix.inv_cell);
+        const double fy0 = std::floor((g.sy - g.R - ix.y0) * ix.inv_cell);
+        const double fy1 = std::floor((g.sy + g.R - ix.y0) * ix.inv_cell);
+        const int cx0 = static_cast<int>(std::max(0.0, fx0));
+        const int cx1 = static_cast<int>(std::min(ix.nx - 1.0, fx1));
+        const int cy0 = static_cast<int>(std::max(0.0, fy0));
+        const int cy1 = static_cast<int>(std::min(ix.ny - 1.0, fy1));
+        for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
+        {
+            const uint32_t a = ix.cellStart[static_cast<size_t>(cy * ix.nx + cx0)];
+            const uint32_t b = ix.cellStart[static_cast<size_t>(cy * ix.nx + cx1 + 1)];
+            for (uint32_t k = a; k < b; k++)
             {
-                continue;
+                const double dx = ix.x[k] - g.sx, dy = ix.y[k] - g.sy;
+                const double d2 = dx * dx + dy * dy;
+                const double lx = g.c * dx + g.s * dy;
+                // lx >= cos(fov/2) * d, squared without the sqrt, per sign of cos(fov/2).
+                const bool inFov =
+                    narrow ? (lx >= 0) & (lx * lx >= ch2 * d2) : (lx >= 0) | (lx * lx <= ch2 * d2);
+                vis[cnt].sorted = static_cast<int32_t>(k);
+                cnt += static_cast<size_t>((d2 <= R2) & inFov);
             }
-            const double lx = g.c * dx + g.s * dy;
-            const double d = std::sqrt(d2);
-            if (lx < g.cosHalf * d - 1e-12)
-            {
-                continue;  // outside the field of view
-            }
-            vis.push_back({d, lx, -g.s * dx + g.c * dy, 0.0, ix.label[k], static_cast<int32_t>(k), false});
         }
     }
+    sc.nVis = cnt;
+    // Counting sort of the visible objects by label: label l is byLabel[start[l] .. start[l+1]).
+    auto& start = sc.labelStart;
+    start.assign(nLabels + 2, 0);
+    for (size_t i = 0; i < cnt; i++)
+    {
+        // Only the visible few get their frame coordinates, range and label.
+        Vis& v = vis[i];
+        const auto k = static_cast<size_t>(v.sorted);
+        const double dx = ix.x[k] - g.sx, dy = ix.y[k] - g.sy;
+        v.lx = g.c * dx + g.s * dy;
+        v.ly = -g.s * dx + g.c * dy;
+        v.r = std::sqrt(dx * dx + dy * dy);
+        v.label = ix.label[k];
+        v.hasB = false;
+        start[static_cast<size_t>(v.label) + 2]++;
+    }
+    for (size_t l = 2; l < start.size(); l++)
+    {
+        start[l] += start[l - 1];
+    }
+    sc.byLabel.resize(std::max(sc.byLabel.size(), cnt));
+    for (size_t i = 0; i < cnt; i++)
+    {
+        sc.byLabel[start[static_cast<size_t>(vis[i].label) + 1]++] = static_cast<uint32_t>(i);
+    }
+    sc.pairs.clear();
+    sc.used.assign(sc.dets.size() + cnt, 0);
+}
+
+size_t visibleCount(const Scratch& sc)
+{
+    return sc.nVis;
 }
 
 double bearingOf(Vis& v)
@@ -510,56 +563,82 @@ double wrapBearing(double b)
 
 /** Greedy one-to-one assignment, best pair first; ties broken by (j, v) so the
  *  result never depends on the sort implementation. Returns the summed gain. */
-double assignGreedy(std::vector<Pair>& pairs, size_t nd, size_t nv, std::vector<uint8_t>& used,
-                    size_t& matched)
+double assignGreedy(Scratch& sc)
 {
-    std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) {
-        if (a.gain != b.gain)
-        {
-            return a.gain > b.gain;
-        }
-        return a.j != b.j ? a.j < b.j : a.v < b.v;
-    });
-    used.assign(nd + nv, 0);
+    auto& pairs = sc.pairs;
+    std::sort(pairs.begin(), pairs.end(),
+              [](const Pair& a, const Pair& b)
+              {
+                  if (a.gain != b.gain)
+                  {
+                      return a.gain > b.gain;
+                  }
+                  return a.j != b.j ? a.j < b.j : a.v < b.v;
+              });
+    const size_t nd = sc.dets.size();
     double sum = 0;
-    matched = 0;
     for (const auto& p : pairs)
     {
-        if (used[p.j] || used[nd + p.v])
+        if (sc.used[p.j] | sc.used[nd + p.v])
         {
             continue;
         }
-        used[p.j] = used[nd + p.v] = 1;
+        sc.used[p.j] = sc.used[nd + p.v] = 1;
         sum += p.gain;
-        matched++;
     }
     return sum;
 }
 
-/** Candidate (detection, object) pairs: the named object, else same label (or any
- *  label when `anyLabel`), each with the log-gain of matching them (from `pairGain`). */
-template <typename GainFn>
-void collectPairs(const std::vector<Det>& dets, std::vector<Vis>& vis, bool anyLabel,
-                  std::vector<Pair>& pairs, GainFn&& pairGain)
+/** Candidate (detection, object) pairs with a positive log-gain `pairGain`: the object a
+ *  detection names, else the visible objects of its label (all of them when `anyLabel`
+ *  or the detection has none). `rangeGate(dr)` rejects a pair before its bearing is
+ *  computed when the range error alone already makes the gain non-positive. */
+template <typename GainFn, typename GateFn>
+void collectPairs(Scratch& sc, bool anyLabel, GateFn&& rangeGate, GainFn&& pairGain)
 {
-    pairs.clear();
-    for (uint32_t j = 0; j < dets.size(); j++)
+    const size_t nv = visibleCount(sc);
+    auto consider = [&](uint32_t j, uint32_t v)
     {
-        const Det& d = dets[j];
-        for (uint32_t v = 0; v < vis.size(); v++)
+        const Det& d = sc.dets[j];
+        Vis& o = sc.vis[v];
+        const double dr = d.r - o.r;
+        if (!rangeGate(dr))
         {
-            Vis& o = vis[v];
-            if (d.fixed >= 0 ? o.sorted != d.fixed
-                             : (!anyLabel && d.label >= 0 && o.label != d.label))
+            return;
+        }
+        const double db = detail::wrapDiff(d.b - bearingOf(o));
+        const double g = pairGain(d, o, dr, db);
+        if (g > 0)
+        {
+            sc.pairs.push_back({g, j, v});
+        }
+    };
+    for (uint32_t j = 0; j < sc.dets.size(); j++)
+    {
+        const Det& d = sc.dets[j];
+        if (d.fixed >= 0)
+        {
+            for (uint32_t v = 0; v < nv; v++)
             {
-                continue;
+                if (sc.vis[v].sorted == d.fixed)
+                {
+                    consider(j, v);
+                }
             }
-            const double dr = d.r - o.r;
-            const double db = detail::wrapDiff(d.b - bearingOf(o));
-            const double g = pairGain(d, o, dr, db);
-            if (g > 0)
+        }
+        else if (anyLabel || d.label < 0)
+        {
+            for (uint32_t v = 0; v < nv; v++)
             {
-                pairs.push_back({g, j, v});
+                consider(j, v);
+            }
+        }
+        else
+        {
+            const size_t l = static_cast<size_t>(d.label);
+            for (uint32_t i = sc.labelStart[l]; i < sc.labelStart[l + 1]; i++)
+            {
+                consider(j, sc.byLabel[i]);
             }
         }
     }
@@ -569,17 +648,14 @@ double scorePaper(const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc)
 {
     const double ir = 1.0 / opt.sigma_range_m;
     const double ib = 1.0 / (opt.sigma_bearing_deg * M_PI / 180.0);
-    const double logPu = std::log(opt.unmatched_penalty);
-    // Matching a pair instead of leaving both unmatched gains s - 2 log(p_u).
-    collectPairs(sc.dets, sc.vis, false, sc.pairs,
-                 [&](const Det&, const Vis&, double dr, double db) {
-                     const double s = -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib);
-                     return s - 2 * logPu;
-                 });
-    size_t m = 0;
-    const double gain = assignGreedy(sc.pairs, sc.dets.size(), sc.vis.size(), sc.usedV, m);
+    const double logPu = sc.logPu.get(opt.unmatched_penalty, [](double p) { return std::log(p); });
+    // Matching a pair instead of leaving both unmatched gains s - 2 log(p_u) (> 0 to match).
+    collectPairs(
+        sc, false, [&](double dr) { return 0.5 * (dr * ir) * (dr * ir) < -2 * logPu; },
+        [&](const Det&, const Vis&, double dr, double db)
+        { return -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu; });
     // sum(s_i) + d log p_u  with d = q + l - 2m  ==  (q + l) log p_u + sum(gain_i)
-    return static_cast<double>(sc.dets.size() + sc.vis.size()) * logPu + gain;
+    return static_cast<double>(sc.dets.size() + visibleCount(sc)) * logPu + assignGreedy(sc);
 }
 
 double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels,
@@ -590,59 +666,83 @@ double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, size_t nL
     const double K = static_cast<double>(std::max<size_t>(1, nLabels));
     const double lambda = opt.clutter_per_scan;
     const double logKappa = std::log(lambda / (g.R * std::min(g.fov, 2 * M_PI) * K));
-    const double logSame = std::log(1 - opt.p_confusion);
+    const double logSame = std::log1p(-opt.p_confusion);
     const bool confusable = opt.p_confusion > 0 && nLabels > 1;
     const double logOther = confusable ? std::log(opt.p_confusion / (K - 1)) : 0;
-    auto pd = [&](double r) {
+    auto pd = [&](double r)
+    {
         const double p = opt.p_detect_near + (opt.p_detect_far - opt.p_detect_near) * (r / g.R);
         return std::clamp(p, 1e-6, 1 - 1e-6);
     };
     double base = -lambda + static_cast<double>(sc.dets.size()) * logKappa;
-    for (const auto& v : sc.vis)
+    const size_t nv = visibleCount(sc);
+    for (size_t v = 0; v < nv; v++)
     {
-        base += std::log1p(-pd(v.r));
+        base += std::log1p(-pd(sc.vis[v].r));
     }
     const double ir = 1.0 / sr, ib = 1.0 / sb;
-    collectPairs(sc.dets, sc.vis, confusable, sc.pairs,
-                 [&](const Det& d, const Vis& v, double dr, double db) {
-                     const double p = pd(v.r);
-                     double logC = 0;  // landmarks without a label: no label term
-                     if (d.label >= 0)
-                     {
-                         logC = (d.label == v.label) ? logSame : logOther;
-                     }
-                     return std::log(p) - std::log1p(-p) + logC + logNorm - 0.5 * (dr * ir) * (dr * ir) -
-                            0.5 * (db * ib) * (db * ib) - logKappa;
-                 });
-    size_t m = 0;
-    return base + assignGreedy(sc.pairs, sc.dets.size(), sc.vis.size(), sc.usedV, m);
+    collectPairs(
+        sc, confusable, [](double) { return true; },
+        [&](const Det& d, const Vis& v, double dr, double db)
+        {
+            const double p = pd(v.r);
+            double logC = 0;  // landmarks without a label: no label term
+            if (d.label >= 0)
+            {
+                logC = (d.label == v.label) ? logSame : logOther;
+            }
+            return std::log(p) - std::log1p(-p) + logC + logNorm - 0.5 * (dr * ir) * (dr * ir) -
+                   0.5 * (db * ib) * (db * ib) - logKappa;
+        });
+    return base + assignGreedy(sc);
 }
 
 /** Lowest value returned: keeps MRPT's finite-likelihood assertion true even if an
  *  extreme option set ever made the sum overflow. */
 constexpr double kMinLogLik = -1e300;
 
-double finite(double v) { return std::isfinite(v) ? v : kMinLogLik; }
+double finite(double v)
+{
+    return std::isfinite(v) ? v : kMinLogLik;
+}
+
+bool finitePose(const TPose2D& p)
+{
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
+}
+
+double score(const CSemanticMap::Index& ix, size_t nLabels,
+             const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc, const Geom& g)
+{
+    predictVisible(ix, nLabels, g, sc);
+    const double ll = opt.model == CSemanticMap::Model::Paper
+                          ? scorePaper(opt, sc)
+                          : scoreProbabilistic(opt, nLabels, g, sc);
+    return finite(ll);
+}
 
 }  // namespace
 
-double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs, const TPose2D& pose) const
+double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs,
+                                          const TPose2D& pose) const
 {
-    Scratch& sc = scratch();
-    const double R = likelihoodOptions.max_range_m > 0 ? likelihoodOptions.max_range_m : obs.maxRange_m;
-    const double fov = likelihoodOptions.fov_deg > 0 ? likelihoodOptions.fov_deg * M_PI / 180.0 : obs.fov_rad;
+    const auto& lo = likelihoodOptions;
+    const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxRange_m;
+    const double fov = lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : obs.fov_rad;
     if (!(R > 0) || !std::isfinite(R) || !(fov > 0) || !std::isfinite(fov))
     {
         return 0;  // nothing usable: uninformative, identical for every particle
     }
-    if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.phi))
+    if (!finitePose(pose))
     {
         return kMinLogLik;
     }
-    sc.dets.clear();
+    Scratch& sc = scratch();
+    sc.dets.resize(obs.detections.size());
+    size_t n = 0;
     for (const auto& d : obs.detections)
     {
-        if (!CObservationSemantic::isValid(d, R, fov) || d.confidence < likelihoodOptions.min_confidence)
+        if (!CObservationSemantic::isValid(d, R, fov) || d.confidence < lo.min_confidence)
         {
             continue;
         }
@@ -657,40 +757,39 @@ double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs, const
         {
             continue;  // unknown to the map: a constant factor at every particle
         }
-        sc.dets.push_back({d.range_m, wrapBearing(d.bearing_rad), label, fixed});
+        sc.dets[n++] = {d.range_m, wrapBearing(d.bearing_rad), label, fixed};
     }
-    const Geom g = makeGeom(pose, obs.sensorPose.x(), obs.sensorPose.y(), obs.sensorPose.yaw(), R, fov);
-    predictVisible(*m_index, g, sc.vis);
-    const double ll = likelihoodOptions.model == Model::Paper
-                          ? scorePaper(likelihoodOptions, sc)
-                          : scoreProbabilistic(likelihoodOptions, m_labels->size(), g, sc);
-    return finite(ll);
+    sc.dets.resize(n);
+    const auto& sp = obs.sensorPose;
+    return score(*m_index, m_labels->size(), lo, sc,
+                 makeGeom(sc, pose, sp.x(), sp.y(), sp.yaw(), R, fov));
 }
 
 double CSemanticMap::computeLogLikelihood(const mrpt::obs::CObservationBearingRange& obs,
                                           const TPose2D& pose) const
 {
-    Scratch& sc = scratch();
-    double R = likelihoodOptions.max_range_m > 0 ? likelihoodOptions.max_range_m : obs.maxSensorDistance;
-    double fov = likelihoodOptions.fov_deg > 0 ? likelihoodOptions.fov_deg * M_PI / 180.0
-                                               : static_cast<double>(obs.fieldOfView_yaw);
+    const auto& lo = likelihoodOptions;
+    const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxSensorDistance;
+    double fov =
+        lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : static_cast<double>(obs.fieldOfView_yaw);
     if (!(R > 0) || !std::isfinite(R) || !std::isfinite(fov))
     {
         return 0;
     }
-    if (!std::isfinite(pose.x) || !std::isfinite(pose.y) || !std::isfinite(pose.phi))
+    if (!finitePose(pose))
     {
         return kMinLogLik;
     }
     if (!(fov > 0))
     {
-        fov = 2 * M_PI;
+        fov = 2 * M_PI;  // MRPT leaves it 0 when the sensor has no FOV limit
     }
+    Scratch& sc = scratch();
     sc.dets.clear();
     for (const auto& m : obs.sensedData)
     {
         const double r = m.range, b = m.yaw;
-        if (!std::isfinite(r) || !std::isfinite(b) || r < 0 || r > R ||
+        if (!(r >= 0 && r <= R) || !(std::abs(b) <= 4 * M_PI) ||
             std::abs(wrapBearing(b)) > 0.5 * fov + 1e-9)
         {
             continue;
@@ -708,22 +807,21 @@ double CSemanticMap::computeLogLikelihood(const mrpt::obs::CObservationBearingRa
         sc.dets.push_back({r, wrapBearing(b), -1, fixed});
     }
     const auto& sp = obs.sensorLocationOnRobot;
-    const Geom g = makeGeom(pose, sp.x(), sp.y(), sp.yaw(), R, fov);
-    predictVisible(*m_index, g, sc.vis);
-    const double ll = likelihoodOptions.model == Model::Paper
-                          ? scorePaper(likelihoodOptions, sc)
-                          : scoreProbabilistic(likelihoodOptions, m_labels->size(), g, sc);
-    return finite(ll);
+    return score(*m_index, m_labels->size(), lo, sc,
+                 makeGeom(sc, pose, sp.x(), sp.y(), sp.yaw(), R, fov));
 }
 
 CSemanticMap::TObservationCheck CSemanticMap::check(const CObservationSemantic& obs) const
 {
     TObservationCheck c;
-    const double R = likelihoodOptions.max_range_m > 0 ? likelihoodOptions.max_range_m : obs.maxRange_m;
-    const double fov = likelihoodOptions.fov_deg > 0 ? likelihoodOptions.fov_deg * M_PI / 180.0 : obs.fov_rad;
+    const double R =
+        likelihoodOptions.max_range_m > 0 ? likelihoodOptions.max_range_m : obs.maxRange_m;
+    const double fov =
+        likelihoodOptions.fov_deg > 0 ? likelihoodOptions.fov_deg * M_PI / 180.0 : obs.fov_rad;
     for (const auto& d : obs.detections)
     {
-        if (!CObservationSemantic::isValid(d, R, fov) || d.confidence < likelihoodOptions.min_confidence)
+        if (!CObservationSemantic::isValid(d, R, fov) ||
+            d.confidence < likelihoodOptions.min_confidence)
         {
             c.invalid++;
         }
@@ -740,31 +838,32 @@ CSemanticMap::TObservationCheck CSemanticMap::check(const CObservationSemantic& 
     return c;
 }
 
-bool CSemanticMap::internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const
+bool CSemanticMap::internal_canComputeObservationLikelihood(
+    const mrpt::obs::CObservation& obs) const
 {
     return dynamic_cast<const CObservationSemantic*>(&obs) != nullptr ||
            dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs) != nullptr;
 }
 
-double CSemanticMap::internal_computeObservationLikelihood(const mrpt::obs::CObservation& obs,
-                                                           const mrpt::poses::CPose3D& takenFrom) const
+double CSemanticMap::internal_computeObservationLikelihood(
+    const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const
 {
     const TPose2D pose(takenFrom.x(), takenFrom.y(), takenFrom.yaw());
     if (const auto* o = dynamic_cast<const CObservationSemantic*>(&obs))
     {
         return computeLogLikelihood(*o, pose);
     }
-    if (const auto* o = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
+    if (const auto* br = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
     {
-        return computeLogLikelihood(*o, pose);
+        return computeLogLikelihood(*br, pose);
     }
     return 0;
 }
 
 // ------------------------------------------------------------------ insertion
 
-bool CSemanticMap::internal_insertObservation(const mrpt::obs::CObservation& obs,
-                                              const std::optional<const mrpt::poses::CPose3D>& robotPose)
+bool CSemanticMap::internal_insertObservation(
+    const mrpt::obs::CObservation& obs, const std::optional<const mrpt::poses::CPose3D>& robotPose)
 {
     const mrpt::poses::CPose3D vehicle = robotPose ? *robotPose : mrpt::poses::CPose3D();
     struct NewDet
@@ -774,7 +873,8 @@ bool CSemanticMap::internal_insertObservation(const mrpt::obs::CObservation& obs
         double wx, wy;
     };
     std::vector<NewDet> news;
-    auto toWorld = [&](const mrpt::poses::CPose3D& sensorOnVehicle, double r, double b) {
+    auto toWorld = [&](const mrpt::poses::CPose3D& sensorOnVehicle, double r, double b)
+    {
         const mrpt::poses::CPose3D s = vehicle + sensorOnVehicle;
         const double a = s.yaw() + b;
         return std::make_pair(s.x() + r * std::cos(a), s.y() + r * std::sin(a));
@@ -791,15 +891,15 @@ bool CSemanticMap::internal_insertObservation(const mrpt::obs::CObservation& obs
             news.push_back({d.label, d.object_id, wx, wy});
         }
     }
-    else if (const auto* o = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
+    else if (const auto* br = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
     {
-        for (const auto& m : o->sensedData)
+        for (const auto& m : br->sensedData)
         {
             if (!std::isfinite(m.range) || !std::isfinite(m.yaw) || m.range < 0)
             {
                 continue;
             }
-            const auto [wx, wy] = toWorld(o->sensorLocationOnRobot, m.range, m.yaw);
+            const auto [wx, wy] = toWorld(br->sensorLocationOnRobot, m.range, m.yaw);
             news.push_back({insertionOptions.landmark_label, m.landmarkID, wx, wy});
         }
     }
@@ -859,7 +959,10 @@ bool CSemanticMap::internal_insertObservation(const mrpt::obs::CObservation& obs
 
 // ------------------------------------------------------------------ I/O
 
-uint8_t CSemanticMap::serializeGetVersion() const { return 0; }
+uint8_t CSemanticMap::serializeGetVersion() const
+{
+    return 0;
+}
 
 void CSemanticMap::serializeTo(mrpt::serialization::CArchive& out) const
 {
@@ -879,11 +982,13 @@ void CSemanticMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t vers
         case 0:
         {
             in >> genericMapParams;
-            in >> m_hasBounds >> m_bounds.x_min >> m_bounds.x_max >> m_bounds.y_min >> m_bounds.y_max;
+            in >> m_hasBounds >> m_bounds.x_min >> m_bounds.x_max >> m_bounds.y_min >>
+                m_bounds.y_max;
             const auto n = in.ReadAs<uint32_t>();
             if (n > (1u << 24))
             {
-                THROW_EXCEPTION_FMT("CSemanticMap: corrupted data: %u objects", static_cast<unsigned>(n));
+                THROW_EXCEPTION_FMT("CSemanticMap: corrupted data: %u objects",
+                                    static_cast<unsigned>(n));
             }
             m_objects.resize(n);
             for (auto& o : m_objects)
@@ -905,9 +1010,9 @@ void CSemanticMap::saveMetricMapRepresentationToFile(const std::string& prefix) 
 
 std::string CSemanticMap::asString() const
 {
-    return mrpt::format("CSemanticMap: %u objects, %u labels, model '%s'",
-                        static_cast<unsigned>(m_objects.size()), static_cast<unsigned>(m_labels->size()),
-                        modelName(likelihoodOptions.model));
+    return mrpt::format(
+        "CSemanticMap: %u objects, %u labels, model '%s'", static_cast<unsigned>(m_objects.size()),
+        static_cast<unsigned>(m_labels->size()), modelName(likelihoodOptions.model));
 }
 
 void CSemanticMap::getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const

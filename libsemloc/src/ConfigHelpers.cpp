@@ -71,8 +71,8 @@ void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& secti
     }
     if (v < lo || v > hi)
     {
-        fail(section, key, "value " + s + " is out of range [" + numText(lo) + ", " + numText(hi) +
-                               "]");
+        fail(section, key,
+             "value " + s + " is out of range [" + numText(lo) + ", " + numText(hi) + "]");
     }
     value = v;
 }
@@ -114,7 +114,8 @@ void readBool(const mrpt::config::CConfigFileBase& c, const std::string& section
         return;
     }
     std::string l = s;
-    std::transform(l.begin(), l.end(), l.begin(), [](unsigned char ch) { return std::tolower(ch); });
+    std::transform(l.begin(), l.end(), l.begin(),
+                   [](unsigned char ch) { return std::tolower(ch); });
     if (l == "true" || l == "1" || l == "yes" || l == "on")
     {
         value = true;
@@ -130,8 +131,7 @@ void readBool(const mrpt::config::CConfigFileBase& c, const std::string& section
 }
 
 void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& section,
-                const std::string& key, std::string& value,
-                const std::vector<std::string>& choices)
+                const std::string& key, std::string& value, const std::vector<std::string>& choices)
 {
     std::string s;
     if (!readRaw(c, section, key, s))
@@ -155,8 +155,9 @@ void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string
 {
     std::vector<std::string> keys;
     c.getAllKeys(section, keys);
-    for (const auto& k : keys)
+    for (auto k : keys)
     {
+        k = trim(k);
         if (std::find(known.begin(), known.end(), k) == known.end())
         {
             std::string list;
@@ -175,6 +176,10 @@ std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o)
     o.saveToConfigFile(mem, "s");
     std::vector<std::string> keys;
     mem.getAllKeys("s", keys);
+    for (auto& k : keys)
+    {
+        k = trim(k);  // MRPT pads keys to align the written columns
+    }
     return keys;
 }
 

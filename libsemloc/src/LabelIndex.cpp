@@ -2,25 +2,29 @@
 #include "LabelIndex.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace semloc
 {
-uint64_t LabelIndex::hash(std::string_view s) noexcept
+LabelIndex::Key LabelIndex::keyOf(std::string_view s) noexcept
 {
-    // FNV-1a, 64 bit: labels are short words, so a simple byte hash is cheapest.
-    uint64_t h = 14695981039346656037ull;
-    for (const char c : s)
-    {
-        h ^= static_cast<unsigned char>(c);
-        h *= 1099511628211ull;
-    }
-    return h;
+    Key k{s.size(), 0, 0};
+    const size_t n = std::min<size_t>(8, s.size());
+    std::memcpy(&k.head, s.data(), n);
+    std::memcpy(&k.tail, s.data() + s.size() - n, n);
+    return k;
+}
+
+uint64_t LabelIndex::hashOf(const Key& k) noexcept
+{
+    uint64_t h = k.head * 0x9E3779B97F4A7C15ull ^ (k.tail + k.len) * 0xC2B2AE3D27D4EB4Full;
+    return h ^ (h >> 29);
 }
 
 void LabelIndex::clear()
 {
     m_names.clear();
-    m_hashes.clear();
+    m_keys.clear();
     m_slots.clear();
 }
 
@@ -29,7 +33,7 @@ void LabelIndex::rehash(size_t slots)
     m_slots.assign(slots, -1);
     for (size_t i = 0; i < m_names.size(); i++)
     {
-        size_t k = m_hashes[i] & (slots - 1);
+        size_t k = hashOf(m_keys[i]) & (slots - 1);
         while (m_slots[k] >= 0)
         {
             k = (k + 1) & (slots - 1);
@@ -44,16 +48,17 @@ int LabelIndex::find(std::string_view label) const noexcept
     {
         return -1;
     }
-    const uint64_t h = hash(label);
+    const Key key = keyOf(label);
     const size_t mask = m_slots.size() - 1;
-    for (size_t k = h & mask;; k = (k + 1) & mask)
+    for (size_t k = hashOf(key) & mask;; k = (k + 1) & mask)
     {
         const int32_t i = m_slots[k];
         if (i < 0)
         {
             return -1;
         }
-        if (m_hashes[static_cast<size_t>(i)] == h && m_names[static_cast<size_t>(i)] == label)
+        if (m_keys[static_cast<size_t>(i)] == key &&
+            (key.len <= 16 || m_names[static_cast<size_t>(i)] == label))
         {
             return i;
         }
@@ -67,7 +72,7 @@ int LabelIndex::intern(const std::string& label)
         return i;
     }
     m_names.push_back(label);
-    m_hashes.push_back(hash(label));
+    m_keys.push_back(keyOf(label));
     // Keep the table at most 1/4 full so probes stay short.
     size_t slots = 16;
     while (slots < 4 * m_names.size())

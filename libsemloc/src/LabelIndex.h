@@ -8,9 +8,10 @@
 
 namespace semloc
 {
-/** Maps labels to dense ids 0..size()-1. `find` is allocation-free and costs one
- *  hash of the label plus one probe on average: it runs once per detection per
- *  particle, where a std::unordered_map<std::string, ...> lookup would dominate. */
+/** Maps labels to dense ids 0..size()-1. `find` runs once per detection per particle,
+ *  where a std::unordered_map<std::string, ...> lookup would dominate: labels are keyed
+ *  by (length, first 8 bytes, last 8 bytes), which identifies any label of up to 16
+ *  bytes without a byte loop or memcmp; longer labels are compared in full. */
 class LabelIndex
 {
 public:
@@ -25,11 +26,20 @@ public:
     void clear();
 
 private:
-    static uint64_t hash(std::string_view s) noexcept;
+    struct Key
+    {
+        uint64_t len, head, tail;
+        bool operator==(const Key& o) const
+        {
+            return len == o.len && head == o.head && tail == o.tail;
+        }
+    };
+    static Key keyOf(std::string_view s) noexcept;
+    static uint64_t hashOf(const Key& k) noexcept;
     void rehash(size_t slots);
 
     std::vector<std::string> m_names;
-    std::vector<uint64_t> m_hashes;
+    std::vector<Key> m_keys;
     std::vector<int32_t> m_slots;  // power-of-two open addressing, -1 = empty
 };
 

@@ -5,6 +5,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CSerializable.h>
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -52,11 +53,24 @@ public:
     /** The detections of this scan (possibly empty: nothing recognized). */
     std::vector<TSemanticDetection> detections;
 
-    /** True if the detection has a finite range in [0, maxRange_m], a finite
-     *  bearing inside the field of view, a confidence in [0, 1] and a label. */
+    /** True if the detection has a finite range in [0, maxRange_m], a bearing within
+     *  +-4 pi that wraps inside the field of view, a confidence in [0, 1] and a label. */
     bool isValid(const TSemanticDetection& d) const { return isValid(d, maxRange_m, fov_rad); }
-    /** The same check against a given max range [m] and field of view [rad]. */
-    static bool isValid(const TSemanticDetection& d, double maxRange_m, double fov_rad);
+    /** The same check against a given max range [m] and field of view [rad]
+     *  (inline: it runs once per detection per particle). */
+    static bool isValid(const TSemanticDetection& d, double maxRange_m, double fov_rad)
+    {
+        // NaN fails every comparison below, so no separate isfinite is needed.
+        if (d.label.empty() || !(d.range_m >= 0 && d.range_m <= maxRange_m) ||
+            !(d.confidence >= 0 && d.confidence <= 1) || !(std::abs(d.bearing_rad) <= 4 * M_PI))
+        {
+            return false;  // beyond two turns a bearing is garbage, not an angle
+        }
+        const double b = (d.bearing_rad >= -M_PI && d.bearing_rad <= M_PI)
+                             ? d.bearing_rad
+                             : std::remainder(d.bearing_rad, 2 * M_PI);
+        return std::abs(b) <= 0.5 * fov_rad + 1e-9;
+    }
 
     void getSensorPose(mrpt::poses::CPose3D& out_sensorPose) const override
     {

@@ -1,0 +1,111 @@
+/* semloc benchmarks — CSemanticMap likelihood per particle.
+ * Run: build/bench/bench_SemanticLikelihood [--benchmark_filter=...] */
+#include <benchmark/benchmark.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <semloc/CSemanticMap.h>
+
+#include <cmath>
+#include <vector>
+
+using mrpt::math::TPose2D;
+using semloc::CObservationSemantic;
+using semloc::CSemanticMap;
+
+namespace
+{
+/** n objects in 6 labels at a fixed density of 50 objects per 50 x 50 m. */
+CSemanticMap makeMap(int n, CSemanticMap::Model model, mrpt::random::CRandomGenerator& rng)
+{
+    static const char* labels[] = {"wellhead", "manifold", "pillar", "pipeline", "anchor", "wreck"};
+    const double side = 50.0 * std::sqrt(n / 50.0);
+    CSemanticMap m;
+    m.likelihoodOptions.model = model;
+    for (int i = 1; i <= n; i++)
+    {
+        m.addObject(
+            {i, labels[i % 6], rng.drawUniform(0.0, side), rng.drawUniform(0.0, side), 0, 0.5, 1});
+    }
+    return m;
+}
+
+/** The nd nearest objects in front of `pose`, as detections. */
+CObservationSemantic makeObs(const CSemanticMap& m, const TPose2D& pose, size_t nd)
+{
+    CObservationSemantic obs;
+    obs.maxRange_m = 20;
+    obs.fov_rad = 2 * M_PI / 3;
+    std::vector<std::pair<double, semloc::TSemanticDetection>> cand;
+    for (const auto& o : m.objects())
+    {
+        const double r = std::hypot(o.x - pose.x, o.y - pose.y);
+        const double b = mrpt::math::wrapToPi(std::atan2(o.y - pose.y, o.x - pose.x) - pose.phi);
+        if (r <= obs.maxRange_m && std::abs(b) <= obs.fov_rad / 2)
+        {
+            cand.push_back({r, {o.label, r + 0.1, b + 0.01, 1.0, -1}});
+        }
+    }
+    std::sort(cand.begin(), cand.end(),
+              [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (size_t i = 0; i < nd && i < cand.size(); i++)
+    {
+        obs.detections.push_back(cand[i].second);
+    }
+    return obs;
+}
+
+void runLikelihood(benchmark::State& state, CSemanticMap::Model model)
+{
+    const int nObjects = static_cast<int>(state.range(0));
+    const size_t nDet = static_cast<size_t>(state.range(1));
+    mrpt::random::CRandomGenerator rng(1);
+    const CSemanticMap m = makeMap(nObjects, model, rng);
+    const double side = 50.0 * std::sqrt(nObjects / 50.0);
+    // A pose with enough objects in view, then particles spread around it.
+    TPose2D truth;
+    CObservationSemantic obs;
+    for (int tries = 0; tries < 1000 && obs.detections.size() < nDet; tries++)
+    {
+        truth = TPose2D(rng.drawUniform(0.2 * side, 0.8 * side),
+                        rng.drawUniform(0.2 * side, 0.8 * side), rng.drawUniform(-M_PI, M_PI));
+        obs = makeObs(m, truth, nDet);
+    }
+    std::vector<TPose2D> particles(4096);
+    for (auto& p : particles)
+    {
+        p = TPose2D(truth.x + rng.drawGaussian1D(0, 2.0), truth.y + rng.drawGaussian1D(0, 2.0),
+                    truth.phi + rng.drawGaussian1D(0, 0.2));
+    }
+    size_t i = 0;
+    double sink = 0;
+    for (auto _ : state)
+    {
+        sink += m.computeLogLikelihood(obs, particles[i]);
+        i = (i + 1) & (particles.size() - 1);
+    }
+    benchmark::DoNotOptimize(sink);
+    state.counters["detections"] = static_cast<double>(obs.detections.size());
+    state.counters["ns_per_particle"] =
+        benchmark::Counter(static_cast<double>(state.iterations()),
+                           benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+    state.counters["ns_per_particle"] = state.counters["ns_per_particle"] * 1e9;
+}
+
+void BM_PaperLikelihood(benchmark::State& s)
+{
+    runLikelihood(s, CSemanticMap::Model::Paper);
+}
+void BM_ProbabilisticLikelihood(benchmark::State& s)
+{
+    runLikelihood(s, CSemanticMap::Model::Probabilistic);
+}
+
+// The reference point: 50 objects, 5 detections.
+BENCHMARK(BM_PaperLikelihood)->Args({50, 5});
+BENCHMARK(BM_ProbabilisticLikelihood)->Args({50, 5});
+// Detections per scan.
+BENCHMARK(BM_PaperLikelihood)->Args({50, 1})->Args({50, 10})->Args({50, 20});
+// Map size at fixed density: cost must stay flat (grid index).
+BENCHMARK(BM_PaperLikelihood)->Args({10, 5})->Args({500, 5})->Args({5000, 5})->Args({10000, 5});
+
+}  // namespace

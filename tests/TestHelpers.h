@@ -1,0 +1,85 @@
+/* semloc tests — shared helpers: a small world and an ideal/noisy semantic detector. */
+#pragma once
+
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <semloc/CObservationSemantic.h>
+#include <semloc/CSemanticMap.h>
+#include <semloc/World.h>
+
+#include <cmath>
+#include <string>
+
+namespace semloc::test
+{
+/** A 30 x 30 m world with 12 objects in 4 labels, some labels repeated. */
+inline World smallWorld()
+{
+    return World::FromText(R"(
+name: small
+bounds: {x_min: 0, x_max: 30, y_min: 0, y_max: 30}
+objects:
+  - {id: 1, label: wellhead, shape: box, center: [5, 5], size: [1, 1]}
+  - {id: 2, label: pillar,   shape: cylinder, center: [12, 4], radius: 0.4}
+  - {id: 3, label: pillar,   shape: cylinder, center: [20, 6], radius: 0.4}
+  - {id: 4, label: anchor,   shape: point, center: [26, 3]}
+  - {id: 5, label: wreck,    shape: polygon, points: [[4, 14], [7, 14], [6, 17]]}
+  - {id: 6, label: pillar,   shape: cylinder, center: [15, 15], radius: 0.4}
+  - {id: 7, label: wellhead, shape: box, center: [24, 14], size: [1, 1]}
+  - {id: 8, label: anchor,   shape: point, center: [10, 22]}
+  - {id: 9, label: wreck,    shape: polygon, points: [[18, 23], [21, 23], [20, 26]]}
+  - {id: 10, label: pillar,  shape: cylinder, center: [27, 25], radius: 0.4}
+  - {id: 11, label: wellhead, shape: box, center: [3, 27], size: [1, 1]}
+  - {id: 12, label: anchor,  shape: point, center: [14, 9]}
+)",
+                           "smallWorld");
+}
+
+/** Detector settings for the test observations. */
+struct DetectorSim
+{
+    double maxRange_m = 12;
+    double fov_rad = 2 * M_PI / 3;
+    double sigma_range_m = 0;
+    double sigma_bearing_rad = 0;
+    bool reportIds = false;
+};
+
+/** Ideal detector (plus optional Gaussian noise): every map object in range and FOV. */
+inline CObservationSemantic observe(const World& w, const mrpt::math::TPose2D& pose,
+                                    const DetectorSim& d = {},
+                                    mrpt::random::CRandomGenerator* rng = nullptr)
+{
+    CObservationSemantic obs;
+    obs.sensorLabel = "SEMANTIC";
+    obs.maxRange_m = d.maxRange_m;
+    obs.fov_rad = d.fov_rad;
+    for (const auto& o : w.objects)
+    {
+        const double dx = o.center.x - pose.x, dy = o.center.y - pose.y;
+        const double r = std::hypot(dx, dy);
+        const double b = mrpt::math::wrapToPi(std::atan2(dy, dx) - pose.phi);
+        if (r > d.maxRange_m || std::abs(b) > 0.5 * d.fov_rad)
+        {
+            continue;
+        }
+        TSemanticDetection det;
+        det.label = o.label;
+        det.range_m = r;
+        det.bearing_rad = b;
+        if (rng)
+        {
+            det.range_m = std::max(0.0, r + rng->drawGaussian1D(0, d.sigma_range_m));
+            det.bearing_rad = b + rng->drawGaussian1D(0, d.sigma_bearing_rad);
+        }
+        det.object_id = d.reportIds ? o.id : -1;
+        if (obs.isValid(det))
+        {
+            obs.detections.push_back(det);
+        }
+    }
+    return obs;
+}
+
+}  // namespace semloc::test

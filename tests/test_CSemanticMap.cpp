@@ -1,0 +1,477 @@
+/* semloc tests — CSemanticMap: creation, both likelihood models, robustness, insertion. */
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/CMemoryStream.h>
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/serialization/CArchive.h>
+#include <semloc/CSemanticMap.h>
+
+#include <fstream>
+#include <limits>
+#include <thread>
+
+#include "TestHelpers.h"
+
+using mrpt::math::TPose2D;
+using semloc::CObservationSemantic;
+using semloc::CSemanticMap;
+using semloc::TSemanticDetection;
+using semloc::World;
+using namespace semloc::test;
+
+namespace
+{
+CSemanticMap smallMap(CSemanticMap::Model model = CSemanticMap::Model::Paper)
+{
+    CSemanticMap m;
+    m.likelihoodOptions.model = model;
+    m.loadFromWorld(smallWorld());
+    return m;
+}
+
+TSemanticDetection det(const std::string& label, double r, double b, int id = -1)
+{
+    TSemanticDetection d;
+    d.label = label;
+    d.range_m = r;
+    d.bearing_rad = b;
+    d.object_id = id;
+    return d;
+}
+
+std::string writeWorldFile(const std::string& name)
+{
+    const std::string path = std::string(SEMLOC_TEST_OUT) + "/" + name;
+    smallWorld().saveToFile(path);
+    return path;
+}
+
+std::string errorOf(const std::function<void()>& f)
+{
+    try
+    {
+        f();
+    }
+    catch (const std::exception& e)
+    {
+        return e.what();
+    }
+    return "";
+}
+
+mrpt::maps::CMultiMetricMap mapFromIni(const std::string& ini)
+{
+    mrpt::config::CConfigFileMemory cfg(ini);
+    mrpt::maps::TSetOfMetricMapInitializers inits;
+    inits.loadFromConfigFile(cfg, "MetricMap");
+    mrpt::maps::CMultiMetricMap mm;
+    mm.setListOfMaps(inits);
+    return mm;
+}
+
+const TPose2D kTrue(10, 10, 0.3);
+}  // namespace
+
+TEST(CSemanticMap, CreatedFromIniThroughMultiMetricMap)
+{
+    const std::string world = writeWorldFile("semantic_ini_world.yaml");
+    const auto mm = mapFromIni(
+        "[MetricMap]\nsemanticMap_count=1\n"
+        "[MetricMap_semanticMap_00_creationOpts]\nworld_file=" +
+        world +
+        "\n[MetricMap_semanticMap_00_likelihoodOpts]\n"
+        "model=probabilistic\nsigma_range_m=0.3\nsigma_bearing_deg=2\n");
+    const auto sm = mm.mapByClass<CSemanticMap>();
+    ASSERT_TRUE(sm);
+    EXPECT_EQ(sm->objects().size(), 12u);
+    EXPECT_EQ(sm->labelCount(), 4u);
+    EXPECT_EQ(sm->likelihoodOptions.model, CSemanticMap::Model::Probabilistic);
+    EXPECT_DOUBLE_EQ(sm->likelihoodOptions.sigma_range_m, 0.3);
+    // The multi-map sums the semantic log-likelihood like any MRPT map's.
+    const auto obs = observe(smallWorld(), kTrue);
+    const double viaMulti =
+        mm.computeObservationLikelihood(obs, mrpt::poses::CPose3D(mrpt::poses::CPose2D(kTrue)));
+    EXPECT_DOUBLE_EQ(viaMulti, sm->computeLogLikelihood(obs, kTrue));
+}
+
+TEST(CSemanticMap, IniErrorsNameSectionAndKey)
+{
+    const std::string world = writeWorldFile("semantic_ini_world2.yaml");
+    const std::string head =
+        "[MetricMap]\nsemanticMap_count=1\n[MetricMap_semanticMap_00_creationOpts]\nworld_file=" +
+        world + "\n[MetricMap_semanticMap_00_likelihoodOpts]\n";
+    std::string e = errorOf([&] { mapFromIni(head + "sigma_rnage_m=0.3\n"); });
+    EXPECT_NE(e.find("MetricMap_semanticMap_00_likelihoodOpts"), std::string::npos) << e;
+    EXPECT_NE(e.find("sigma_rnage_m"), std::string::npos) << e;
+    e = errorOf([&] { mapFromIni(head + "model=magic\n"); });
+    EXPECT_NE(e.find("model"), std::string::npos) << e;
+    EXPECT_NE(e.find("magic"), std::string::npos) << e;
+    e = errorOf([&] { mapFromIni(head + "sigma_range_m=-1\n"); });
+    EXPECT_NE(e.find("sigma_range_m"), std::string::npos) << e;
+    e = errorOf([&] { mapFromIni(head + "sigma_range_m=nan\n"); });
+    EXPECT_NE(e.find("sigma_range_m"), std::string::npos) << e;
+    e = errorOf(
+        [&]
+        {
+            mapFromIni(
+                "[MetricMap]\nsemanticMap_count=1\n[MetricMap_semanticMap_00_creationOpts]\n"
+                "world_file=/no/such/world.yaml\n");
+        });
+    EXPECT_NE(e.find("/no/such/world.yaml"), std::string::npos) << e;
+}
+
+class BothModels : public ::testing::TestWithParam<CSemanticMap::Model>
+{
+};
+
+TEST_P(BothModels, PrefersTruePoseOverDisplacedAndRotated)
+{
+    const CSemanticMap m = smallMap(GetParam());
+    const World w = smallWorld();
+    mrpt::random::CRandomGenerator rng(7);
+    DetectorSim ds;
+    ds.sigma_range_m = 0.1;
+    ds.sigma_bearing_rad = 0.01;
+    int checked = 0;
+    for (const TPose2D truth : {TPose2D(10, 10, 0.3), TPose2D(20, 18, 2.0), TPose2D(6, 20, -1.2)})
+    {
+        const auto obs = observe(w, truth, ds, &rng);
+        ASSERT_GE(obs.detections.size(), 2u);
+        const double lTrue = m.computeLogLikelihood(obs, truth);
+        for (const double d : {0.5, 1.0, 2.0, 4.0})
+        {
+            for (const double a : {0.0, M_PI / 2, M_PI, -M_PI / 2})
+            {
+                const TPose2D moved(truth.x + d * std::cos(a), truth.y + d * std::sin(a),
+                                    truth.phi);
+                EXPECT_GT(lTrue, m.computeLogLikelihood(obs, moved)) << "displaced by " << d;
+                checked++;
+            }
+        }
+        for (const double dphi : {-0.3, -0.1, 0.1, 0.3})
+        {
+            const TPose2D rot(truth.x, truth.y, truth.phi + dphi);
+            EXPECT_GT(lTrue, m.computeLogLikelihood(obs, rot)) << "rotated by " << dphi;
+            checked++;
+        }
+    }
+    EXPECT_EQ(checked, 60);
+}
+
+TEST_P(BothModels, UnmatchedObjectsLowerTheLikelihoodMonotonically)
+{
+    const CSemanticMap m = smallMap(GetParam());
+    auto obs = observe(smallWorld(), kTrue);
+    ASSERT_GE(obs.detections.size(), 3u);
+    // Extra detections where the map has nothing (false positives).
+    double prev = m.computeLogLikelihood(obs, kTrue);
+    for (int k = 0; k < 4; k++)
+    {
+        obs.detections.push_back(det("wellhead", 2.0 + k, -0.5 + 0.2 * k));
+        const double l = m.computeLogLikelihood(obs, kTrue);
+        EXPECT_LT(l, prev) << "after adding unmatched detection " << k;
+        prev = l;
+    }
+    // Missed detections of predicted objects.
+    auto obs2 = observe(smallWorld(), kTrue);
+    prev = m.computeLogLikelihood(obs2, kTrue);
+    while (!obs2.detections.empty())
+    {
+        obs2.detections.pop_back();
+        const double l = m.computeLogLikelihood(obs2, kTrue);
+        EXPECT_LT(l, prev) << "after dropping to " << obs2.detections.size();
+        prev = l;
+    }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Models, BothModels,
+    ::testing::Values(CSemanticMap::Model::Paper, CSemanticMap::Model::Probabilistic),
+    [](const auto& param_info)
+    { return param_info.param == CSemanticMap::Model::Paper ? "Paper" : "Probabilistic"; });
+
+TEST(CSemanticMap, PaperFormulaExactly)
+{
+    // One object straight ahead at 5 m; one detection off by d_rho, d_theta.
+    CSemanticMap m;
+    m.addObject({1, "pillar", 5, 0, 0, 0.3, 1});
+    const auto& o = m.likelihoodOptions;
+    CObservationSemantic obs;
+    obs.maxRange_m = 10;
+    obs.fov_rad = M_PI;
+    const double dr = 0.3, db = 2.0 * M_PI / 180;
+    obs.detections.push_back(det("pillar", 5 + dr, db));
+    const double sb = o.sigma_bearing_deg * M_PI / 180;
+    const double expected = -0.5 * std::pow(dr / o.sigma_range_m, 2) - 0.5 * std::pow(db / sb, 2);
+    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), expected, 1e-6);
+    // d = q + l - 2m: one more unseen object ahead adds one log(p_u).
+    m.addObject({2, "anchor", 7, 1, 0, 0.3, 1});
+    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)),
+                expected + std::log(o.unmatched_penalty), 1e-6);
+    // A detection too far off to be worth matching counts as two unmatched objects.
+    obs.detections[0].range_m = 9.5;
+    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), 3 * std::log(o.unmatched_penalty),
+                1e-9);
+}
+
+TEST(CSemanticMap, SameLabelAmbiguityIsOneToOne)
+{
+    CSemanticMap m;
+    m.addObject({1, "pillar", 5, 1, 0, 0.3, 1});
+    m.addObject({2, "pillar", 5, -1, 0, 0.3, 1});
+    const double logPu = std::log(m.likelihoodOptions.unmatched_penalty);
+    CObservationSemantic obs;
+    obs.maxRange_m = 10;
+    obs.fov_rad = M_PI;
+    const double r = std::hypot(5, 1), b = std::atan2(1, 5);
+    obs.detections = {det("pillar", r, b), det("pillar", r, -b)};
+    const TPose2D origin(0, 0, 0);
+    const double both = m.computeLogLikelihood(obs, origin);
+    EXPECT_NEAR(both, 0, 1e-9);  // both matched perfectly
+    std::swap(obs.detections[0], obs.detections[1]);
+    EXPECT_NEAR(m.computeLogLikelihood(obs, origin), both, 1e-12);  // order does not matter
+    // Two detections on the same pillar: only one may take it.
+    obs.detections = {det("pillar", r, b), det("pillar", r, b)};
+    const double oneToOne = m.computeLogLikelihood(obs, origin);
+    // Best: one perfect match, the other detection matched to the other pillar (far in
+    // bearing, so cheaper unmatched): l=2, q=2, m=1 -> 2 log p_u.
+    EXPECT_NEAR(oneToOne, 2 * logPu, 1e-6);
+    // With ids the detector says which is which: a swapped id costs.
+    obs.detections = {det("pillar", r, b, 1), det("pillar", r, -b, 2)};
+    EXPECT_NEAR(m.computeLogLikelihood(obs, origin), 0, 1e-9);
+    obs.detections = {det("pillar", r, b, 2), det("pillar", r, -b, 1)};
+    EXPECT_LT(m.computeLogLikelihood(obs, origin), both - 1);
+}
+
+TEST(CSemanticMap, FiniteOnEveryBadInput)
+{
+    for (const auto model : {CSemanticMap::Model::Paper, CSemanticMap::Model::Probabilistic})
+    {
+        const CSemanticMap m = smallMap(model);
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        const double inf = std::numeric_limits<double>::infinity();
+        CObservationSemantic obs;
+        obs.maxRange_m = 12;
+        EXPECT_TRUE(std::isfinite(m.computeLogLikelihood(obs, kTrue))) << "empty";
+        obs.detections = {det("kraken", 3, 0),     det("pillar", nan, 0),     det("pillar", -1, 0),
+                          det("pillar", inf, 0),   det("pillar", 3, nan),     det("pillar", 3, inf),
+                          det("pillar", 30, 0),    det("pillar", 3, 2.5),     det("", 3, 0),
+                          det("pillar", 3, 1e300), det("pillar", 3, 0, 99999)};
+        obs.detections.back().confidence = nan;
+        const auto c = m.check(obs);
+        EXPECT_EQ(c.used, 0u);
+        EXPECT_EQ(c.unknown, 1u);  // "kraken"
+        EXPECT_EQ(c.invalid, obs.detections.size() - 1);
+        EXPECT_TRUE(std::isfinite(m.computeLogLikelihood(obs, kTrue)));
+        for (const auto& p : {TPose2D(nan, 0, 0), TPose2D(0, inf, 0), TPose2D(1e12, -1e12, 1e9)})
+        {
+            EXPECT_TRUE(std::isfinite(m.computeLogLikelihood(obs, p)));
+        }
+        for (const double R : {0.0, -1.0, nan, inf})
+        {
+            obs.maxRange_m = R;
+            EXPECT_TRUE(std::isfinite(m.computeLogLikelihood(obs, kTrue))) << "maxRange " << R;
+        }
+        obs.maxRange_m = 12;
+        obs.fov_rad = nan;
+        EXPECT_TRUE(std::isfinite(m.computeLogLikelihood(obs, kTrue)));
+        // Many valid detections at once must not overflow.
+        CObservationSemantic many = observe(smallWorld(), kTrue);
+        for (int i = 0; i < 5000; i++)
+        {
+            many.detections.push_back(det("pillar", 1 + (i % 10), 0.01 * (i % 50) - 0.25));
+        }
+        EXPECT_TRUE(std::isfinite(m.computeLogLikelihood(many, kTrue)));
+        const CSemanticMap empty;
+        EXPECT_TRUE(std::isfinite(empty.computeLogLikelihood(many, kTrue)));
+    }
+}
+
+TEST(CSemanticMap, ScoresMrptBearingRangeObservations)
+{
+    const CSemanticMap m = smallMap();
+    const World w = smallWorld();
+    for (const bool withIds : {true, false})
+    {
+        mrpt::obs::CObservationBearingRange br;
+        br.maxSensorDistance = 12;
+        br.fieldOfView_yaw = static_cast<float>(2 * M_PI / 3);
+        const auto sem = observe(w, kTrue);
+        for (const auto& d : sem.detections)
+        {
+            mrpt::obs::CObservationBearingRange::TMeasurement meas;
+            meas.range = static_cast<float>(d.range_m);
+            meas.yaw = static_cast<float>(d.bearing_rad);
+            meas.pitch = 0;
+            const int idx = [&]
+            {
+                for (const auto& o : w.objects)
+                {
+                    if (std::abs(std::hypot(o.center.x - kTrue.x, o.center.y - kTrue.y) -
+                                 d.range_m) < 1e-9)
+                    {
+                        return o.id;
+                    }
+                }
+                return -1;
+            }();
+            meas.landmarkID = withIds ? idx : -1;
+            br.sensedData.push_back(meas);
+        }
+        ASSERT_GE(br.sensedData.size(), 2u);
+        const double lTrue = m.computeLogLikelihood(br, kTrue);
+        EXPECT_TRUE(std::isfinite(lTrue));
+        EXPECT_GT(lTrue, m.computeLogLikelihood(br, TPose2D(11, 10, 0.3)));
+        EXPECT_GT(lTrue, m.computeLogLikelihood(br, TPose2D(10, 10, 0.5)));
+        // Through the CMetricMap interface too.
+        EXPECT_TRUE(m.canComputeObservationLikelihood(br));
+        EXPECT_DOUBLE_EQ(
+            m.computeObservationLikelihood(br, mrpt::poses::CPose3D(mrpt::poses::CPose2D(kTrue))),
+            lTrue);
+    }
+}
+
+TEST(CSemanticMap, GridIndexEqualsBruteForceOnLargeMaps)
+{
+    // 2000 objects over 400 x 400 m; a single huge cell is a brute-force scan.
+    mrpt::random::CRandomGenerator rng(3);
+    CSemanticMap indexed, brute;
+    indexed.likelihoodOptions.index_cell_m = 10;
+    brute.likelihoodOptions.index_cell_m = 1e5;
+    const char* labels[] = {"a", "b", "c", "d", "e"};
+    for (int i = 1; i <= 2000; i++)
+    {
+        const CSemanticMap::TObject o{
+            i, labels[i % 5], rng.drawUniform(0.0, 400.0), rng.drawUniform(0.0, 400.0), 0, 0.5, 1};
+        indexed.addObject(o);
+        brute.addObject(o);
+    }
+    World w;
+    w.bounds = {0, 400, 0, 400};
+    for (const auto& o : indexed.objects())
+    {
+        semloc::WorldObject wo;
+        wo.id = o.id;
+        wo.label = o.label;
+        wo.center = {o.x, o.y};
+        w.objects.push_back(wo);
+    }
+    for (int k = 0; k < 200; k++)
+    {
+        const TPose2D truth(rng.drawUniform(0.0, 400.0), rng.drawUniform(0.0, 400.0),
+                            rng.drawUniform(-M_PI, M_PI));
+        const auto obs = observe(w, truth);
+        const TPose2D probe(truth.x + rng.drawUniform(-2.0, 2.0),
+                            truth.y + rng.drawUniform(-2.0, 2.0), truth.phi);
+        EXPECT_EQ(indexed.computeLogLikelihood(obs, probe), brute.computeLogLikelihood(obs, probe));
+    }
+}
+
+TEST(CSemanticMap, ConstLikelihoodIsThreadSafe)
+{
+    const CSemanticMap m = smallMap();
+    mrpt::random::CRandomGenerator rng(11);
+    std::vector<TPose2D> poses;
+    std::vector<CObservationSemantic> obs;
+    for (int i = 0; i < 3000; i++)
+    {
+        poses.emplace_back(rng.drawUniform(0.0, 30.0), rng.drawUniform(0.0, 30.0),
+                           rng.drawUniform(-M_PI, M_PI));
+        obs.push_back(observe(smallWorld(), poses.back()));
+    }
+    std::vector<double> ref(poses.size());
+    for (size_t i = 0; i < poses.size(); i++)
+    {
+        ref[i] = m.computeLogLikelihood(obs[(i * 7) % obs.size()], poses[i]);
+    }
+    std::vector<std::vector<double>> out(4, std::vector<double>(poses.size()));
+    std::vector<std::thread> th;
+    for (size_t t = 0; t < 4; t++)
+    {
+        th.emplace_back(
+            [&, t]
+            {
+                for (int rep = 0; rep < 3; rep++)
+                {
+                    for (size_t i = 0; i < poses.size(); i++)
+                    {
+                        const size_t k = (i + t * 131) % poses.size();
+                        out[t][k] = m.computeLogLikelihood(obs[(k * 7) % obs.size()], poses[k]);
+                    }
+                }
+            });
+    }
+    for (auto& x : th)
+    {
+        x.join();
+    }
+    for (size_t t = 0; t < 4; t++)
+    {
+        EXPECT_EQ(out[t], ref) << "thread " << t;
+    }
+}
+
+TEST(CSemanticMap, InsertingObservationsWithKnownPosesBuildsTheMap)
+{
+    const World w = smallWorld();
+    CSemanticMap built;
+    built.insertionOptions.merge_distance_m = 1.5;
+    mrpt::random::CRandomGenerator rng(5);
+    DetectorSim ds;
+    ds.sigma_range_m = 0.05;
+    ds.sigma_bearing_rad = 0.005;
+    ds.fov_rad = 2 * M_PI;
+    for (int k = 0; k < 40; k++)
+    {
+        const double a = 2 * M_PI * k / 40;
+        const TPose2D p(15 + 8 * std::cos(a), 15 + 8 * std::sin(a), a + M_PI / 2);
+        const auto obs = observe(w, p, ds, &rng);
+        built.insertObservation(obs, mrpt::poses::CPose3D(mrpt::poses::CPose2D(p)));
+    }
+    ASSERT_EQ(built.objects().size(), w.objects.size());
+    for (const auto& wo : w.objects)
+    {
+        double best = 1e9;
+        std::string label;
+        for (const auto& o : built.objects())
+        {
+            const double d = std::hypot(o.x - wo.center.x, o.y - wo.center.y);
+            if (d < best)
+            {
+                best = d;
+                label = o.label;
+            }
+        }
+        EXPECT_LT(best, 0.3) << "object " << wo.id;
+        EXPECT_EQ(label, wo.label);
+    }
+}
+
+TEST(CSemanticMap, SerializationAndSavedYamlRoundTrip)
+{
+    const CSemanticMap m = smallMap();
+    mrpt::io::CMemoryStream mem;
+    auto ar = mrpt::serialization::archiveFrom(mem);
+    ar << m;
+    mem.Seek(0);
+    CSemanticMap back;
+    ar >> back;
+    ASSERT_EQ(back.objects().size(), m.objects().size());
+    const auto obs = observe(smallWorld(), kTrue);
+    EXPECT_EQ(back.computeLogLikelihood(obs, kTrue), m.computeLogLikelihood(obs, kTrue));
+
+    const std::string prefix = std::string(SEMLOC_TEST_OUT) + "/saved_map";
+    m.saveMetricMapRepresentationToFile(prefix);
+    CSemanticMap reloaded;
+    reloaded.loadFromWorldFile(prefix + "_semantic.yaml");
+    ASSERT_EQ(reloaded.objects().size(), m.objects().size());
+    for (size_t i = 0; i < m.objects().size(); i++)
+    {
+        EXPECT_EQ(reloaded.objects()[i].label, m.objects()[i].label);
+        EXPECT_NEAR(reloaded.objects()[i].x, m.objects()[i].x, 1e-12);
+        EXPECT_NEAR(reloaded.objects()[i].extent_m, m.objects()[i].extent_m, 1e-12);
+    }
+    EXPECT_NE(m.asString().find("12 objects"), std::string::npos);
+}

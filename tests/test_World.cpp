@@ -1,0 +1,190 @@
+/* semloc tests — World: the YAML schema of DESIGN.md, accepted and rejected. */
+#include <gtest/gtest.h>
+#include <semloc/World.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+using semloc::ShapeType;
+using semloc::World;
+
+namespace
+{
+const char* kDesignExample = R"(name: paper_50x50
+bounds: {x_min: 0, x_max: 50, y_min: 0, y_max: 50}      # metres, the area particles may occupy
+objects:
+  - {id: 1, label: wellhead, shape: box, center: [7.5, 12.5], size: [2.0, 3.0], yaw_deg: 0}
+  - {id: 2, label: pillar,   shape: cylinder, center: [20.0, 5.0], radius: 0.6}
+  - {id: 3, label: wreck,    shape: polygon, points: [[30, 30], [34, 31], [33, 35], [29, 34]]}
+  - {id: 4, label: marker,   shape: point, center: [12.0, 40.0]}   # seen by the detector, not by sonar
+trajectory:                                               # optional; used by semloc-simulate
+  speed_mps: 0.5
+  waypoints: [[2, 2], [48, 2], [48, 7], [2, 7]]
+)";
+
+/** Loads `text` and returns the error message ("" when it loads). */
+std::string loadError(const std::string& text)
+{
+    try
+    {
+        World::FromText(text, "bad.yaml");
+    }
+    catch (const std::exception& e)
+    {
+        return e.what();
+    }
+    return "";
+}
+
+std::string withObject(const std::string& obj)
+{
+    return "bounds: {x_min: 0, x_max: 50, y_min: 0, y_max: 50}\nobjects:\n  - " + obj + "\n";
+}
+}  // namespace
+
+TEST(World, AcceptsDesignExample)
+{
+    const World w = World::FromText(kDesignExample, "design.yaml");
+    EXPECT_EQ(w.name, "paper_50x50");
+    ASSERT_EQ(w.objects.size(), 4u);
+    EXPECT_EQ(w.objects[0].shape, ShapeType::Box);
+    EXPECT_EQ(w.objects[0].points.size(), 4u);
+    EXPECT_NEAR(w.objects[0].extent_m, std::hypot(1.0, 1.5), 1e-12);
+    EXPECT_EQ(w.objects[1].shape, ShapeType::Cylinder);
+    EXPECT_DOUBLE_EQ(w.objects[1].radius, 0.6);
+    EXPECT_EQ(w.objects[2].shape, ShapeType::Polygon);
+    // Area centroid of the polygon lies inside its bounding box.
+    EXPECT_GT(w.objects[2].center.x, 29.0);
+    EXPECT_LT(w.objects[2].center.x, 34.0);
+    EXPECT_EQ(w.objects[3].shape, ShapeType::Point);
+    ASSERT_TRUE(w.trajectory.has_value());
+    EXPECT_EQ(w.trajectory->waypoints.size(), 4u);
+    EXPECT_DOUBLE_EQ(w.trajectory->speed_mps, 0.5);
+}
+
+TEST(World, RoundTripsThroughYamlText)
+{
+    const World a = World::FromText(kDesignExample, "design.yaml");
+    const std::string path = std::string(SEMLOC_TEST_OUT) + "/world_roundtrip.yaml";
+    a.saveToFile(path);
+    const World b = World::FromFile(path);
+    ASSERT_EQ(a.objects.size(), b.objects.size());
+    for (size_t i = 0; i < a.objects.size(); i++)
+    {
+        EXPECT_EQ(a.objects[i].id, b.objects[i].id);
+        EXPECT_EQ(a.objects[i].label, b.objects[i].label);
+        EXPECT_EQ(a.objects[i].shape, b.objects[i].shape);
+        EXPECT_NEAR(a.objects[i].center.x, b.objects[i].center.x, 1e-12);
+        EXPECT_NEAR(a.objects[i].center.y, b.objects[i].center.y, 1e-12);
+    }
+    EXPECT_EQ(a.toYamlText(), b.toYamlText());
+}
+
+TEST(World, MissingFileNamesThePath)
+{
+    const std::string e = []
+    {
+        try
+        {
+            World::FromFile("/nonexistent/world.yaml");
+        }
+        catch (const std::exception& ex)
+        {
+            return std::string(ex.what());
+        }
+        return std::string();
+    }();
+    EXPECT_NE(e.find("/nonexistent/world.yaml"), std::string::npos) << e;
+    EXPECT_NE(e.find("cannot open"), std::string::npos) << e;
+}
+
+struct BadCase
+{
+    const char* name;
+    std::string text;
+    std::vector<std::string> mustMention;
+};
+
+TEST(World, RejectsEachKindOfBadFileWithFileObjectAndKey)
+{
+    const std::vector<BadCase> cases = {
+        {"syntax", "bounds: {x_min: 0, x_max: [\n", {"bad.yaml"}},
+        {"not a map", "- 1\n- 2\n", {"bad.yaml"}},
+        {"unknown top key",
+         "bounds: {x_min: 0, x_max: 1, y_min: 0, y_max: 1}\nobjects: []\nfoo: 1\n",
+         {"bad.yaml", "'foo'", "unknown key"}},
+        {"missing bounds", "objects: []\n", {"'bounds'", "missing"}},
+        {"empty bounds",
+         "bounds: {x_min: 5, x_max: 5, y_min: 0, y_max: 1}\nobjects: []\n",
+         {"'bounds'", "empty"}},
+        {"nan bound",
+         "bounds: {x_min: 0, x_max: .nan, y_min: 0, y_max: 1}\nobjects: []\n",
+         {"'x_max'", "not"}},
+        {"text bound",
+         "bounds: {x_min: 0, x_max: ten, y_min: 0, y_max: 1}\nobjects: []\n",
+         {"'x_max'", "'ten' is not a number"}},
+        {"unknown object key",
+         withObject("{id: 1, label: a, shape: point, center: [1, 1], colour: red}"),
+         {"objects[0] (id 1)", "'colour'", "unknown key"}},
+        {"missing id",
+         withObject("{label: a, shape: point, center: [1, 1]}"),
+         {"objects[0]", "'id'", "missing"}},
+        {"negative id",
+         withObject("{id: -3, label: a, shape: point, center: [1, 1]}"),
+         {"'id'", "positive"}},
+        {"fractional id",
+         withObject("{id: 1.5, label: a, shape: point, center: [1, 1]}"),
+         {"'id'", "integer"}},
+        {"bad shape",
+         withObject("{id: 1, label: a, shape: cone, center: [1, 1]}"),
+         {"'shape'", "cone"}},
+        {"infinite coordinate",
+         withObject("{id: 1, label: a, shape: point, center: [.inf, 1]}"),
+         {"'center'", "finite"}},
+        {"bad point",
+         withObject("{id: 1, label: a, shape: point, center: [1, 2, 3]}"),
+         {"'center'", "[x, y]"}},
+        {"zero radius",
+         withObject("{id: 1, label: a, shape: cylinder, center: [1, 1], radius: 0}"),
+         {"'radius'", "> 0"}},
+        {"bad box size",
+         withObject("{id: 1, label: a, shape: box, center: [1, 1], size: [1, -1]}"),
+         {"'size'"}},
+        {"short polygon",
+         withObject("{id: 1, label: a, shape: polygon, points: [[0, 0], [1, 1]]}"),
+         {"'points'", "at least 3"}},
+        {"self-intersecting polygon",
+         withObject("{id: 1, label: a, shape: polygon, points: [[1, 1], [5, 5], [5, 1], [1, 5]]}"),
+         {"'points'", "self-intersecting"}},
+        {"outside bounds",
+         withObject("{id: 1, label: a, shape: point, center: [60, 1]}"),
+         {"objects[0] (id 1)", "outside bounds"}},
+        {"empty label",
+         withObject("{id: 1, label: '', shape: point, center: [1, 1]}"),
+         {"'label'"}},
+        {"duplicate id",
+         "bounds: {x_min: 0, x_max: 50, y_min: 0, y_max: 50}\nobjects:\n"
+         "  - {id: 4, label: a, shape: point, center: [1, 1]}\n"
+         "  - {id: 4, label: b, shape: point, center: [2, 2]}\n",
+         {"objects[1] (id 4)", "duplicate id 4"}},
+        {"bad trajectory speed",
+         "bounds: {x_min: 0, x_max: 5, y_min: 0, y_max: 5}\nobjects: []\n"
+         "trajectory: {speed_mps: 0, waypoints: [[1, 1], [2, 2]]}\n",
+         {"trajectory", "'speed_mps'"}},
+        {"waypoint outside",
+         "bounds: {x_min: 0, x_max: 5, y_min: 0, y_max: 5}\nobjects: []\n"
+         "trajectory: {speed_mps: 1, waypoints: [[1, 1], [9, 2]]}\n",
+         {"trajectory", "'waypoints'", "outside"}},
+    };
+    for (const auto& c : cases)
+    {
+        const std::string e = loadError(c.text);
+        ASSERT_FALSE(e.empty()) << c.name << ": accepted";
+        EXPECT_NE(e.find("bad.yaml"), std::string::npos) << c.name << ": " << e;
+        for (const auto& m : c.mustMention)
+        {
+            EXPECT_NE(e.find(m), std::string::npos) << c.name << ": '" << m << "' not in: " << e;
+        }
+    }
+}
