@@ -1,13 +1,19 @@
 /* semloc — World: loading and validating world YAML files. */
 #include <mrpt/containers/yaml.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/random/RandomGenerators.h>
 #include <semloc/World.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <fstream>
 #include <set>
 #include <sstream>
+
+#include "Geometry2D.h"
 
 namespace semloc
 {
@@ -557,6 +563,204 @@ int World::indexOfId(int id) const
         }
     }
     return -1;
+}
+
+// ------------------------------------------------------------------ geometry
+
+namespace
+{
+/** True if p is inside the object's exact shape or on its boundary. */
+bool insideObject(const WorldObject& o, const TPoint2D& p)
+{
+    const double dx = p.x - o.center.x, dy = p.y - o.center.y;
+    if (dx * dx + dy * dy > o.extent_m * o.extent_m * (1 + 1e-12) + 1e-18)
+    {
+        return false;
+    }
+    switch (o.shape)
+    {
+        case ShapeType::Box:
+        {
+            // In the box frame (rotate by -yaw).
+            const double c = std::cos(o.yaw), s = std::sin(o.yaw);
+            const double u = c * dx + s * dy, v = -s * dx + c * dy;
+            return std::abs(u) <= 0.5 * o.size_x + 1e-12 && std::abs(v) <= 0.5 * o.size_y + 1e-12;
+        }
+        case ShapeType::Cylinder:
+            return true;  // within extent_m == radius
+        case ShapeType::Polygon:
+            return detail::pointInPolygon(p, o.points);
+        case ShapeType::Point:
+            return false;
+    }
+    return false;
+}
+
+/** Maximum number of rejection-sampling draws in sampleFreePose(). */
+constexpr int kMaxFreeDraws = 100000;
+}  // namespace
+
+int World::cylinderSides(double radius_m, double tolerance_m)
+{
+    ASSERTMSG_(tolerance_m > 0 && std::isfinite(tolerance_m),
+               "World::cylinderSides: the tolerance must be a finite number > 0");
+    ASSERTMSG_(radius_m > 0 && std::isfinite(radius_m),
+               "World::cylinderSides: the radius must be a finite number > 0");
+    constexpr int kMinSides = 6, kMaxSides = 65536;
+    const double ratio = tolerance_m / radius_m;
+    if (ratio >= 1)
+    {
+        return kMinSides;  // the sagitta of any n >= 2 is at most r
+    }
+    // r (1 - cos(pi / n)) <= tol  <=>  n >= pi / acos(1 - tol / r)
+    const double nReal = M_PI / std::acos(1 - ratio);
+    if (!(nReal <= kMaxSides))
+    {
+        THROW_EXCEPTION(mrpt::format(
+            "World::cylinderSides: tolerance %g m is too small for radius %g m (needs more "
+            "than %d sides)",
+            tolerance_m, radius_m, kMaxSides));
+    }
+    int n = std::max(kMinSides, static_cast<int>(std::ceil(nReal)));
+    while (n < kMaxSides && radius_m * (1 - std::cos(M_PI / n)) > tolerance_m)
+    {
+        n++;  // guards the rounding of acos
+    }
+    return n;
+}
+
+std::vector<TPoint2D> World::outlinePolygon(const WorldObject& o, double cylinderTolerance_m)
+{
+    switch (o.shape)
+    {
+        case ShapeType::Box:
+        case ShapeType::Polygon:
+            return o.points;
+        case ShapeType::Cylinder:
+        {
+            const int n = cylinderSides(o.radius, cylinderTolerance_m);
+            std::vector<TPoint2D> p;
+            p.reserve(static_cast<size_t>(n));
+            for (int k = 0; k < n; k++)
+            {
+                const double a = 2 * M_PI * k / n;
+                p.emplace_back(o.center.x + o.radius * std::cos(a),
+                               o.center.y + o.radius * std::sin(a));
+            }
+            return p;
+        }
+        case ShapeType::Point:
+            break;
+    }
+    return {};
+}
+
+std::vector<mrpt::math::TSegment2D> World::outlineSegments(double cylinderTolerance_m) const
+{
+    std::vector<mrpt::math::TSegment2D> segs;
+    for (const auto& o : objects)
+    {
+        const auto poly = outlinePolygon(o, cylinderTolerance_m);
+        for (size_t i = 0; i < poly.size(); i++)
+        {
+            segs.emplace_back(poly[i], poly[(i + 1) % poly.size()]);
+        }
+    }
+    return segs;
+}
+
+bool World::isFree(double x, double y) const
+{
+    if (!bounds.contains(x, y))
+    {
+        return false;
+    }
+    const TPoint2D p(x, y);
+    for (const auto& o : objects)
+    {
+        if (insideObject(o, p))
+        {
+            return false;
+        }
+    }
+    return true;
+}
+
+mrpt::math::TPose2D World::sampleFreePose(mrpt::random::CRandomGenerator& rng) const
+{
+    for (int i = 0; i < kMaxFreeDraws; i++)
+    {
+        const double x = rng.drawUniform(bounds.x_min, bounds.x_max);
+        const double y = rng.drawUniform(bounds.y_min, bounds.y_max);
+        if (isFree(x, y))
+        {
+            return {x, y, rng.drawUniform(-M_PI, M_PI)};
+        }
+    }
+    THROW_EXCEPTION(mrpt::format(
+        "world '%s': no free space: none of %d uniform draws inside bounds fell outside "
+        "every object outline",
+        (source.empty() ? name : source).c_str(), kMaxFreeDraws));
+}
+
+mrpt::maps::COccupancyGridMap2D World::makeOccupancyGrid(double resolution_m) const
+{
+    ASSERTMSG_(resolution_m > 0 && std::isfinite(resolution_m),
+               "World::makeOccupancyGrid: resolution must be a finite number > 0");
+    mrpt::maps::COccupancyGridMap2D grid;
+    grid.setSize(static_cast<float>(bounds.x_min), static_cast<float>(bounds.x_max),
+                 static_cast<float>(bounds.y_min), static_cast<float>(bounds.y_max),
+                 static_cast<float>(resolution_m), 1.0f);
+    const double gx0 = grid.getXMin(), gy0 = grid.getYMin(), res = grid.getResolution();
+    const int nx = static_cast<int>(grid.getSizeX()), ny = static_cast<int>(grid.getSizeY());
+    // Cells are tested slightly inflated: MRPT maps coordinates to cells in float, so a
+    // point within ~1e-5 m of a cell border may land in either neighbour.
+    constexpr double kInflate_m = 5e-5;
+    auto clampIdx = [](double v, int n)
+    { return std::clamp(static_cast<int>(std::floor(v)), 0, n - 1); };
+    for (const auto& o : objects)
+    {
+        const auto poly = outlinePolygon(o);
+        if (poly.empty())
+        {
+            continue;
+        }
+        double xmin = o.center.x - o.extent_m, xmax = o.center.x + o.extent_m;
+        double ymin = o.center.y - o.extent_m, ymax = o.center.y + o.extent_m;
+        for (const auto& p : poly)
+        {
+            xmin = std::min(xmin, p.x);
+            xmax = std::max(xmax, p.x);
+            ymin = std::min(ymin, p.y);
+            ymax = std::max(ymax, p.y);
+        }
+        const int ix0 = clampIdx((xmin - kInflate_m - gx0) / res, nx);
+        const int ix1 = clampIdx((xmax + kInflate_m - gx0) / res, nx);
+        const int iy0 = clampIdx((ymin - kInflate_m - gy0) / res, ny);
+        const int iy1 = clampIdx((ymax + kInflate_m - gy0) / res, ny);
+        for (int iy = iy0; iy <= iy1; iy++)
+        {
+            const double cy0 = gy0 + iy * res;
+            for (int ix = ix0; ix <= ix1; ix++)
+            {
+                const double cx0 = gx0 + ix * res;
+                bool occupied = insideObject(o, TPoint2D(cx0 + 0.5 * res, cy0 + 0.5 * res));
+                for (size_t i = 0; !occupied && i < poly.size(); i++)
+                {
+                    const auto& a = poly[i];
+                    const auto& b = poly[(i + 1) % poly.size()];
+                    occupied = detail::segmentTouchesBox(a.x, a.y, b.x, b.y, cx0 - kInflate_m,
+                                                         cy0 - kInflate_m, cx0 + res + kInflate_m,
+                                                         cy0 + res + kInflate_m);
+                }
+                if (occupied)
+                {
+                    grid.setCell(ix, iy, 0.0f);
+                }
+            }
+        }
+    }
+    return grid;
 }
 
 }  // namespace semloc

@@ -6,9 +6,11 @@
 #include <mrpt/rtti/CObject.h>
 #include <semloc/CObservationSemantic.h>
 #include <semloc/CSemanticMap.h>
+#include <semloc/CStructureMap.h>
 
 MRPT_INITIALIZER(semloc_registerAllClasses)
 {
     mrpt::rtti::registerClass(CLASS_ID(semloc::CObservationSemantic));
     mrpt::rtti::registerClass(CLASS_ID(semloc::CSemanticMap));
+    mrpt::rtti::registerClass(CLASS_ID(semloc::CStructureMap));
 }

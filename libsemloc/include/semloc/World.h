@@ -3,6 +3,8 @@
 #pragma once
 
 #include <mrpt/math/TPoint2D.h>
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/math/TSegment2D.h>
 
 #include <optional>
 #include <string>
@@ -11,6 +13,14 @@
 namespace mrpt::containers
 {
 class yaml;
+}
+namespace mrpt::maps
+{
+class COccupancyGridMap2D;
+}
+namespace mrpt::random
+{
+class CRandomGenerator;
 }
 
 namespace semloc
@@ -26,6 +36,9 @@ enum class ShapeType
 
 /** Name of a shape as written in the world YAML ("box", "cylinder", ...). */
 const char* shapeName(ShapeType s);
+
+/** Default chord tolerance of a cylinder's polygon [m] (see cylinderSides()). */
+constexpr double kDefaultCylinderTolerance_m = 0.01;
 
 /** One labelled object of the world. */
 struct WorldObject
@@ -103,6 +116,42 @@ public:
 
     /** Index of the object with this id in `objects`, or -1. */
     int indexOfId(int id) const;
+
+    /** @name Geometry: the outlines the sonar sees, free space, rasterization
+     *  @{ */
+    /** Outline polygon of one object (counter-clockwise for boxes and cylinders; as given
+     *  for polygons; empty for points). A cylinder becomes the regular polygon of
+     *  cylinderSides(radius, tolerance) vertices inscribed in its circle. */
+    static std::vector<mrpt::math::TPoint2D> outlinePolygon(
+        const WorldObject& o, double cylinderTolerance_m = kDefaultCylinderTolerance_m);
+
+    /** Sides n of the regular polygon inscribed in a circle of radius r whose sagitta
+     *  r (1 - cos(pi / n)), the largest gap between chord and arc, is <= `tolerance_m`:
+     *  the smallest such n, at least 6. Throws if `tolerance_m` <= 0 or n > 65536. */
+    static int cylinderSides(double radius_m, double tolerance_m);
+
+    /** Every edge of every outline, objects in file order: 4 per box, one per polygon
+     *  vertex, cylinderSides() per cylinder (so no point of a cylinder's circle is farther
+     *  than `cylinderTolerance_m` [m] from the segments, and every segment lies inside the
+     *  circle); none for points. */
+    std::vector<mrpt::math::TSegment2D> outlineSegments(
+        double cylinderTolerance_m = kDefaultCylinderTolerance_m) const;
+
+    /** True if (x, y) is inside `bounds` and strictly outside every outline (box,
+     *  polygon, the exact circle of a cylinder; a point on an outline is not free). */
+    bool isFree(double x, double y) const;
+
+    /** A pose uniform over the free space (isFree) with a heading uniform in [-pi, pi),
+     *  by rejection sampling from `bounds`. Throws if none of 100000 draws is free (no
+     *  free space, or less than about 1e-4 of the bounds' area). */
+    mrpt::math::TPose2D sampleFreePose(mrpt::random::CRandomGenerator& rng) const;
+
+    /** MRPT occupancy grid over `bounds` with cells of `resolution_m` [m]: a cell is
+     *  occupied (value 0) if its centre is inside an object (isFree's shapes) or an
+     *  outline segment (default cylinder tolerance) touches it, and free (value 1)
+     *  elsewhere. Needs <mrpt/maps/COccupancyGridMap2D.h> at the call site. */
+    mrpt::maps::COccupancyGridMap2D makeOccupancyGrid(double resolution_m) const;
+    /** @} */
 };
 
 }  // namespace semloc
