@@ -475,3 +475,19 @@ TEST(CSemanticMap, SerializationAndSavedYamlRoundTrip)
     }
     EXPECT_NE(m.asString().find("12 objects"), std::string::npos);
 }
+
+TEST(CSemanticMap, AcceptsMrptGenericMapKeysInCreationOpts)
+{
+    // MRPT reads enableObservationLikelihood & co. from the creationOpts section.
+    const std::string world = writeWorldFile("semantic_ini_world3.yaml");
+    const auto mm = mapFromIni(
+        "[MetricMap]\nsemanticMap_count=1\n"
+        "[MetricMap_semanticMap_00_creationOpts]\nworld_file=" +
+        world + "\nenableObservationLikelihood=false\n");
+    const auto sm = mm.mapByClass<CSemanticMap>();
+    ASSERT_TRUE(sm);
+    EXPECT_FALSE(sm->genericMapParams.enableObservationLikelihood);
+    const auto obs = observe(smallWorld(), kTrue);
+    const auto p = mrpt::poses::CPose3D(mrpt::poses::CPose2D(kTrue));
+    EXPECT_EQ(mm.computeObservationLikelihood(obs, p), 0.0);
+}

@@ -34,3 +34,32 @@ TEST(FastMath, WrapDiffStaysInPiRange)
     EXPECT_NEAR(wrapDiff(-3.0 - 3.0), -6.0 + 2 * M_PI, 1e-15);
     EXPECT_DOUBLE_EQ(wrapDiff(0.5), 0.5);
 }
+
+TEST(FastMath, SinCosMatchesLibm)
+{
+    mrpt::random::CRandomGenerator rng(43);
+    double worst = 0;
+    auto check = [&](double x)
+    {
+        double s = 0, c = 0;
+        semloc::detail::fastSinCos(x, s, c);
+        worst = std::max({worst, std::abs(s - std::sin(x)), std::abs(c - std::cos(x))});
+    };
+    for (int i = 0; i < 200000; i++)
+    {
+        check(rng.drawUniform(-10.0, 10.0));
+        check(rng.drawUniform(-1e5, 1e5));
+    }
+    for (int k = -8; k <= 8; k++)
+    {
+        check(k * M_PI / 4);
+        check(k * M_PI / 4 + 1e-12);
+        check(k * M_PI / 4 - 1e-12);
+    }
+    EXPECT_LT(worst, 1e-14);
+    double s = 0, c = 0;
+    semloc::detail::fastSinCos(1e300, s, c);  // falls back to libm
+    EXPECT_EQ(s, std::sin(1e300));
+    semloc::detail::fastSinCos(std::nan(""), s, c);
+    EXPECT_TRUE(std::isnan(s) && std::isnan(c));
+}

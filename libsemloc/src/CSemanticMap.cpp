@@ -25,36 +25,17 @@ MAP_DEFINITION_REGISTER("semanticMap,semloc::CSemanticMap", semloc::CSemanticMap
 
 namespace semloc
 {
-namespace
-{
-/** Directory of the ini file a map definition was read from, to resolve a
- *  relative `world_file` next to its ini when it is not found from the cwd. */
-std::string iniDirectoryOf(const mrpt::config::CConfigFileBase& source)
-{
-    if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
-    {
-        return mrpt::system::extractFileDirectory(f->getAssociatedFile());
-    }
-    return {};
-}
-}  // namespace
-
 CSemanticMap::TMapDefinition::TMapDefinition() = default;
 
 void CSemanticMap::TMapDefinition::loadFromConfigFile_map_specific(
     const mrpt::config::CConfigFileBase& source, const std::string& sectionNamePrefix)
 {
     const std::string sc = sectionNamePrefix + "_creationOpts";
-    config::rejectUnknownKeys(source, sc, {"world_file"});
-    world_file = source.read_string(sc, "world_file", world_file);
-    if (!world_file.empty() && !mrpt::system::fileExists(world_file))
-    {
-        const std::string dir = iniDirectoryOf(source);
-        if (!dir.empty() && world_file[0] != '/' && mrpt::system::fileExists(dir + world_file))
-        {
-            world_file = dir + world_file;
-        }
-    }
+    // MRPT reads genericMapParams (enableObservationLikelihood, ...) from this section too.
+    auto known = config::keysOf(genericMapParams);
+    known.push_back("world_file");
+    config::rejectUnknownKeys(source, sc, known);
+    world_file = config::resolveNextToIni(source, source.read_string(sc, "world_file", world_file));
     likelihoodOpts.loadFromConfigFile(source, sectionNamePrefix + "_likelihoodOpts");
     insertionOpts.loadFromConfigFile(source, sectionNamePrefix + "_insertOpts");
 }
@@ -387,10 +368,10 @@ struct Det
 /** A map object predicted visible from the particle: one element of z^k. */
 struct Vis
 {
-    double lx, ly;  // position in the sensor frame
-    double r, b;    // range; bearing, computed on first use
+    double lx, ly, d2;  // position in the sensor frame, squared range
+    double r, b;        // range and bearing, computed on first use
     int32_t label, sorted;
-    bool hasB;
+    bool hasR, hasB;
 };
 
 struct Pair
@@ -424,9 +405,10 @@ struct Scratch
     std::vector<Vis> vis;  // first nVis entries are valid
     size_t nVis = 0;
     std::vector<uint32_t> byLabel, labelStart;
-    std::vector<Pair> pairs;
+    std::vector<Pair> pairs;  // first nPairs entries are valid
+    size_t nPairs = 0;
     std::vector<uint8_t> used;
-    Memo cosHalf, cosYaw, sinYaw, logPu;
+    Memo cosHalf, sinHalf, cosYaw, sinYaw, logPu;
 };
 
 Scratch& scratch()
@@ -439,14 +421,15 @@ Scratch& scratch()
 struct Geom
 {
     double sx, sy, c, s;  // sensor position and heading cos/sin in the world
-    double R, fov, cosHalf;
+    double R, fov, cosHalf, sinHalf;
 };
 
 Geom makeGeom(Scratch& sc, const TPose2D& pose, double ox, double oy, double oyaw, double R,
               double fov)
 {
     Geom g;
-    const double cp = std::cos(pose.phi), sp = std::sin(pose.phi);
+    double sp, cp;
+    detail::fastSinCos(pose.phi, sp, cp);
     g.sx = pose.x + cp * ox - sp * oy;
     g.sy = pose.y + sp * ox + cp * oy;
     if (oyaw == 0)
@@ -465,6 +448,8 @@ Geom makeGeom(Scratch& sc, const TPose2D& pose, double ox, double oy, double oya
     g.fov = fov;
     g.cosHalf =
         fov >= 2 * M_PI ? -1.0 : sc.cosHalf.get(0.5 * fov, [](double a) { return std::cos(a); });
+    g.sinHalf =
+        fov >= 2 * M_PI ? 0.0 : sc.sinHalf.get(0.5 * fov, [](double a) { return std::sin(a); });
     return g;
 }
 
@@ -483,16 +468,48 @@ void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g
             vis.resize(ix.x.size());
         }
         const double R2 = g.R * g.R;
-        const double ch2 = g.cosHalf * g.cosHalf;
-        const bool narrow = g.cosHalf >= 0;  // FOV <= 180 deg
-        const double fx0 = std::floor((g.sx - g.R - ix.x0) * ix.inv_cell);
-        const double fx1 = std::floor((g.sx + g.R - ix.x0) * ix.inv_cell);
-        const double fy0 = std::floor((g.sy - g.R - ix.y0) * ix.inv_cell);
-        const double fy1 = std::floor((g.sy + g.R - ix.y0) * ix.inv_cell);
+        // Cells overlapping the bounding box of the FOV sector (apex, both arc ends, and
+        // the arc's extreme points along the axes that lie inside the FOV): for a
+        // forward-looking detector a fraction of the range disc's box.
+        double bx0 = g.sx, bx1 = g.sx, by0 = g.sy, by1 = g.sy;
+        auto grow = [&](double x, double y)
+        {
+            bx0 = std::min(bx0, x);
+            bx1 = std::max(bx1, x);
+            by0 = std::min(by0, y);
+            by1 = std::max(by1, y);
+        };
+        if (g.fov < 2 * M_PI)
+        {
+            const double sh = g.sinHalf;
+            grow(g.sx + g.R * (g.c * g.cosHalf - g.s * sh),
+                 g.sy + g.R * (g.s * g.cosHalf + g.c * sh));
+            grow(g.sx + g.R * (g.c * g.cosHalf + g.s * sh),
+                 g.sy + g.R * (g.s * g.cosHalf - g.c * sh));
+            if (g.c >= g.cosHalf)
+                grow(g.sx + g.R, g.sy);
+            if (-g.c >= g.cosHalf)
+                grow(g.sx - g.R, g.sy);
+            if (g.s >= g.cosHalf)
+                grow(g.sx, g.sy + g.R);
+            if (-g.s >= g.cosHalf)
+                grow(g.sx, g.sy - g.R);
+        }
+        else
+        {
+            grow(g.sx - g.R, g.sy - g.R);
+            grow(g.sx + g.R, g.sy + g.R);
+        }
+        const double fx0 = std::floor((bx0 - ix.x0) * ix.inv_cell);
+        const double fx1 = std::floor((bx1 - ix.x0) * ix.inv_cell);
+        const double fy0 = std::floor((by0 - ix.y0) * ix.inv_cell);
+        const double fy1 = std::floor((by1 - ix.y0) * ix.inv_cell);
         const int cx0 = static_cast<int>(std::max(0.0, fx0));
         const int cx1 = static_cast<int>(std::min(ix.nx - 1.0, fx1));
         const int cy0 = static_cast<int>(std::max(0.0, fy0));
         const int cy1 = static_cast<int>(std::min(ix.ny - 1.0, fy1));
+        const double ch2 = g.cosHalf * g.cosHalf;
+        const bool narrow = g.cosHalf >= 0;  // FOV <= 180 deg
         for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
         {
             const uint32_t a = ix.cellStart[static_cast<size_t>(cy * ix.nx + cx0)];
@@ -505,7 +522,12 @@ void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g
                 // lx >= cos(fov/2) * d, squared without the sqrt, per sign of cos(fov/2).
                 const bool inFov =
                     narrow ? (lx >= 0) & (lx * lx >= ch2 * d2) : (lx >= 0) | (lx * lx <= ch2 * d2);
-                vis[cnt].sorted = static_cast<int32_t>(k);
+                Vis& v = vis[cnt];  // written always, kept only if visible
+                v.lx = lx;
+                v.ly = -g.s * dx + g.c * dy;
+                v.d2 = d2;
+                v.sorted = static_cast<int32_t>(k);
+                v.label = ix.label[k];
                 cnt += static_cast<size_t>((d2 <= R2) & inFov);
             }
         }
@@ -513,36 +535,55 @@ void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g
     sc.nVis = cnt;
     // Counting sort of the visible objects by label: label l is byLabel[start[l] .. start[l+1]).
     auto& start = sc.labelStart;
-    start.assign(nLabels + 2, 0);
+    if (start.size() < nLabels + 2)
+    {
+        start.resize(nLabels + 2);
+    }
+    std::fill(start.begin(), start.begin() + static_cast<std::ptrdiff_t>(nLabels + 2), 0u);
     for (size_t i = 0; i < cnt; i++)
     {
-        // Only the visible few get their frame coordinates, range and label.
-        Vis& v = vis[i];
-        const auto k = static_cast<size_t>(v.sorted);
-        const double dx = ix.x[k] - g.sx, dy = ix.y[k] - g.sy;
-        v.lx = g.c * dx + g.s * dy;
-        v.ly = -g.s * dx + g.c * dy;
-        v.r = std::sqrt(dx * dx + dy * dy);
-        v.label = ix.label[k];
-        v.hasB = false;
-        start[static_cast<size_t>(v.label) + 2]++;
+        vis[i].hasR = vis[i].hasB = false;
+        start[static_cast<size_t>(vis[i].label) + 2]++;
     }
-    for (size_t l = 2; l < start.size(); l++)
+    for (size_t l = 2; l < nLabels + 2; l++)
     {
         start[l] += start[l - 1];
     }
-    sc.byLabel.resize(std::max(sc.byLabel.size(), cnt));
+    if (sc.byLabel.size() < cnt)
+    {
+        sc.byLabel.resize(ix.x.size());
+    }
     for (size_t i = 0; i < cnt; i++)
     {
         sc.byLabel[start[static_cast<size_t>(vis[i].label) + 1]++] = static_cast<uint32_t>(i);
     }
-    sc.pairs.clear();
-    sc.used.assign(sc.dets.size() + cnt, 0);
+    // At most one pair per (detection, visible object): sized once, filled by index.
+    sc.nPairs = 0;
+    if (sc.pairs.size() < sc.dets.size() * cnt)
+    {
+        sc.pairs.resize(sc.dets.size() * std::max<size_t>(cnt, 16));
+    }
+    const size_t nUsed = sc.dets.size() + cnt;
+    if (sc.used.size() < nUsed)
+    {
+        sc.used.resize(sc.dets.size() + ix.x.size());
+    }
+    std::fill(sc.used.begin(), sc.used.begin() + static_cast<std::ptrdiff_t>(nUsed), uint8_t{0});
 }
 
 size_t visibleCount(const Scratch& sc)
 {
     return sc.nVis;
+}
+
+double rangeOf(Vis& v)
+{
+    if (!v.hasR)
+    {
+        v.r = std::sqrt(v.d2);
+        v.hasR = true;
+    }
+    return v.r;
 }
 
 double bearingOf(Vis& v)
@@ -565,20 +606,38 @@ double wrapBearing(double b)
  *  result never depends on the sort implementation. Returns the summed gain. */
 double assignGreedy(Scratch& sc)
 {
-    auto& pairs = sc.pairs;
-    std::sort(pairs.begin(), pairs.end(),
-              [](const Pair& a, const Pair& b)
-              {
-                  if (a.gain != b.gain)
-                  {
-                      return a.gain > b.gain;
-                  }
-                  return a.j != b.j ? a.j < b.j : a.v < b.v;
-              });
+    Pair* pairs = sc.pairs.data();
+    const size_t np = sc.nPairs;
+    auto before = [](const Pair& a, const Pair& b)
+    {
+        if (a.gain != b.gain)
+        {
+            return a.gain > b.gain;
+        }
+        return a.j != b.j ? a.j < b.j : a.v < b.v;
+    };
+    if (np > 24)
+    {
+        std::sort(pairs, pairs + np, before);
+    }
+    else
+    {
+        for (size_t i = 1; i < np; i++)  // a handful of pairs: insertion sort, inline
+        {
+            const Pair p = pairs[i];
+            size_t k = i;
+            for (; k > 0 && before(p, pairs[k - 1]); k--)
+            {
+                pairs[k] = pairs[k - 1];
+            }
+            pairs[k] = p;
+        }
+    }
     const size_t nd = sc.dets.size();
     double sum = 0;
-    for (const auto& p : pairs)
+    for (size_t i = 0; i < np; i++)
     {
+        const Pair& p = pairs[i];
         if (sc.used[p.j] | sc.used[nd + p.v])
         {
             continue;
@@ -601,7 +660,7 @@ void collectPairs(Scratch& sc, bool anyLabel, GateFn&& rangeGate, GainFn&& pairG
     {
         const Det& d = sc.dets[j];
         Vis& o = sc.vis[v];
-        const double dr = d.r - o.r;
+        const double dr = d.r - rangeOf(o);
         if (!rangeGate(dr))
         {
             return;
@@ -610,7 +669,7 @@ void collectPairs(Scratch& sc, bool anyLabel, GateFn&& rangeGate, GainFn&& pairG
         const double g = pairGain(d, o, dr, db);
         if (g > 0)
         {
-            sc.pairs.push_back({g, j, v});
+            sc.pairs[sc.nPairs++] = {g, j, v};
         }
     };
     for (uint32_t j = 0; j < sc.dets.size(); j++)
@@ -678,15 +737,15 @@ double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, size_t nL
     const size_t nv = visibleCount(sc);
     for (size_t v = 0; v < nv; v++)
     {
-        base += std::log1p(-pd(sc.vis[v].r));
+        base += std::log1p(-pd(rangeOf(sc.vis[v])));
     }
     const double ir = 1.0 / sr, ib = 1.0 / sb;
     collectPairs(
         sc, confusable, [](double) { return true; },
         [&](const Det& d, const Vis& v, double dr, double db)
         {
-            const double p = pd(v.r);
-            double logC = 0;  // landmarks without a label: no label term
+            const double p = pd(v.r);  // rangeOf() ran for every visible object above
+            double logC = 0;           // landmarks without a label: no label term
             if (d.label >= 0)
             {
                 logC = (d.label == v.label) ? logSame : logOther;
@@ -721,25 +780,37 @@ double score(const CSemanticMap::Index& ix, size_t nLabels,
     return finite(ll);
 }
 
-}  // namespace
-
-double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs,
-                                          const TPose2D& pose) const
+/** What a likelihood call knows of the sensor, fixed for all particles of a step. */
+struct Sensor
 {
-    const auto& lo = likelihoodOptions;
+    bool usable = false;  // false: nothing to score, every particle gets 0
+    double R = 0, fov = 0, ox = 0, oy = 0, oyaw = 0;
+};
+
+Sensor sensorOf(double R, double fov, const mrpt::poses::CPose3D& onVehicle)
+{
+    Sensor s;
+    s.R = R;
+    s.fov = fov;
+    s.usable = R > 0 && std::isfinite(R) && fov > 0 && std::isfinite(fov);
+    s.ox = onVehicle.x();
+    s.oy = onVehicle.y();
+    s.oyaw = onVehicle.yaw();
+    return s;
+}
+
+/** Fills sc.dets with the detections the likelihood uses (once per observation). */
+Sensor prepare(const CObservationSemantic& obs, const CSemanticMap::TLikelihoodOptions& lo,
+               const CSemanticMap::Index& ix, const LabelIndex& labels, Scratch& sc)
+{
     const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxRange_m;
     const double fov = lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : obs.fov_rad;
-    if (!(R > 0) || !std::isfinite(R) || !(fov > 0) || !std::isfinite(fov))
+    const Sensor s = sensorOf(R, fov, obs.sensorPose);
+    sc.dets.clear();
+    if (!s.usable)
     {
-        return 0;  // nothing usable: uninformative, identical for every particle
+        return s;
     }
-    if (!finitePose(pose))
-    {
-        return kMinLogLik;
-    }
-    Scratch& sc = scratch();
-    sc.dets.resize(obs.detections.size());
-    size_t n = 0;
     for (const auto& d : obs.detections)
     {
         if (!CObservationSemantic::isValid(d, R, fov) || d.confidence < lo.min_confidence)
@@ -749,43 +820,36 @@ double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs,
         int32_t fixed = -1;
         if (d.object_id >= 0)
         {
-            const auto it = m_index->idToSorted.find(d.object_id);
-            fixed = it == m_index->idToSorted.end() ? -1 : it->second;
+            const auto it = ix.idToSorted.find(d.object_id);
+            fixed = it == ix.idToSorted.end() ? -1 : it->second;
         }
-        const int32_t label = m_labels->find(d.label);
+        const int32_t label = labels.find(d.label);
         if (fixed < 0 && label < 0)
         {
             continue;  // unknown to the map: a constant factor at every particle
         }
-        sc.dets[n++] = {d.range_m, wrapBearing(d.bearing_rad), label, fixed};
+        sc.dets.push_back({d.range_m, wrapBearing(d.bearing_rad), label, fixed});
     }
-    sc.dets.resize(n);
-    const auto& sp = obs.sensorPose;
-    return score(*m_index, m_labels->size(), lo, sc,
-                 makeGeom(sc, pose, sp.x(), sp.y(), sp.yaw(), R, fov));
+    return s;
 }
 
-double CSemanticMap::computeLogLikelihood(const mrpt::obs::CObservationBearingRange& obs,
-                                          const TPose2D& pose) const
+Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
+               const CSemanticMap::TLikelihoodOptions& lo, const CSemanticMap::Index& ix,
+               const LabelIndex&, Scratch& sc)
 {
-    const auto& lo = likelihoodOptions;
     const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxSensorDistance;
     double fov =
         lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : static_cast<double>(obs.fieldOfView_yaw);
-    if (!(R > 0) || !std::isfinite(R) || !std::isfinite(fov))
-    {
-        return 0;
-    }
-    if (!finitePose(pose))
-    {
-        return kMinLogLik;
-    }
-    if (!(fov > 0))
+    if (fov == 0)
     {
         fov = 2 * M_PI;  // MRPT leaves it 0 when the sensor has no FOV limit
     }
-    Scratch& sc = scratch();
+    const Sensor s = sensorOf(R, fov, obs.sensorLocationOnRobot);
     sc.dets.clear();
+    if (!s.usable)
+    {
+        return s;
+    }
     for (const auto& m : obs.sensedData)
     {
         const double r = m.range, b = m.yaw;
@@ -797,8 +861,8 @@ double CSemanticMap::computeLogLikelihood(const mrpt::obs::CObservationBearingRa
         int32_t fixed = -1;
         if (m.landmarkID >= 0)
         {
-            const auto it = m_index->idToSorted.find(m.landmarkID);
-            if (it == m_index->idToSorted.end())
+            const auto it = ix.idToSorted.find(m.landmarkID);
+            if (it == ix.idToSorted.end())
             {
                 continue;  // an id the map does not have
             }
@@ -806,9 +870,63 @@ double CSemanticMap::computeLogLikelihood(const mrpt::obs::CObservationBearingRa
         }
         sc.dets.push_back({r, wrapBearing(b), -1, fixed});
     }
-    const auto& sp = obs.sensorLocationOnRobot;
-    return score(*m_index, m_labels->size(), lo, sc,
-                 makeGeom(sc, pose, sp.x(), sp.y(), sp.yaw(), R, fov));
+    return s;
+}
+
+double scoreAt(const CSemanticMap::Index& ix, size_t nLabels,
+               const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc, const Sensor& s,
+               const TPose2D& pose)
+{
+    if (!s.usable)
+    {
+        return 0;  // nothing usable: uninformative, identical for every particle
+    }
+    if (!finitePose(pose))
+    {
+        return kMinLogLik;
+    }
+    return score(ix, nLabels, opt, sc, makeGeom(sc, pose, s.ox, s.oy, s.oyaw, s.R, s.fov));
+}
+
+}  // namespace
+
+template <typename OBS>
+void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n, double* out) const
+{
+    Scratch& sc = scratch();
+    const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
+    for (size_t i = 0; i < n; i++)
+    {
+        out[i] = scoreAt(*m_index, m_labels->size(), likelihoodOptions, sc, s, poses[i]);
+    }
+}
+
+double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs,
+                                          const TPose2D& pose) const
+{
+    double ll = 0;
+    logLikelihoods(obs, &pose, 1, &ll);
+    return ll;
+}
+
+double CSemanticMap::computeLogLikelihood(const mrpt::obs::CObservationBearingRange& obs,
+                                          const TPose2D& pose) const
+{
+    double ll = 0;
+    logLikelihoods(obs, &pose, 1, &ll);
+    return ll;
+}
+
+void CSemanticMap::computeLogLikelihoods(const CObservationSemantic& obs, const TPose2D* poses,
+                                         size_t n, double* out) const
+{
+    logLikelihoods(obs, poses, n, out);
+}
+
+void CSemanticMap::computeLogLikelihoods(const mrpt::obs::CObservationBearingRange& obs,
+                                         const TPose2D* poses, size_t n, double* out) const
+{
+    logLikelihoods(obs, poses, n, out);
 }
 
 CSemanticMap::TObservationCheck CSemanticMap::check(const CObservationSemantic& obs) const

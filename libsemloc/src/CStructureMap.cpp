@@ -21,27 +21,6 @@ MAP_DEFINITION_REGISTER("structureMap,semloc::CStructureMap", semloc::CStructure
 
 namespace semloc
 {
-namespace
-{
-/** `world_file` as given if it exists from the cwd, else next to the ini it was read from. */
-std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file)
-{
-    if (file.empty() || file[0] == '/' || mrpt::system::fileExists(file))
-    {
-        return file;
-    }
-    if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
-    {
-        const std::string dir = mrpt::system::extractFileDirectory(f->getAssociatedFile());
-        if (!dir.empty() && mrpt::system::fileExists(dir + file))
-        {
-            return dir + file;
-        }
-    }
-    return file;
-}
-}  // namespace
-
 CStructureMap::TMapDefinition::TMapDefinition() = default;
 
 void CStructureMap::TMapDefinition::loadFromConfigFile_map_specific(
@@ -52,7 +31,7 @@ void CStructureMap::TMapDefinition::loadFromConfigFile_map_specific(
     auto known = config::keysOf(genericMapParams);
     known.insert(known.end(), {"world_file", "cylinder_tolerance_m", "raycast_cell_m"});
     config::rejectUnknownKeys(source, sc, known);
-    world_file = resolveNextToIni(source, source.read_string(sc, "world_file", world_file));
+    world_file = config::resolveNextToIni(source, source.read_string(sc, "world_file", world_file));
     config::readDouble(source, sc, "cylinder_tolerance_m", cylinder_tolerance_m, 1e-6, 1e3);
     config::readDouble(source, sc, "raycast_cell_m", raycast_cell_m, 0, 1e3);
     likelihoodOpts.loadFromConfigFile(source, sectionNamePrefix + "_likelihoodOpts");

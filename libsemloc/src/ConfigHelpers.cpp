@@ -1,6 +1,8 @@
 /* semloc — strict ini value parsing. */
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/system/filesystem.h>
 #include <semloc/ConfigHelpers.h>
 
 #include <algorithm>
@@ -168,6 +170,23 @@ void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string
             fail(section, k, "unknown key (known keys: " + list + ")");
         }
     }
+}
+
+std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file)
+{
+    if (file.empty() || file[0] == '/' || mrpt::system::fileExists(file))
+    {
+        return file;
+    }
+    if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
+    {
+        const std::string dir = mrpt::system::extractFileDirectory(f->getAssociatedFile());
+        if (!dir.empty() && mrpt::system::fileExists(dir + file))
+        {
+            return dir + file;
+        }
+    }
+    return file;
 }
 
 std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o)

@@ -41,6 +41,62 @@ inline double fastAtan2(double y, double x) noexcept
     return y < 0 ? -r : r;
 }
 
+/** sin and cos of x together, |error| < 1e-15 for |x| <= 1e6 (checked against libm in
+ *  test_FastMath), several times cheaper than libm's sincos: one per particle. Cody-Waite
+ *  reduction by pi/2, then Taylor polynomials on [-pi/4, pi/4] (truncation < 5e-17). */
+inline void fastSinCos(double x, double& s, double& c) noexcept
+{
+    if (!(std::abs(x) <= 1e6))
+    {
+        s = std::sin(x);  // huge or NaN: rare, let libm handle it
+        c = std::cos(x);
+        return;
+    }
+    const double kd = x * M_2_PI;
+    const long long k = static_cast<long long>(kd >= 0 ? kd + 0.5 : kd - 0.5);
+    const double kf = static_cast<double>(k);
+    // pi/2 split so that kf * kPio2Hi is exact for |k| < 2^20.
+    constexpr double kPio2Hi = 1.57079632673412561417e+00;
+    constexpr double kPio2Lo = 6.07710050650619224932e-11;
+    const double r = (x - kf * kPio2Hi) - kf * kPio2Lo;
+    const double r2 = r * r;
+    const double sr =
+        r + r * r2 *
+                (-1.0 / 6 +
+                 r2 * (1.0 / 120 +
+                       r2 * (-1.0 / 5040 +
+                             r2 * (1.0 / 362880 +
+                                   r2 * (-1.0 / 39916800 +
+                                         r2 * (1.0 / 6227020800 + r2 * (-1.0 / 1307674368000)))))));
+    const double cr =
+        1 + r2 * (-0.5 +
+                  r2 * (1.0 / 24 + r2 * (-1.0 / 720 +
+                                         r2 * (1.0 / 40320 +
+                                               r2 * (-1.0 / 3628800 +
+                                                     r2 * (1.0 / 479001600 +
+                                                           r2 * (-1.0 / 87178291200 +
+                                                                 r2 * (1.0 / 20922789888000))))))));
+    switch (k & 3)
+    {
+        case 0:
+            s = sr;
+            c = cr;
+            break;
+        case 1:
+            s = cr;
+            c = -sr;
+            break;
+        case 2:
+            s = -sr;
+            c = -cr;
+            break;
+        default:
+            s = -cr;
+            c = sr;
+            break;
+    }
+}
+
 /** Wraps an angle difference of two angles in [-pi, pi] into [-pi, pi]. */
 inline double wrapDiff(double d) noexcept
 {

@@ -85,6 +85,13 @@ double toNumber(const node_t& n, const Where& w, const std::string& key)
     const auto r = std::from_chars(b, e, v);
     if (r.ec != std::errc() || r.ptr != e || b == e)
     {
+        std::string l(b, e);
+        std::transform(l.begin(), l.end(), l.begin(),
+                       [](unsigned char c) { return std::tolower(c); });
+        if (l == ".inf" || l == "-.inf" || l == ".nan")
+        {
+            w.fail(key, "'" + s + "' is not a finite number");
+        }
         w.fail(key, "'" + s + "' is not a number");
     }
     if (!std::isfinite(v))
@@ -193,10 +200,6 @@ void finishPolygon(WorldObject& o, const Where& w)
         cx += (u.x + v.x) * c;
         cy += (u.y + v.y) * c;
     }
-    if (std::abs(a2) < 1e-12)
-    {
-        w.fail("points", "polygon has zero area");
-    }
     for (size_t i = 0; i < n; i++)
     {
         for (size_t j = i + 1; j < n; j++)
@@ -212,6 +215,10 @@ void finishPolygon(WorldObject& o, const Where& w)
                                      " and " + std::to_string(j) + ")");
             }
         }
+    }
+    if (std::abs(a2) < 1e-12)
+    {
+        w.fail("points", "polygon has zero area");
     }
     o.center = {cx / (3 * a2), cy / (3 * a2)};
 }
@@ -372,8 +379,8 @@ World parseWorld(const yaml& doc, const std::string& file)
         for (const auto& on : objs.asSequence())
         {
             WorldObject o = parseObject(on, i, file);
-            const Where w{file, "objects[" + std::to_string(i) + "] (id " + std::to_string(o.id) +
-                                    ")"};
+            const Where w{file,
+                          "objects[" + std::to_string(i) + "] (id " + std::to_string(o.id) + ")"};
             if (!ids.insert(o.id).second)
             {
                 w.fail("id", "duplicate id " + std::to_string(o.id));
@@ -431,7 +438,10 @@ std::string num(double v)
     return std::string(buf, r.ptr);
 }
 
-std::string pt(const TPoint2D& p) { return "[" + num(p.x) + ", " + num(p.y) + "]"; }
+std::string pt(const TPoint2D& p)
+{
+    return "[" + num(p.x) + ", " + num(p.y) + "]";
+}
 
 }  // namespace
 

@@ -122,8 +122,8 @@ public:
         double max_range_m = 0.0;
         /** Overrides the observation's field of view when > 0 [deg]. */
         double fov_deg = 0.0;
-        /** Cell size of the object index [m]; about the detector range is best. */
-        double index_cell_m = 10.0;
+        /** Cell size of the object index [m]; a quarter of the detector range is about best. */
+        double index_cell_m = 5.0;
 
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
@@ -191,6 +191,14 @@ public:
      *  otherwise the landmark is associated by position with any object. Finite. */
     double computeLogLikelihood(const mrpt::obs::CObservationBearingRange& obs,
                                 const mrpt::math::TPose2D& pose) const;
+    /** Log-likelihoods of one observation from `n` vehicle poses, into `out[0..n)`: the
+     *  filter's inner loop. The observation is prepared (validated, labels resolved) once,
+     *  so each pose costs only its geometry. Equal to n calls of computeLogLikelihood. */
+    void computeLogLikelihoods(const CObservationSemantic& obs, const mrpt::math::TPose2D* poses,
+                               size_t n, double* out) const;
+    /** Batch version for MRPT landmark observations. */
+    void computeLogLikelihoods(const mrpt::obs::CObservationBearingRange& obs,
+                               const mrpt::math::TPose2D* poses, size_t n, double* out) const;
     /** Counts what the likelihood will use of `obs` (call once per observation). */
     TObservationCheck check(const CObservationSemantic& obs) const;
     /** @} */
@@ -220,6 +228,9 @@ private:
     bool internal_canComputeObservationLikelihood(
         const mrpt::obs::CObservation& obs) const override;
 
+    template <typename OBS>
+    void logLikelihoods(const OBS& obs, const mrpt::math::TPose2D* poses, size_t n,
+                        double* out) const;
     /** Rebuilds the label table and the grid index after any change of m_objects. */
     void rebuildIndex();
     int nextFreeId() const;

@@ -32,6 +32,11 @@ void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& secti
 void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string& section,
                        const std::vector<std::string>& known);
 
+/** `file` as given if it exists (or is absolute or empty), else resolved next to the ini
+ *  file `source` was read from, if it exists there: ini files name their maps relative to
+ *  themselves, as users expect, while MRPT's own tools resolve from the working directory. */
+std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file);
+
 /** The keys an options struct writes in saveToConfigFile (its complete key set). */
 std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o);
 
