@@ -188,3 +188,21 @@ TEST(World, RejectsEachKindOfBadFileWithFileObjectAndKey)
         }
     }
 }
+
+#include <semloc/ErrorMessage.h>
+
+TEST(ErrorMessage, KeepsMessagesDropsLocationsAndStacks)
+{
+    try
+    {
+        World::FromFile("/nonexistent/world.yaml");
+        FAIL();
+    }
+    catch (const std::exception& e)
+    {
+        const std::string m = semloc::errorMessage(e);
+        EXPECT_EQ(m, "world file '/nonexistent/world.yaml': cannot open for reading");
+    }
+    const std::runtime_error plain("plain error");
+    EXPECT_EQ(semloc::errorMessage(plain), "plain error");
+}
