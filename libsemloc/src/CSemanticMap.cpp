@@ -360,18 +360,24 @@ namespace
 /** A detection prepared for matching. */
 struct Det
 {
-    double r, b;    // range [m], bearing wrapped to [-pi, pi]
+    double r;       // range [m]
+    double uc, us;  // unit vector of the bearing (cos, sin), computed once per observation
     int32_t label;  // label id, or -1 = any label (MRPT landmarks without id)
     int32_t fixed;  // sorted index of the object it names, or -1
 };
+
+Det makeDet(double r, double bearing, int32_t label, int32_t fixed)
+{
+    return {r, std::cos(bearing), std::sin(bearing), label, fixed};
+}
 
 /** A map object predicted visible from the particle: one element of z^k. */
 struct Vis
 {
     double lx, ly, d2;  // position in the sensor frame, squared range
-    double r, b;        // range and bearing, computed on first use
+    double r;           // range, computed on first use
     int32_t label, sorted;
-    bool hasR, hasB;
+    bool hasR;
 };
 
 struct Pair
@@ -408,7 +414,7 @@ struct Scratch
     std::vector<Pair> pairs;  // first nPairs entries are valid
     size_t nPairs = 0;
     std::vector<uint8_t> used;
-    Memo cosHalf, sinHalf, cosYaw, sinYaw, logPu;
+    Memo cosHalf, sinHalf, cosYaw, sinYaw, logPu, cosGate;
 };
 
 Scratch& scratch()
@@ -487,13 +493,21 @@ void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g
             grow(g.sx + g.R * (g.c * g.cosHalf + g.s * sh),
                  g.sy + g.R * (g.s * g.cosHalf - g.c * sh));
             if (g.c >= g.cosHalf)
+            {
                 grow(g.sx + g.R, g.sy);
+            }
             if (-g.c >= g.cosHalf)
+            {
                 grow(g.sx - g.R, g.sy);
+            }
             if (g.s >= g.cosHalf)
+            {
                 grow(g.sx, g.sy + g.R);
+            }
             if (-g.s >= g.cosHalf)
+            {
                 grow(g.sx, g.sy - g.R);
+            }
         }
         else
         {
@@ -512,8 +526,9 @@ void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g
         const bool narrow = g.cosHalf >= 0;  // FOV <= 180 deg
         for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
         {
-            const uint32_t a = ix.cellStart[static_cast<size_t>(cy * ix.nx + cx0)];
-            const uint32_t b = ix.cellStart[static_cast<size_t>(cy * ix.nx + cx1 + 1)];
+            const size_t row = static_cast<size_t>(cy) * static_cast<size_t>(ix.nx);
+            const uint32_t a = ix.cellStart[row + static_cast<size_t>(cx0)];
+            const uint32_t b = ix.cellStart[row + static_cast<size_t>(cx1) + 1];
             for (uint32_t k = a; k < b; k++)
             {
                 const double dx = ix.x[k] - g.sx, dy = ix.y[k] - g.sy;
@@ -542,7 +557,7 @@ void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g
     std::fill(start.begin(), start.begin() + static_cast<std::ptrdiff_t>(nLabels + 2), 0u);
     for (size_t i = 0; i < cnt; i++)
     {
-        vis[i].hasR = vis[i].hasB = false;
+        vis[i].hasR = false;
         start[static_cast<size_t>(vis[i].label) + 2]++;
     }
     for (size_t l = 2; l < nLabels + 2; l++)
@@ -584,16 +599,6 @@ double rangeOf(Vis& v)
         v.hasR = true;
     }
     return v.r;
-}
-
-double bearingOf(Vis& v)
-{
-    if (!v.hasB)
-    {
-        v.b = detail::fastAtan2(v.ly, v.lx);
-        v.hasB = true;
-    }
-    return v.b;
 }
 
 /** Wraps a bearing into [-pi, pi] (detectors may report [0, 2pi)). */
@@ -650,22 +655,35 @@ double assignGreedy(Scratch& sc)
 
 /** Candidate (detection, object) pairs with a positive log-gain `pairGain`: the object a
  *  detection names, else the visible objects of its label (all of them when `anyLabel`
- *  or the detection has none). `rangeGate(dr)` rejects a pair before its bearing is
- *  computed when the range error alone already makes the gain non-positive. */
-template <typename GainFn, typename GateFn>
-void collectPairs(Scratch& sc, bool anyLabel, GateFn&& rangeGate, GainFn&& pairGain)
+ *  or the detection has none). `maxBudget` bounds what the two Gaussian terms may cost
+ *  for the gain to stay positive: (dr/sigma_r)^2 <= maxBudget and
+ *  |dtheta| <= sigma_theta sqrt(maxBudget) are exact necessary conditions, checked
+ *  before any atan2 (most same-label candidates fail them). The bearing difference is
+ *  atan2(u x v, u . v) of the detection's unit vector u and the object's direction v:
+ *  exact, no angle wrapping. */
+template <typename GainFn>
+void collectPairs(Scratch& sc, bool anyLabel, double maxBudget, double ir, double sigmaB,
+                  GainFn&& pairGain)
 {
     const size_t nv = visibleCount(sc);
+    const double maxAbsDb = sigmaB * std::sqrt(std::max(0.0, maxBudget));
+    const double cosGate =
+        maxAbsDb >= M_PI ? -2.0 : sc.cosGate.get(maxAbsDb, [](double a) { return std::cos(a); });
     auto consider = [&](uint32_t j, uint32_t v)
     {
         const Det& d = sc.dets[j];
         Vis& o = sc.vis[v];
         const double dr = d.r - rangeOf(o);
-        if (!rangeGate(dr))
+        if ((dr * ir) * (dr * ir) > maxBudget)
         {
             return;
         }
-        const double db = detail::wrapDiff(d.b - bearingOf(o));
+        const double dot = d.uc * o.lx + d.us * o.ly;
+        if (dot < cosGate * o.r)
+        {
+            return;
+        }
+        const double db = detail::fastAtan2(d.uc * o.ly - d.us * o.lx, dot);
         const double g = pairGain(d, o, dr, db);
         if (g > 0)
         {
@@ -709,10 +727,11 @@ double scorePaper(const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc)
     const double ib = 1.0 / (opt.sigma_bearing_deg * M_PI / 180.0);
     const double logPu = sc.logPu.get(opt.unmatched_penalty, [](double p) { return std::log(p); });
     // Matching a pair instead of leaving both unmatched gains s - 2 log(p_u) (> 0 to match).
-    collectPairs(
-        sc, false, [&](double dr) { return 0.5 * (dr * ir) * (dr * ir) < -2 * logPu; },
-        [&](const Det&, const Vis&, double dr, double db)
-        { return -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu; });
+    // Gain > 0 needs (dr/sr)^2 + (db/sb)^2 < -4 log(p_u).
+    collectPairs(sc, false, -4 * logPu, ir, 1.0 / ib,
+                 [&](const Det&, const Vis&, double dr, double db) {
+                     return -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu;
+                 });
     // sum(s_i) + d log p_u  with d = q + l - 2m  ==  (q + l) log p_u + sum(gain_i)
     return static_cast<double>(sc.dets.size() + visibleCount(sc)) * logPu + assignGreedy(sc);
 }
@@ -740,19 +759,22 @@ double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, size_t nL
         base += std::log1p(-pd(rangeOf(sc.vis[v])));
     }
     const double ir = 1.0 / sr, ib = 1.0 / sb;
-    collectPairs(
-        sc, confusable, [](double) { return true; },
-        [&](const Det& d, const Vis& v, double dr, double db)
-        {
-            const double p = pd(v.r);  // rangeOf() ran for every visible object above
-            double logC = 0;           // landmarks without a label: no label term
-            if (d.label >= 0)
-            {
-                logC = (d.label == v.label) ? logSame : logOther;
-            }
-            return std::log(p) - std::log1p(-p) + logC + logNorm - 0.5 * (dr * ir) * (dr * ir) -
-                   0.5 * (db * ib) * (db * ib) - logKappa;
-        });
+    // Gain > 0 needs the Gaussian terms to cost less than the best the rest can give:
+    // P_D at its largest, a label term <= 0.
+    const double pmax = std::clamp(std::max(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
+    const double budget = 2 * (std::log(pmax) - std::log1p(-pmax) + logNorm - logKappa);
+    collectPairs(sc, confusable, budget, ir, sb,
+                 [&](const Det& d, const Vis& v, double dr, double db)
+                 {
+                     const double p = pd(v.r);  // rangeOf() ran for every visible object above
+                     double logC = 0;           // landmarks without a label: no label term
+                     if (d.label >= 0)
+                     {
+                         logC = (d.label == v.label) ? logSame : logOther;
+                     }
+                     return std::log(p) - std::log1p(-p) + logC + logNorm -
+                            0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - logKappa;
+                 });
     return base + assignGreedy(sc);
 }
 
@@ -828,7 +850,7 @@ Sensor prepare(const CObservationSemantic& obs, const CSemanticMap::TLikelihoodO
         {
             continue;  // unknown to the map: a constant factor at every particle
         }
-        sc.dets.push_back({d.range_m, wrapBearing(d.bearing_rad), label, fixed});
+        sc.dets.push_back(makeDet(d.range_m, d.bearing_rad, label, fixed));
     }
     return s;
 }
@@ -868,7 +890,7 @@ Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
             }
             fixed = it->second;
         }
-        sc.dets.push_back({r, wrapBearing(b), -1, fixed});
+        sc.dets.push_back(makeDet(r, b, -1, fixed));
     }
     return s;
 }

@@ -9,7 +9,7 @@ namespace semloc
 {
 std::string errorMessage(const std::exception& e)
 {
-    const std::string full = mrpt::exception_to_str(e);
+    std::string full = mrpt::exception_to_str(e);
     if (const char* dbg = std::getenv("SEMLOC_DEBUG"); dbg && std::string(dbg) == "1")
     {
         return full;
