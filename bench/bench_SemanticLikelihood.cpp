@@ -144,6 +144,11 @@ BENCHMARK(BM_ProbabilisticBatch)->Args({50, 5});
 // Detections per scan.
 BENCHMARK(BM_PaperBatch)->Args({50, 0})->Args({50, 1})->Args({50, 10});
 // Map size at fixed density: cost must stay flat (grid index).
-BENCHMARK(BM_PaperBatch)->Args({10, 5})->Args({500, 5})->Args({5000, 5})->Args({10000, 5});
+BENCHMARK(BM_PaperBatch)
+    ->Args({10, 0})
+    ->Args({10, 5})
+    ->Args({500, 5})
+    ->Args({5000, 5})
+    ->Args({10000, 5});
 
 }  // namespace

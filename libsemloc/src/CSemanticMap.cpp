@@ -917,9 +917,31 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
 {
     Scratch& sc = scratch();
     const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
-    for (size_t i = 0; i < n; i++)
+    if (!s.usable || n == 1)
     {
-        out[i] = scoreAt(*m_index, m_labels->size(), likelihoodOptions, sc, s, poses[i]);
+        for (size_t i = 0; i < n; i++)
+        {
+            out[i] = scoreAt(*m_index, m_labels->size(), likelihoodOptions, sc, s, poses[i]);
+        }
+        return;
+    }
+    // Two passes: the sensor geometry of every particle first (independent short chains
+    // the CPU overlaps across particles), then the matching, which reads it.
+    constexpr size_t kBlock = 256;
+    Geom geoms[kBlock];
+    for (size_t i0 = 0; i0 < n; i0 += kBlock)
+    {
+        const size_t m = std::min(kBlock, n - i0);
+        for (size_t i = 0; i < m; i++)
+        {
+            geoms[i] = makeGeom(sc, poses[i0 + i], s.ox, s.oy, s.oyaw, s.R, s.fov);
+        }
+        for (size_t i = 0; i < m; i++)
+        {
+            out[i0 + i] = finitePose(poses[i0 + i])
+                              ? score(*m_index, m_labels->size(), likelihoodOptions, sc, geoms[i])
+                              : kMinLogLik;
+        }
     }
 }
 
