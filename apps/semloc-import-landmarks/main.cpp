@@ -1,0 +1,90 @@
+/* semloc-import-landmarks: turns a landmark dataset made by MRPT's simul-landmarks into a
+ * semantic dataset semloc-localize runs on directly:
+ *   semloc-import-landmarks OUT/kf-slam_demo.rawlog -o landmarks.rawlog
+ * writes landmarks.rawlog (CObservationBearingRange -> CObservationSemantic),
+ * landmarks_world.yaml (the landmarks as point objects) and landmarks_gt.txt (t x y phi). */
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/obs/CRawlog.h>
+#include <mrpt/system/filesystem.h>
+#include <semloc/ErrorMessage.h>
+#include <semloc/LandmarkImport.h>
+
+#include <iostream>
+
+namespace
+{
+TCLAP::CmdLine cmd("semloc-import-landmarks", ' ', "0.1");
+TCLAP::UnlabeledValueArg<std::string> argIn("input", "Rawlog written by simul-landmarks", true, "",
+                                            "in.rawlog", cmd);
+TCLAP::ValueArg<std::string> argOut("o", "output", "Semantic rawlog to write", true, "",
+                                    "out.rawlog", cmd);
+TCLAP::ValueArg<std::string> argLabel("l", "label", "Label of every landmark", false, "landmark",
+                                      "word", cmd);
+TCLAP::ValueArg<std::string> argLandmarks("", "landmarks",
+                                          "Landmark file (default: <input>_ground_truth.txt)",
+                                          false, "", "file", cmd);
+TCLAP::ValueArg<std::string> argPath(
+    "", "path", "Robot path file (default: <input>_ground_truth_robot_path.txt)", false, "", "file",
+    cmd);
+TCLAP::ValueArg<double> argMargin("", "margin", "World bounds margin around landmarks and path [m]",
+                                  false, 5.0, "m", cmd);
+
+void run()
+{
+    using semloc::LandmarkImport;
+    const std::string in = argIn.getValue(), out = argOut.getValue();
+    const std::string landmarks =
+        argLandmarks.isSet() ? argLandmarks.getValue() : in + "_ground_truth.txt";
+    const std::string pathFile =
+        argPath.isSet() ? argPath.getValue() : in + "_ground_truth_robot_path.txt";
+    const std::string stem = mrpt::system::fileNameChangeExtension(out, "");
+    const std::string base =
+        stem.empty() || stem.back() != '.' ? stem : stem.substr(0, stem.size() - 1);
+    const std::string worldOut = base + "_world.yaml", gtOut = base + "_gt.txt";
+
+    mrpt::obs::CRawlog log;
+    if (!mrpt::system::fileExists(in) || !log.loadFromRawLogFile(in) || log.size() == 0)
+    {
+        THROW_EXCEPTION("cannot read rawlog '" + in + "'");
+    }
+    const auto objects = LandmarkImport::readLandmarks(landmarks, argLabel.getValue());
+    const auto path = LandmarkImport::readPath(pathFile);
+    const auto world = LandmarkImport::makeWorld(objects, path, argMargin.getValue(),
+                                                 mrpt::system::extractFileName(in));
+    const size_t n = LandmarkImport::convertRawlog(log, argLabel.getValue());
+    if (n == 0)
+    {
+        THROW_EXCEPTION("'" + in + "' holds no CObservationBearingRange to convert");
+    }
+    const auto times = LandmarkImport::frameTimes(log);
+    // Everything is checked; write the outputs (each to a temporary file, then renamed).
+    LandmarkImport::writeGroundTruth(times, path, gtOut);
+    world.saveToFile(worldOut + ".tmp");
+    if (!log.saveToRawLogFile(out + ".tmp"))
+    {
+        THROW_EXCEPTION("cannot write '" + out + "'");
+    }
+    std::rename((worldOut + ".tmp").c_str(), worldOut.c_str());
+    std::rename((out + ".tmp").c_str(), out.c_str());
+    std::cout << "Converted " << n << " observations of " << world.objects.size()
+              << " landmarks: " << out << ", " << worldOut << ", " << gtOut << "\n";
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    try
+    {
+        if (!cmd.parse(argc, argv))
+        {
+            return 1;
+        }
+        run();
+        return 0;
+    }
+    catch (const std::exception& e)
+    {
+        std::cerr << "semloc-import-landmarks: " << semloc::errorMessage(e) << "\n";
+        return 1;
+    }
+}
