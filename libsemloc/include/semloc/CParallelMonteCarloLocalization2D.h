@@ -1,0 +1,129 @@
+/* semloc — MRPT's 2D Monte Carlo localization with the observation likelihood evaluated on
+ * several threads (bit-identical for any thread count), and failure recovery. */
+#pragma once
+
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/slam/CMonteCarloLocalization2D.h>
+#include <semloc/AugmentedMCL.h>
+#include <semloc/FreeSpaceSampler.h>
+#include <semloc/SensoryFrameLikelihood.h>
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace semloc
+{
+class ParallelExecutor;
+
+/** mrpt::slam::CMonteCarloLocalization2D whose standard-proposal step (PF_algorithm = 0,
+ *  pfStandardProposal) runs the per-particle work through a ParallelExecutor. Drive it with
+ *  mrpt::bayes::CParticleFilter::executeOn like its base class.
+ *
+ *  ## The step (pfStandardProposal)
+ *  - Prediction, fixed sample size: the motion increments are drawn one after the other from
+ *    MRPT's global generator (mrpt::random::getRandomGenerator()), with the same calls in the
+ *    same order as MRPT's CPoseRandomSampler (so a seed gives MRPT's random numbers); each
+ *    particle is then moved by its increment on the executor's threads (2D composition,
+ *    equal to MRPT's 3D composition up to rounding).
+ *  - Prediction, adaptive sample size (KLD, `adaptiveSampleSize = 1`): MRPT's own sequential
+ *    implementation.
+ *  - Update: every particle's log-likelihood on the executor's threads
+ *    (SensoryFrameLikelihood: MRPT's value, its fast paths), added to the log-weight times
+ *    `powFactor`, exactly as MRPT.
+ *  The other algorithms (pfAuxiliaryPFStandard, pfAuxiliaryPFOptimal) run MRPT's code
+ *  unchanged, sequential and without recovery.
+ *
+ *  The results never depend on the number of threads: each particle's values are written
+ *  to its own slot, and the few sums (ESS, the likelihood average) are taken over blocks
+ *  fixed by the particle count (ParallelExecutor::reduceBlocks).
+ *
+ *  ## Never NaN, never empty
+ *  When every particle's weight is zero after an update (all log-likelihoods -inf or NaN),
+ *  the particles are re-initialized uniformly over the free space (the FreeSpaceSampler) and
+ *  the event is counted (TRecoveryStats::reinitializations).
+ *
+ *  ## Recovery (off by default)
+ *  Augmented MCL (AugmentedMCL): when p_inject > 0 the particles are resampled at once
+ *  (`resamplingMethod`) and each is replaced, with probability p_inject, by a pose from the
+ *  FreeSpaceSampler; all from MRPT's global generator, so deterministic.
+ *
+ *  ## Resampling
+ *  performSubstitution() gives every resampled particle the log-weight 0: MRPT 2.5.8's
+ *  CParticleFilterCapable::performResampling() keeps the old weights when called with the
+ *  default particle count, as CParticleFilter::executeOn does (fixed upstream by MRPT commit
+ *  8c341ad5b), which counts the last likelihood twice. */
+class CParallelMonteCarloLocalization2D : public mrpt::slam::CMonteCarloLocalization2D
+{
+public:
+    /** Counters of the failure handling. */
+    struct TRecoveryStats
+    {
+        /** Updates after which every weight was zero: the particles were re-initialized. */
+        size_t reinitializations = 0;
+        /** Particles replaced by random poses by augmented MCL. */
+        size_t injected_particles = 0;
+        /** Updates in which augmented MCL injected particles. */
+        size_t injection_steps = 0;
+    };
+
+    /** `M` particles; the executor runs on one thread until setExecutor(). */
+    explicit CParallelMonteCarloLocalization2D(size_t M = 1);
+    ~CParallelMonteCarloLocalization2D() override;
+
+    /** @name Configuration
+     *  @{ */
+    /** The threads of the per-particle work (shared: several filters may use one pool,
+     *  one at a time). */
+    void setExecutor(std::shared_ptr<ParallelExecutor> executor);
+    ParallelExecutor& executor() const { return *m_executor; }
+    /** Where re-initialized and injected particles come from. Without one, a
+     *  re-initialization keeps the poses and only resets the weights. */
+    void setFreeSpaceSampler(std::shared_ptr<const FreeSpaceSampler> sampler);
+    /** Augmented MCL parameters (off by default). */
+    void setRecoveryOptions(const AugmentedMCL::TOptions& o);
+    /** @} */
+
+    /** @name Statistics
+     *  @{ */
+    /** What the observations contained (skipped observations, invalid detections...). */
+    SensoryFrameLikelihood::TStats likelihoodStats() const;
+    const TRecoveryStats& recoveryStats() const { return m_recoveryStats; }
+    /** Augmented MCL's p_inject at the last update (0 when off). */
+    double lastInjectionProbability() const { return m_lastPInject; }
+    /** @} */
+
+    /** Re-draws every particle from the FreeSpaceSampler with log-weight 0 (requires one). */
+    void resetFromSampler(size_t particleCount);
+
+    // CMonteCarloLocalization2D / CParticleFilterCapable
+    void prediction_and_update_pfStandardProposal(
+        const mrpt::obs::CActionCollection* action, const mrpt::obs::CSensoryFrame* observation,
+        const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options) override;
+    double normalizeWeights(double* out_max_log_w = nullptr) override;
+    double ESS() const override;
+    void performSubstitution(const std::vector<size_t>& indx) override;
+
+private:
+    void predictFixedSampleSize(const mrpt::obs::CActionCollection& actions);
+    void update(const mrpt::obs::CSensoryFrame& sf,
+                const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options);
+    double logSumExpWeights() const;
+    void injectRandomParticles(double pInject,
+                               const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o);
+
+    std::shared_ptr<ParallelExecutor> m_executor;
+    std::shared_ptr<const FreeSpaceSampler> m_sampler;
+    std::unique_ptr<SensoryFrameLikelihood> m_likelihood;
+    const mrpt::maps::CMetricMap* m_likelihoodMap = nullptr;
+    AugmentedMCL m_augmented;
+    TRecoveryStats m_recoveryStats;
+    double m_lastPInject = 0;
+
+    /** Per-step buffers, reused (no allocation per step once sized). */
+    std::vector<mrpt::math::TPose2D> m_poses, m_increments;
+    std::vector<double> m_logLik;
+    CParticleList m_resampled;
+};
+
+}  // namespace semloc

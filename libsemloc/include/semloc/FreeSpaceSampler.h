@@ -1,0 +1,72 @@
+/* semloc — random vehicle poses uniform over the free space: initial clouds and recovery. */
+#pragma once
+
+#include <mrpt/math/TPose2D.h>
+#include <semloc/World.h>
+
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace mrpt::maps
+{
+class COccupancyGridMap2D;
+}
+namespace mrpt::random
+{
+class CRandomGenerator;
+}
+
+namespace semloc
+{
+/** Where a FreeSpaceSampler draws: an axis-aligned box [m] and a heading interval [rad]. */
+struct TSamplingArea
+{
+    double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
+    double yaw_min = -M_PI, yaw_max = M_PI;
+    /** False for an empty box (x_min >= x_max or y_min >= y_max): "no restriction". */
+    bool hasBox() const { return x_min < x_max && y_min < y_max; }
+};
+
+/** Draws poses uniformly over the area a vehicle may occupy, with a heading uniform in
+ *  [yaw_min, yaw_max), from one of three descriptions of that area:
+ *  - a World: inside its bounds and outside every outline (World::isFree), optionally
+ *    restricted to a box (World::sampleFreePose when there is no box and the full circle);
+ *  - an occupancy grid: its cells with a free probability >= 0.7 within an optional box,
+ *    drawn exactly as MRPT's CMonteCarloLocalization2D::resetUniformFreeSpace does;
+ *  - a box: uniform in it (CPosePDFParticles::resetUniform).
+ *  Deterministic for a given generator state. */
+class FreeSpaceSampler
+{
+public:
+    /** The free space of `world`, within `area`'s box if it has one. */
+    static FreeSpaceSampler FromWorld(const World& world, const TSamplingArea& area = {});
+    /** The free cells (>= `freeThreshold`, 0.7f as pf-localization passes it) of `grid`,
+     *  within `area`'s box if it has one.
+     *  Throws if there is none. */
+    static FreeSpaceSampler FromGrid(const mrpt::maps::COccupancyGridMap2D& grid,
+                                     const TSamplingArea& area = {}, double freeThreshold = 0.7f);
+    /** Uniform in `area`'s box, which must not be empty. */
+    static FreeSpaceSampler FromBox(const TSamplingArea& area);
+
+    /** One pose. */
+    mrpt::math::TPose2D draw(mrpt::random::CRandomGenerator& rng) const;
+    /** A short description for logs ("free space of world 'paper_50x50'", ...). */
+    const std::string& description() const { return m_description; }
+
+private:
+    enum class Kind
+    {
+        World,
+        Grid,
+        Box
+    };
+    Kind m_kind = Kind::Box;
+    TSamplingArea m_area;
+    std::shared_ptr<const World> m_world;
+    std::vector<double> m_cellX, m_cellY;
+    double m_resolution = 0;
+    std::string m_description;
+};
+
+}  // namespace semloc

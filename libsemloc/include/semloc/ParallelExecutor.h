@@ -1,0 +1,57 @@
+/* semloc — the execution policy of the particle filter: per-particle work on a small
+ * persistent thread pool, over a static contiguous partition of the index range. */
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+
+namespace semloc
+{
+/** Runs per-item work (one item = one particle) on a fixed set of threads.
+ *
+ *  The range [0, n) is cut into contiguous chunks, one per thread, always the same for a
+ *  given n and thread count; the calling thread runs the first chunk and the pool's threads
+ *  the others. Every item's result is written by the work function to the item's own slot,
+ *  so the results do not depend on the thread count (no shared accumulator, no atomics).
+ *  Reductions that must not depend on the thread count use reduceBlocks(), whose blocks
+ *  are fixed by n alone.
+ *
+ *  One executor serves one caller at a time (the filter that owns it); it is not
+ *  re-entrant: the work function must not call back into the same executor. */
+class ParallelExecutor
+{
+public:
+    /** `threads` = 0 uses every hardware thread (std::thread::hardware_concurrency()). */
+    explicit ParallelExecutor(size_t threads = 0);
+    ~ParallelExecutor();
+    ParallelExecutor(const ParallelExecutor&) = delete;
+    ParallelExecutor& operator=(const ParallelExecutor&) = delete;
+
+    /** Number of threads, the caller's included (>= 1). */
+    size_t threads() const { return m_threads; }
+
+    /** Calls `work(begin, end)` once per chunk of [0, n) (at most threads() chunks, none
+     *  smaller than `minChunk` items unless n is) and returns when all are done. An
+     *  exception thrown by any chunk is rethrown here (the lowest chunk's first). */
+    void forEachChunk(size_t n, const std::function<void(size_t begin, size_t end)>& work,
+                      size_t minChunk = 256);
+
+    /** Size of the blocks of reduceBlocks(): fixed, so block sums never depend on threads. */
+    static constexpr size_t kReduceBlock = 1024;
+
+    /** Sum over [0, n) of `blockSum(begin, end)` evaluated on the fixed blocks
+     *  [k kReduceBlock, (k + 1) kReduceBlock), the blocks spread over the threads and
+     *  their partial sums added in block order: the same bits for any thread count. */
+    double reduceBlocks(size_t n, const std::function<double(size_t begin, size_t end)>& blockSum);
+
+    /** Chunk `k` of `chunks` over [0, n): [k n / chunks, (k + 1) n / chunks). */
+    static void chunkRange(size_t n, size_t chunks, size_t k, size_t& begin, size_t& end);
+
+private:
+    struct Pool;
+    size_t m_threads = 1;
+    std::unique_ptr<Pool> m_pool;
+};
+
+}  // namespace semloc

@@ -1,0 +1,96 @@
+/* semloc — the observation log-likelihood of a sensory frame at many vehicle poses, computed
+ * in parallel and equal to what MRPT's CMonteCarloLocalization2D computes one by one. */
+#pragma once
+
+#include <mrpt/maps/CMetricMap.h>
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/obs/CSensoryFrame.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace semloc
+{
+class ParallelExecutor;
+
+/** log p(sf | pose) for every particle pose, the sensor model of the filter.
+ *
+ *  The value is MRPT's (CMonteCarloLocalization2D::PF_SLAM_computeObservationLikelihoodForParticle
+ *  over a CMultiMetricMap): 1 + sum over the frame's observations of the sum over the maps of
+ *  CMetricMap::computeObservationLikelihood (0 for a map or multimap whose
+ *  `enableObservationLikelihood` is off), added in the same order. Each (observation, map)
+ *  term takes the fastest path that gives the same value:
+ *  - CSemanticMap with CObservationSemantic or CObservationBearingRange: the batch
+ *    computeLogLikelihoods() on each thread's contiguous chunk of poses;
+ *  - CStructureMap with CObservation2DRangeScan: CStructureMap::computeLogLikelihood();
+ *  - our maps with an observation they do not use: 0, not evaluated;
+ *  - COccupancyGridMap2D with the ray-tracing or Thrun likelihood-field method: the generic
+ *    call on every thread (the first pose is evaluated alone first, so the lazy caches of
+ *    the observation are built before threads share it; the grid's likelihood-field cache
+ *    is filled completely before the first multi-threaded use);
+ *  - any other map: the generic call, for every pose on the calling thread (MRPT's other
+ *    maps keep mutable caches that are not safe to share).
+ *
+ *  A non-finite value (NaN, +-inf) makes that pose's value -inf (weight zero) and is
+ *  counted in TStats::nonfinite_likelihoods. */
+class SensoryFrameLikelihood
+{
+public:
+    /** What the evaluated frames contained (cumulative). */
+    struct TStats
+    {
+        /** Observations at least one map can score. */
+        size_t observations_used = 0;
+        /** Observations no map can score (ignored, as MRPT does). */
+        size_t observations_skipped = 0;
+        /** Semantic detections the semantic map rejected as invalid (NaN, out of range...). */
+        size_t detections_invalid = 0;
+        /** Valid semantic detections with a label/id the semantic map does not know. */
+        size_t detections_unknown = 0;
+        /** Particle evaluations that were not finite (set to -inf). */
+        size_t nonfinite_likelihoods = 0;
+    };
+
+    /** `map` is the filter's map (usually a CMultiMetricMap); it must outlive this object. */
+    explicit SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map);
+
+    /** out[i] = log p(sf | poses[i]) for i in [0, n), on the executor's threads. */
+    void evaluate(const mrpt::obs::CSensoryFrame& sf, const mrpt::math::TPose2D* poses, size_t n,
+                  double* out, ParallelExecutor& executor);
+
+    /** Counters accumulated over every evaluate() call. */
+    const TStats& stats() const { return m_stats; }
+
+private:
+    enum class Path
+    {
+        Zero,
+        Semantic,
+        SemanticBearingRange,
+        Structure,
+        GenericParallel,
+        GenericSerial
+    };
+    struct Term
+    {
+        const mrpt::obs::CObservation* obs = nullptr;
+        const mrpt::maps::CMetricMap* map = nullptr;
+        Path path = Path::Zero;
+        /** Index into m_serial for GenericSerial. */
+        size_t serialIndex = 0;
+        /** First term of a new observation (the per-observation sum restarts). */
+        bool firstOfObservation = false;
+    };
+
+    Path choosePath(const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map) const;
+    void prepareGridCaches();
+
+    std::vector<const mrpt::maps::CMetricMap*> m_maps;
+    bool m_enabled = true;
+    bool m_gridCachesReady = false;
+    std::vector<Term> m_terms;
+    std::vector<std::vector<double>> m_serial;
+    TStats m_stats;
+};
+
+}  // namespace semloc

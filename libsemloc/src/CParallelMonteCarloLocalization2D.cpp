@@ -1,0 +1,452 @@
+/* semloc — CParallelMonteCarloLocalization2D: MRPT's MCL step with per-particle work on a
+ * thread pool, a never-empty particle set and augmented-MCL recovery. */
+#include <mrpt/core/exceptions.h>
+#include <mrpt/math/CMatrixFixed.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose3D.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <semloc/CParallelMonteCarloLocalization2D.h>
+#include <semloc/ParallelExecutor.h>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace semloc
+{
+using mrpt::math::TPose2D;
+
+namespace
+{
+constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+
+/** mrpt::math::wrapToPi, bit for bit, without its fmod for angles already in range
+ *  (fmod(t, 2 pi) is exactly t for 0 <= t < 2 pi). */
+inline double wrapToPiExact(double a)
+{
+    const double t = a + M_PI;
+    if (t >= 0 && t < 2 * M_PI)
+    {
+        return t - M_PI;
+    }
+    return mrpt::math::wrapToPi(a);
+}
+
+/** Draws pose increments from a CPosePDFGaussian with the random numbers and arithmetic of
+ *  MRPT's CPoseRandomSampler (setPosePDF, do_sample_2D, drawSample(CPose3D&)), without its
+ *  heap allocation per sample. */
+class GaussianIncrementDrawer
+{
+public:
+    explicit GaussianIncrementDrawer(const mrpt::poses::CPosePDFGaussian& pdf) : m_mean(pdf.mean)
+    {
+        std::vector<double> eigVals;
+        pdf.cov.eig_symmetric(m_Z, eigVals);
+        mrpt::math::CMatrixDouble33 D;
+        D.setDiagonal(eigVals);
+        D = D.asEigen().array().sqrt().matrix();
+        m_Z.matProductOf_AB(m_Z, D);
+    }
+
+    TPose2D draw(mrpt::random::CRandomGenerator& rng) const
+    {
+        double r[3] = {0, 0, 0};
+        for (int i = 0; i < 3; i++)
+        {
+            const double rnd = rng.drawGaussian1D_normalized();
+            for (int d = 0; d < 3; d++)
+            {
+                r[d] += m_Z(d, i) * rnd;
+            }
+        }
+        // CPose2D::normalizePhi, then CPose3D::setFromValues wraps the yaw again.
+        return {m_mean.x() + r[0], m_mean.y() + r[1],
+                wrapToPiExact(wrapToPiExact(m_mean.phi() + r[2]))};
+    }
+
+private:
+    mrpt::poses::CPose2D m_mean;
+    mrpt::math::CMatrixDouble33 m_Z;
+};
+
+/** p (+) u for 2D poses. */
+inline TPose2D compose(const TPose2D& p, const TPose2D& u)
+{
+    const double c = std::cos(p.phi), s = std::sin(p.phi);
+    return {p.x + c * u.x - s * u.y, p.y + s * u.x + c * u.y, wrapToPiExact(p.phi + u.phi)};
+}
+}  // namespace
+
+CParallelMonteCarloLocalization2D::CParallelMonteCarloLocalization2D(size_t M)
+    : CMonteCarloLocalization2D(M), m_executor(std::make_shared<ParallelExecutor>(1))
+{
+    setLoggerName("CParallelMonteCarloLocalization2D");
+}
+
+CParallelMonteCarloLocalization2D::~CParallelMonteCarloLocalization2D() = default;
+
+void CParallelMonteCarloLocalization2D::setExecutor(std::shared_ptr<ParallelExecutor> executor)
+{
+    ASSERT_(executor);
+    m_executor = std::move(executor);
+}
+
+void CParallelMonteCarloLocalization2D::setFreeSpaceSampler(
+    std::shared_ptr<const FreeSpaceSampler> sampler)
+{
+    m_sampler = std::move(sampler);
+}
+
+void CParallelMonteCarloLocalization2D::setRecoveryOptions(const AugmentedMCL::TOptions& o)
+{
+    m_augmented = AugmentedMCL(o);
+}
+
+SensoryFrameLikelihood::TStats CParallelMonteCarloLocalization2D::likelihoodStats() const
+{
+    return m_likelihood ? m_likelihood->stats() : SensoryFrameLikelihood::TStats{};
+}
+
+void CParallelMonteCarloLocalization2D::resetFromSampler(size_t particleCount)
+{
+    ASSERTMSG_(m_sampler, "resetFromSampler: no FreeSpaceSampler was set");
+    ASSERT_(particleCount > 0);
+    m_particles.resize(particleCount);
+    auto& rng = mrpt::random::getRandomGenerator();
+    for (auto& p : m_particles)
+    {
+        p.d = m_sampler->draw(rng);
+        p.log_w = 0;
+    }
+}
+
+void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal(
+    const mrpt::obs::CActionCollection* actions, const mrpt::obs::CSensoryFrame* sf,
+    const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options)
+{
+    MRPT_START
+    if (sf)
+    {
+        ASSERTMSG_(options.metricMap,
+                   "CParallelMonteCarloLocalization2D needs options.metricMap (one map for "
+                   "every particle)");
+    }
+    if (actions)
+    {
+        if (PF_options.adaptiveSampleSize)
+        {
+            // KLD sampling: MRPT's own implementation (prediction only, no frame).
+            CMonteCarloLocalization2D::prediction_and_update_pfStandardProposal(actions, nullptr,
+                                                                                PF_options);
+        }
+        else
+        {
+            predictFixedSampleSize(*actions);
+        }
+    }
+    if (sf)
+    {
+        update(*sf, PF_options);
+    }
+    MRPT_END
+}
+
+void CParallelMonteCarloLocalization2D::predictFixedSampleSize(
+    const mrpt::obs::CActionCollection& actions)
+{
+    const size_t M = m_particles.size();
+    auto& rng = mrpt::random::getRandomGenerator();
+    ParallelExecutor& ex = *m_executor;
+
+    const auto mov2D = actions.getBestMovementEstimation();
+    const auto* gauss =
+        mov2D ? dynamic_cast<const mrpt::poses::CPosePDFGaussian*>(mov2D->poseChange.get())
+              : nullptr;
+    if (gauss)
+    {
+        // The random numbers, in MRPT's order, on this thread; the moves on every thread.
+        const GaussianIncrementDrawer drawer(*gauss);
+        m_increments.resize(M);
+        for (size_t i = 0; i < M; i++)
+        {
+            m_increments[i] = drawer.draw(rng);
+        }
+        ex.forEachChunk(M,
+                        [&](size_t b, size_t e)
+                        {
+                            for (size_t i = b; i < e; i++)
+                            {
+                                m_particles[i].d = compose(m_particles[i].d, m_increments[i]);
+                            }
+                        });
+        return;
+    }
+
+    // Any other motion model (MRPT's Thrun particles, 3D actions): MRPT's sampler and its
+    // 3D composition, as PF_SLAM_implementation_pfStandardProposal.
+    if (mov2D)
+    {
+        ASSERT_(mov2D->poseChange);
+        m_movementDrawer.setPosePDF(*mov2D->poseChange);
+    }
+    else if (const auto mov3D = actions.getActionByClass<mrpt::obs::CActionRobotMovement3D>())
+    {
+        m_movementDrawer.setPosePDF(mov3D->poseChange);
+    }
+    else
+    {
+        THROW_EXCEPTION(
+            "Action list does not contain any CActionRobotMovement2D or CActionRobotMovement3D "
+            "object!");
+    }
+    std::vector<mrpt::poses::CPose3D> incr(M);
+    for (size_t i = 0; i < M; i++)
+    {
+        m_movementDrawer.drawSample(incr[i]);
+    }
+    ex.forEachChunk(M,
+                    [&](size_t b, size_t e)
+                    {
+                        for (size_t i = b; i < e; i++)
+                        {
+                            const mrpt::poses::CPose3D p(mrpt::math::TPose3D(m_particles[i].d));
+                            m_particles[i].d = TPose2D((p + incr[i]).asTPose());
+                        }
+                    });
+}
+
+double CParallelMonteCarloLocalization2D::logSumExpWeights() const
+{
+    double maxW = kNegInf;
+    for (const auto& p : m_particles)
+    {
+        maxW = std::max(maxW, p.log_w);
+    }
+    if (!(maxW > kNegInf))
+    {
+        return maxW;
+    }
+    const double sum = m_executor->reduceBlocks(m_particles.size(),
+                                                [&](size_t b, size_t e)
+                                                {
+                                                    double s = 0;
+                                                    for (size_t i = b; i < e; i++)
+                                                    {
+                                                        s += std::exp(m_particles[i].log_w - maxW);
+                                                    }
+                                                    return s;
+                                                });
+    return maxW + std::log(sum);
+}
+
+void CParallelMonteCarloLocalization2D::update(
+    const mrpt::obs::CSensoryFrame& sf,
+    const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options)
+{
+    const size_t M = m_particles.size();
+    ASSERTMSG_(M > 0, "the particle set is empty");
+    ParallelExecutor& ex = *m_executor;
+    if (!m_likelihood || m_likelihoodMap != options.metricMap.get())
+    {
+        m_likelihoodMap = options.metricMap.get();
+        m_likelihood = std::make_unique<SensoryFrameLikelihood>(*m_likelihoodMap);
+    }
+
+    const bool recovery = m_augmented.options().enabled();
+    const double lsePrior = recovery ? logSumExpWeights() : 0;
+
+    m_poses.resize(M);
+    m_logLik.resize(M);
+    ex.forEachChunk(M,
+                    [&](size_t b, size_t e)
+                    {
+                        for (size_t i = b; i < e; i++)
+                        {
+                            m_poses[i] = m_particles[i].d;
+                        }
+                    });
+    m_likelihood->evaluate(sf, m_poses.data(), M, m_logLik.data(), ex);
+    const double pow = PF_options.powFactor;
+    ex.forEachChunk(M,
+                    [&](size_t b, size_t e)
+                    {
+                        for (size_t i = b; i < e; i++)
+                        {
+                            m_particles[i].log_w += m_logLik[i] * pow;
+                        }
+                    });
+
+    double maxW = kNegInf;
+    for (const auto& p : m_particles)
+    {
+        maxW = std::max(maxW, p.log_w);  // NaN never wins a std::max against a number
+    }
+    if (!std::isfinite(maxW))
+    {
+        // Every weight vanished: nothing left to normalize. Start over from the free space.
+        m_recoveryStats.reinitializations++;
+        MRPT_LOG_WARN_STREAM("every particle weight is zero after the update: re-initializing "
+                             << M << " particles over the "
+                             << (m_sampler ? m_sampler->description() : "same poses"));
+        if (m_sampler)
+        {
+            resetFromSampler(M);
+        }
+        else
+        {
+            for (auto& p : m_particles)
+            {
+                p.log_w = 0;
+            }
+        }
+        m_augmented.reset();
+        m_lastPInject = 0;
+        return;
+    }
+
+    m_lastPInject = 0;
+    if (recovery)
+    {
+        // w_avg = sum_i w_prior_i p(z | x_i) / sum_i w_prior_i (§8.3.5, with weights).
+        const double pInject = m_augmented.update(logSumExpWeights() - lsePrior);
+        m_lastPInject = pInject;
+        if (pInject > 0 && m_sampler)
+        {
+            injectRandomParticles(pInject, PF_options);
+        }
+    }
+}
+
+void CParallelMonteCarloLocalization2D::injectRandomParticles(
+    double pInject, const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o)
+{
+    // Table 8.3: each particle of the resampled set is, with probability p_inject, a
+    // random pose instead.
+    normalizeWeights();
+    performResampling(o);
+    auto& rng = mrpt::random::getRandomGenerator();
+    size_t injected = 0;
+    for (auto& p : m_particles)
+    {
+        if (rng.drawUniform(0.0, 1.0) < pInject)
+        {
+            p.d = m_sampler->draw(rng);
+            injected++;
+        }
+    }
+    if (injected > 0)
+    {
+        m_recoveryStats.injection_steps++;
+        m_recoveryStats.injected_particles += injected;
+    }
+}
+
+double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w)
+{
+    if (m_particles.empty())
+    {
+        return 0;
+    }
+    double maxW = m_particles[0].log_w, minW = maxW;
+    for (const auto& p : m_particles)
+    {
+        maxW = std::max(maxW, p.log_w);
+        minW = std::min(minW, p.log_w);
+    }
+    m_executor->forEachChunk(m_particles.size(),
+                             [&](size_t b, size_t e)
+                             {
+                                 for (size_t i = b; i < e; i++)
+                                 {
+                                     m_particles[i].log_w -= maxW;
+                                 }
+                             });
+    if (out_max_log_w)
+    {
+        *out_max_log_w = maxW;
+    }
+    return std::exp(maxW - minW);
+}
+
+double CParallelMonteCarloLocalization2D::ESS() const
+{
+    // ESS = (sum w)^2 / (M sum w^2), shift-invariant: computed relative to the largest
+    // log-weight, over fixed blocks (same bits for any thread count).
+    const size_t M = m_particles.size();
+    if (M == 0)
+    {
+        return 0;
+    }
+    double maxW = kNegInf;
+    for (const auto& p : m_particles)
+    {
+        maxW = std::max(maxW, p.log_w);
+    }
+    if (!(maxW > kNegInf) || std::isinf(maxW))
+    {
+        return 0;
+    }
+    const size_t blocks = (M + ParallelExecutor::kReduceBlock - 1) / ParallelExecutor::kReduceBlock;
+    std::vector<double> sumW(blocks), sumW2(blocks);
+    m_executor->forEachChunk(
+        blocks,
+        [&](size_t b0, size_t b1)
+        {
+            for (size_t blk = b0; blk < b1; blk++)
+            {
+                const size_t e = std::min(M, (blk + 1) * ParallelExecutor::kReduceBlock);
+                double s = 0, s2 = 0;
+                for (size_t i = blk * ParallelExecutor::kReduceBlock; i < e; i++)
+                {
+                    const double w = std::exp(m_particles[i].log_w - maxW);
+                    s += w;
+                    s2 += w * w;
+                }
+                sumW[blk] = s;
+                sumW2[blk] = s2;
+            }
+        },
+        1);
+    double s = 0, s2 = 0;
+    for (size_t blk = 0; blk < blocks; blk++)
+    {
+        s += sumW[blk];
+        s2 += sumW2[blk];
+    }
+    return s2 > 0 ? s * s / (static_cast<double>(M) * s2) : 0;
+}
+
+void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<size_t>& indx)
+{
+    // MRPT sorts the indices first (the particle order after resampling); every resampling
+    // method of computeResampling() already returns them sorted, so sort only if needed.
+    std::vector<size_t> sorted;
+    const std::vector<size_t>* idx = &indx;
+    if (!std::is_sorted(indx.begin(), indx.end()))
+    {
+        sorted = indx;
+        std::sort(sorted.begin(), sorted.end());
+        idx = &sorted;
+    }
+    const size_t M = idx->size();
+    m_resampled.resize(M);
+    m_executor->forEachChunk(M,
+                             [&](size_t b, size_t e)
+                             {
+                                 for (size_t i = b; i < e; i++)
+                                 {
+                                     m_resampled[i].d = m_particles[(*idx)[i]].d;
+                                     m_resampled[i].log_w = 0;  // equal weights after resampling
+                                 }
+                             });
+    m_particles.swap(m_resampled);
+}
+
+}  // namespace semloc

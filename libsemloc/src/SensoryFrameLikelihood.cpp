@@ -1,0 +1,276 @@
+/* semloc — SensoryFrameLikelihood: MRPT's per-particle observation likelihood, per chunk. */
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/poses/CPose3D.h>
+#include <semloc/CObservationSemantic.h>
+#include <semloc/CSemanticMap.h>
+#include <semloc/CStructureMap.h>
+#include <semloc/ParallelExecutor.h>
+#include <semloc/SensoryFrameLikelihood.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <typeinfo>
+
+namespace semloc
+{
+using mrpt::maps::COccupancyGridMap2D;
+using mrpt::math::TPose2D;
+
+namespace
+{
+/** The pose MRPT hands to CMetricMap::computeObservationLikelihood for a 2D particle. */
+mrpt::poses::CPose3D mrptPose(const TPose2D& p)
+{
+    return mrpt::poses::CPose3D(mrpt::math::TPose3D(p));
+}
+
+bool isThreadSafeGrid(const COccupancyGridMap2D& g)
+{
+    // These two methods only read the grid (the likelihood field through its cache, filled
+    // in advance by prepareGridCaches); the others write mutable members on every call.
+    const auto m = g.likelihoodOptions.likelihoodMethod;
+    return m == COccupancyGridMap2D::lmRayTracing ||
+           m == COccupancyGridMap2D::lmLikelihoodField_Thrun;
+}
+}  // namespace
+
+SensoryFrameLikelihood::SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map)
+{
+    if (const auto* mm = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(&map))
+    {
+        m_enabled = mm->genericMapParams.enableObservationLikelihood;
+        for (const auto& m : mm->maps)
+        {
+            m_maps.push_back(m.get());
+        }
+    }
+    else
+    {
+        m_maps.push_back(&map);
+    }
+}
+
+SensoryFrameLikelihood::Path SensoryFrameLikelihood::choosePath(
+    const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map) const
+{
+    if (!map.genericMapParams.enableObservationLikelihood)
+    {
+        return Path::Zero;  // CMetricMap::computeObservationLikelihood returns 0
+    }
+    // Exact types only: a subclass may override the likelihood the fast paths bypass.
+    if (typeid(map) == typeid(CSemanticMap))
+    {
+        if (dynamic_cast<const CObservationSemantic*>(&obs))
+        {
+            return Path::Semantic;
+        }
+        if (dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
+        {
+            return Path::SemanticBearingRange;
+        }
+        return Path::Zero;
+    }
+    if (typeid(map) == typeid(CStructureMap))
+    {
+        return dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs) ? Path::Structure
+                                                                             : Path::Zero;
+    }
+    if (const auto* grid = dynamic_cast<const COccupancyGridMap2D*>(&map);
+        grid && isThreadSafeGrid(*grid))
+    {
+        return Path::GenericParallel;
+    }
+    return Path::GenericSerial;
+}
+
+void SensoryFrameLikelihood::prepareGridCaches()
+{
+    for (const auto* m : m_maps)
+    {
+        const auto* g = dynamic_cast<const COccupancyGridMap2D*>(m);
+        if (!g ||
+            g->likelihoodOptions.likelihoodMethod != COccupancyGridMap2D::lmLikelihoodField_Thrun ||
+            !g->likelihoodOptions.enableLikelihoodCache || g->getSizeX() < 2 || g->getSizeY() < 2)
+        {
+            continue;
+        }
+        // The likelihood-field cache is filled lazily, cell by cell, by const calls: fill it
+        // all now (one point per cell centre, every point used) so that threads only read it.
+        // A cell's value depends only on the cell, so the results are those of lazy filling.
+        mrpt::maps::CSimplePointsMap centres;
+        centres.reserve((g->getSizeX() - 1) * (g->getSizeY() - 1));
+        for (unsigned cy = 0; cy + 1 < g->getSizeY(); cy++)
+        {
+            for (unsigned cx = 0; cx + 1 < g->getSizeX(); cx++)
+            {
+                centres.insertPointFast(g->idx2x(cx), g->idx2y(cy), 0);
+            }
+        }
+        auto& grid = const_cast<COccupancyGridMap2D&>(*g);  // restored below; same thread
+        const auto decimation = grid.likelihoodOptions.LF_decimation;
+        grid.likelihoodOptions.LF_decimation = 1;
+        grid.computeLikelihoodField_Thrun(&centres, nullptr);
+        grid.likelihoodOptions.LF_decimation = decimation;
+    }
+}
+
+void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const TPose2D* poses,
+                                      size_t n, double* out, ParallelExecutor& executor)
+{
+    // Plan: one term per (observation, map) pair that can contribute, in MRPT's order.
+    m_terms.clear();
+    size_t nSerial = 0;
+    bool anyParallelGeneric = false;
+    for (const auto& o : sf)
+    {
+        if (!o)
+        {
+            continue;
+        }
+        bool usable = false, first = true;
+        const CSemanticMap* checkedBy = nullptr;
+        for (const auto* map : m_maps)
+        {
+            usable = usable || map->canComputeObservationLikelihood(*o);
+            const Path path = m_enabled ? choosePath(*o, *map) : Path::Zero;
+            if (path == Path::Semantic && !checkedBy)
+            {
+                checkedBy = static_cast<const CSemanticMap*>(map);
+            }
+            if (path == Path::Zero)
+            {
+                continue;
+            }
+            Term t;
+            t.obs = o.get();
+            t.map = map;
+            t.path = path;
+            t.firstOfObservation = first;
+            first = false;
+            if (path == Path::GenericSerial)
+            {
+                t.serialIndex = nSerial++;
+            }
+            anyParallelGeneric = anyParallelGeneric || path == Path::GenericParallel;
+            m_terms.push_back(t);
+        }
+        (usable ? m_stats.observations_used : m_stats.observations_skipped)++;
+        if (checkedBy)
+        {
+            const auto c = checkedBy->check(static_cast<const CObservationSemantic&>(*o));
+            m_stats.detections_invalid += c.invalid;
+            m_stats.detections_unknown += c.unknown;
+        }
+    }
+
+    if (anyParallelGeneric && executor.threads() > 1 && !m_gridCachesReady)
+    {
+        prepareGridCaches();
+        m_gridCachesReady = true;
+    }
+
+    // Terms no thread may share: every pose, here, before the parallel section.
+    m_serial.resize(std::max(m_serial.size(), nSerial));
+    for (const auto& t : m_terms)
+    {
+        if (t.path == Path::GenericSerial)
+        {
+            auto& v = m_serial[t.serialIndex];
+            v.resize(n);
+            for (size_t i = 0; i < n; i++)
+            {
+                v[i] = t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[i]));
+            }
+        }
+        else if (t.path == Path::GenericParallel && n > 0)
+        {
+            // Builds the observation's lazy caches (e.g. the scan's points map) on this thread.
+            (void)t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[0]));
+        }
+    }
+
+    executor.forEachChunk(
+        n,
+        [&](size_t b, size_t e)
+        {
+            const size_t m = e - b;
+            std::vector<double> obsSum(m), term(m);
+            for (size_t i = 0; i < m; i++)
+            {
+                out[b + i] = 1;  // MRPT's CMonteCarloLocalization2D starts the sum at 1
+            }
+            for (size_t k = 0; k < m_terms.size(); k++)
+            {
+                const Term& t = m_terms[k];
+                if (t.firstOfObservation)
+                {
+                    std::fill(obsSum.begin(), obsSum.end(), 0.0);
+                }
+                switch (t.path)
+                {
+                    case Path::Semantic:
+                        static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
+                            static_cast<const CObservationSemantic&>(*t.obs), poses + b, m,
+                            term.data());
+                        break;
+                    case Path::SemanticBearingRange:
+                        static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
+                            static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs),
+                            poses + b, m, term.data());
+                        break;
+                    case Path::Structure:
+                    {
+                        const auto& st = static_cast<const CStructureMap&>(*t.map);
+                        const auto& scan =
+                            static_cast<const mrpt::obs::CObservation2DRangeScan&>(*t.obs);
+                        for (size_t i = 0; i < m; i++)
+                        {
+                            term[i] = st.computeLogLikelihood(scan, poses[b + i]);
+                        }
+                        break;
+                    }
+                    case Path::GenericParallel:
+                        for (size_t i = 0; i < m; i++)
+                        {
+                            term[i] =
+                                t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[b + i]));
+                        }
+                        break;
+                    case Path::GenericSerial:
+                        std::copy_n(m_serial[t.serialIndex].begin() + static_cast<ptrdiff_t>(b), m,
+                                    term.begin());
+                        break;
+                    case Path::Zero:
+                        std::fill(term.begin(), term.end(), 0.0);
+                        break;
+                }
+                for (size_t i = 0; i < m; i++)
+                {
+                    obsSum[i] += term[i];
+                }
+                if (k + 1 == m_terms.size() || m_terms[k + 1].firstOfObservation)
+                {
+                    for (size_t i = 0; i < m; i++)
+                    {
+                        out[b + i] += obsSum[i];
+                    }
+                }
+            }
+        });
+
+    for (size_t i = 0; i < n; i++)
+    {
+        if (!std::isfinite(out[i]))
+        {
+            out[i] = -std::numeric_limits<double>::infinity();
+            m_stats.nonfinite_likelihoods++;
+        }
+    }
+}
+
+}  // namespace semloc

@@ -1,0 +1,376 @@
+/* semloc tests — CParallelMonteCarloLocalization2D: MRPT's numbers, the same bits for any
+ * thread count, never NaN or empty, augmented-MCL recovery; ParallelExecutor; AugmentedMCL. */
+#include <gtest/gtest.h>
+#include <mrpt/bayes/CParticleFilter.h>
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <mrpt/slam/CMonteCarloLocalization2D.h>
+#include <semloc/AugmentedMCL.h>
+#include <semloc/CParallelMonteCarloLocalization2D.h>
+#include <semloc/CStructureMap.h>
+#include <semloc/ParallelExecutor.h>
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "ScanSimulation.h"
+#include "TestHelpers.h"
+
+using mrpt::math::TPose2D;
+using semloc::CParallelMonteCarloLocalization2D;
+using semloc::ParallelExecutor;
+
+namespace
+{
+const std::string kPaperWorld = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
+
+/** semantic + structure + likelihood-field grid over the paper world. */
+struct Maps
+{
+    semloc::World world = semloc::World::FromFile(kPaperWorld);
+    mrpt::maps::CMultiMetricMap::Ptr multi = mrpt::maps::CMultiMetricMap::Create();
+    semloc::CStructureMap::Ptr structure = semloc::CStructureMap::Create();
+
+    explicit Maps(bool withGrid = true)
+    {
+        auto sem = semloc::CSemanticMap::Create();
+        sem->loadFromWorld(world);
+        structure->loadFromWorld(world);
+        multi->maps.push_back(sem);
+        multi->maps.push_back(structure);
+        if (withGrid)
+        {
+            auto grid = mrpt::maps::COccupancyGridMap2D::Create();
+            *grid = world.makeOccupancyGrid(0.1);
+            grid->likelihoodOptions.likelihoodMethod =
+                mrpt::maps::COccupancyGridMap2D::lmLikelihoodField_Thrun;
+            multi->maps.push_back(grid);
+        }
+    }
+
+    mrpt::obs::CSensoryFrame frame(const TPose2D& truth) const
+    {
+        mrpt::obs::CSensoryFrame sf;
+        sf.insert(std::make_shared<mrpt::obs::CObservation2DRangeScan>(
+            semloc::test::simulateScan(structure->rayCaster(), truth, 61, 20, M_PI)));
+        sf.insert(
+            std::make_shared<semloc::CObservationSemantic>(semloc::test::observe(world, truth)));
+        return sf;
+    }
+};
+
+mrpt::obs::CActionCollection odometry(const mrpt::poses::CPose2D& u)
+{
+    mrpt::obs::CActionRobotMovement2D act;
+    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions mo;
+    mo.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
+    act.computeFromOdometry(u, mo);
+    mrpt::obs::CActionCollection acts;
+    acts.insert(act);
+    return acts;
+}
+
+/** Runs `steps` filter steps along a straight leg of the paper trajectory (y = 4). */
+void runSteps(CParallelMonteCarloLocalization2D& pdf, const Maps& maps, int steps,
+              const mrpt::bayes::CParticleFilter& pf)
+{
+    TPose2D truth(5, 4, 0);
+    for (int k = 0; k < steps; k++)
+    {
+        truth.x += 0.5;
+        const auto acts = odometry(mrpt::poses::CPose2D(0.5, 0, 0));
+        const auto sf = maps.frame(truth);
+        pf.executeOn(pdf, &acts, &sf);
+    }
+}
+
+/** A map whose likelihood is NaN for every pose: the filter must survive it. */
+class CNanMap : public semloc::CStructureMap
+{
+    double internal_computeObservationLikelihood(const mrpt::obs::CObservation&,
+                                                 const mrpt::poses::CPose3D&) const override
+    {
+        return std::numeric_limits<double>::quiet_NaN();
+    }
+};
+}  // namespace
+
+TEST(ParallelExecutor, ChunksCoverTheRangeOnceAndRethrow)
+{
+    for (size_t threads : {1, 2, 3})
+    {
+        ParallelExecutor ex(threads);
+        EXPECT_EQ(ex.threads(), threads);
+        for (size_t n : {0, 1, 7, 1000, 4099})
+        {
+            std::vector<int> hits(n, 0);
+            ex.forEachChunk(
+                n,
+                [&](size_t b, size_t e)
+                {
+                    for (size_t i = b; i < e; i++)
+                    {
+                        hits[i]++;
+                    }
+                },
+                1);
+            for (size_t i = 0; i < n; i++)
+            {
+                ASSERT_EQ(hits[i], 1)
+                    << "item " << i << " of " << n << ", " << threads << " threads";
+            }
+        }
+        EXPECT_THROW(
+            ex.forEachChunk(
+                100, [](size_t b, size_t) { throw std::runtime_error(std::to_string(b)); }, 1),
+            std::runtime_error);
+        // Still usable after an exception.
+        size_t total = 0;
+        ex.forEachChunk(1, [&](size_t b, size_t e) { total += e - b; });
+        EXPECT_EQ(total, 1u);
+    }
+}
+
+TEST(ParallelExecutor, BlockSumsDoNotDependOnThreads)
+{
+    std::vector<double> v(10007);
+    for (size_t i = 0; i < v.size(); i++)
+    {
+        v[i] = std::sin(static_cast<double>(i)) * 1e3 + 1e-7 * static_cast<double>(i);
+    }
+    auto sum = [&](ParallelExecutor& ex)
+    {
+        return ex.reduceBlocks(v.size(),
+                               [&](size_t b, size_t e)
+                               {
+                                   double s = 0;
+                                   for (size_t i = b; i < e; i++)
+                                   {
+                                       s += v[i];
+                                   }
+                                   return s;
+                               });
+    };
+    ParallelExecutor one(1), two(2), three(3);
+    const double s1 = sum(one);
+    EXPECT_EQ(s1, sum(two));
+    EXPECT_EQ(s1, sum(three));
+}
+
+TEST(AugmentedMCL, InjectsOnlyAfterALikelihoodDrop)
+{
+    semloc::AugmentedMCL off;
+    EXPECT_EQ(off.update(-5), 0.0);
+
+    semloc::AugmentedMCL aug({0.01, 0.2});
+    for (int k = 0; k < 200; k++)
+    {
+        EXPECT_EQ(aug.update(-700), 0.0) << "steady likelihood e^-700, step " << k;
+    }
+    double p = 0;
+    for (int k = 0; k < 5; k++)
+    {
+        p = aug.update(-720);  // the likelihood falls by e^-20: lost
+    }
+    EXPECT_GT(p, 0.5);
+    EXPECT_LE(p, 1.0);
+    aug.reset();
+    EXPECT_EQ(aug.update(-720), 0.0);
+}
+
+TEST(CParallelMonteCarloLocalization2D, PredictionDrawsMrptsRandomNumbers)
+{
+    // The same seed and action: MRPT's particles (3D composition) and ours (2D) agree.
+    mrpt::slam::CMonteCarloLocalization2D stock;
+    CParallelMonteCarloLocalization2D ours;
+    mrpt::random::getRandomGenerator().randomize(7);
+    stock.resetUniform(0, 50, 0, 50, -M_PI, M_PI, 2000);
+    mrpt::random::getRandomGenerator().randomize(7);
+    ours.resetUniform(0, 50, 0, 50, -M_PI, M_PI, 2000);
+    ours.setExecutor(std::make_shared<ParallelExecutor>(2));
+
+    mrpt::bayes::CParticleFilter::TParticleFilterOptions o;
+    const auto acts = odometry(mrpt::poses::CPose2D(0.7, -0.1, 0.3));
+    mrpt::random::getRandomGenerator().randomize(11);
+    stock.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
+    mrpt::random::getRandomGenerator().randomize(11);
+    ours.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
+    ASSERT_EQ(stock.size(), ours.size());
+    for (size_t i = 0; i < stock.size(); i++)
+    {
+        const auto a = stock.getParticlePose(i), b = ours.getParticlePose(i);
+        ASSERT_NEAR(a.x, b.x, 1e-9) << i;
+        ASSERT_NEAR(a.y, b.y, 1e-9) << i;
+        ASSERT_NEAR(mrpt::math::wrapToPi(a.phi - b.phi), 0, 1e-9) << i;
+    }
+    // And the generator is left in the same state.
+    const uint32_t afterOurs = mrpt::random::getRandomGenerator().drawUniform32bit();
+    mrpt::random::getRandomGenerator().randomize(11);
+    stock.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
+    EXPECT_EQ(afterOurs, mrpt::random::getRandomGenerator().drawUniform32bit());
+}
+
+TEST(CParallelMonteCarloLocalization2D, UpdateEqualsMrptsLikelihoodOnEveryThreadCount)
+{
+    const Maps maps;
+    const TPose2D truth(20, 17, 0.3);
+    const auto sf = maps.frame(truth);
+    mrpt::bayes::CParticleFilter::TParticleFilterOptions o;
+    o.powFactor = 0.7;
+
+    mrpt::slam::CMonteCarloLocalization2D stock;
+    stock.options.metricMap = maps.multi;
+    mrpt::random::getRandomGenerator().randomize(3);
+    stock.resetUniform(15, 25, 12, 22, -M_PI, M_PI, 3000);
+    stock.prediction_and_update_pfStandardProposal(nullptr, &sf, o);
+
+    for (size_t threads : {1, 2, 3})
+    {
+        CParallelMonteCarloLocalization2D ours;
+        ours.options.metricMap = maps.multi;
+        ours.setExecutor(std::make_shared<ParallelExecutor>(threads));
+        mrpt::random::getRandomGenerator().randomize(3);
+        ours.resetUniform(15, 25, 12, 22, -M_PI, M_PI, 3000);
+        ours.prediction_and_update_pfStandardProposal(nullptr, &sf, o);
+        for (size_t i = 0; i < stock.size(); i++)
+        {
+            const double a = stock.m_particles[i].log_w, b = ours.m_particles[i].log_w;
+            ASSERT_NEAR(a, b, 1e-9 * std::max(1.0, std::abs(a)))
+                << "particle " << i << ", " << threads << " threads";
+        }
+        EXPECT_EQ(ours.likelihoodStats().observations_used, 2u);
+    }
+}
+
+TEST(CParallelMonteCarloLocalization2D, SameBitsOnOneTwoAndThreeThreads)
+{
+    const Maps maps;
+    mrpt::bayes::CParticleFilter pf;
+    pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
+    auto run = [&](size_t threads)
+    {
+        auto pdf = std::make_unique<CParallelMonteCarloLocalization2D>();
+        pdf->options.metricMap = maps.multi;
+        pdf->setExecutor(std::make_shared<ParallelExecutor>(threads));
+        mrpt::random::getRandomGenerator().randomize(5);
+        pdf->resetUniform(0, 20, 0, 10, -M_PI, M_PI, 4000);
+        runSteps(*pdf, maps, 12, pf);
+        return pdf;
+    };
+    const auto a = run(1);
+    for (size_t threads : {2, 3})
+    {
+        const auto b = run(threads);
+        ASSERT_EQ(a->size(), b->size());
+        for (size_t i = 0; i < a->size(); i++)
+        {
+            ASSERT_EQ(a->m_particles[i].d.x, b->m_particles[i].d.x) << i;
+            ASSERT_EQ(a->m_particles[i].d.y, b->m_particles[i].d.y) << i;
+            ASSERT_EQ(a->m_particles[i].d.phi, b->m_particles[i].d.phi) << i;
+            ASSERT_EQ(a->m_particles[i].log_w, b->m_particles[i].log_w) << i;
+        }
+        EXPECT_EQ(a->ESS(), b->ESS());
+    }
+    // It localized, too: the leg at y = 4 has look-alikes only far away.
+    EXPECT_LT(std::hypot(a->getMeanVal().x() - 11, a->getMeanVal().y() - 4), 1.0);
+}
+
+TEST(CParallelMonteCarloLocalization2D, KldAdaptiveSampleSizeRunsThroughMrpt)
+{
+    const Maps maps(false);
+    mrpt::bayes::CParticleFilter pf;
+    pf.m_options.adaptiveSampleSize = true;
+    pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prMultinomial;
+    CParallelMonteCarloLocalization2D pdf;
+    pdf.options.metricMap = maps.multi;
+    pdf.options.KLD_params.KLD_minSampleSize = 300;
+    pdf.options.KLD_params.KLD_maxSampleSize = 5000;
+    pdf.setExecutor(std::make_shared<ParallelExecutor>(2));
+    mrpt::random::getRandomGenerator().randomize(9);
+    pdf.resetUniform(3, 9, 2, 6, -0.3, 0.3, 5000);
+    runSteps(pdf, maps, 10, pf);
+    EXPECT_GE(pdf.size(), 300u);
+    EXPECT_LT(pdf.size(), 5000u) << "KLD shrinks a converged cloud";
+    EXPECT_LT(std::hypot(pdf.getMeanVal().x() - 10, pdf.getMeanVal().y() - 4), 1.0);
+}
+
+TEST(CParallelMonteCarloLocalization2D, AllWeightsZeroReinitializesInsteadOfNaN)
+{
+    const semloc::World world = semloc::World::FromFile(kPaperWorld);
+    auto mm = mrpt::maps::CMultiMetricMap::Create();
+    mm->maps.push_back(std::make_shared<CNanMap>());
+    CParallelMonteCarloLocalization2D pdf;
+    pdf.options.metricMap = mm;
+    pdf.setExecutor(std::make_shared<ParallelExecutor>(2));
+    pdf.setFreeSpaceSampler(
+        std::make_shared<semloc::FreeSpaceSampler>(semloc::FreeSpaceSampler::FromWorld(world)));
+    mrpt::random::getRandomGenerator().randomize(1);
+    pdf.resetUniform(10, 11, 10, 11, 0, 0.1, 500);
+
+    mrpt::bayes::CParticleFilter pf;
+    const auto acts = odometry(mrpt::poses::CPose2D(0.5, 0, 0));
+    mrpt::obs::CSensoryFrame sf;
+    sf.insert(std::make_shared<mrpt::obs::CObservation2DRangeScan>());
+    pf.executeOn(pdf, &acts, &sf);
+
+    EXPECT_EQ(pdf.recoveryStats().reinitializations, 1u);
+    EXPECT_EQ(pdf.likelihoodStats().nonfinite_likelihoods, 500u);
+    ASSERT_EQ(pdf.size(), 500u);
+    double xMin = 1e9, xMax = -1e9;
+    for (const auto& p : pdf.m_particles)
+    {
+        ASSERT_TRUE(std::isfinite(p.log_w) && std::isfinite(p.d.x) && std::isfinite(p.d.y));
+        ASSERT_TRUE(world.isFree(p.d.x, p.d.y));
+        xMin = std::min(xMin, p.d.x);
+        xMax = std::max(xMax, p.d.x);
+    }
+    EXPECT_GT(xMax - xMin, 30) << "re-initialized over the whole free space";
+    EXPECT_TRUE(std::isfinite(pdf.getMeanVal().x()));
+}
+
+TEST(CParallelMonteCarloLocalization2D, AugmentedMclInjectsWhenTheLikelihoodCollapses)
+{
+    const Maps maps(false);
+    mrpt::bayes::CParticleFilter pf;
+    pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
+    CParallelMonteCarloLocalization2D pdf;
+    pdf.options.metricMap = maps.multi;
+    pdf.setExecutor(std::make_shared<ParallelExecutor>(2));
+    pdf.setFreeSpaceSampler(std::make_shared<semloc::FreeSpaceSampler>(
+        semloc::FreeSpaceSampler::FromWorld(maps.world)));
+    // AMCL's usual rates. w_slow starts at 0 (Table 8.3), so it needs a few 1 / alpha_slow
+    // steps before an ordinary dip of the likelihood can bring w_fast below it.
+    pdf.setRecoveryOptions({0.001, 0.1});
+    mrpt::random::getRandomGenerator().randomize(2);
+    pdf.resetUniform(4.5, 5.5, 3.5, 4.5, -0.05, 0.05, 3000);
+
+    auto step = [&](TPose2D& truth, double dx)
+    {
+        truth.x += dx;
+        const auto acts = odometry(mrpt::poses::CPose2D(0.5, 0, 0));
+        const auto sf = maps.frame(truth);
+        pf.executeOn(pdf, &acts, &sf);
+    };
+    TPose2D truth(5, 4, 0);
+    for (int k = 0; k < 60; k++)
+    {
+        step(truth, 0.5);  // tracking along the first leg: the likelihood stays high
+    }
+    EXPECT_EQ(pdf.recoveryStats().injected_particles, 0u);
+    EXPECT_LT(std::hypot(pdf.getMeanVal().x() - truth.x, pdf.getMeanVal().y() - truth.y), 0.2);
+
+    truth = TPose2D(45, 30, M_PI);  // kidnapped to the third leg, the odometry unaware
+    for (int k = 0; k < 40; k++)
+    {
+        step(truth, -0.5);
+    }
+    EXPECT_GT(pdf.recoveryStats().injection_steps, 0u);
+    EXPECT_GT(pdf.recoveryStats().injected_particles, 0u);
+    EXPECT_EQ(pdf.recoveryStats().reinitializations, 0u);
+}
