@@ -1,0 +1,95 @@
+/* semloc — SonarModel: exact expected ranges plus range noise and dropouts. */
+#include <mrpt/core/bits_math.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <semloc/ConfigHelpers.h>
+#include <semloc/SonarModel.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "ExactConfigWrite.h"
+#include "SimRandom.h"
+
+namespace semloc
+{
+void SonarModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                              const std::string& s)
+{
+    config::rejectUnknownKeys(c, s, config::keysOf(*this));
+    config::readInt(c, s, "beam_count", beam_count, 1, 100000);
+    config::readDouble(c, s, "aperture_deg", aperture_deg, 1e-6, 360);
+    config::readDouble(c, s, "max_range_m", max_range_m, 1e-3, 1e5);
+    config::readDouble(c, s, "range_noise_std_m", range_noise_std_m, 0, 1e3);
+    config::readDouble(c, s, "dropout_probability", dropout_probability, 0, 1);
+    config::readDouble(c, s, "sensor_x_m", sensor_x_m, -1e3, 1e3);
+    config::readDouble(c, s, "sensor_y_m", sensor_y_m, -1e3, 1e3);
+    config::readDouble(c, s, "sensor_yaw_deg", sensor_yaw_deg, -360, 360);
+}
+
+void SonarModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                            const std::string& s) const
+{
+    using detail::writeExact;
+    c.write(s, "beam_count", beam_count, 24, 24, "beams per scan, right to left");
+    writeExact(c, s, "aperture_deg", aperture_deg, "width of the fan [deg]");
+    writeExact(c, s, "max_range_m", max_range_m, "maximum range [m]; no echo reads this");
+    writeExact(c, s, "range_noise_std_m", range_noise_std_m, "range noise of a hit [m]");
+    writeExact(c, s, "dropout_probability", dropout_probability, "P(beam lost: invalid)");
+    writeExact(c, s, "sensor_x_m", sensor_x_m, "sonar pose on the vehicle: forward [m]");
+    writeExact(c, s, "sensor_y_m", sensor_y_m, "left [m]");
+    writeExact(c, s, "sensor_yaw_deg", sensor_yaw_deg, "yaw [deg]");
+}
+
+mrpt::poses::CPose3D SonarModel::TOptions::sensorPose() const
+{
+    return mrpt::poses::CPose3D(sensor_x_m, sensor_y_m, 0, mrpt::DEG2RAD(sensor_yaw_deg), 0, 0);
+}
+
+SonarModel::SonarModel(const World& world, const TOptions& options)
+    : m_options(options), m_caster(world.outlineSegments())
+{
+}
+
+mrpt::obs::CObservation2DRangeScan::Ptr SonarModel::measure(
+    const mrpt::math::TPose2D& vehicle, mrpt::random::CRandomGenerator& rng) const
+{
+    const TOptions& o = m_options;
+    auto scan = mrpt::obs::CObservation2DRangeScan::Create();
+    scan->sensorLabel = "SONAR";
+    scan->aperture = static_cast<float>(mrpt::DEG2RAD(o.aperture_deg));
+    scan->maxRange = static_cast<float>(o.max_range_m);
+    scan->rightToLeft = true;
+    scan->stdError = static_cast<float>(o.range_noise_std_m);
+    scan->sensorPose = o.sensorPose();
+    const size_t n = static_cast<size_t>(o.beam_count);
+    scan->resizeScan(n);
+
+    // Sensor pose in the world: vehicle (+) sensorPose, in 2D (as CStructureMap computes it).
+    const double c = std::cos(vehicle.phi), s = std::sin(vehicle.phi);
+    const double spx = scan->sensorPose.x(), spy = scan->sensorPose.y();
+    const double sx = vehicle.x + c * spx - s * spy;
+    const double sy = vehicle.y + s * spx + c * spy;
+    const double sphi = vehicle.phi + scan->sensorPose.yaw();
+    const double aperture = scan->aperture;
+    const double maxRange = scan->maxRange;
+    for (size_t k = 0; k < n; k++)
+    {
+        const double a =
+            n > 1 ? -0.5 * aperture + aperture * static_cast<double>(k) / static_cast<double>(n - 1)
+                  : 0.0;
+        const double r = m_caster.cast(sx, sy, sphi + a, maxRange);
+        // Draw both variates for every beam: the stream does not depend on the geometry.
+        const double noise = o.range_noise_std_m * rng.drawGaussian1D_normalized();
+        const bool dropped = detail::bernoulli(rng, o.dropout_probability);
+        float z = static_cast<float>(maxRange);
+        if (!dropped && r < maxRange)
+        {
+            z = static_cast<float>(std::clamp(r + noise, 0.0, maxRange));
+        }
+        scan->setScanRange(k, z);
+        scan->setScanRangeValidity(k, !dropped);
+    }
+    return scan;
+}
+
+}  // namespace semloc
