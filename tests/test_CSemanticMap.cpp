@@ -1,5 +1,6 @@
 /* semloc tests — CSemanticMap: creation, both likelihood models, robustness, insertion. */
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/maps/CMultiMetricMap.h>
@@ -490,4 +491,23 @@ TEST(CSemanticMap, AcceptsMrptGenericMapKeysInCreationOpts)
     const auto obs = observe(smallWorld(), kTrue);
     const auto p = mrpt::poses::CPose3D(mrpt::poses::CPose2D(kTrue));
     EXPECT_EQ(mm.computeObservationLikelihood(obs, p), 0.0);
+}
+
+TEST(CSemanticMap, WorldFileIsFoundNextToTheIni)
+{
+    // An ini in its own directory names its world relatively; it is read from elsewhere.
+    const std::string dir = std::string(SEMLOC_TEST_OUT) + "/ini_dir_test";
+    std::system(("mkdir -p '" + dir + "/maps'").c_str());
+    smallWorld().saveToFile(dir + "/maps/w.yaml");
+    std::ofstream(dir + "/m.ini")
+        << "[MetricMap]\nsemanticMap_count=1\n"
+           "[MetricMap_semanticMap_00_creationOpts]\nworld_file=maps/w.yaml\n";
+    mrpt::config::CConfigFile cfg(dir + "/m.ini");
+    mrpt::maps::TSetOfMetricMapInitializers inits;
+    inits.loadFromConfigFile(cfg, "MetricMap");
+    mrpt::maps::CMultiMetricMap mm;
+    mm.setListOfMaps(inits);
+    const auto sm = mm.mapByClass<CSemanticMap>();
+    ASSERT_TRUE(sm);
+    EXPECT_EQ(sm->objects().size(), 12u);
 }

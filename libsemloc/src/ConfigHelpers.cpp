@@ -180,10 +180,12 @@ std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const 
     }
     if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
     {
+        // MRPT 2.5's extractFileDirectory() drops the trailing separator: join explicitly.
         const std::string dir = mrpt::system::extractFileDirectory(f->getAssociatedFile());
-        if (!dir.empty() && mrpt::system::fileExists(dir + file))
+        const std::string joined = mrpt::system::pathJoin({dir.empty() ? "." : dir, file});
+        if (mrpt::system::fileExists(joined))
         {
-            return dir + file;
+            return joined;
         }
     }
     return file;

@@ -60,19 +60,6 @@ void writeTextFile(const std::string& path, const std::string& text)
 /** config::resolveNextToIni, plus the ini's directory joined with a separator: MRPT 2.5.8's
  *  extractFileDirectory() returns no trailing '/', so resolveNextToIni misses files next to
  *  the ini (reported; this fallback can go once it is fixed there). */
-std::string resolveWorldFile(const mrpt::config::CConfigFileBase& c, const std::string& file)
-{
-    std::string found = config::resolveNextToIni(c, file);
-    const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&c);
-    if (mrpt::system::fileExists(found) || file.empty() || file[0] == '/' || !f)
-    {
-        return found;
-    }
-    const std::string dir = mrpt::system::extractFileDirectory(f->getAssociatedFile());
-    const std::string joined = mrpt::system::pathJoin({dir.empty() ? "." : dir, file});
-    return mrpt::system::fileExists(joined) ? joined : found;
-}
-
 /** `<dir>/<stem><suffix>` for a path `<dir>/<stem>.<ext>`. */
 std::string besides(const std::string& path, const std::string& suffix)
 {
@@ -90,7 +77,7 @@ void TSimulationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase&
     if (c.keyExists(s, "world_file"))
     {
         const std::string given = c.read_string(s, "world_file", "");
-        const std::string found = resolveWorldFile(c, given);
+        const std::string found = config::resolveNextToIni(c, given);
         if (given.empty() || !mrpt::system::fileExists(found))
         {
             THROW_EXCEPTION("ini [" + s + "] world_file: file '" + given +

@@ -1,0 +1,29 @@
+/* semloc — iniReference(): generated from the options structs. */
+#include <mrpt/config/CConfigFileMemory.h>
+#include <semloc/CSemanticMap.h>
+#include <semloc/CStructureMap.h>
+#include <semloc/IniReference.h>
+
+namespace semloc
+{
+std::string iniReference()
+{
+    mrpt::config::CConfigFileMemory c;
+    const std::string sm = "MetricMap_semanticMap_00";
+    c.write(sm + "_creationOpts", "world_file", std::string("maps/paper_50x50.yaml"), 24, 24,
+            "world YAML (relative to the cwd, else to the ini)");
+    CSemanticMap::TLikelihoodOptions().saveToConfigFile(c, sm + "_likelihoodOpts");
+    CSemanticMap::TInsertionOptions().saveToConfigFile(c, sm + "_insertOpts");
+    const std::string st = "MetricMap_structureMap_00";
+    const CStructureMap::TMapDefinition sdef;
+    c.write(st + "_creationOpts", "world_file", std::string("maps/paper_50x50.yaml"), 24, 24,
+            "world YAML whose outlines are loaded");
+    c.write(st + "_creationOpts", "cylinder_tolerance_m", sdef.cylinder_tolerance_m, 24, 24,
+            "max gap between a cylinder and its polygon [m]");
+    c.write(st + "_creationOpts", "raycast_cell_m", sdef.raycast_cell_m, 24, 24,
+            "ray-casting grid cell [m], 0 = automatic");
+    CStructureMap::TLikelihoodOptions().saveToConfigFile(c, st + "_likelihoodOpts");
+    return c.getContent();
+}
+
+}  // namespace semloc
