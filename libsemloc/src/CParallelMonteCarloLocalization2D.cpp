@@ -273,6 +273,23 @@ void CParallelMonteCarloLocalization2D::update(
                         }
                     });
     m_likelihood->evaluate(sf, m_poses.data(), M, m_logLik.data(), ex);
+    if (m_freeSpacePrior && m_sampler)
+    {
+        const auto before = std::count(m_logLik.begin(), m_logLik.end(), kNegInf);
+        ex.forEachChunk(M,
+                        [&](size_t b, size_t e)
+                        {
+                            for (size_t i = b; i < e; i++)
+                            {
+                                if (!m_sampler->contains(m_poses[i].x, m_poses[i].y))
+                                {
+                                    m_logLik[i] = kNegInf;
+                                }
+                            }
+                        });
+        m_recoveryStats.outside_free_space +=
+            static_cast<size_t>(std::count(m_logLik.begin(), m_logLik.end(), kNegInf) - before);
+    }
     const double pow = PF_options.powFactor;
     ex.forEachChunk(M,
                     [&](size_t b, size_t e)

@@ -13,6 +13,8 @@ namespace semloc
 namespace
 {
 constexpr int kMaxDraws = 100000;
+/** Cell of the rasterized world that answers contains() before the exact test [m]. */
+constexpr double kWorldCell_m = 0.1;
 
 bool fullCircle(const TSamplingArea& a)
 {
@@ -42,6 +44,9 @@ FreeSpaceSampler FreeSpaceSampler::FromWorld(const World& world, const TSampling
     }
     s.m_description =
         "free space of world '" + world.name + "'" + (area.hasBox() ? " in a box" : "");
+    s.m_cells = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(
+        world.makeOccupancyGrid(kWorldCell_m));
+    s.m_freeThreshold = 0.5;
     return s;
 }
 
@@ -80,6 +85,8 @@ FreeSpaceSampler FreeSpaceSampler::FromGrid(const mrpt::maps::COccupancyGridMap2
                         mrpt::format("%g", freeThreshold) + ")" + (box ? " in the box" : ""));
     }
     s.m_description = mrpt::format("%zu free cells of the occupancy grid", s.m_cellX.size());
+    s.m_cells = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(grid);
+    s.m_freeThreshold = freeThreshold;
     return s;
 }
 
@@ -96,6 +103,39 @@ FreeSpaceSampler FreeSpaceSampler::FromBox(const TSamplingArea& area)
     s.m_description =
         mrpt::format("box x [%g, %g] y [%g, %g]", area.x_min, area.x_max, area.y_min, area.y_max);
     return s;
+}
+
+bool FreeSpaceSampler::contains(double x, double y) const
+{
+    switch (m_kind)
+    {
+        case Kind::Box:
+            return x >= m_area.x_min && x <= m_area.x_max && y >= m_area.y_min && y <= m_area.y_max;
+        case Kind::Grid:
+        {
+            const int cx = m_cells->x2idx(x), cy = m_cells->y2idx(y);
+            return x >= m_cells->getXMin() && y >= m_cells->getYMin() && cx >= 0 && cy >= 0 &&
+                   cx < static_cast<int>(m_cells->getSizeX()) &&
+                   cy < static_cast<int>(m_cells->getSizeY()) &&
+                   m_cells->getCell(cx, cy) >= m_freeThreshold;
+        }
+        case Kind::World:
+        {
+            if (!m_world->bounds.contains(x, y))
+            {
+                return false;
+            }
+            const int cx = m_cells->x2idx(x), cy = m_cells->y2idx(y);
+            if (cx >= 0 && cy >= 0 && cx < static_cast<int>(m_cells->getSizeX()) &&
+                cy < static_cast<int>(m_cells->getSizeY()) &&
+                m_cells->getCell(cx, cy) >= m_freeThreshold)
+            {
+                return true;  // no outline touches the cell and its centre is free
+            }
+            return m_world->isFree(x, y);
+        }
+    }
+    return false;
 }
 
 mrpt::math::TPose2D FreeSpaceSampler::draw(mrpt::random::CRandomGenerator& rng) const

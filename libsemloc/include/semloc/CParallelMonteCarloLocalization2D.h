@@ -38,6 +38,11 @@ class ParallelExecutor;
  *  to its own slot, and the few sums (ESS, the likelihood average) are taken over blocks
  *  fixed by the particle count (ParallelExecutor::reduceBlocks).
  *
+ *  ## Free-space prior (setFreeSpacePrior, off by default)
+ *  A particle outside the free space (FreeSpaceSampler::contains) has zero prior probability:
+ *  its weight is set to zero at the update. A wrong hypothesis that drives out of the map
+ *  then dies instead of surviving where no map predicts anything.
+ *
  *  ## Never NaN, never empty
  *  When every particle's weight is zero after an update (all log-likelihoods -inf or NaN),
  *  the particles are re-initialized uniformly over the free space (the FreeSpaceSampler) and
@@ -65,6 +70,8 @@ public:
         size_t injected_particles = 0;
         /** Updates in which augmented MCL injected particles. */
         size_t injection_steps = 0;
+        /** Particle updates that found the particle outside the free space (prior on). */
+        size_t outside_free_space = 0;
     };
 
     /** `M` particles; the executor runs on one thread until setExecutor(). */
@@ -82,6 +89,9 @@ public:
     void setFreeSpaceSampler(std::shared_ptr<const FreeSpaceSampler> sampler);
     /** Augmented MCL parameters (off by default). */
     void setRecoveryOptions(const AugmentedMCL::TOptions& o);
+    /** Free-space prior (off by default): a particle the FreeSpaceSampler does not contain
+     *  (outside the world's bounds, inside an object) gets weight zero at each update. */
+    void setFreeSpacePrior(bool on) { m_freeSpacePrior = on; }
     /** @} */
 
     /** @name Statistics
@@ -119,6 +129,7 @@ private:
     AugmentedMCL m_augmented;
     TRecoveryStats m_recoveryStats;
     double m_lastPInject = 0;
+    bool m_freeSpacePrior = false;
 
     /** Per-step buffers, reused (no allocation per step once sized). */
     std::vector<mrpt::math::TPose2D> m_poses, m_increments;

@@ -51,6 +51,10 @@ public:
 
     /** One pose. */
     mrpt::math::TPose2D draw(mrpt::random::CRandomGenerator& rng) const;
+    /** True if a vehicle may be at (x, y): World::isFree (exact; a rasterization answers
+     *  first for the cells no outline touches), a free grid cell, or inside the box. The
+     *  box of FromWorld()/FromGrid() restricts draw() only. Safe from many threads. */
+    bool contains(double x, double y) const;
     /** A short description for logs ("free space of world 'paper_50x50'", ...). */
     const std::string& description() const { return m_description; }
 
@@ -64,6 +68,10 @@ private:
     Kind m_kind = Kind::Box;
     TSamplingArea m_area;
     std::shared_ptr<const World> m_world;
+    /** World: cells no outline touches and whose centre is free are free (makeOccupancyGrid);
+     *  Grid: the grid itself. */
+    std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> m_cells;
+    double m_freeThreshold = 0;
     std::vector<double> m_cellX, m_cellY;
     double m_resolution = 0;
     std::string m_description;

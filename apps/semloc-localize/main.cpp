@@ -1,0 +1,91 @@
+/* semloc-localize: MRPT pf-localization's configuration, our particle filter, DESIGN.md's outputs.
+ *   semloc-localize config/semantic.ini [dataset.rawlog] [--threads N] [--seed S] [-o DIR] */
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <semloc/ErrorMessage.h>
+#include <semloc/LocalizationExperiment.h>
+
+#include <unistd.h>
+#include <cstdio>
+#include <iostream>
+
+namespace
+{
+TCLAP::CmdLine cmd("semloc-localize", ' ', "0.1");
+TCLAP::UnlabeledValueArg<std::string> argIni("config", "pf-localization style ini file", true, "",
+                                             "config.ini", cmd);
+TCLAP::UnlabeledValueArg<std::string> argRawlog(
+    "rawlog", "Dataset; overrides [LocalizationExperiment] rawlog_file", false, "",
+    "dataset.rawlog", cmd);
+TCLAP::ValueArg<std::string> argOut("o", "output-dir", "Overrides logOutput_dir", false, "", "dir",
+                                    cmd);
+TCLAP::ValueArg<int> argThreads("t", "threads", "Overrides [PF_options] threads (0: all cores)",
+                                false, 0, "N", cmd);
+TCLAP::ValueArg<int> argParticles("n", "particles", "Overrides particles_count", false, 0, "N",
+                                  cmd);
+TCLAP::ValueArg<uint32_t> argSeed("s", "seed", "Overrides seed", false, 1, "S", cmd);
+TCLAP::SwitchArg argQuiet("q", "quiet", "No progress bar and no summary", cmd);
+
+/** A one-line progress bar on a terminal, nothing in a pipe. */
+void showProgress(size_t done, size_t total)
+{
+    static int last = -1;
+    const int pct = total ? static_cast<int>(100 * done / total) : 100;
+    if (pct == last)
+    {
+        return;
+    }
+    last = pct;
+    const int width = 40, filled = pct * width / 100;
+    std::fprintf(stderr, "\r[%s%s] %3d%%", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), pct);
+    if (done == total)
+    {
+        std::fprintf(stderr, "\n");
+    }
+    std::fflush(stderr);
+}
+
+void run()
+{
+    semloc::LocalizationExperiment::TOverrides ov;
+    ov.rawlog_file = argRawlog.getValue();
+    ov.logOutput_dir = argOut.getValue();
+    if (argThreads.isSet())
+    {
+        ov.threads = argThreads.getValue();
+    }
+    if (argParticles.isSet())
+    {
+        ov.particles_count = argParticles.getValue();
+    }
+    if (argSeed.isSet())
+    {
+        ov.seed = argSeed.getValue();
+    }
+    const auto experiment = semloc::LocalizationExperiment::FromConfigFile(argIni.getValue(), ov);
+    const bool bar = !argQuiet.isSet() && ::isatty(::fileno(stderr));
+    const auto result = experiment.run(bar ? showProgress : std::function<void(size_t, size_t)>());
+    if (!argQuiet.isSet())
+    {
+        std::cout << result.summaryParagraph() << "\n";
+    }
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    try
+    {
+        if (!cmd.parse(argc, argv))
+        {
+            return 1;
+        }
+        run();
+        return 0;
+    }
+    catch (const std::exception& e)
+    {
+        std::cerr << "semloc-localize: " << semloc::errorMessage(e) << "\n";
+        return 1;
+    }
+}

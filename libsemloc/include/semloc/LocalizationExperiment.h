@@ -1,0 +1,128 @@
+/* semloc — semloc-localize's engine: an ini in MRPT pf-localization's format, a rawlog, a
+ * localizer over it, and the outputs of DESIGN.md (steps.csv, summary.yaml, config.ini). */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <semloc/GroundTruth.h>
+#include <semloc/LocalizationMap.h>
+#include <semloc/Localizer.h>
+#include <semloc/RunMetrics.h>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace semloc
+{
+/** One localization run as configured by an ini file.
+ *
+ *  ## The ini
+ *  MRPT pf-localization's sections: [LocalizationExperiment] (rawlog_file, map_file,
+ *  ground_truth_path_file, logOutput_dir, particles_count, init_PDF_*, ...), [PF_options],
+ *  [KLD_options], [DummyOdometryParams], [MetricMap] and its map sections, read strictly: an
+ *  unknown section, an unknown key of our sections, a bad value, an unknown map name or a
+ *  missing file is an error naming it (Localizer::TOptions, LocalizationMap). pf-localization
+ *  keys that only concern its display or 3D mode are accepted and ignored; `use_3D_poses`
+ *  must be false and `experimentRepetitions` 1. Ours, in [LocalizationExperiment]: `seed`,
+ *  `variant`, `convergence_max_err_xy_m`, `convergence_max_var_xy_m2`,
+ *  `convergence_min_steps`; in [PF_options]: `threads`, `recovery_alpha_slow`,
+ *  `recovery_alpha_fast`. Relative input paths are resolved next to the ini first
+ *  (config::resolveNextToIni), `logOutput_dir` from the working directory (as MRPT). An
+ *  empty `ground_truth_path_file` takes semloc-simulate's `<rawlog stem>_gt.txt` if it
+ *  exists (Simulator::groundTruthPath).
+ *
+ *  ## The rawlog
+ *  Either format: action / sensory-frame pairs (one step each), or observations only, where
+ *  CObservationOdometry readings give the motion (Localizer::setOdometry) and consecutive
+ *  other observations with the same timestamp form one step's sensory frame.
+ *
+ *  ## The outputs (in `logOutput_dir`, replaced as a whole, never left partial)
+ *  `steps.csv` (DESIGN.md's header; ground truth matched by timestamp: the nearest row within
+ *  half the median step period, columns empty when there is none), `summary.yaml`
+ *  (RunMetrics and counters; unknown values are `null`), `config.ini` (the effective
+ *  configuration: every key of our sections with its value, defaults included). */
+class LocalizationExperiment
+{
+public:
+    /** The run's settings: [LocalizationExperiment]'s own keys plus the filter's. */
+    struct TOptions : public mrpt::config::CLoadableOptions
+    {
+        /** Rawlog to localize in (resolved path). */
+        std::string rawlog_file;
+        /** World YAML, .simplemap(.gz) or .gridmap(.gz) (resolved path; may be empty). */
+        std::string map_file;
+        /** `t x y phi` ground truth (resolved path; may be empty). */
+        std::string ground_truth_path_file;
+        /** Output directory. */
+        std::string logOutput_dir;
+        /** Rawlog entries skipped at the start. */
+        int rawlog_offset = 0;
+        /** Name of the variant in summary.yaml; empty: from the maps (LocalizationMap). */
+        std::string variant;
+        /** Convergence criterion (DESIGN.md). */
+        RunMetrics::TConvergenceCriterion convergence;
+        /** The filter. */
+        Localizer::TOptions filter;
+
+        /** Reads [section] and the filter's sections; see the class documentation. */
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                const std::string& section) override;
+        void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                              const std::string& section) const override;
+    };
+
+    /** Command-line overrides of the ini. */
+    struct TOverrides
+    {
+        std::string rawlog_file;
+        std::string logOutput_dir;
+        std::optional<int> threads;
+        std::optional<int> particles_count;
+        std::optional<uint32_t> seed;
+    };
+
+    /** What a run produced. */
+    struct TResult
+    {
+        std::string variant;
+        /** Where the outputs are. */
+        std::string outputDir;
+        RunMetrics metrics;
+        std::vector<TStepRecord> records;
+        SensoryFrameLikelihood::TStats likelihood;
+        CParallelMonteCarloLocalization2D::TRecoveryStats recovery;
+        size_t threads = 1;
+        /** "action/sensory-frame" or "observations-only". */
+        std::string rawlogFormat;
+        double wallTime_s = 0;
+
+        /** A one-paragraph summary for the terminal. */
+        std::string summaryParagraph() const;
+    };
+
+    /** Reads and validates everything (ini, files, maps) before any output is written.
+     *  Throws on any error. */
+    static LocalizationExperiment FromConfigFile(const std::string& iniPath,
+                                                 const TOverrides& overrides = {});
+
+    /** Runs the filter over the rawlog and writes the outputs; `progress(done, total)` is
+     *  called after every rawlog entry. On error nothing is left in logOutput_dir. */
+    TResult run(const std::function<void(size_t, size_t)>& progress = {}) const;
+
+    const TOptions& options() const { return m_options; }
+    const LocalizationMap& maps() const { return m_maps; }
+
+private:
+    LocalizationExperiment() = default;
+
+    std::string m_iniPath;
+    TOptions m_options;
+    LocalizationMap m_maps;
+    /** The ini's text with its [MetricMap...] sections, for the effective configuration. */
+    std::shared_ptr<mrpt::config::CConfigFileBase> m_ini;
+    /** Keys pf-localization reads that we only carry over (display, 3D). */
+    std::vector<std::pair<std::string, std::string>> m_carried;
+};
+
+}  // namespace semloc

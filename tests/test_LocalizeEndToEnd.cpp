@@ -1,0 +1,291 @@
+/* semloc tests — semloc-localize end to end (LocalizationExperiment, the shipped configs) on
+ * the paper's scenario simulated by semloc::Simulator: global localization of the semantic
+ * and geometric variants, the same results on 1 and 2 threads, recovery from kidnapping,
+ * observations-only rawlogs, and clear errors with no output for bad configurations. */
+#include <gtest/gtest.h>
+#include <mrpt/containers/yaml.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <semloc/ErrorMessage.h>
+#include <semloc/LocalizationExperiment.h>
+#include <semloc/Simulator.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using semloc::LocalizationExperiment;
+
+namespace
+{
+const fs::path kOut = fs::path(SEMLOC_TEST_OUT) / "localize";
+const std::string kConfig = SEMLOC_SOURCE_DIR "/config/";
+
+std::string readText(const fs::path& p)
+{
+    std::ifstream f(p);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
+/** steps.csv without the update_us column (the only one that may differ between runs). */
+std::string stepsWithoutTiming(const fs::path& dir)
+{
+    std::istringstream in(readText(dir / "steps.csv"));
+    std::string line, out;
+    while (std::getline(in, line))
+    {
+        out += line.substr(0, line.rfind(',')) + "\n";
+    }
+    return out;
+}
+
+/** `config` (a file of config/) with `key = value` lines replaced (the key must be there)
+ *  and map_file made absolute, written to the test output directory. */
+std::string patchedConfig(const std::string& config,
+                          std::vector<std::pair<std::string, std::string>> keys,
+                          const std::string& name)
+{
+    keys.emplace_back("map_file", SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
+    std::istringstream in(readText(kConfig + config));
+    std::string line, out;
+    while (std::getline(in, line))
+    {
+        for (auto it = keys.begin(); it != keys.end(); ++it)
+        {
+            if (line.rfind(it->first + " ", 0) == 0 || line.rfind(it->first + "=", 0) == 0)
+            {
+                line = it->first + " = " + it->second;
+                keys.erase(it);
+                break;
+            }
+        }
+        out += line + "\n";
+    }
+    EXPECT_TRUE(keys.empty()) << keys.front().first << " is not in " << config;
+    const auto path = kOut / (name + ".ini");
+    std::ofstream(path) << out;
+    return path.string();
+}
+
+template <typename F>
+std::string errorOf(F&& f)
+{
+    try
+    {
+        f();
+    }
+    catch (const std::exception& e)
+    {
+        return semloc::errorMessage(e);
+    }
+    return "";
+}
+
+/** Runs `ini` on `rawlog` into kOut/<name>. */
+LocalizationExperiment::TResult localize(const std::string& ini, const std::string& rawlog,
+                                         const std::string& name, int particles, int threads = 2)
+{
+    LocalizationExperiment::TOverrides ov;
+    ov.rawlog_file = rawlog;
+    ov.logOutput_dir = (kOut / name).string();
+    ov.particles_count = particles;
+    ov.threads = threads;
+    return LocalizationExperiment::FromConfigFile(ini, ov).run();
+}
+
+class LocalizeEndToEnd : public ::testing::Test
+{
+protected:
+    /** The paper dataset of config/simulate.ini (431 steps), and its ground truth. */
+    static std::string rawlog;
+
+    static void SetUpTestSuite()
+    {
+        fs::create_directories(kOut);
+        rawlog = (kOut / "paper.rawlog").string();
+        const semloc::Simulator sim(
+            semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate.ini"));
+        sim.writeDataset(sim.run(), rawlog);
+    }
+};
+std::string LocalizeEndToEnd::rawlog;
+}  // namespace
+
+TEST_F(LocalizeEndToEnd, SemanticConvergesFromUniformStartAndWritesTheContract)
+{
+    const auto res = localize(kConfig + "semantic.ini", rawlog, "semantic", 8000);
+    const auto& m = res.metrics;
+    EXPECT_EQ(res.variant, "semantic");
+    EXPECT_EQ(m.steps, 431u);
+    EXPECT_EQ(m.steps_with_ground_truth, 431u);
+    EXPECT_TRUE(m.converged);
+    EXPECT_LT(m.final_err_m, 0.5);
+    EXPECT_LT(m.mean_err_after_conv_m, 0.5);
+    EXPECT_EQ(res.likelihood.detections_invalid, 0u);
+
+    const fs::path dir = kOut / "semantic";
+    const std::string csv = readText(dir / "steps.csv");
+    EXPECT_EQ(csv.substr(0, csv.find('\n')),
+              "step,t,gt_x,gt_y,gt_phi,est_x,est_y,est_phi,err_xy,err_phi,var_xy,ess,n_particles,"
+              "update_us");
+    const auto y = mrpt::containers::yaml::FromFile((dir / "summary.yaml").string());
+    for (const char* key :
+         {"variant", "particles", "seed", "steps", "converged", "convergence_step",
+          "convergence_time_s", "mean_err_after_conv_m", "rmse_m", "final_err_m", "total_update_s",
+          "mean_update_us_per_particle", "threads", "observations_skipped", "detections_invalid",
+          "reinitializations"})
+    {
+        EXPECT_TRUE(y.has(key)) << key;
+    }
+    EXPECT_EQ(y["variant"].as<std::string>(), "semantic");
+    EXPECT_EQ(y["particles"].as<int>(), 8000);
+    EXPECT_EQ(y["threads"].as<int>(), 2);
+    EXPECT_TRUE(y["converged"].as<bool>());
+    EXPECT_NEAR(y["final_err_m"].as<double>(), m.final_err_m, 1e-12);
+
+    // config.ini is the effective configuration: rerun from it, the same steps.
+    const std::string eff = readText(dir / "config.ini");
+    EXPECT_NE(eff.find("particles_count"), std::string::npos);
+    EXPECT_NE(eff.find("p_confusion"), std::string::npos) << "defaults written out";
+    LocalizationExperiment::TOverrides ov;
+    ov.logOutput_dir = (kOut / "semantic_rerun").string();
+    fs::copy_file(dir / "config.ini", kOut / "semantic_effective.ini",
+                  fs::copy_options::overwrite_existing);
+    LocalizationExperiment::FromConfigFile((kOut / "semantic_effective.ini").string(), ov).run();
+    EXPECT_EQ(stepsWithoutTiming(dir), stepsWithoutTiming(kOut / "semantic_rerun"));
+}
+
+TEST_F(LocalizeEndToEnd, GeometricConvergesFromUniformStart)
+{
+    const auto res = localize(kConfig + "geometric.ini", rawlog, "geometric", 6000);
+    EXPECT_EQ(res.variant, "geometric");
+    EXPECT_TRUE(res.metrics.converged);
+    EXPECT_LT(res.metrics.final_err_m, 0.5);
+    EXPECT_LT(res.metrics.mean_err_after_conv_m, 0.5);
+}
+
+TEST_F(LocalizeEndToEnd, OneAndTwoThreadsGiveTheSameSteps)
+{
+    for (const std::string v : {"semantic", "geometric", "grid_lf", "fused"})
+    {
+        localize(kConfig + v + ".ini", rawlog, v + "_t1", 1000, 1);
+        localize(kConfig + v + ".ini", rawlog, v + "_t2", 1000, 2);
+        EXPECT_EQ(stepsWithoutTiming(kOut / (v + "_t1")), stepsWithoutTiming(kOut / (v + "_t2")))
+            << v;
+    }
+}
+
+TEST_F(LocalizeEndToEnd, KidnappedVehicleIsRelocalizedWithRecovery)
+{
+    auto so = semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate.ini");
+    so.kidnapping.enabled = true;  // at step 200, to (25, 25, 0)
+    const semloc::Simulator sim(so);
+    const std::string kidnapped = (kOut / "kidnapped.rawlog").string();
+    sim.writeDataset(sim.run(), kidnapped);
+
+    const auto ini = patchedConfig(
+        "semantic.ini", {{"recovery_alpha_slow", "0.001"}, {"recovery_alpha_fast", "0.1"}},
+        "semantic_recovery");
+    const auto res = localize(ini, kidnapped, "kidnapped", 10000);
+    const size_t kidnap = static_cast<size_t>(so.kidnapping.step);
+    ASSERT_GT(res.records.size(), kidnap + 100);
+    EXPECT_LT(res.records[kidnap - 1].errXY(), 0.5) << "localized before the kidnapping";
+    EXPECT_GT(res.records[kidnap].errXY(), 5) << "lost right after it";
+    EXPECT_GT(res.recovery.injected_particles, 0u);
+    for (size_t k = kidnap + 60; k < res.records.size(); k++)
+    {
+        ASSERT_LT(res.records[k].errXY(), 1.0) << "step " << k;
+    }
+    EXPECT_LT(res.metrics.final_err_m, 0.5);
+}
+
+TEST_F(LocalizeEndToEnd, ObservationsOnlyRawlogWorks)
+{
+    // The same dataset as odometry readings plus bare observations (pf-localization's
+    // observations-only format): odometry = sum of the actions' mean increments.
+    mrpt::obs::CRawlog in, out;
+    ASSERT_TRUE(in.loadFromRawLogFile(rawlog));
+    mrpt::poses::CPose2D odo(10, 10, 0.5);
+    for (size_t i = 0; i + 1 < in.size(); i += 2)
+    {
+        odo = odo + in.getAsAction(i)->getBestMovementEstimation()->poseChange->getMeanVal();
+        const auto sf = in.getAsObservations(i + 1);
+        auto reading = std::make_shared<mrpt::obs::CObservationOdometry>();
+        reading->odometry = odo;
+        reading->timestamp = sf->getObservationByIndex(0)->timestamp;
+        out.insert(reading);
+        for (const auto& o : *sf)
+        {
+            out.insert(o);
+        }
+    }
+    const std::string obsOnly = (kOut / "obs_only.rawlog").string();
+    ASSERT_TRUE(out.saveToRawLogFile(obsOnly));
+    fs::copy_file(semloc::Simulator::groundTruthPath(rawlog),
+                  semloc::Simulator::groundTruthPath(obsOnly),
+                  fs::copy_options::overwrite_existing);
+
+    const auto res = localize(kConfig + "semantic.ini", obsOnly, "obs_only", 8000);
+    EXPECT_EQ(res.rawlogFormat, "observations-only");
+    EXPECT_EQ(res.metrics.steps, 431u) << "one step per timestamp: sonar + detections together";
+    EXPECT_TRUE(res.metrics.converged);
+    EXPECT_LT(res.metrics.final_err_m, 0.5);
+}
+
+TEST_F(LocalizeEndToEnd, BadConfigurationsFailClearlyWithoutOutput)
+{
+    const std::string outName = "must_not_exist";
+    const fs::path outDir = kOut / outName;
+    fs::remove_all(outDir);
+    auto failWith = [&](const std::string& text)
+    {
+        const fs::path ini = kOut / "bad.ini";
+        std::ofstream(ini) << text;
+        LocalizationExperiment::TOverrides ov;
+        ov.logOutput_dir = outDir.string();
+        return errorOf([&] { LocalizationExperiment::FromConfigFile(ini.string(), ov).run(); });
+    };
+    const std::string good = "[LocalizationExperiment]\nrawlog_file = " + rawlog +
+                             "\nmap_file = " SEMLOC_SOURCE_DIR
+                             "/maps/paper_50x50.yaml\nlogOutput_dir = x\nparticles_count = 200\n";
+    const std::string maps = "[MetricMap]\nsemanticMap_count = 1\n";
+    ASSERT_EQ(failWith(good + maps), "") << "the base configuration is valid";
+    fs::remove_all(outDir);
+
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {good + maps + "[PF_option]\nBETA = 0.5\n", "[PF_option]: unknown section"},
+        {good + "particle_count = 100\n" + maps, "[LocalizationExperiment] particle_count"},
+        {good + "seed = -3\n" + maps, "[LocalizationExperiment] seed"},
+        {good + maps + "[PF_options]\nthreads = many\n", "[PF_options] threads"},
+        {good + "[MetricMap]\nsemantcMap_count = 1\n", "semantcMap"},
+        {good + maps + "[MetricMap_semanticMap_00_likelihoodOpts]\nsigma_rang_m = 1\n",
+         "sigma_rang_m"},
+        {"[LocalizationExperiment]\nrawlog_file = /no/such.rawlog\nlogOutput_dir = x\n" + maps,
+         "/no/such.rawlog"},
+        {good + "map_file = /no/such_world.yaml\n" + maps, "/no/such_world.yaml"},
+        {good + "ground_truth_path_file = /no/such_gt.txt\n" + maps, "/no/such_gt.txt"},
+        {good + "use_3D_poses = true\n" + maps, "use_3D_poses"},
+    };
+    for (const auto& [text, expected] : cases)
+    {
+        const std::string msg = failWith(text);
+        EXPECT_NE(msg.find(expected), std::string::npos)
+            << "expected '" << expected << "' in: " << msg;
+        EXPECT_FALSE(fs::exists(outDir)) << expected;
+    }
+
+    // An error while running (a corrupt rawlog) leaves no output and no staging directory.
+    const fs::path corrupt = kOut / "corrupt.rawlog";
+    std::ofstream(corrupt) << "not a rawlog at all";
+    const std::string msg = failWith(
+        "[LocalizationExperiment]\nrawlog_file = " + corrupt.string() +
+        "\nmap_file = " SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml\nlogOutput_dir = x\n" + maps);
+    EXPECT_NE(msg.find("corrupt.rawlog"), std::string::npos) << msg;
+    for (const auto& e : fs::directory_iterator(kOut))
+    {
+        EXPECT_EQ(e.path().filename().string().find(outName), std::string::npos)
+            << e.path() << " left behind";
+    }
+}

@@ -1,0 +1,422 @@
+/* semloc tests — Localizer (options, step API, both rawlog formats), RunMetrics,
+ * GroundTruth, LocalizationMap, StagedDirectory. */
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservationOdometry.h>
+#include <semloc/CSemanticMap.h>
+#include <semloc/ErrorMessage.h>
+#include <semloc/GroundTruth.h>
+#include <semloc/LocalizationMap.h>
+#include <semloc/Localizer.h>
+#include <semloc/RunMetrics.h>
+#include <semloc/Simulator.h>
+#include <semloc/StagedDirectory.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+using mrpt::math::TPose2D;
+using semloc::Localizer;
+
+namespace
+{
+const std::string kPaperWorld = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
+
+/** The message of the exception `f` throws ("" if none). */
+template <typename F>
+std::string errorOf(F&& f)
+{
+    try
+    {
+        f();
+    }
+    catch (const std::exception& e)
+    {
+        return semloc::errorMessage(e);
+    }
+    return "";
+}
+
+mrpt::config::CConfigFileMemory ini(const std::string& text)
+{
+    mrpt::config::CConfigFileMemory c;
+    c.setContent(text);
+    return c;
+}
+
+/** The paper trajectory's first `steps` steps, simulated with config/simulate.ini. */
+semloc::SimulationResult simulate(int steps)
+{
+    auto o = semloc::TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini");
+    o.simulation.max_steps = steps;
+    return semloc::Simulator(o).run();
+}
+
+/** A semantic map (probabilistic model) over the paper world. */
+mrpt::maps::CMultiMetricMap::Ptr semanticMap(const semloc::World& w)
+{
+    auto sem = semloc::CSemanticMap::Create();
+    sem->loadFromWorld(w);
+    sem->likelihoodOptions.model = semloc::CSemanticMap::Model::Probabilistic;
+    auto mm = mrpt::maps::CMultiMetricMap::Create();
+    mm->maps.push_back(sem);
+    return mm;
+}
+
+semloc::TStepRecord rec(size_t step, double err, double var)
+{
+    semloc::TStepRecord r;
+    r.step = step;
+    r.t = 100.0 + static_cast<double>(step);
+    r.gt = TPose2D(0, 0, 0);
+    r.est = TPose2D(err, 0, 0);
+    r.var_xy = var;
+    r.n_particles = 100;
+    r.update_us = 50;
+    return r;
+}
+}  // namespace
+
+TEST(LocalizerOptions, ReadWriteEveryKeyAndRejectMistakes)
+{
+    Localizer::TOptions o;
+    const auto c = ini(R"(
+[LocalizationExperiment]
+particles_count = 1234
+init_PDF_mode = 2
+init_PDF_mean_x = 3.25
+init_PDF_std_yaw_deg = 7.5
+seed = 42
+[PF_options]
+PF_algorithm = pfStandardProposal
+resamplingMethod = 3
+BETA = 0.25
+threads = 3
+recovery_alpha_slow = 0.001
+recovery_alpha_fast = 0.1
+free_space_prior = true
+[KLD_options]
+KLD_binSize_PHI_deg = 5
+[DummyOdometryParams]
+minStdXY = 0.2
+minStdPHI = 3   // degrees
+)");
+    o.loadFromConfigFile(c, "LocalizationExperiment");
+    EXPECT_EQ(o.particles_count, 1234);
+    EXPECT_EQ(o.init_PDF_mode, Localizer::InitMode::Gaussian);
+    EXPECT_EQ(o.init_PDF_mean_x, 3.25);
+    EXPECT_EQ(o.seed, 42u);
+    EXPECT_EQ(o.pf.resamplingMethod, mrpt::bayes::CParticleFilter::prSystematic);
+    EXPECT_EQ(o.threads, 3);
+    EXPECT_EQ(o.effectiveThreads(), 3u);
+    EXPECT_TRUE(o.recovery.enabled());
+    EXPECT_TRUE(o.free_space_prior);
+    EXPECT_NEAR(o.kld.KLD_binSize_PHI, mrpt::DEG2RAD(5.0), 1e-12);
+    EXPECT_EQ(o.odometry_min_std_phi_deg, 3);
+
+    // Every key written, read back (from the text, as from config.ini) to the same values.
+    mrpt::config::CConfigFileMemory out;
+    o.saveToConfigFile(out, "LocalizationExperiment");
+    Localizer::TOptions back;
+    back.loadFromConfigFile(ini(out.getContent()), "LocalizationExperiment");
+    mrpt::config::CConfigFileMemory out2;
+    back.saveToConfigFile(out2, "LocalizationExperiment");
+    EXPECT_EQ(out.getContent(), out2.getContent());
+
+    auto fails = [](const std::string& text)
+    {
+        return errorOf(
+            [&]
+            {
+                Localizer::TOptions x;
+                x.loadFromConfigFile(ini(text), "LocalizationExperiment");
+            });
+    };
+    EXPECT_NE(fails("[PF_options]\nBETTA = 0.5\n").find("[PF_options] BETTA"), std::string::npos);
+    EXPECT_NE(fails("[PF_options]\nBETA = 1.5\n").find("[PF_options] BETA"), std::string::npos);
+    EXPECT_NE(fails("[PF_options]\nPF_algorithm = 7\n").find("PF_algorithm"), std::string::npos);
+    EXPECT_NE(fails("[PF_options]\nPF_algorithm = 2\n").find("pfOptimalProposal"),
+              std::string::npos);
+    EXPECT_NE(fails("[PF_options]\nadaptiveSampleSize = 1\nresamplingMethod = 3\n")
+                  .find("[PF_options] adaptiveSampleSize"),
+              std::string::npos);
+    EXPECT_NE(fails("[PF_options]\nrecovery_alpha_slow = 0.2\nrecovery_alpha_fast = 0.1\n")
+                  .find("recovery_alpha_fast"),
+              std::string::npos);
+    EXPECT_NE(fails("[LocalizationExperiment]\nparticles_count = lots\n")
+                  .find("[LocalizationExperiment] particles_count"),
+              std::string::npos);
+    EXPECT_NE(fails("[LocalizationExperiment]\nparticles_count = 100 200\n").find("one number"),
+              std::string::npos);
+    EXPECT_NE(fails("[LocalizationExperiment]\ninit_PDF_mode = 1\n").find("init_PDF_mode"),
+              std::string::npos);
+    EXPECT_NE(fails("[KLD_options]\nKLD_minSampleSize = 10\nKLD_maxSampleSize = 5\n")
+                  .find("KLD_maxSampleSize"),
+              std::string::npos);
+    EXPECT_NE(fails("[DummyOdometryParams]\nminStdXYZ = 1\n").find("minStdXYZ"), std::string::npos);
+}
+
+TEST(Localizer, StepApiLocalizesInBothRawlogFormats)
+{
+    const auto world = semloc::World::FromFile(kPaperWorld);
+    const auto sim = simulate(40);
+    Localizer::TOptions o;
+    o.particles_count = 1500;
+    o.init_PDF_mode = Localizer::InitMode::Gaussian;
+    o.init_PDF_mean_x = 4;
+    o.init_PDF_mean_y = 5;
+    o.init_PDF_std_xy = 1.5;
+    o.threads = 2;
+
+    // Action / sensory-frame pairs.
+    Localizer pairs(o, semanticMap(world), &world);
+    EXPECT_EQ(pairs.threads(), 2u);
+    EXPECT_EQ(pairs.pdf().size(), 1500u);
+    size_t k = 0;
+    for (size_t i = 0; i + 1 < sim.rawlog.size(); i += 2, k++)
+    {
+        pairs.step(*sim.rawlog.getAsAction(i), *sim.rawlog.getAsObservations(i + 1));
+    }
+    const auto truth = sim.groundTruth.back().pose();
+    EXPECT_EQ(pairs.steps(), sim.steps);
+    EXPECT_LT(std::hypot(pairs.mean().x() - truth.x, pairs.mean().y() - truth.y), 0.5);
+    EXPECT_LT(pairs.varianceXY(), 0.5);
+    EXPECT_GT(pairs.lastStep().update_us, 0);
+    EXPECT_GT(pairs.likelihoodStats().observations_used, 0u);
+
+    // Observations only: odometry readings (the increments summed up) and the frames.
+    Localizer obsOnly(o, semanticMap(world), &world);
+    mrpt::poses::CPose2D odo(100, -20, 1.0);  // any reference: only increments matter
+    for (size_t i = 0; i + 1 < sim.rawlog.size(); i += 2)
+    {
+        const auto mov = sim.rawlog.getAsAction(i)->getBestMovementEstimation();
+        odo = odo + mov->poseChange->getMeanVal();
+        mrpt::obs::CObservationOdometry reading;
+        reading.odometry = odo;
+        obsOnly.setOdometry(reading);
+        obsOnly.step(*sim.rawlog.getAsObservations(i + 1));
+    }
+    EXPECT_LT(std::hypot(obsOnly.mean().x() - truth.x, obsOnly.mean().y() - truth.y), 0.5);
+}
+
+TEST(Localizer, InitialCloudsFollowInitPdfMode)
+{
+    const auto world = semloc::World::FromFile(kPaperWorld);
+    Localizer::TOptions o;
+    o.particles_count = 3000;
+    o.threads = 1;
+    {
+        Localizer free(o, semanticMap(world), &world);  // whole free space
+        double xMin = 1e9, xMax = -1e9;
+        for (const auto& p : free.pdf().m_particles)
+        {
+            ASSERT_TRUE(world.isFree(p.d.x, p.d.y));
+            xMin = std::min(xMin, p.d.x);
+            xMax = std::max(xMax, p.d.x);
+        }
+        EXPECT_LT(xMin, 1);
+        EXPECT_GT(xMax, 49);
+    }
+    o.init_PDF_min_x = 10;
+    o.init_PDF_max_x = 15;
+    o.init_PDF_min_y = 8;
+    o.init_PDF_max_y = 12;
+    for (auto mode : {Localizer::InitMode::FreeSpace, Localizer::InitMode::Box})
+    {
+        o.init_PDF_mode = mode;
+        Localizer boxed(o, semanticMap(world), &world);
+        for (const auto& p : boxed.pdf().m_particles)
+        {
+            ASSERT_TRUE(p.d.x >= 10 && p.d.x <= 15 && p.d.y >= 8 && p.d.y <= 12);
+            if (mode == Localizer::InitMode::FreeSpace)
+            {
+                ASSERT_TRUE(world.isFree(p.d.x, p.d.y)) << "the manifold is in the box";
+            }
+        }
+    }
+    o.init_PDF_mode = Localizer::InitMode::Gaussian;
+    o.init_PDF_mean_x = 20;
+    o.init_PDF_mean_y = 30;
+    o.init_PDF_std_xy = 0.5;
+    Localizer gauss(o, semanticMap(world), &world);
+    EXPECT_NEAR(gauss.mean().x(), 20, 0.05);
+    EXPECT_NEAR(gauss.mean().y(), 30, 0.05);
+    EXPECT_NEAR(gauss.varianceXY(), 2 * 0.25, 0.05);
+
+    // Same seed, same cloud; no world, no grid, no box: mode 0 is an error.
+    Localizer again(o, semanticMap(world), &world);
+    EXPECT_EQ(again.pdf().m_particles[17].d.x, gauss.pdf().m_particles[17].d.x);
+    o.init_PDF_mode = Localizer::InitMode::FreeSpace;
+    o.init_PDF_min_x = o.init_PDF_max_x = 0;
+    EXPECT_NE(errorOf([&] { Localizer none(o, semanticMap(world)); }).find("init_PDF_mode = 0"),
+              std::string::npos);
+}
+
+TEST(RunMetrics, ConvergenceAsDesignDefinesIt)
+{
+    semloc::RunMetrics::TConvergenceCriterion c;
+    std::vector<semloc::TStepRecord> r;
+    for (size_t k = 0; k < 40; k++)
+    {
+        // Lost, then 5 good steps, a relapse, then good for 12 steps, lost again.
+        const bool good = (k >= 5 && k < 10) || (k >= 12 && k < 24);
+        r.push_back(rec(k, good ? 0.5 : 3.0, good ? 0.2 : 5.0));
+    }
+    auto m = semloc::RunMetrics::compute(r, c);
+    EXPECT_TRUE(m.converged);
+    EXPECT_EQ(m.convergence_step, 12) << "5 good steps do not count; 12 consecutive do";
+    EXPECT_DOUBLE_EQ(m.convergence_time_s, 12.0);
+    EXPECT_EQ(m.steps_with_ground_truth, 40u);
+    EXPECT_DOUBLE_EQ(m.final_err_m, 3.0);
+    EXPECT_DOUBLE_EQ(m.mean_err_after_conv_m, (12 * 0.5 + 16 * 3.0) / 28);
+    EXPECT_DOUBLE_EQ(m.total_update_s, 40 * 50e-6);
+    EXPECT_DOUBLE_EQ(m.mean_update_us_per_particle, 0.5);
+
+    // Good to the end, even if shorter than min_steps, converges.
+    for (size_t k = 35; k < 40; k++)
+    {
+        r[k] = rec(k, 0.1, 0.1);
+    }
+    for (size_t k = 12; k < 24; k++)
+    {
+        r[k] = rec(k, 3.0, 0.1);
+    }
+    m = semloc::RunMetrics::compute(r, c);
+    EXPECT_EQ(m.convergence_step, 35);
+    c.max_err_xy_m = 0.05;
+    m = semloc::RunMetrics::compute(r, c);
+    EXPECT_FALSE(m.converged);
+    EXPECT_EQ(m.convergence_step, -1);
+    EXPECT_TRUE(std::isnan(m.convergence_time_s));
+
+    // A step without ground truth breaks a run of good steps.
+    r.assign(20, rec(0, 0.1, 0.1));
+    for (size_t k = 0; k < 20; k++)
+    {
+        r[k].step = k;
+    }
+    r[8].gt.reset();
+    c = {};
+    EXPECT_EQ(semloc::RunMetrics::compute(r, c).convergence_step, 9);
+    EXPECT_EQ(semloc::RunMetrics::compute(r, c).steps_with_ground_truth, 19u);
+}
+
+TEST(GroundTruth, NearestRowWithinTolerance)
+{
+    semloc::GroundTruth gt({{2.0, 2, 0, 0}, {1.0, 1, 0, 0}, {3.0, 3, 0, 0}});
+    EXPECT_EQ(gt.rows().front().t, 1.0);
+    EXPECT_DOUBLE_EQ(gt.medianPeriod(), 1.0);
+    ASSERT_NE(gt.nearest(2.3, 0.5), nullptr);
+    EXPECT_EQ(gt.nearest(2.3, 0.5)->x, 2);
+    EXPECT_EQ(gt.nearest(2.7, 0.5)->x, 3);
+    EXPECT_EQ(gt.nearest(0.4, 0.5), nullptr);
+    EXPECT_EQ(gt.nearest(3.6, 0.5), nullptr);
+    EXPECT_EQ(gt.nearest(std::nan(""), 0.5), nullptr);
+}
+
+TEST(LocalizationMap, StrictMetricMapAndWorldFilling)
+{
+    auto fromText = [](const std::string& text, const std::string& mapFile = kPaperWorld)
+    { return semloc::LocalizationMap::FromConfig(ini(text), mapFile); };
+
+    const auto lm = fromText(R"(
+[MetricMap]
+semanticMap_count = 1
+structureMap_count = 1
+occupancyGrid_count = 1
+likelihoodMapSelection = -1
+[MetricMap_occupancyGrid_00_creationOpts]
+resolution = 0.25
+[MetricMap_occupancyGrid_00_likelihoodOpts]
+likelihoodMethod = 1
+)");
+    ASSERT_EQ(lm.map->maps.size(), 3u);
+    ASSERT_TRUE(lm.world);
+    EXPECT_EQ(lm.variant(), "grid_rt+semantic+geometric");
+    const auto grid = lm.map->mapByClass<mrpt::maps::COccupancyGridMap2D>();
+    EXPECT_FLOAT_EQ(grid->getResolution(), 0.25f);
+    EXPECT_NEAR(grid->getXMax(), 50, 0.3);
+    EXPECT_EQ(grid->likelihoodOptions.likelihoodMethod,
+              mrpt::maps::COccupancyGridMap2D::lmRayTracing)
+        << "the ini's options survive the rasterization";
+    EXPECT_EQ(lm.map->mapByClass<semloc::CSemanticMap>()->objects().size(),
+              lm.world->objects.size());
+    EXPECT_EQ(fromText("[MetricMap]\nsemanticMap_count = 1\nstructureMap_count = 1\n").variant(),
+              "fused");
+    EXPECT_EQ(fromText("[MetricMap]\nstructureMap_count = 1\n").variant(), "geometric");
+
+    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemantcMap_count = 1\n"); })
+                  .find("[MetricMap] semantcMap_count: unknown map 'semantcMap'"),
+              std::string::npos);
+    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemanticMap_count = one\n"); })
+                  .find("semanticMap_count"),
+              std::string::npos);
+    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemanticMaps = 1\n"); }).find("semanticMaps"),
+              std::string::npos);
+    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\n"); }).find("no map"), std::string::npos);
+    EXPECT_NE(errorOf(
+                  [&]
+                  {
+                      fromText(
+                          "[MetricMap]\nsemanticMap_count = 1\n[MetricMap_semanticMap_01_"
+                          "likelihoodOpts]\nsigma_range_m = 1\n");
+                  })
+                  .find("[MetricMap_semanticMap_01_likelihoodOpts]"),
+              std::string::npos);
+    EXPECT_NE(errorOf(
+                  [&]
+                  {
+                      fromText(
+                          "[MetricMap]\nsemanticMap_count = 1\n[MetricMap_semantcMap_00_"
+                          "likelihoodOpts]\nsigma_range_m = 1\n");
+                  })
+                  .find("unknown section"),
+              std::string::npos);
+    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemanticMap_count = 1\n", ""); })
+                  .find("the semantic map is empty"),
+              std::string::npos);
+    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemanticMap_count = 1\n", "/no/such.yaml"); })
+                  .find("/no/such.yaml"),
+              std::string::npos);
+    EXPECT_NE(
+        errorOf([&] { fromText("[MetricMap]\noccupancyGrid_count = 1\n", kPaperWorld + ".txt"); })
+            .find("does not exist"),
+        std::string::npos);
+}
+
+TEST(StagedDirectory, CommitReplacesErrorLeavesNothing)
+{
+    namespace fs = std::filesystem;
+    const fs::path base = fs::path(SEMLOC_TEST_OUT) / "staged";
+    fs::remove_all(base);
+    const fs::path target = base / "a" / "out";
+    {
+        semloc::StagedDirectory d(target.string());
+        std::ofstream(d.path("x.txt")) << "1";
+        EXPECT_FALSE(fs::exists(target));
+        d.commit();
+    }
+    EXPECT_TRUE(fs::exists(target / "x.txt"));
+    {
+        semloc::StagedDirectory d(target.string());
+        std::ofstream(d.path("y.txt")) << "2";
+        d.commit();
+    }
+    EXPECT_FALSE(fs::exists(target / "x.txt")) << "replaced as a whole";
+    EXPECT_TRUE(fs::exists(target / "y.txt"));
+    {
+        semloc::StagedDirectory d((base / "b").string());
+        std::ofstream(d.path("z.txt")) << "3";
+        // no commit: an error happened
+    }
+    EXPECT_FALSE(fs::exists(base / "b"));
+    size_t entries = 0;
+    for (const auto& e : fs::directory_iterator(base))
+    {
+        entries++;
+        EXPECT_EQ(e.path().filename(), "a") << "no staging directory left behind";
+    }
+    EXPECT_EQ(entries, 1u);
+}
