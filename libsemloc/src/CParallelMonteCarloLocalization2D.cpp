@@ -26,6 +26,10 @@ using mrpt::math::TPose2D;
 namespace
 {
 constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+/** Loops of a few nanoseconds per particle are split over threads only from this many
+ *  particles on: below, waking the pool costs more than it saves (the results are the same
+ *  either way). */
+constexpr size_t kCheapLoopChunk = 16384;
 
 /** mrpt::math::wrapToPi, bit for bit, without its fmod for angles already in range
  *  (fmod(t, 2 pi) is exactly t for 0 <= t < 2 pi). */
@@ -233,16 +237,18 @@ double CParallelMonteCarloLocalization2D::logSumExpWeights() const
     {
         return maxW;
     }
-    const double sum = m_executor->reduceBlocks(m_particles.size(),
-                                                [&](size_t b, size_t e)
-                                                {
-                                                    double s = 0;
-                                                    for (size_t i = b; i < e; i++)
-                                                    {
-                                                        s += std::exp(m_particles[i].log_w - maxW);
-                                                    }
-                                                    return s;
-                                                });
+    const double sum = m_executor->reduceBlocks(
+        m_particles.size(),
+        [&](size_t b, size_t e)
+        {
+            double s = 0;
+            for (size_t i = b; i < e; i++)
+            {
+                s += std::exp(m_particles[i].log_w - maxW);
+            }
+            return s;
+        },
+        kCheapLoopChunk / ParallelExecutor::kReduceBlock);
     return maxW + std::log(sum);
 }
 
@@ -264,41 +270,47 @@ void CParallelMonteCarloLocalization2D::update(
 
     m_poses.resize(M);
     m_logLik.resize(M);
-    ex.forEachChunk(M,
-                    [&](size_t b, size_t e)
-                    {
-                        for (size_t i = b; i < e; i++)
-                        {
-                            m_poses[i] = m_particles[i].d;
-                        }
-                    });
+    ex.forEachChunk(
+        M,
+        [&](size_t b, size_t e)
+        {
+            for (size_t i = b; i < e; i++)
+            {
+                m_poses[i] = m_particles[i].d;
+            }
+        },
+        kCheapLoopChunk);
     m_likelihood->evaluate(sf, m_poses.data(), M, m_logLik.data(), ex);
     if (m_freeSpacePrior && m_sampler)
     {
         const auto before = std::count(m_logLik.begin(), m_logLik.end(), kNegInf);
-        ex.forEachChunk(M,
-                        [&](size_t b, size_t e)
-                        {
-                            for (size_t i = b; i < e; i++)
-                            {
-                                if (!m_sampler->contains(m_poses[i].x, m_poses[i].y))
-                                {
-                                    m_logLik[i] = kNegInf;
-                                }
-                            }
-                        });
+        ex.forEachChunk(
+            M,
+            [&](size_t b, size_t e)
+            {
+                for (size_t i = b; i < e; i++)
+                {
+                    if (!m_sampler->contains(m_poses[i].x, m_poses[i].y))
+                    {
+                        m_logLik[i] = kNegInf;
+                    }
+                }
+            },
+            kCheapLoopChunk);
         m_recoveryStats.outside_free_space +=
             static_cast<size_t>(std::count(m_logLik.begin(), m_logLik.end(), kNegInf) - before);
     }
     const double pow = PF_options.powFactor;
-    ex.forEachChunk(M,
-                    [&](size_t b, size_t e)
-                    {
-                        for (size_t i = b; i < e; i++)
-                        {
-                            m_particles[i].log_w += m_logLik[i] * pow;
-                        }
-                    });
+    ex.forEachChunk(
+        M,
+        [&](size_t b, size_t e)
+        {
+            for (size_t i = b; i < e; i++)
+            {
+                m_particles[i].log_w += m_logLik[i] * pow;
+            }
+        },
+        kCheapLoopChunk);
 
     double maxW = kNegInf;
     for (const auto& p : m_particles)
@@ -377,14 +389,16 @@ double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w
         maxW = std::max(maxW, p.log_w);
         minW = std::min(minW, p.log_w);
     }
-    m_executor->forEachChunk(m_particles.size(),
-                             [&](size_t b, size_t e)
-                             {
-                                 for (size_t i = b; i < e; i++)
-                                 {
-                                     m_particles[i].log_w -= maxW;
-                                 }
-                             });
+    m_executor->forEachChunk(
+        m_particles.size(),
+        [&](size_t b, size_t e)
+        {
+            for (size_t i = b; i < e; i++)
+            {
+                m_particles[i].log_w -= maxW;
+            }
+        },
+        kCheapLoopChunk);
     if (out_max_log_w)
     {
         *out_max_log_w = maxW;
@@ -430,7 +444,7 @@ double CParallelMonteCarloLocalization2D::ESS() const
                 sumW2[blk] = s2;
             }
         },
-        1);
+        kCheapLoopChunk / ParallelExecutor::kReduceBlock);
     double s = 0, s2 = 0;
     for (size_t blk = 0; blk < blocks; blk++)
     {
@@ -454,15 +468,17 @@ void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<si
     }
     const size_t M = idx->size();
     m_resampled.resize(M);
-    m_executor->forEachChunk(M,
-                             [&](size_t b, size_t e)
-                             {
-                                 for (size_t i = b; i < e; i++)
-                                 {
-                                     m_resampled[i].d = m_particles[(*idx)[i]].d;
-                                     m_resampled[i].log_w = 0;  // equal weights after resampling
-                                 }
-                             });
+    m_executor->forEachChunk(
+        M,
+        [&](size_t b, size_t e)
+        {
+            for (size_t i = b; i < e; i++)
+            {
+                m_resampled[i].d = m_particles[(*idx)[i]].d;
+                m_resampled[i].log_w = 0;  // equal weights after resampling
+            }
+        },
+        kCheapLoopChunk);
     m_particles.swap(m_resampled);
 }
 

@@ -3,6 +3,8 @@
 #include <semloc/ParallelExecutor.h>
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <exception>
 #include <mutex>
@@ -11,17 +13,57 @@
 
 namespace semloc
 {
+namespace
+{
+/** How long a thread polls for the next job or for the others to finish before sleeping on
+ *  the condition variable. The filter calls the pool a few times per step in quick
+ *  succession, and waking a sleeping thread costs tens of microseconds on a loaded machine
+ *  (more than the per-particle loops it would parallelize); a short poll avoids it without
+ *  burning a core between steps. */
+constexpr auto kSpin = std::chrono::microseconds(100);
+
+inline void cpuRelax()
+{
+#if defined(__x86_64__) || defined(__i386__)
+    __builtin_ia32_pause();
+#else
+    std::this_thread::yield();
+#endif
+}
+
+/** Polls `ready()` for up to kSpin; true if it became true. */
+template <typename F>
+bool spinUntil(F&& ready)
+{
+    const auto until = std::chrono::steady_clock::now() + kSpin;
+    for (unsigned i = 0;; i++)
+    {
+        if (ready())
+        {
+            return true;
+        }
+        cpuRelax();
+        if ((i & 63) == 63 && std::chrono::steady_clock::now() > until)
+        {
+            return false;
+        }
+    }
+}
+}  // namespace
+
 struct ParallelExecutor::Pool
 {
     std::mutex mtx;
     std::condition_variable wake, done;
     std::vector<std::thread> workers;
-    /** The current job: chunk k of `chunks` over [0, n) for worker k (1-based). */
+    /** The current job: chunk k of `chunks` over [0, n) for worker k (1-based); written
+     *  under `mtx` before `generation` is increased. */
     const std::function<void(size_t, size_t)>* work = nullptr;
     size_t n = 0, chunks = 0;
-    uint64_t generation = 0;
-    size_t pending = 0;
-    bool stop = false;
+    std::atomic<uint64_t> generation{0};
+    /** Workers still running the current job (their writes are visible once it is 0). */
+    std::atomic<size_t> pending{0};
+    std::atomic<bool> stop{false};
     std::vector<std::exception_ptr> errors;
 
     void workerLoop(size_t k)
@@ -29,13 +71,14 @@ struct ParallelExecutor::Pool
         uint64_t seen = 0;
         for (;;)
         {
+            spinUntil([&] { return stop.load() || generation.load() != seen; });
             std::unique_lock lk(mtx);
-            wake.wait(lk, [&] { return stop || generation != seen; });
+            wake.wait(lk, [&] { return stop.load() || generation.load() != seen; });
             if (stop)
             {
                 return;
             }
-            seen = generation;
+            seen = generation.load();
             if (k >= chunks)
             {
                 continue;  // this job has fewer chunks than threads: not counted in `pending`
@@ -58,7 +101,7 @@ struct ParallelExecutor::Pool
 
             lk.lock();
             errors[k] = err;
-            if (--pending == 0)
+            if (pending.fetch_sub(1, std::memory_order_acq_rel) == 1)
             {
                 done.notify_one();
             }
@@ -81,7 +124,7 @@ ParallelExecutor::~ParallelExecutor()
 {
     {
         std::lock_guard lk(m_pool->mtx);
-        m_pool->stop = true;
+        m_pool->stop.store(true);
     }
     m_pool->wake.notify_all();
     for (auto& t : m_pool->workers)
@@ -115,9 +158,9 @@ void ParallelExecutor::forEachChunk(size_t n, const std::function<void(size_t, s
         p.work = &work;
         p.n = n;
         p.chunks = chunks;
-        p.pending = chunks - 1;
+        p.pending.store(chunks - 1);
         std::fill(p.errors.begin(), p.errors.end(), nullptr);
-        p.generation++;
+        p.generation.fetch_add(1);
     }
     p.wake.notify_all();
 
@@ -133,8 +176,9 @@ void ParallelExecutor::forEachChunk(size_t n, const std::function<void(size_t, s
         first = std::current_exception();
     }
 
+    spinUntil([&] { return p.pending.load(std::memory_order_acquire) == 0; });
     std::unique_lock lk(p.mtx);
-    p.done.wait(lk, [&] { return p.pending == 0; });
+    p.done.wait(lk, [&] { return p.pending.load() == 0; });
     p.work = nullptr;
     for (size_t k = 1; k < chunks && !first; k++)
     {
@@ -148,7 +192,8 @@ void ParallelExecutor::forEachChunk(size_t n, const std::function<void(size_t, s
 }
 
 double ParallelExecutor::reduceBlocks(size_t n,
-                                      const std::function<double(size_t, size_t)>& blockSum)
+                                      const std::function<double(size_t, size_t)>& blockSum,
+                                      size_t minBlocksPerThread)
 {
     const size_t blocks = (n + kReduceBlock - 1) / kReduceBlock;
     std::vector<double> partial(blocks, 0.0);
@@ -161,7 +206,7 @@ double ParallelExecutor::reduceBlocks(size_t n,
                 partial[b] = blockSum(b * kReduceBlock, std::min(n, (b + 1) * kReduceBlock));
             }
         },
-        1);
+        minBlocksPerThread);
     double sum = 0;
     for (const double s : partial)
     {

@@ -42,8 +42,10 @@ public:
 
     /** Sum over [0, n) of `blockSum(begin, end)` evaluated on the fixed blocks
      *  [k kReduceBlock, (k + 1) kReduceBlock), the blocks spread over the threads and
-     *  their partial sums added in block order: the same bits for any thread count. */
-    double reduceBlocks(size_t n, const std::function<double(size_t begin, size_t end)>& blockSum);
+     *  their partial sums added in block order: the same bits for any thread count. Threads
+     *  get at least `minBlocksPerThread` blocks (fewer threads for cheap sums). */
+    double reduceBlocks(size_t n, const std::function<double(size_t begin, size_t end)>& blockSum,
+                        size_t minBlocksPerThread = 1);
 
     /** Chunk `k` of `chunks` over [0, n): [k n / chunks, (k + 1) n / chunks). */
     static void chunkRange(size_t n, size_t chunks, size_t k, size_t& begin, size_t& end);
