@@ -511,3 +511,30 @@ TEST(CSemanticMap, WorldFileIsFoundNextToTheIni)
     ASSERT_TRUE(sm);
     EXPECT_EQ(sm->objects().size(), 12u);
 }
+
+TEST(CSemanticMap, BatchEqualsSingleCalls)
+{
+    for (const auto model : {CSemanticMap::Model::Paper, CSemanticMap::Model::Probabilistic})
+    {
+        const CSemanticMap m = smallMap(model);
+        mrpt::random::CRandomGenerator rng(21);
+        DetectorSim ds;
+        ds.sigma_range_m = 0.2;
+        ds.sigma_bearing_rad = 0.02;
+        auto obs = observe(smallWorld(), kTrue, ds, &rng);
+        obs.sensorPose = mrpt::poses::CPose3D(0.4, -0.2, 0, 0.3, 0, 0);  // off-centre, yawed
+        std::vector<TPose2D> poses(1000);
+        for (auto& p : poses)
+        {
+            p = TPose2D(rng.drawUniform(0.0, 30.0), rng.drawUniform(0.0, 30.0),
+                        rng.drawUniform(-M_PI, M_PI));
+        }
+        poses[17] = TPose2D(std::nan(""), 0, 0);
+        std::vector<double> batch(poses.size());
+        m.computeLogLikelihoods(obs, poses.data(), poses.size(), batch.data());
+        for (size_t i = 0; i < poses.size(); i++)
+        {
+            EXPECT_EQ(batch[i], m.computeLogLikelihood(obs, poses[i])) << "particle " << i;
+        }
+    }
+}
