@@ -15,6 +15,7 @@
 #include <charconv>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -350,6 +351,14 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     {
         (void)GroundTruth::FromFile(o.ground_truth_path_file);  // a bad file fails here
     }
+    // Absolute inputs: the effective configuration runs again from any directory.
+    for (std::string* f : {&o.rawlog_file, &o.map_file, &o.ground_truth_path_file})
+    {
+        if (!f->empty())
+        {
+            *f = std::filesystem::absolute(*f).lexically_normal().string();
+        }
+    }
 
     e.m_maps = LocalizationMap::FromConfig(*ini, o.map_file);
     if (o.variant.empty())
@@ -515,11 +524,11 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
         {
             writeText(eff, kSection, k, v, "pf-localization only, not used");
         }
-        m_maps.saveToConfigFile(*m_ini, eff);
         writeFile(out.path("config.ini"),
                   "# semloc-localize: the effective configuration of this run (every key of our "
-                  "sections,\n# defaults included). Rerun: semloc-localize config.ini\n" +
-                      eff.getContent());
+                  "sections,\n# defaults included). Rerun: semloc-localize config.ini -o "
+                  "<another directory>\n" +
+                      eff.getContent() + "\n" + m_maps.effectiveConfig(*m_ini));
     }
     out.commit();
     return res;

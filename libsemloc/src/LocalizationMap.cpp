@@ -1,4 +1,5 @@
 /* semloc — LocalizationMap: [MetricMap] strictly, and the map file as pf-localization reads it. */
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <mrpt/io/CFileGZInputStream.h>
@@ -360,11 +361,47 @@ std::string LocalizationMap::variant() const
     return v;
 }
 
-void LocalizationMap::saveToConfigFile(const mrpt::config::CConfigFileBase& input,
-                                       mrpt::config::CConfigFileBase& target,
-                                       const std::string& section) const
+std::string LocalizationMap::effectiveConfig(const mrpt::config::CConfigFileBase& input,
+                                             const std::string& section) const
 {
-    // The input's map sections as given (MRPT's map options cannot all be written back)...
+    // Every key of the options we know, defaults included...
+    mrpt::config::CConfigFileMemory ours;
+    const auto aliases = definitionAliases(input, section);
+    size_t k = 0;
+    for (const auto& def : definitions)
+    {
+        const std::string prefix =
+            section + "_" + aliases[k].first + mrpt::format("_%02u", aliases[k].second);
+        const std::string sc = creationSection(prefix);
+        def->genericMapParams.saveToConfigFile(ours, sc);
+        if (const auto* d = dynamic_cast<const CSemanticMap::TMapDefinition*>(def.get()))
+        {
+            ours.write(sc, "world_file", m_worldFiles[k]);
+            d->likelihoodOpts.saveToConfigFile(ours, prefix + "_likelihoodOpts");
+            d->insertionOpts.saveToConfigFile(ours, prefix + "_insertOpts");
+        }
+        else if (const auto* ds = dynamic_cast<const CStructureMap::TMapDefinition*>(def.get()))
+        {
+            ours.write(sc, "world_file", m_worldFiles[k]);
+            detail::writeExact(ours, sc, "cylinder_tolerance_m", ds->cylinder_tolerance_m, "");
+            detail::writeExact(ours, sc, "raycast_cell_m", ds->raycast_cell_m, "");
+            ds->likelihoodOpts.saveToConfigFile(ours, prefix + "_likelihoodOpts");
+        }
+        else if (const auto* dg =
+                     dynamic_cast<const COccupancyGridMap2D::TMapDefinition*>(def.get()))
+        {
+            ours.write(sc, "min_x", floatText(dg->min_x));
+            ours.write(sc, "max_x", floatText(dg->max_x));
+            ours.write(sc, "min_y", floatText(dg->min_y));
+            ours.write(sc, "max_y", floatText(dg->max_y));
+            ours.write(sc, "resolution", floatText(dg->resolution));
+        }
+        k++;
+    }
+    // ...(re-read: MRPT pads the keys it writes), then the input's other keys of the map
+    // sections as given: MRPT's map options cannot all be written back.
+    mrpt::config::CConfigFileMemory out;
+    out.setContent(ours.getContent());
     std::vector<std::string> sections;
     input.getAllSections(sections);
     for (const auto& s : sections)
@@ -375,44 +412,16 @@ void LocalizationMap::saveToConfigFile(const mrpt::config::CConfigFileBase& inpu
         }
         std::vector<std::string> keys;
         input.getAllKeys(s, keys);
-        for (const auto& key : keys)
+        for (auto key : keys)
         {
-            target.write(s, trim(key), trim(input.read_string(s, trim(key), "")));
+            key = trim(key);
+            if (!out.keyExists(s, key))
+            {
+                out.write(s, key, trim(input.read_string(s, key, "")));
+            }
         }
     }
-    // ...then every key of the options we know, defaults included.
-    const auto aliases = definitionAliases(input, section);
-    size_t k = 0;
-    for (const auto& def : definitions)
-    {
-        const std::string prefix =
-            section + "_" + aliases[k].first + mrpt::format("_%02u", aliases[k].second);
-        const std::string sc = creationSection(prefix);
-        def->genericMapParams.saveToConfigFile(target, sc);
-        if (const auto* d = dynamic_cast<const CSemanticMap::TMapDefinition*>(def.get()))
-        {
-            target.write(sc, "world_file", m_worldFiles[k]);
-            d->likelihoodOpts.saveToConfigFile(target, prefix + "_likelihoodOpts");
-            d->insertionOpts.saveToConfigFile(target, prefix + "_insertOpts");
-        }
-        else if (const auto* ds = dynamic_cast<const CStructureMap::TMapDefinition*>(def.get()))
-        {
-            target.write(sc, "world_file", m_worldFiles[k]);
-            detail::writeExact(target, sc, "cylinder_tolerance_m", ds->cylinder_tolerance_m, "");
-            detail::writeExact(target, sc, "raycast_cell_m", ds->raycast_cell_m, "");
-            ds->likelihoodOpts.saveToConfigFile(target, prefix + "_likelihoodOpts");
-        }
-        else if (const auto* dg =
-                     dynamic_cast<const COccupancyGridMap2D::TMapDefinition*>(def.get()))
-        {
-            target.write(sc, "min_x", floatText(dg->min_x));
-            target.write(sc, "max_x", floatText(dg->max_x));
-            target.write(sc, "min_y", floatText(dg->min_y));
-            target.write(sc, "max_y", floatText(dg->max_y));
-            target.write(sc, "resolution", floatText(dg->resolution));
-        }
-        k++;
-    }
+    return out.getContent();
 }
 
 }  // namespace semloc

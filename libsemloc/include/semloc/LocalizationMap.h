@@ -49,12 +49,11 @@ public:
      *  "fused" (semantic + geometric), else the map kinds joined by '+'. */
     std::string variant() const;
 
-    /** Writes the effective `[MetricMap...]` sections: the counts, every key of our maps'
-     *  options (defaults included, world_file resolved), the occupancy grids' creation
-     *  options, and the other keys of the input's map sections as given. */
-    void saveToConfigFile(const mrpt::config::CConfigFileBase& input,
-                          mrpt::config::CConfigFileBase& target,
-                          const std::string& section = "MetricMap") const;
+    /** The effective `[MetricMap...]` sections as ini text: every key of our maps' options
+     *  (defaults included, world_file resolved), the occupancy grids' creation options, and
+     *  the other keys of `input`'s map sections (the counts, MRPT's options) as given. */
+    std::string effectiveConfig(const mrpt::config::CConfigFileBase& input,
+                                const std::string& section = "MetricMap") const;
 
     /** Checks the names of [section] and of its map sections (see the class doc). */
     static void validateSections(const mrpt::config::CConfigFileBase& ini,
