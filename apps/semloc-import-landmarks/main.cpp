@@ -11,6 +11,8 @@
 
 #include <iostream>
 
+#include "common/AppMain.h"
+
 namespace
 {
 TCLAP::CmdLine cmd("semloc-import-landmarks", ' ', "0.1");
@@ -73,18 +75,5 @@ void run()
 
 int main(int argc, char** argv)
 {
-    try
-    {
-        if (!cmd.parse(argc, argv))
-        {
-            return 1;
-        }
-        run();
-        return 0;
-    }
-    catch (const std::exception& e)
-    {
-        std::cerr << "semloc-import-landmarks: " << semloc::errorMessage(e) << "\n";
-        return 1;
-    }
+    return semloc::apps::runMain(cmd, argc, argv, "semloc-import-landmarks", run);
 }

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <iostream>
 
+#include "common/AppMain.h"
+
 namespace
 {
 TCLAP::CmdLine cmd("semloc-localize", ' ', "0.1");
@@ -74,18 +76,5 @@ void run()
 
 int main(int argc, char** argv)
 {
-    try
-    {
-        if (!cmd.parse(argc, argv))
-        {
-            return 1;
-        }
-        run();
-        return 0;
-    }
-    catch (const std::exception& e)
-    {
-        std::cerr << "semloc-localize: " << semloc::errorMessage(e) << "\n";
-        return 1;
-    }
+    return semloc::apps::runMain(cmd, argc, argv, "semloc-localize", run);
 }

@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <iostream>
 
+#include "common/AppMain.h"
+
 namespace
 {
 TCLAP::CmdLine cmd("semloc-plot-world", ' ', "0.1");
@@ -38,18 +40,5 @@ void run()
 
 int main(int argc, char** argv)
 {
-    try
-    {
-        if (!cmd.parse(argc, argv))
-        {
-            return 1;
-        }
-        run();
-        return 0;
-    }
-    catch (const std::exception& e)
-    {
-        std::cerr << "semloc-plot-world: " << semloc::errorMessage(e) << "\n";
-        return 1;
-    }
+    return semloc::apps::runMain(cmd, argc, argv, "semloc-plot-world", run);
 }

@@ -7,6 +7,8 @@
 #include <climits>
 #include <iostream>
 
+#include "common/AppMain.h"
+
 namespace
 {
 TCLAP::CmdLine cmd("semloc-simulate", ' ', "0.1");
@@ -44,18 +46,5 @@ void run()
 
 int main(int argc, char** argv)
 {
-    try
-    {
-        if (!cmd.parse(argc, argv))
-        {
-            return 1;
-        }
-        run();
-        return 0;
-    }
-    catch (const std::exception& e)
-    {
-        std::cerr << "semloc-simulate: " << semloc::errorMessage(e) << "\n";
-        return 1;
-    }
+    return semloc::apps::runMain(cmd, argc, argv, "semloc-simulate", run);
 }
