@@ -3,6 +3,8 @@
 #include <semloc/CSemanticMap.h>
 #include <semloc/CStructureMap.h>
 #include <semloc/IniReference.h>
+#include <semloc/LocalizationExperiment.h>
+#include <semloc/Simulator.h>
 
 namespace semloc
 {
@@ -23,6 +25,17 @@ std::string iniReference()
     c.write(st + "_creationOpts", "raycast_cell_m", sdef.raycast_cell_m, 24, 24,
             "ray-casting grid cell [m], 0 = automatic");
     CStructureMap::TLikelihoodOptions().saveToConfigFile(c, st + "_likelihoodOpts");
+    // semloc-localize: [LocalizationExperiment], [PF_options], [KLD_options],
+    // [DummyOdometryParams]; the maps are the [MetricMap_*] sections above
+    LocalizationExperiment::TOptions loc;
+    loc.rawlog_file = "dataset.rawlog";
+    loc.map_file = "../maps/paper_50x50.yaml";
+    loc.logOutput_dir = "results/semantic";
+    loc.saveToConfigFile(c, "LocalizationExperiment");
+    // semloc-simulate
+    TSimulatorOptions sim;
+    sim.simulation.world_file = "../maps/paper_50x50.yaml";
+    sim.saveToConfigFile(c);
     return c.getContent();
 }
 
