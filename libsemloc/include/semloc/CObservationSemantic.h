@@ -26,6 +26,7 @@ struct TSemanticDetection
     /** Map object id when the detector knows which object it is, else -1. */
     int32_t object_id = -1;
 
+    /** Field-by-field equality. */
     bool operator==(const TSemanticDetection& o) const
     {
         return label == o.label && range_m == o.range_m && bearing_rad == o.bearing_rad &&
@@ -72,20 +73,26 @@ public:
         return std::abs(b) <= 0.5 * fov_rad + 1e-9;
     }
 
+    /** The detector pose on the vehicle (sensorPose). */
     void getSensorPose(mrpt::poses::CPose3D& out_sensorPose) const override
     {
         out_sensorPose = sensorPose;
     }
+    /** Sets the detector pose on the vehicle (sensorPose). */
     void setSensorPose(const mrpt::poses::CPose3D& newSensorPose) override
     {
         sensorPose = newSensorPose;
     }
+    /** Human-readable dump: pose, coverage and one line per detection (rawlog-edit --describe). */
     void getDescriptionAsText(std::ostream& o) const override;
 
     /** Text export (rawlog-edit --export-txt): one row per observation with the
      *  detection count followed by 5 columns per detection. */
     bool exportTxtSupported() const override { return true; }
+    /** Column names of exportTxtDataRow(). */
     std::string exportTxtHeader() const override;
+    /** One row: coverage, detection count, then label, range, bearing, confidence, id per
+     * detection. */
     std::string exportTxtDataRow() const override;
 };
 

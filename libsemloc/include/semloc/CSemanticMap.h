@@ -82,8 +82,12 @@ public:
         int32_t id = 0;
         /** Object class. */
         std::string label;
-        /** Position [m]. */
-        double x = 0, y = 0, z = 0;
+        /** Position [m]: x. */
+        double x = 0;
+        /** Position [m]: y. */
+        double y = 0;
+        /** Depth/height [m]. */
+        double z = 0;
         /** Radius of the object's outline around (x, y) [m] (display, merging). */
         double extent_m = 0;
         /** How many detections were merged into it (1 for map-file objects). */
@@ -125,8 +129,10 @@ public:
         /** Cell size of the object index [m]; a quarter of the detector range is about best. */
         double index_cell_m = 5.0;
 
+        /** Reads `section` strictly (unknown keys and bad values are errors). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
+        /** Writes every key with a comment. */
         void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                               const std::string& section) const override;
     };
@@ -139,8 +145,10 @@ public:
         /** Label given to landmarks of a CObservationBearingRange. */
         std::string landmark_label = "landmark";
 
+        /** Reads `section` strictly (unknown keys and bad values are errors). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
+        /** Writes every key with a comment. */
         void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                               const std::string& section) const override;
     };
@@ -158,7 +166,9 @@ public:
 
     CSemanticMap();
     ~CSemanticMap() override;
+    /** Copies the objects and options (the index is rebuilt). */
     CSemanticMap(const CSemanticMap& o);
+    /** Copies the objects and options (the index is rebuilt). */
     CSemanticMap& operator=(const CSemanticMap& o);
 
     /** Likelihood parameters. */
@@ -204,9 +214,13 @@ public:
     /** @} */
 
     // CMetricMap interface
+    /** True without objects. */
     bool isEmpty() const override { return m_objects.empty(); }
+    /** Writes `<prefix>_semantic.yaml`, a world file of point objects that loads back. */
     void saveMetricMapRepresentationToFile(const std::string& filNamePrefix) const override;
+    /** One line: object and label counts, likelihood model. */
     std::string asString() const override;
+    /** A cylinder and a "label #id" text per object (coloured by label). */
     void getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const override;
 
     MAP_DEFINITION_START(CSemanticMap)

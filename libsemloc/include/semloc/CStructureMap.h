@@ -70,8 +70,10 @@ public:
         /** Floor of each beam's probability, keeps the log finite. */
         double min_beam_likelihood = 1e-12;
 
+        /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
+        /** Writes every key of the section, defaults included, with a comment. */
         void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                               const std::string& section) const override;
     };

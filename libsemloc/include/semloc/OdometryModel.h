@@ -55,8 +55,10 @@ public:
         double min_phi_std_deg = 0.2;
         /** @} */
 
+        /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
+        /** Writes every key of the section, defaults included, with a comment. */
         void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                               const std::string& section) const override;
 

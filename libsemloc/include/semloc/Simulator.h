@@ -35,8 +35,10 @@ struct TSimulationOptions : public mrpt::config::CLoadableOptions
     /** Output rawlog (the app's `-o` overrides it); see Simulator::writeDataset(). */
     std::string output_rawlog = "dataset.rawlog";
 
+    /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                             const std::string& section) override;
+    /** Writes every key of the section, defaults included, with a comment. */
     void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                           const std::string& section) const override;
 };
@@ -54,8 +56,10 @@ struct TKidnappingOptions : public mrpt::config::CLoadableOptions
     /** The new pose: position [m] (must be free space) and heading [deg]. */
     double x_m = 25.0, y_m = 25.0, phi_deg = 0.0;
 
+    /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                             const std::string& section) override;
+    /** Writes every key of the section, defaults included, with a comment. */
     void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                           const std::string& section) const override;
 };

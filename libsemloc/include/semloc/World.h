@@ -53,8 +53,10 @@ struct WorldObject
     mrpt::math::TPoint2D center{0, 0};
     /** Depth/height of the object's reference point [m] (optional key `z`). */
     double z = 0;
-    /** Box: full side lengths [m]. */
-    double size_x = 0, size_y = 0;
+    /** Box: full side length along its own x [m]. */
+    double size_x = 0;
+    /** Box: full side length along its own y [m]. */
+    double size_y = 0;
     /** Box: rotation [rad] (key `yaw_deg` in degrees). */
     double yaw = 0;
     /** Cylinder: radius [m]. */
@@ -69,7 +71,15 @@ struct WorldObject
 /** Axis-aligned area particles may occupy [m]. */
 struct WorldBounds
 {
-    double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
+    /** Lower x bound [m]. */
+    double x_min = 0;
+    /** Upper x bound [m]. */
+    double x_max = 0;
+    /** Lower y bound [m]. */
+    double y_min = 0;
+    /** Upper y bound [m]. */
+    double y_max = 0;
+    /** True if (x, y) is inside (borders included). */
     bool contains(double x, double y) const
     {
         return x >= x_min && x <= x_max && y >= y_min && y <= y_max;

@@ -21,10 +21,13 @@ public:
     /** A named polyline drawn over the world. */
     struct Path
     {
+        /** Legend entry. */
         std::string name;
+        /** Vertices [m]. */
         std::vector<mrpt::math::TPoint2D> points;
     };
 
+    /** A figure of `world`; `title` defaults to the world's name. */
     explicit WorldPlot(World world, std::string title = {});
 
     /** Adds a path (drawn in insertion order, legend entry `name`). */
