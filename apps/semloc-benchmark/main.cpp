@@ -1,0 +1,65 @@
+/* semloc-benchmark: the paper's experiment, R seeds × variants (results.csv, curves.csv,
+ * report.md, figures).
+ *   semloc-benchmark config/benchmark.ini [--runs 20] [--jobs 2] [-o results/benchmark] */
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/core/format.h>
+#include <semloc/Benchmark.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <iostream>
+
+#include "common/AppMain.h"
+
+namespace
+{
+TCLAP::CmdLine cmd("semloc-benchmark", ' ', "0.1");
+TCLAP::UnlabeledValueArg<std::string> argIni("config", "Benchmark ini (see config/benchmark.ini)",
+                                             true, "", "benchmark.ini", cmd);
+
+std::string clock(double s)
+{
+    const long t = static_cast<long>(s + 0.5);
+    return mrpt::format("%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
+}
+
+void run()
+{
+    const auto bench = semloc::Benchmark::FromConfigFile(argIni.getValue());
+    const auto& o = bench.options();
+    std::cout << "semloc-benchmark: " << o.runs << " runs x " << bench.variants().size()
+              << " variants, " << bench.effectiveJobs() << " parallel runs, " << o.filter_threads
+              << " filter thread(s) each\n";
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto res = bench.run(
+        [&](size_t done, size_t total)
+        {
+            if (!tty)
+            {
+                return;
+            }
+            const double el =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            const int width = 30;
+            const int fill = static_cast<int>(width * done / total);
+            std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, ' ') << "] "
+                      << done << "/" << total << " runs, elapsed " << clock(el) << ", left "
+                      << clock(el / done * (total - done)) << "  " << std::flush;
+            if (done == total)
+            {
+                std::cerr << "\n";
+            }
+        });
+    std::cout << "\n"
+              << res.table << "\nsemloc-benchmark: " << res.runs.size() << " results in "
+              << res.outputDir << " (report.md, results.csv, curves.csv, fig_*.png), "
+              << mrpt::format("%.1f", res.wallTime_s) << " s\n";
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    return semloc::apps::runMain(cmd, argc, argv, "semloc-benchmark", run);
+}

@@ -1,0 +1,133 @@
+/* semloc — semloc-benchmark's engine: the paper's experiment (§IV, Fig. 3, Table I), R
+ * simulated runs localized by every variant, aggregated into tables and figures. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <semloc/LocalizationExperiment.h>
+#include <semloc/LocalizationMap.h>
+#include <semloc/RunMetrics.h>
+#include <semloc/Simulator.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace semloc
+{
+/** The paper's benchmark: run i (i = 1..runs) simulates the scenario of `simulate_ini` with
+ *  seed i once, in memory, and localizes that same dataset with every variant, each filter
+ *  seeded with i.
+ *
+ *  ## Parallel runs and MRPT's random generator
+ *  Localizer seeds and draws from mrpt::random::getRandomGenerator(), one generator per
+ *  process, so two filters in one process would interleave their draws. Each run therefore
+ *  executes in a child process (fork(), no exec: the parent is single-threaded when it
+ *  forks); at most `jobs` children run at once. A run's results depend only on its seed,
+ *  never on `jobs`.
+ *
+ *  ## Outputs (in `output_dir`, written to a staging directory and renamed at the end)
+ *  `results.csv` (one row per run and variant: run, seed, variant and summary.yaml's fields
+ *  of DESIGN.md, plus wall_time_s), `curves.csv` (per variant and step: mean and 10/50/90 %
+ *  percentiles of err_xy and var_xy over the runs), `report.md` (reportTable() and the
+ *  paper's Table I beside ours), `figures.gp` + `fig_variance.png`, `fig_error.png` (Fig. 3)
+ *  and `world_paths.png` (the world, run 1's true path and estimates; WorldPlot). */
+class Benchmark
+{
+public:
+    /** Section [Benchmark] of benchmark.ini. */
+    struct TOptions : public mrpt::config::CLoadableOptions
+    {
+        /** Number of runs (seeds 1..runs). */
+        int runs = 100;
+        /** Variant names (`<name>.ini` next to benchmark.ini) or ini paths (resolved next to
+         *  benchmark.ini). */
+        std::vector<std::string> variants{"semantic", "geometric", "grid_lf", "grid_rt", "fused"};
+        /** The simulation (semloc-simulate's ini; resolved next to benchmark.ini). */
+        std::string simulate_ini = "simulate.ini";
+        /** Output directory (relative: from the working directory). */
+        std::string output_dir = "results/benchmark";
+        /** Runs in parallel (child processes); 0 = every hardware thread. */
+        int jobs = 0;
+        /** Threads of each filter ([PF_options] threads). */
+        int filter_threads = 1;
+        /** Steps simulated per run; 0 = the whole trajectory. */
+        int max_steps = 0;
+        /** Particles of every variant; 0 = the reference filter's particles_count. */
+        int particles = 0;
+        /** true: every variant runs the first variant's filter (particles, PF_options,
+         *  KLD_options, initial distribution, convergence criterion), so that only the
+         *  likelihood (the maps) differs; false: each variant's own. */
+        bool same_filter = true;
+
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                const std::string& section) override;
+        void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                              const std::string& section) const override;
+    };
+
+    /** One variant as it runs: its resolved options (overrides applied) and its maps. */
+    struct TVariant
+    {
+        std::string iniPath;
+        LocalizationExperiment::TOptions options;
+        LocalizationMap maps;
+        const std::string& name() const { return options.variant; }
+    };
+
+    /** One run of one variant. */
+    struct TRunResult
+    {
+        int run = 0;
+        uint32_t seed = 0;
+        std::string variant;
+        size_t particles = 0;
+        size_t threads = 1;
+        RunMetrics metrics;
+        /** Filter construction and every step [s] (the paper's execution time). */
+        double wallTime_s = 0;
+        std::vector<TStepRecord> records;
+    };
+
+    /** Everything the benchmark produced. */
+    struct TResult
+    {
+        /** Run-major, variants in configuration order. */
+        std::vector<TRunResult> runs;
+        std::string outputDir;
+        /** reportTable() of the runs. */
+        std::string table;
+        double wallTime_s = 0;
+    };
+
+    /** Reads [Benchmark], the simulation ini and every variant ini (strictly) before any
+     *  output is written. Throws naming the file, [section] and key of any error. */
+    static Benchmark FromConfigFile(const std::string& iniPath);
+
+    /** Runs everything and writes the outputs; `progress(runsDone, runs)` is called from the
+     *  calling thread after each run. On error nothing is left in output_dir. */
+    TResult run(const std::function<void(size_t, size_t)>& progress = {}) const;
+
+    /** Runs one (run, seed) in this process: simulation and every variant. */
+    std::vector<TRunResult> runOne(int run) const;
+
+    /** The markdown table of report.md: per variant success rate, convergence time, error,
+     *  variance, filter time per run and per particle-step, wall time, ratio to the first
+     *  variant (or to "semantic" if present). */
+    static std::string reportTable(const std::vector<TRunResult>& runs,
+                                   const std::vector<std::string>& variants);
+
+    const TOptions& options() const { return m_options; }
+    const std::vector<TVariant>& variants() const { return m_variants; }
+    /** Jobs actually used. */
+    size_t effectiveJobs() const;
+
+private:
+    Benchmark() = default;
+
+    std::string m_iniPath;
+    TOptions m_options;
+    TSimulatorOptions m_simulation;
+    std::vector<TVariant> m_variants;
+};
+
+}  // namespace semloc
