@@ -286,10 +286,12 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
             std::string list;
             for (const auto& k : kSections)
             {
-                list += (list.empty() ? "[" : ", [") + k + "]";
+                list.append(list.empty() ? "[" : ", [").append(k).append("]");
             }
-            THROW_EXCEPTION("ini [" + s + "]: unknown section (semloc-localize reads " + list +
-                            " and [MetricMap_<map>_<NN>_...])");
+            THROW_EXCEPTION(
+                mrpt::format("ini [%s]: unknown section (semloc-localize reads %s and "
+                             "[MetricMap_<map>_<NN>_...])",
+                             s.c_str(), list.c_str()));
         }
     }
     if (!ini->sectionExists(kSection))
@@ -571,7 +573,7 @@ std::string LocalizationExperiment::TResult::summaryParagraph() const
     }
     if (likelihood.observations_skipped > 0)
     {
-        s += mrpt::format(" %zu observations no map could use were skipped.",
+        s += mrpt::format(" %zu observations were ignored: no map in [MetricMap] uses them.",
                           likelihood.observations_skipped);
     }
     return s + " Outputs in " + outputDir + ".";

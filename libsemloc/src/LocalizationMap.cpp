@@ -132,7 +132,7 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
     {
         if (n.find("::") == std::string::npos)
         {
-            known += (known.empty() ? "" : ", ") + n;
+            known.append(known.empty() ? "" : ", ").append(n);
         }
     }
     std::vector<std::string> keys;
@@ -146,16 +146,18 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
             const std::string name = key.substr(0, key.size() - kCount.size());
             if (!names.count(name))
             {
-                THROW_EXCEPTION("ini [" + section + "] " + key + ": unknown map '" + name +
-                                "' (MRPT would ignore it silently); known maps: " + known);
+                THROW_EXCEPTION(mrpt::format(
+                    "ini [%s] %s: unknown map '%s' (MRPT would ignore it silently); known maps: %s",
+                    section.c_str(), key.c_str(), name.c_str(), known.c_str()));
             }
             int n = 0;
             config::readInt(ini, section, key, n, 0, 99);
         }
         else if (std::find(kLegacyKeys.begin(), kLegacyKeys.end(), key) == kLegacyKeys.end())
         {
-            THROW_EXCEPTION("ini [" + section + "] " + key +
-                            ": unknown key (expected <map>_count, e.g. semanticMap_count = 1)");
+            THROW_EXCEPTION(mrpt::format(
+                "ini [%s] %s: unknown key (expected <map>_count, e.g. semanticMap_count = 1)",
+                section.c_str(), key.c_str()));
         }
     }
 
@@ -172,17 +174,18 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
         std::smatch m;
         if (!std::regex_match(s, m, re) || !names.count(m[1].str()))
         {
-            THROW_EXCEPTION("ini [" + s + "]: unknown section (map sections are [" + section +
-                            "_<map>_<NN>_<creationOpts|likelihoodOpts|insertOpts|...>] with a "
-                            "known map: " +
-                            known + ")");
+            THROW_EXCEPTION(mrpt::format(
+                "ini [%s]: unknown section (map sections are [%s_<map>_<NN>_<creationOpts|"
+                "likelihoodOpts|insertOpts|...>] with a known map: %s)",
+                s.c_str(), section.c_str(), known.c_str()));
         }
         const auto count = ini.read_uint64_t(section, m[1].str() + kCount, 0);
         if (static_cast<uint64_t>(std::stoul(m[2].str())) >= count)
         {
-            THROW_EXCEPTION("ini [" + s + "]: section of " + m[1].str() + " #" + m[2].str() +
-                            ", but [" + section + "] " + m[1].str() + kCount + " = " +
-                            std::to_string(count));
+            THROW_EXCEPTION(mrpt::format("ini [%s]: section of %s #%s, but [%s] %s%s = %u",
+                                         s.c_str(), m[1].str().c_str(), m[2].str().c_str(),
+                                         section.c_str(), m[1].str().c_str(), kCount.c_str(),
+                                         static_cast<unsigned>(count)));
         }
     }
 }

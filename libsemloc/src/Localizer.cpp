@@ -51,7 +51,11 @@ int readEnum(const mrpt::config::CConfigFileBase& c, const std::string& s, const
     std::string list;
     for (size_t i = 0; i < names.size(); i++)
     {
-        list += (i ? ", " : "") + std::to_string(i) + " (" + names[i] + ")";
+        list.append(i ? ", " : "")
+            .append(std::to_string(i))
+            .append(" (")
+            .append(names[i])
+            .append(")");
     }
     THROW_EXCEPTION("ini [" + s + "] " + key + ": '" + text + "' is not one of " + list);
 }

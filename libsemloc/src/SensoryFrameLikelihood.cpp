@@ -103,7 +103,7 @@ void SensoryFrameLikelihood::prepareGridCaches()
         // all now (one point per cell centre, every point used) so that threads only read it.
         // A cell's value depends only on the cell, so the results are those of lazy filling.
         mrpt::maps::CSimplePointsMap centres;
-        centres.reserve((g->getSizeX() - 1) * (g->getSizeY() - 1));
+        centres.reserve(static_cast<size_t>(g->getSizeX() - 1) * (g->getSizeY() - 1));
         for (unsigned cy = 0; cy + 1 < g->getSizeY(); cy++)
         {
             for (unsigned cx = 0; cx + 1 < g->getSizeX(); cx++)
