@@ -232,6 +232,30 @@ TEST_F(LocalizeEndToEnd, ObservationsOnlyRawlogWorks)
     EXPECT_EQ(res.metrics.steps, 431u) << "one step per timestamp: sonar + detections together";
     EXPECT_TRUE(res.metrics.converged);
     EXPECT_LT(res.metrics.final_err_m, 0.5);
+
+    // rawlog_offset skips steps (pf-localization's meaning) in both formats; a Gaussian start
+    // at the true pose of the first step run keeps the filter on track only if that step's
+    // motion is zero and the next ones are the increments since it.
+    const auto truth = semloc::GroundTruth::FromFile(semloc::Simulator::groundTruthPath(rawlog));
+    const auto& first = truth.rows()[100];
+    const auto ini =
+        patchedConfig("semantic.ini",
+                      {{"rawlog_offset", "100"},
+                       {"init_PDF_mode", "2"},
+                       {"init_PDF_mean_x", std::to_string(first.x)},
+                       {"init_PDF_mean_y", std::to_string(first.y)},
+                       {"init_PDF_mean_yaw_deg", std::to_string(first.phi * 180 / M_PI)},
+                       {"init_PDF_std_xy", "0.2"},
+                       {"init_PDF_std_yaw_deg", "3"}},
+                      "semantic_offset");
+    for (const auto& file : {rawlog, obsOnly})
+    {
+        const auto r = localize(ini, file, "offset", 1000);
+        ASSERT_EQ(r.metrics.steps, 331u) << file;
+        EXPECT_DOUBLE_EQ(r.records.front().t, first.t) << file;
+        EXPECT_LT(r.records.front().errXY(), 0.5) << file;
+        EXPECT_LT(r.metrics.rmse_m, 0.5) << file;
+    }
 }
 
 TEST_F(LocalizeEndToEnd, BadConfigurationsFailClearlyWithoutOutput)

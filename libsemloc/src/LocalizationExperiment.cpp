@@ -252,7 +252,7 @@ void LocalizationExperiment::TOptions::saveToConfigFile(mrpt::config::CConfigFil
     writeText(c, s, "map_file", map_file, "world YAML, .simplemap or .gridmap");
     writeText(c, s, "ground_truth_path_file", ground_truth_path_file, "t x y phi per line");
     writeText(c, s, "logOutput_dir", logOutput_dir, "outputs");
-    writeText(c, s, "rawlog_offset", std::to_string(rawlog_offset), "entries skipped");
+    writeText(c, s, "rawlog_offset", std::to_string(rawlog_offset), "steps skipped");
     writeText(c, s, "variant", variant, "name in summary.yaml");
     detail::writeExact(c, s, "convergence_max_err_xy_m", convergence.max_err_xy_m, "[m]");
     detail::writeExact(c, s, "convergence_max_var_xy_m2", convergence.max_var_xy_m2, "[m^2]");
@@ -410,21 +410,40 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
         res.records.push_back(r);
     };
 
+    // pf-localization's rawlog_offset skips steps (pairs, or observations), not entries. An
+    // odometry reading met while skipping is handed over when the first step runs, so that
+    // step moves by zero and the next by the increment since it.
+    size_t skip = static_cast<size_t>(o.rawlog_offset);
+    std::optional<mrpt::obs::CObservationOdometry> heldOdometry;
+
     // Observations-only rawlogs: consecutive observations with one timestamp are one frame.
     mrpt::obs::CSensoryFrame group;
     auto flush = [&]
     {
-        if (group.size() > 0)
+        if (group.size() == 0)
         {
+            return;
+        }
+        if (skip > 0)
+        {
+            skip--;
+        }
+        else
+        {
+            if (heldOdometry)
+            {
+                loc.setOdometry(*heldOdometry);
+                heldOdometry.reset();
+            }
             loc.step(group);
             record(group);
-            group.clear();
         }
+        group.clear();
     };
     bool sawPairs = false, sawObservations = false;
     mrpt::obs::CActionCollection::Ptr action;
     const size_t n = rawlog.size();
-    for (size_t i = static_cast<size_t>(o.rawlog_offset); i < n; i++)
+    for (size_t i = 0; i < n; i++)
     {
         switch (rawlog.getType(i))
         {
@@ -436,16 +455,23 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
             {
                 flush();
                 const auto sf = rawlog.getAsObservations(i);
-                if (action)
+                if (skip > 0)
                 {
-                    loc.step(*action, *sf);
-                    sawPairs = true;
+                    skip--;
                 }
                 else
                 {
-                    loc.step(*sf);  // a frame without its action: the odometry since the last
+                    if (action)
+                    {
+                        loc.step(*action, *sf);
+                        sawPairs = true;
+                    }
+                    else
+                    {
+                        loc.step(*sf);  // a frame without its action: the odometry since the last
+                    }
+                    record(*sf);
                 }
-                record(*sf);
                 action.reset();
                 break;
             }
@@ -457,7 +483,15 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
                         std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obs))
                 {
                     flush();
-                    loc.setOdometry(*odo);
+                    if (skip > 0)
+                    {
+                        heldOdometry = *odo;
+                    }
+                    else
+                    {
+                        heldOdometry.reset();
+                        loc.setOdometry(*odo);
+                    }
                 }
                 else if (obs)
                 {

@@ -56,7 +56,8 @@ public:
         std::string ground_truth_path_file;
         /** Output directory. */
         std::string logOutput_dir;
-        /** Rawlog entries skipped at the start. */
+        /** Steps skipped at the start (pf-localization's meaning: action / sensory-frame
+         *  pairs, or observation frames). */
         int rawlog_offset = 0;
         /** Name of the variant in summary.yaml; empty: from the maps (LocalizationMap). */
         std::string variant;
@@ -68,6 +69,7 @@ public:
         /** Reads [section] and the filter's sections; see the class documentation. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
+        /** Writes every key of the section, defaults included, with a comment. */
         void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                               const std::string& section) const override;
     };
