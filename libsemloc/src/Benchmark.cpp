@@ -1,4 +1,5 @@
 /* semloc — Benchmark: R seeds × variants of simulate + localize, aggregated (paper §IV). */
+#include <fcntl.h>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
@@ -143,7 +144,7 @@ std::string runFile(const std::vector<Benchmark::TRunResult>& rs)
     for (const auto& r : rs)
     {
         o << "V " << r.variant << ' ' << r.particles << ' ' << r.threads << ' '
-          << exact(r.wallTime_s) << ' ' << r.records.size() << '\n';
+          << exact(r.wallTime_s) << ' ' << r.reinitializations << ' ' << r.records.size() << '\n';
         for (const auto& s : r.records)
         {
             o << s.step << ' ' << exact(s.t) << ' ' << (s.gt ? 1 : 0) << ' '
@@ -168,7 +169,7 @@ std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run)
         r.run = run;
         r.seed = static_cast<uint32_t>(run);
         size_t n = 0;
-        f >> r.variant >> r.particles >> r.threads >> r.wallTime_s >> n;
+        f >> r.variant >> r.particles >> r.threads >> r.wallTime_s >> r.reinitializations >> n;
         r.records.resize(n);
         for (auto& s : r.records)
         {
@@ -194,7 +195,8 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
     std::ostringstream o;
     o << "run,seed,variant,particles,threads,steps,steps_with_ground_truth,converged,"
          "convergence_step,convergence_time_s,mean_err_after_conv_m,rmse_m,final_err_m,"
-         "total_update_s,mean_update_us_per_particle,final_particles,wall_time_s\n";
+         "total_update_s,mean_update_us_per_particle,final_particles,reinitializations,"
+         "wall_time_s\n";
     for (const auto& r : runs)
     {
         const auto& m = r.metrics;
@@ -205,8 +207,8 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
           << num(m.convergence_time_s) << ',' << num(m.mean_err_after_conv_m) << ','
           << num(m.rmse_m) << ',' << num(m.final_err_m) << ',' << num(m.total_update_s) << ','
           << num(m.mean_update_us_per_particle) << ','
-          << (r.records.empty() ? 0 : r.records.back().n_particles) << ',' << num(r.wallTime_s)
-          << '\n';
+          << (r.records.empty() ? 0 : r.records.back().n_particles) << ',' << r.reinitializations
+          << ',' << num(r.wallTime_s) << '\n';
     }
     return o.str();
 }
@@ -546,6 +548,7 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
         r.wallTime_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
         r.metrics = RunMetrics::compute(r.records, v.options.convergence);
+        r.reinitializations = loc.recoveryStats().reinitializations;
         out.push_back(std::move(r));
     }
     return out;
@@ -619,6 +622,16 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
             }
             if (pid == 0)
             {
+                // MRPT's warnings (e.g. re-initializations, counted in results.csv) go to the
+                // run's log, not over the progress bar.
+                const int log =
+                    ::open(runPath(run, "log").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+                if (log >= 0)
+                {
+                    ::dup2(log, STDOUT_FILENO);
+                    ::dup2(log, STDERR_FILENO);
+                    ::close(log);
+                }
                 int rc = 0;
                 try
                 {
@@ -629,6 +642,9 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
                     std::ofstream(runPath(run, "err")) << errorMessage(e);
                     rc = 1;
                 }
+                std::cout.flush();
+                std::cerr.flush();
+                std::fflush(nullptr);
                 ::_exit(rc);  // no destructors: the staging directory is the parent's
             }
             children[pid] = run;

@@ -83,6 +83,8 @@ public:
         size_t particles = 0;
         size_t threads = 1;
         RunMetrics metrics;
+        /** Times every particle weight was zero and the cloud was drawn again. */
+        size_t reinitializations = 0;
         /** Filter construction and every step [s] (the paper's execution time). */
         double wallTime_s = 0;
         std::vector<TStepRecord> records;
