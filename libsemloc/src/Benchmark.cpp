@@ -261,7 +261,7 @@ std::string figuresScript(const std::vector<std::string>& variants)
     g << "# semloc-benchmark: the paper's Fig. 3 from curves.csv (gnuplot figures.gp)\n"
       << "set datafile separator ','\n"
       << "set terminal pngcairo size 1000,600 noenhanced\n"
-      << "set key top right\nset grid\nset logscale y\nset xlabel 'time [s]'\n";
+      << "set key outside right top\nset grid\nset logscale y\nset xlabel 'time [s]'\n";
     auto plot = [&](const std::string& png, const std::string& ylabel, int col)
     {
         g << "set output '" << png << "'\nset ylabel '" << ylabel << "'\nplot ";
