@@ -46,7 +46,8 @@ void run()
             const int fill = static_cast<int>(width * done / total);
             std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, ' ') << "] "
                       << done << "/" << total << " runs, elapsed " << clock(el) << ", left "
-                      << clock(el / done * (total - done)) << "  " << std::flush;
+                      << (done ? clock(el / done * (total - done)) : std::string("?")) << "  "
+                      << std::flush;
             if (done == total)
             {
                 std::cerr << "\n";

@@ -609,6 +609,10 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
     std::cout.flush();
     std::cerr.flush();
     std::fflush(nullptr);
+    if (progress)
+    {
+        progress(0, static_cast<size_t>(o.runs));
+    }
     while ((next <= o.runs && failure.empty()) || !children.empty())
     {
         if (next <= o.runs && failure.empty() && children.size() < jobs)

@@ -106,7 +106,8 @@ public:
     static Benchmark FromConfigFile(const std::string& iniPath);
 
     /** Runs everything and writes the outputs; `progress(runsDone, runs)` is called from the
-     *  calling thread after each run. On error nothing is left in output_dir. */
+     *  calling thread at the start (0) and after each run. On error nothing is left in output_dir.
+     */
     TResult run(const std::function<void(size_t, size_t)>& progress = {}) const;
 
     /** Runs one (run, seed) in this process: simulation and every variant. */
