@@ -1,5 +1,5 @@
 /* semloc tests — CParallelMonteCarloLocalization2D: MRPT's numbers, the same bits for any
- * thread count, never NaN or empty, augmented-MCL recovery; ParallelExecutor; AugmentedMCL. */
+ * thread count, never NaN or empty, augmented-MCL recovery. */
 #include <gtest/gtest.h>
 #include <mrpt/bayes/CParticleFilter.h>
 #include <mrpt/maps/CMultiMetricMap.h>
@@ -10,14 +10,12 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <mrpt/slam/CMonteCarloLocalization2D.h>
-#include <semloc/AugmentedMCL.h>
 #include <semloc/CParallelMonteCarloLocalization2D.h>
 #include <semloc/CStructureMap.h>
 #include <semloc/ParallelExecutor.h>
 
 #include <cmath>
 #include <limits>
-#include <stdexcept>
 
 #include "ScanSimulation.h"
 #include "TestHelpers.h"
@@ -100,89 +98,6 @@ class CNanMap : public semloc::CStructureMap
     }
 };
 }  // namespace
-
-TEST(ParallelExecutor, ChunksCoverTheRangeOnceAndRethrow)
-{
-    for (size_t threads : {1, 2, 3})
-    {
-        ParallelExecutor ex(threads);
-        EXPECT_EQ(ex.threads(), threads);
-        for (size_t n : {0, 1, 7, 1000, 4099})
-        {
-            std::vector<int> hits(n, 0);
-            ex.forEachChunk(
-                n,
-                [&](size_t b, size_t e)
-                {
-                    for (size_t i = b; i < e; i++)
-                    {
-                        hits[i]++;
-                    }
-                },
-                1);
-            for (size_t i = 0; i < n; i++)
-            {
-                ASSERT_EQ(hits[i], 1)
-                    << "item " << i << " of " << n << ", " << threads << " threads";
-            }
-        }
-        EXPECT_THROW(
-            ex.forEachChunk(
-                100, [](size_t b, size_t) { throw std::runtime_error(std::to_string(b)); }, 1),
-            std::runtime_error);
-        // Still usable after an exception.
-        size_t total = 0;
-        ex.forEachChunk(1, [&](size_t b, size_t e) { total += e - b; });
-        EXPECT_EQ(total, 1u);
-    }
-}
-
-TEST(ParallelExecutor, BlockSumsDoNotDependOnThreads)
-{
-    std::vector<double> v(10007);
-    for (size_t i = 0; i < v.size(); i++)
-    {
-        v[i] = std::sin(static_cast<double>(i)) * 1e3 + 1e-7 * static_cast<double>(i);
-    }
-    auto sum = [&](ParallelExecutor& ex)
-    {
-        return ex.reduceBlocks(v.size(),
-                               [&](size_t b, size_t e)
-                               {
-                                   double s = 0;
-                                   for (size_t i = b; i < e; i++)
-                                   {
-                                       s += v[i];
-                                   }
-                                   return s;
-                               });
-    };
-    ParallelExecutor one(1), two(2), three(3);
-    const double s1 = sum(one);
-    EXPECT_EQ(s1, sum(two));
-    EXPECT_EQ(s1, sum(three));
-}
-
-TEST(AugmentedMCL, InjectsOnlyAfterALikelihoodDrop)
-{
-    semloc::AugmentedMCL off;
-    EXPECT_EQ(off.update(-5), 0.0);
-
-    semloc::AugmentedMCL aug({0.01, 0.2});
-    for (int k = 0; k < 200; k++)
-    {
-        EXPECT_EQ(aug.update(-700), 0.0) << "steady likelihood e^-700, step " << k;
-    }
-    double p = 0;
-    for (int k = 0; k < 5; k++)
-    {
-        p = aug.update(-720);  // the likelihood falls by e^-20: lost
-    }
-    EXPECT_GT(p, 0.5);
-    EXPECT_LE(p, 1.0);
-    aug.reset();
-    EXPECT_EQ(aug.update(-720), 0.0);
-}
 
 TEST(CParallelMonteCarloLocalization2D, PredictionDrawsMrptsRandomNumbers)
 {

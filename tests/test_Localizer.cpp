@@ -1,21 +1,14 @@
-/* semloc tests — Localizer (options, step API, both rawlog formats), RunMetrics,
- * GroundTruth, LocalizationMap, StagedDirectory. */
+/* semloc tests — Localizer: its options, the step API in both rawlog formats, the initial
+ * clouds. */
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
-#include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <semloc/CSemanticMap.h>
 #include <semloc/ErrorMessage.h>
-#include <semloc/GroundTruth.h>
-#include <semloc/LocalizationMap.h>
 #include <semloc/Localizer.h>
-#include <semloc/RunMetrics.h>
 #include <semloc/Simulator.h>
-#include <semloc/StagedDirectory.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 
 using mrpt::math::TPose2D;
 using semloc::Localizer;
@@ -63,19 +56,6 @@ mrpt::maps::CMultiMetricMap::Ptr semanticMap(const semloc::World& w)
     auto mm = mrpt::maps::CMultiMetricMap::Create();
     mm->maps.push_back(sem);
     return mm;
-}
-
-semloc::TStepRecord rec(size_t step, double err, double var)
-{
-    semloc::TStepRecord r;
-    r.step = step;
-    r.t = 100.0 + static_cast<double>(step);
-    r.gt = TPose2D(0, 0, 0);
-    r.est = TPose2D(err, 0, 0);
-    r.var_xy = var;
-    r.n_particles = 100;
-    r.update_us = 50;
-    return r;
 }
 }  // namespace
 
@@ -252,171 +232,4 @@ TEST(Localizer, InitialCloudsFollowInitPdfMode)
     o.init_PDF_min_x = o.init_PDF_max_x = 0;
     EXPECT_NE(errorOf([&] { Localizer none(o, semanticMap(world)); }).find("init_PDF_mode = 0"),
               std::string::npos);
-}
-
-TEST(RunMetrics, ConvergenceAsDesignDefinesIt)
-{
-    semloc::RunMetrics::TConvergenceCriterion c;
-    std::vector<semloc::TStepRecord> r;
-    for (size_t k = 0; k < 40; k++)
-    {
-        // Lost, then 5 good steps, a relapse, then good for 12 steps, lost again.
-        const bool good = (k >= 5 && k < 10) || (k >= 12 && k < 24);
-        r.push_back(rec(k, good ? 0.5 : 3.0, good ? 0.2 : 5.0));
-    }
-    auto m = semloc::RunMetrics::compute(r, c);
-    EXPECT_TRUE(m.converged);
-    EXPECT_EQ(m.convergence_step, 12) << "5 good steps do not count; 12 consecutive do";
-    EXPECT_DOUBLE_EQ(m.convergence_time_s, 12.0);
-    EXPECT_EQ(m.steps_with_ground_truth, 40u);
-    EXPECT_DOUBLE_EQ(m.final_err_m, 3.0);
-    EXPECT_DOUBLE_EQ(m.mean_err_after_conv_m, (12 * 0.5 + 16 * 3.0) / 28);
-    EXPECT_DOUBLE_EQ(m.total_update_s, 40 * 50e-6);
-    EXPECT_DOUBLE_EQ(m.mean_update_us_per_particle, 0.5);
-
-    // Good to the end, even if shorter than min_steps, converges.
-    for (size_t k = 35; k < 40; k++)
-    {
-        r[k] = rec(k, 0.1, 0.1);
-    }
-    for (size_t k = 12; k < 24; k++)
-    {
-        r[k] = rec(k, 3.0, 0.1);
-    }
-    m = semloc::RunMetrics::compute(r, c);
-    EXPECT_EQ(m.convergence_step, 35);
-    c.max_err_xy_m = 0.05;
-    m = semloc::RunMetrics::compute(r, c);
-    EXPECT_FALSE(m.converged);
-    EXPECT_EQ(m.convergence_step, -1);
-    EXPECT_TRUE(std::isnan(m.convergence_time_s));
-
-    // A step without ground truth breaks a run of good steps.
-    r.assign(20, rec(0, 0.1, 0.1));
-    for (size_t k = 0; k < 20; k++)
-    {
-        r[k].step = k;
-    }
-    r[8].gt.reset();
-    c = {};
-    EXPECT_EQ(semloc::RunMetrics::compute(r, c).convergence_step, 9);
-    EXPECT_EQ(semloc::RunMetrics::compute(r, c).steps_with_ground_truth, 19u);
-}
-
-TEST(GroundTruth, NearestRowWithinTolerance)
-{
-    semloc::GroundTruth gt({{2.0, 2, 0, 0}, {1.0, 1, 0, 0}, {3.0, 3, 0, 0}});
-    EXPECT_EQ(gt.rows().front().t, 1.0);
-    EXPECT_DOUBLE_EQ(gt.medianPeriod(), 1.0);
-    ASSERT_NE(gt.nearest(2.3, 0.5), nullptr);
-    EXPECT_EQ(gt.nearest(2.3, 0.5)->x, 2);
-    EXPECT_EQ(gt.nearest(2.7, 0.5)->x, 3);
-    EXPECT_EQ(gt.nearest(0.4, 0.5), nullptr);
-    EXPECT_EQ(gt.nearest(3.6, 0.5), nullptr);
-    EXPECT_EQ(gt.nearest(std::nan(""), 0.5), nullptr);
-}
-
-TEST(LocalizationMap, StrictMetricMapAndWorldFilling)
-{
-    auto fromText = [](const std::string& text, const std::string& mapFile = kPaperWorld)
-    { return semloc::LocalizationMap::FromConfig(ini(text), mapFile); };
-
-    const auto lm = fromText(R"(
-[MetricMap]
-semanticMap_count = 1
-structureMap_count = 1
-occupancyGrid_count = 1
-likelihoodMapSelection = -1
-[MetricMap_occupancyGrid_00_creationOpts]
-resolution = 0.25
-[MetricMap_occupancyGrid_00_likelihoodOpts]
-likelihoodMethod = 1
-)");
-    ASSERT_EQ(lm.map->maps.size(), 3u);
-    ASSERT_TRUE(lm.world);
-    EXPECT_EQ(lm.variant(), "grid_rt+semantic+geometric");
-    const auto grid = lm.map->mapByClass<mrpt::maps::COccupancyGridMap2D>();
-    EXPECT_FLOAT_EQ(grid->getResolution(), 0.25f);
-    EXPECT_NEAR(grid->getXMax(), 50, 0.3);
-    EXPECT_EQ(grid->likelihoodOptions.likelihoodMethod,
-              mrpt::maps::COccupancyGridMap2D::lmRayTracing)
-        << "the ini's options survive the rasterization";
-    EXPECT_EQ(lm.map->mapByClass<semloc::CSemanticMap>()->objects().size(),
-              lm.world->objects.size());
-    EXPECT_EQ(fromText("[MetricMap]\nsemanticMap_count = 1\nstructureMap_count = 1\n").variant(),
-              "fused");
-    EXPECT_EQ(fromText("[MetricMap]\nstructureMap_count = 1\n").variant(), "geometric");
-
-    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemantcMap_count = 1\n"); })
-                  .find("[MetricMap] semantcMap_count: unknown map 'semantcMap'"),
-              std::string::npos);
-    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemanticMap_count = one\n"); })
-                  .find("semanticMap_count"),
-              std::string::npos);
-    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemanticMaps = 1\n"); }).find("semanticMaps"),
-              std::string::npos);
-    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\n"); }).find("no map"), std::string::npos);
-    EXPECT_NE(errorOf(
-                  [&]
-                  {
-                      fromText(
-                          "[MetricMap]\nsemanticMap_count = 1\n[MetricMap_semanticMap_01_"
-                          "likelihoodOpts]\nsigma_range_m = 1\n");
-                  })
-                  .find("[MetricMap_semanticMap_01_likelihoodOpts]"),
-              std::string::npos);
-    EXPECT_NE(errorOf(
-                  [&]
-                  {
-                      fromText(
-                          "[MetricMap]\nsemanticMap_count = 1\n[MetricMap_semantcMap_00_"
-                          "likelihoodOpts]\nsigma_range_m = 1\n");
-                  })
-                  .find("unknown section"),
-              std::string::npos);
-    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemanticMap_count = 1\n", ""); })
-                  .find("the semantic map is empty"),
-              std::string::npos);
-    EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemanticMap_count = 1\n", "/no/such.yaml"); })
-                  .find("/no/such.yaml"),
-              std::string::npos);
-    EXPECT_NE(
-        errorOf([&] { fromText("[MetricMap]\noccupancyGrid_count = 1\n", kPaperWorld + ".txt"); })
-            .find("does not exist"),
-        std::string::npos);
-}
-
-TEST(StagedDirectory, CommitReplacesErrorLeavesNothing)
-{
-    namespace fs = std::filesystem;
-    const fs::path base = fs::path(SEMLOC_TEST_OUT) / "staged";
-    fs::remove_all(base);
-    const fs::path target = base / "a" / "out";
-    {
-        semloc::StagedDirectory d(target.string());
-        std::ofstream(d.path("x.txt")) << "1";
-        EXPECT_FALSE(fs::exists(target));
-        d.commit();
-    }
-    EXPECT_TRUE(fs::exists(target / "x.txt"));
-    {
-        semloc::StagedDirectory d(target.string());
-        std::ofstream(d.path("y.txt")) << "2";
-        d.commit();
-    }
-    EXPECT_FALSE(fs::exists(target / "x.txt")) << "replaced as a whole";
-    EXPECT_TRUE(fs::exists(target / "y.txt"));
-    {
-        semloc::StagedDirectory d((base / "b").string());
-        std::ofstream(d.path("z.txt")) << "3";
-        // no commit: an error happened
-    }
-    EXPECT_FALSE(fs::exists(base / "b"));
-    size_t entries = 0;
-    for (const auto& e : fs::directory_iterator(base))
-    {
-        entries++;
-        EXPECT_EQ(e.path().filename(), "a") << "no staging directory left behind";
-    }
-    EXPECT_EQ(entries, 1u);
 }

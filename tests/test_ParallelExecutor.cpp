@@ -1,0 +1,73 @@
+/* semloc tests — ParallelExecutor: every item once, exceptions rethrown, block sums that do
+ * not depend on the thread count. */
+#include <gtest/gtest.h>
+#include <semloc/ParallelExecutor.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+using semloc::ParallelExecutor;
+
+TEST(ParallelExecutor, ChunksCoverTheRangeOnceAndRethrow)
+{
+    for (size_t threads : {1, 2, 3})
+    {
+        ParallelExecutor ex(threads);
+        EXPECT_EQ(ex.threads(), threads);
+        for (size_t n : {0, 1, 7, 1000, 4099})
+        {
+            std::vector<int> hits(n, 0);
+            ex.forEachChunk(
+                n,
+                [&](size_t b, size_t e)
+                {
+                    for (size_t i = b; i < e; i++)
+                    {
+                        hits[i]++;
+                    }
+                },
+                1);
+            for (size_t i = 0; i < n; i++)
+            {
+                ASSERT_EQ(hits[i], 1)
+                    << "item " << i << " of " << n << ", " << threads << " threads";
+            }
+        }
+        EXPECT_THROW(
+            ex.forEachChunk(
+                100, [](size_t b, size_t) { throw std::runtime_error(std::to_string(b)); }, 1),
+            std::runtime_error);
+        // Still usable after an exception.
+        size_t total = 0;
+        ex.forEachChunk(1, [&](size_t b, size_t e) { total += e - b; });
+        EXPECT_EQ(total, 1u);
+    }
+}
+
+TEST(ParallelExecutor, BlockSumsDoNotDependOnThreads)
+{
+    std::vector<double> v(10007);
+    for (size_t i = 0; i < v.size(); i++)
+    {
+        v[i] = std::sin(static_cast<double>(i)) * 1e3 + 1e-7 * static_cast<double>(i);
+    }
+    auto sum = [&](ParallelExecutor& ex)
+    {
+        return ex.reduceBlocks(v.size(),
+                               [&](size_t b, size_t e)
+                               {
+                                   double s = 0;
+                                   for (size_t i = b; i < e; i++)
+                                   {
+                                       s += v[i];
+                                   }
+                                   return s;
+                               });
+    };
+    ParallelExecutor one(1), two(2), three(3);
+    const double s1 = sum(one);
+    EXPECT_EQ(s1, sum(two));
+    EXPECT_EQ(s1, sum(three));
+}
