@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 
@@ -20,7 +21,7 @@ TCLAP::UnlabeledValueArg<std::string> argIni("config", "Benchmark ini (see confi
 
 std::string clock(double s)
 {
-    const long t = static_cast<long>(s + 0.5);
+    const long t = std::lround(s);
     return mrpt::format("%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
 }
 
@@ -46,8 +47,10 @@ void run()
             const int fill = static_cast<int>(width * done / total);
             std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, ' ') << "] "
                       << done << "/" << total << " runs, elapsed " << clock(el) << ", left "
-                      << (done ? clock(el / done * (total - done)) : std::string("?")) << "  "
-                      << std::flush;
+                      << (done ? clock(el / static_cast<double>(done) *
+                                       static_cast<double>(total - done))
+                               : std::string("?"))
+                      << "  " << std::flush;
             if (done == total)
             {
                 std::cerr << "\n";

@@ -41,7 +41,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kPaperSemanticNs = 1171934146.0;
 constexpr double kPaperGeometricNs = 6977878010.0;
 
-std::string trim(std::string s)
+std::string trim(const std::string& s)
 {
     const auto b = s.find_first_not_of(" \t\r\n");
     const auto e = s.find_last_not_of(" \t\r\n");
@@ -788,9 +788,11 @@ std::string Benchmark::reportTable(const std::vector<TRunResult>& runs,
     {
         const auto& s = st[v];
         o << "| " << v << " | " << s.runs << " | "
-          << mrpt::format("%.0f%%", s.runs ? 100.0 * s.converged / s.runs : 0.0) << " | "
-          << cell("%.1f", mean(s.convTime)) << " | " << cell("%.3f", mean(s.errAfter)) << " | "
-          << cell("%.3f", mean(s.var)) << " | " << cell("%.3f", mean(s.filter)) << " | "
+          << mrpt::format("%.0f%%", s.runs ? 100.0 * static_cast<double>(s.converged) /
+                                                 static_cast<double>(s.runs)
+                                           : 0.0)
+          << " | " << cell("%.1f", mean(s.convTime)) << " | " << cell("%.3f", mean(s.errAfter))
+          << " | " << cell("%.3f", mean(s.var)) << " | " << cell("%.3f", mean(s.filter)) << " | "
           << cell("%.3f", mean(s.perParticle)) << " | " << cell("%.3f", mean(s.wall)) << " | "
           << cell("%.2f", mean(s.filter) / refFilter) << " |\n";
     }
