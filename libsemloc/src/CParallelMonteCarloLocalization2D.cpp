@@ -118,6 +118,17 @@ SensoryFrameLikelihood::TStats CParallelMonteCarloLocalization2D::likelihoodStat
     return m_likelihood ? m_likelihood->stats() : SensoryFrameLikelihood::TStats{};
 }
 
+void CParallelMonteCarloLocalization2D::prepareLikelihood()
+{
+    ASSERTMSG_(options.metricMap, "CParallelMonteCarloLocalization2D: no options.metricMap");
+    if (!m_likelihood || m_likelihoodMap != options.metricMap.get())
+    {
+        m_likelihoodMap = options.metricMap.get();
+        m_likelihood = std::make_unique<SensoryFrameLikelihood>(*m_likelihoodMap);
+    }
+    m_likelihood->prepare(*m_executor);
+}
+
 void CParallelMonteCarloLocalization2D::resetFromSampler(size_t particleCount)
 {
     ASSERTMSG_(m_sampler, "resetFromSampler: no FreeSpaceSampler was set");
@@ -259,11 +270,7 @@ void CParallelMonteCarloLocalization2D::update(
     const size_t M = m_particles.size();
     ASSERTMSG_(M > 0, "the particle set is empty");
     ParallelExecutor& ex = *m_executor;
-    if (!m_likelihood || m_likelihoodMap != options.metricMap.get())
-    {
-        m_likelihoodMap = options.metricMap.get();
-        m_likelihood = std::make_unique<SensoryFrameLikelihood>(*m_likelihoodMap);
-    }
+    prepareLikelihood();
 
     const bool recovery = m_augmented.options().enabled();
     const double lsePrior = recovery ? logSumExpWeights() : 0;

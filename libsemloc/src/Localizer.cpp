@@ -372,6 +372,7 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
             "occupancyGrid map or an init_PDF_min/max_x/y box");
     }
     m_pdf->setFreeSpaceSampler(m_freeSpace);
+    m_pdf->prepareLikelihood();
 
     mrpt::random::getRandomGenerator().randomize(o.seed);
     reset();

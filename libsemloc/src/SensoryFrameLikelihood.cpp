@@ -119,6 +119,15 @@ void SensoryFrameLikelihood::prepareGridCaches()
     }
 }
 
+void SensoryFrameLikelihood::prepare(const ParallelExecutor& executor)
+{
+    if (executor.threads() > 1 && !m_gridCachesReady)
+    {
+        prepareGridCaches();
+        m_gridCachesReady = true;
+    }
+}
+
 void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const TPose2D* poses,
                                       size_t n, double* out, ParallelExecutor& executor)
 {
@@ -168,10 +177,9 @@ void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const 
         }
     }
 
-    if (anyParallelGeneric && executor.threads() > 1 && !m_gridCachesReady)
+    if (anyParallelGeneric)
     {
-        prepareGridCaches();
-        m_gridCachesReady = true;
+        prepare(executor);
     }
 
     // Terms no thread may share: every pose, here, before the parallel section.

@@ -103,6 +103,10 @@ public:
     double lastInjectionProbability() const { return m_lastPInject; }
     /** @} */
 
+    /** Sets up the sensor model for options.metricMap now (else at the first update): the
+     *  one-off cache filling of SensoryFrameLikelihood::prepare() stays out of step timings. */
+    void prepareLikelihood();
+
     /** Re-draws every particle from the FreeSpaceSampler with log-weight 0 (requires one). */
     void resetFromSampler(size_t particleCount);
 

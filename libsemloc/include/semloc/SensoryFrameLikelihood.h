@@ -54,6 +54,10 @@ public:
     /** `map` is the filter's map (usually a CMultiMetricMap); it must outlive this object. */
     explicit SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map);
 
+    /** Does the one-off work of the first multi-threaded evaluate() now (fills the
+     *  likelihood-field caches of the occupancy grids), e.g. before timing starts. */
+    void prepare(const ParallelExecutor& executor);
+
     /** out[i] = log p(sf | poses[i]) for i in [0, n), on the executor's threads. */
     void evaluate(const mrpt::obs::CSensoryFrame& sf, const mrpt::math::TPose2D* poses, size_t n,
                   double* out, ParallelExecutor& executor);
