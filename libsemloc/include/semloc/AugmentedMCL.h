@@ -27,10 +27,13 @@ public:
         /** Rate of the short-term average. 0 = off. */
         double alpha_fast = 0;
 
+        /** True when 0 < alpha_slow < alpha_fast. */
         bool enabled() const { return alpha_slow > 0 && alpha_fast > alpha_slow; }
     };
 
+    /** Off. */
     AugmentedMCL() = default;
+    /** With rates `o`. */
     explicit AugmentedMCL(const TOptions& o) : m_options(o) {}
 
     /** Feeds log(w_avg) of one update; returns the injection probability p_inject. */
@@ -42,6 +45,7 @@ public:
     double logWSlow() const { return m_logSlow; }
     /** log(w_fast), -inf before the first update. */
     double logWFast() const { return m_logFast; }
+    /** The rates. */
     const TOptions& options() const { return m_options; }
 
 private:

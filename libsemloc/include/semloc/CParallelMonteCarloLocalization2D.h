@@ -83,6 +83,7 @@ public:
     /** The threads of the per-particle work (shared: several filters may use one pool,
      *  one at a time). */
     void setExecutor(std::shared_ptr<ParallelExecutor> executor);
+    /** The threads of the per-particle work. */
     ParallelExecutor& executor() const { return *m_executor; }
     /** Where re-initialized and injected particles come from. Without one, a
      *  re-initialization keeps the poses and only resets the weights. */
@@ -98,6 +99,7 @@ public:
      *  @{ */
     /** What the observations contained (skipped observations, invalid detections...). */
     SensoryFrameLikelihood::TStats likelihoodStats() const;
+    /** Re-initializations and injections so far. */
     const TRecoveryStats& recoveryStats() const { return m_recoveryStats; }
     /** Augmented MCL's p_inject at the last update (0 when off). */
     double lastInjectionProbability() const { return m_lastPInject; }

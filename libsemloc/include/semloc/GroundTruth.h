@@ -18,8 +18,11 @@ public:
     /** Reads a ground-truth file (Simulator::readGroundTruth: `t x y phi` per line). */
     static GroundTruth FromFile(const std::string& path);
 
+    /** True without rows. */
     bool empty() const { return m_rows.empty(); }
+    /** Number of rows. */
     size_t size() const { return m_rows.size(); }
+    /** The rows, by time. */
     const std::vector<GroundTruthRow>& rows() const { return m_rows; }
 
     /** The row nearest in time to `t` [s] if it is at most `tolerance_s` away, else null. */

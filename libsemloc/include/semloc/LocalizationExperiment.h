@@ -77,26 +77,38 @@ public:
     /** Command-line overrides of the ini. */
     struct TOverrides
     {
+        /** Rawlog (the command line's rawlog argument); empty: the ini's. */
         std::string rawlog_file;
+        /** Output directory (-o); empty: the ini's. */
         std::string logOutput_dir;
+        /** [PF_options] threads (-t). */
         std::optional<int> threads;
+        /** particles_count (-n). */
         std::optional<int> particles_count;
+        /** seed (-s). */
         std::optional<uint32_t> seed;
     };
 
     /** What a run produced. */
     struct TResult
     {
+        /** The variant's name. */
         std::string variant;
         /** Where the outputs are. */
         std::string outputDir;
+        /** Convergence, errors, timing. */
         RunMetrics metrics;
+        /** One record per step (the rows of steps.csv). */
         std::vector<TStepRecord> records;
+        /** Observations used/skipped, invalid/unknown detections. */
         SensoryFrameLikelihood::TStats likelihood;
+        /** Re-initializations, injected particles. */
         CParallelMonteCarloLocalization2D::TRecoveryStats recovery;
+        /** Threads of the per-particle work. */
         size_t threads = 1;
-        /** "action/sensory-frame" or "observations-only". */
+        /** "action/sensory-frame", "observations-only" or "mixed". */
         std::string rawlogFormat;
+        /** Wall time of run() [s]. */
         double wallTime_s = 0;
 
         /** A one-paragraph summary for the terminal. */
@@ -112,7 +124,9 @@ public:
      *  called after every rawlog entry. On error nothing is left in logOutput_dir. */
     TResult run(const std::function<void(size_t, size_t)>& progress = {}) const;
 
+    /** The validated options (overrides applied, input paths absolute). */
     const TOptions& options() const { return m_options; }
+    /** The maps. */
     const LocalizationMap& maps() const { return m_maps; }
 
 private:

@@ -52,9 +52,11 @@ struct RunMetrics
         int min_steps = 10;
     };
 
+    /** Filter steps run. */
     size_t steps = 0;
     /** Steps that have a ground-truth pose. */
     size_t steps_with_ground_truth = 0;
+    /** Whether the run converged (TConvergenceCriterion). */
     bool converged = false;
     /** Index of the convergence step, -1 if none. */
     long convergence_step = -1;
