@@ -2,6 +2,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <semloc/CSemanticMap.h>
 #include <semloc/CStructureMap.h>
+#include <semloc/Benchmark.h>
 #include <semloc/IniReference.h>
 #include <semloc/LocalizationExperiment.h>
 #include <semloc/Simulator.h>
@@ -32,6 +33,8 @@ std::string iniReference()
     loc.map_file = "../maps/paper_50x50.yaml";
     loc.logOutput_dir = "results/semantic";
     loc.saveToConfigFile(c, "LocalizationExperiment");
+    // semloc-benchmark
+    Benchmark::TOptions().saveToConfigFile(c, "Benchmark");
     // semloc-simulate
     TSimulatorOptions sim;
     sim.simulation.world_file = "../maps/paper_50x50.yaml";
