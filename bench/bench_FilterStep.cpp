@@ -17,7 +17,6 @@
 
 namespace
 {
-constexpr size_t kParticles = 10000;
 /** A step in the middle of the first leg, where the detector sees objects. */
 constexpr size_t kStep = 20;
 
@@ -72,7 +71,8 @@ void BM_FilterStep(benchmark::State& state, const std::string& variant)
         std::make_shared<semloc::ParallelExecutor>(static_cast<size_t>(state.range(0))));
     auto& rng = mrpt::random::getRandomGenerator();
     rng.randomize(1);
-    pdf.m_particles.resize(kParticles);
+    const auto nParticles = static_cast<size_t>(state.range(1));
+    pdf.m_particles.resize(nParticles);
     for (auto& p : pdf.m_particles)
     {
         p.d = mrpt::math::TPose2D(truth.x + rng.drawGaussian1D(0, 1.0),
@@ -94,18 +94,18 @@ void BM_FilterStep(benchmark::State& state, const std::string& variant)
         state.ResumeTiming();
         pf.executeOn(pdf, action.get(), frame.get());
     }
-    state.counters["particles"] = static_cast<double>(kParticles);
+    state.counters["particles"] = static_cast<double>(nParticles);
     state.counters["us_per_particle"] = benchmark::Counter(
-        static_cast<double>(state.iterations()) * static_cast<double>(kParticles) * 1e-6,
+        static_cast<double>(state.iterations()) * static_cast<double>(nParticles) * 1e-6,
         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-#define SEMLOC_FILTER_STEP(variant)                     \
-    BENCHMARK_CAPTURE(BM_FilterStep, variant, #variant) \
-        ->ArgName("threads")                            \
-        ->Arg(1)                                        \
-        ->Arg(2)                                        \
-        ->UseRealTime()                                 \
+// threads x particles: the reference point is 10 000 particles.
+#define SEMLOC_FILTER_STEP(variant)                         \
+    BENCHMARK_CAPTURE(BM_FilterStep, variant, #variant)     \
+        ->ArgNames({"threads", "particles"})                \
+        ->ArgsProduct({{1, 2}, {100, 1000, 10000, 100000}}) \
+        ->UseRealTime()                                     \
         ->Unit(benchmark::kMillisecond)
 
 SEMLOC_FILTER_STEP(semantic);

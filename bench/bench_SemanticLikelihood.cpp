@@ -63,7 +63,7 @@ struct Setup
     std::vector<TPose2D> particles;
 };
 
-Setup makeSetup(int nObjects, size_t nDet, CSemanticMap::Model model)
+Setup makeSetup(int nObjects, size_t nDet, CSemanticMap::Model model, size_t nParticles = 4096)
 {
     mrpt::random::CRandomGenerator rng(1);
     Setup s{makeMap(nObjects, model, rng), {}, {}};
@@ -75,7 +75,7 @@ Setup makeSetup(int nObjects, size_t nDet, CSemanticMap::Model model)
                         rng.drawUniform(0.2 * side, 0.8 * side), rng.drawUniform(-M_PI, M_PI));
         s.obs = makeObs(s.map, truth, nDet);
     }
-    s.particles.resize(4096);
+    s.particles.resize(nParticles);
     for (auto& p : s.particles)
     {
         p = TPose2D(truth.x + rng.drawGaussian1D(0, 2.0), truth.y + rng.drawGaussian1D(0, 2.0),
@@ -120,6 +120,22 @@ void runBatch(benchmark::State& state, CSemanticMap::Model model)
         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
+/** Batch cost per particle vs the number of particles (50 objects, 5 detections). */
+void BM_PaperBatchParticles(benchmark::State& state)
+{
+    const Setup s =
+        makeSetup(50, 5, CSemanticMap::Model::Paper, static_cast<size_t>(state.range(0)));
+    std::vector<double> out(s.particles.size());
+    for (auto _ : state)
+    {
+        s.map.computeLogLikelihoods(s.obs, s.particles.data(), s.particles.size(), out.data());
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.counters["per_particle"] = benchmark::Counter(
+        static_cast<double>(state.iterations()) * static_cast<double>(s.particles.size()),
+        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 void BM_PaperSingle(benchmark::State& s)
 {
     runSingle(s, CSemanticMap::Model::Paper);
@@ -142,6 +158,13 @@ BENCHMARK(BM_PaperSingle)->Args({50, 5});
 BENCHMARK(BM_PaperBatch)->Args({50, 5});
 BENCHMARK(BM_ProbabilisticSingle)->Args({50, 5});
 BENCHMARK(BM_ProbabilisticBatch)->Args({50, 5});
+// Particles per call (10^2 .. 10^5).
+BENCHMARK(BM_PaperBatchParticles)
+    ->ArgName("particles")
+    ->Arg(100)
+    ->Arg(1000)
+    ->Arg(10000)
+    ->Arg(100000);
 // Detections per scan.
 BENCHMARK(BM_PaperBatch)->Args({50, 0})->Args({50, 1})->Args({50, 10});
 // Map size at fixed density: cost must stay flat (grid index).

@@ -111,8 +111,28 @@ void BM_Grid_RayTracing(benchmark::State& state)
     runMetricMap(state, setup().gridRT);
 }
 
+/** CStructureMap's cost vs the number of beams (same 20 m, 180 deg sonar). */
+void BM_StructureMap_beams(benchmark::State& state)
+{
+    const Setup& s = setup();
+    const auto beams = static_cast<size_t>(state.range(0));
+    const auto scan = semloc::test::simulateScan(
+        s.structure.rayCaster(), TPose2D(12.5, 4.0, M_PI / 2), beams, kMaxRange_m, M_PI);
+    size_t i = 0;
+    double sink = 0;
+    for (auto _ : state)
+    {
+        sink += s.structure.computeLogLikelihood(scan, s.particles[i++ & 4095]);
+    }
+    benchmark::DoNotOptimize(sink);
+    state.counters["per_beam"] = benchmark::Counter(
+        static_cast<double>(beams),
+        benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
 }  // namespace
 
+BENCHMARK(BM_StructureMap_beams)->ArgName("beams")->Arg(15)->Arg(30)->Arg(60)->Arg(120)->Arg(240);
 BENCHMARK(BM_StructureMap_fast);
 BENCHMARK(BM_StructureMap);
 BENCHMARK(BM_Grid_LikelihoodField);
