@@ -101,6 +101,7 @@ public:
         /** @} */
 
         TOptions();
+        /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
         /** Writes every key (defaults included) of `section` and the three fixed sections. */
