@@ -59,8 +59,11 @@ public:
          *  likelihood (the maps) differs; false: each variant's own. */
         bool same_filter = true;
 
+        /** Reads the [Benchmark] section strictly: an unknown key or a bad value is an error
+         *  naming it. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
+        /** Writes every key of the [Benchmark] section (the effective configuration). */
         void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                               const std::string& section) const override;
     };
@@ -68,25 +71,36 @@ public:
     /** One variant as it runs: its resolved options (overrides applied) and its maps. */
     struct TVariant
     {
+        /** Path of the variant's ini file. */
         std::string iniPath;
+        /** The variant's options, benchmark overrides applied. */
         LocalizationExperiment::TOptions options;
+        /** The maps the variant localizes in. */
         LocalizationMap maps;
+        /** The variant's name (options.variant). */
         const std::string& name() const { return options.variant; }
     };
 
     /** One run of one variant. */
     struct TRunResult
     {
+        /** Index of the run. */
         int run = 0;
+        /** Seed of the run (simulation and filter). */
         uint32_t seed = 0;
+        /** Name of the variant. */
         std::string variant;
+        /** Number of particles of the filter (the initial number with KLD). */
         size_t particles = 0;
+        /** Threads of the filter's per-particle work. */
         size_t threads = 1;
+        /** Summary metrics of the run. */
         RunMetrics metrics;
         /** Times every particle weight was zero and the cloud was drawn again. */
         size_t reinitializations = 0;
         /** Filter construction and every step [s] (the paper's execution time). */
         double wallTime_s = 0;
+        /** One record per filter step (rows of steps.csv). */
         std::vector<TStepRecord> records;
     };
 
@@ -95,9 +109,11 @@ public:
     {
         /** Run-major, variants in configuration order. */
         std::vector<TRunResult> runs;
+        /** Directory the outputs were written to. */
         std::string outputDir;
         /** reportTable() of the runs. */
         std::string table;
+        /** Wall time of the whole benchmark [s]. */
         double wallTime_s = 0;
     };
 
@@ -119,7 +135,9 @@ public:
     static std::string reportTable(const std::vector<TRunResult>& runs,
                                    const std::vector<std::string>& variants);
 
+    /** The benchmark options. */
     const TOptions& options() const { return m_options; }
+    /** The variants, in configuration order. */
     const std::vector<TVariant>& variants() const { return m_variants; }
     /** Jobs actually used. */
     size_t effectiveJobs() const;

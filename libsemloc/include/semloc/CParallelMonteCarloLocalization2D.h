@@ -113,11 +113,16 @@ public:
     void resetFromSampler(size_t particleCount);
 
     // CMonteCarloLocalization2D / CParticleFilterCapable
+    /** One step: predicts from the odometry (in parallel; MRPT's own KLD sampling if
+     *  PF_options.adaptiveSampleSize), then weights by the frame with options.metricMap. */
     void prediction_and_update_pfStandardProposal(
         const mrpt::obs::CActionCollection* action, const mrpt::obs::CSensoryFrame* observation,
         const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options) override;
+    /** Shifts the log-weights so the largest is 0; returns max/min weight ratio. */
     double normalizeWeights(double* out_max_log_w = nullptr) override;
+    /** Effective sample size fraction (sum w)^2 / (M sum w^2), thread-count independent. */
     double ESS() const override;
+    /** Replaces the particles by those at the (sorted) resampled indices, in parallel. */
     void performSubstitution(const std::vector<size_t>& indx) override;
 
 private:

@@ -108,9 +108,11 @@ public:
     /** @} */
 
     // CMetricMap interface
+    /** True if the map has no outline segment. */
     bool isEmpty() const override { return m_caster.empty(); }
     /** Writes `<prefix>_outlines.txt`: one segment per line, `x1 y1 x2 y2` [m]. */
     void saveMetricMapRepresentationToFile(const std::string& filNamePrefix) const override;
+    /** One-line summary: world name, segment count and ray-cast grid. */
     std::string asString() const override;
     /** The outlines as line segments (mrpt::opengl::CSetOfLines) at z = 0. */
     void getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const override;

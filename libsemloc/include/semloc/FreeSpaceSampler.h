@@ -22,8 +22,18 @@ namespace semloc
 /** Where a FreeSpaceSampler draws: an axis-aligned box [m] and a heading interval [rad]. */
 struct TSamplingArea
 {
-    double x_min = 0, x_max = 0, y_min = 0, y_max = 0;
-    double yaw_min = -M_PI, yaw_max = M_PI;
+    /** Box min x [m]. */
+    double x_min = 0;
+    /** Box max x [m]. */
+    double x_max = 0;
+    /** Box min y [m]. */
+    double y_min = 0;
+    /** Box max y [m]. */
+    double y_max = 0;
+    /** Heading interval min [rad]. */
+    double yaw_min = -M_PI;
+    /** Heading interval max [rad]. */
+    double yaw_max = M_PI;
     /** False for an empty box (x_min >= x_max or y_min >= y_max): "no restriction". */
     bool hasBox() const { return x_min < x_max && y_min < y_max; }
 };

@@ -64,15 +64,29 @@ public:
         int particles_count = 10000;
         /** init_PDF_mode: 0 free space, 1 box, 2 Gaussian. */
         InitMode init_PDF_mode = InitMode::FreeSpace;
-        /** The box of modes 0 and 1 [m]; for mode 0 an empty box (min >= max, the default)
-         *  means the whole free space. */
-        double init_PDF_min_x = 0, init_PDF_max_x = 0, init_PDF_min_y = 0, init_PDF_max_y = 0;
-        /** Heading interval of modes 0 and 1 [deg]. */
-        double init_PDF_min_yaw_deg = -180, init_PDF_max_yaw_deg = 180;
-        /** Mode 2: mean pose [m, m, deg]. */
-        double init_PDF_mean_x = 0, init_PDF_mean_y = 0, init_PDF_mean_yaw_deg = 0;
-        /** Mode 2: standard deviation of x and of y [m], and of the heading [deg]. */
-        double init_PDF_std_xy = 1.0, init_PDF_std_yaw_deg = 10.0;
+        /** The box of modes 0 and 1: min x [m]; for mode 0 an empty box (min >= max, the
+         *  default) means the whole free space. */
+        double init_PDF_min_x = 0;
+        /** The box of modes 0 and 1: max x [m]. */
+        double init_PDF_max_x = 0;
+        /** The box of modes 0 and 1: min y [m]. */
+        double init_PDF_min_y = 0;
+        /** The box of modes 0 and 1: max y [m]. */
+        double init_PDF_max_y = 0;
+        /** Heading interval of modes 0 and 1: min [deg]. */
+        double init_PDF_min_yaw_deg = -180;
+        /** Heading interval of modes 0 and 1: max [deg]. */
+        double init_PDF_max_yaw_deg = 180;
+        /** Mode 2: mean x [m]. */
+        double init_PDF_mean_x = 0;
+        /** Mode 2: mean y [m]. */
+        double init_PDF_mean_y = 0;
+        /** Mode 2: mean heading [deg]. */
+        double init_PDF_mean_yaw_deg = 0;
+        /** Mode 2: standard deviation of x and of y [m]. */
+        double init_PDF_std_xy = 1.0;
+        /** Mode 2: standard deviation of the heading [deg]. */
+        double init_PDF_std_yaw_deg = 10.0;
         /** Seed of MRPT's global random generator. */
         uint32_t seed = 1;
         /** @} */
@@ -162,6 +176,7 @@ public:
 
     /** @name Diagnostics
      *  @{ */
+    /** The localizer options. */
     const TOptions& options() const { return m_options; }
     /** Threads of the per-particle work. */
     size_t threads() const;

@@ -66,6 +66,7 @@ public:
         mrpt::obs::CActionRobotMovement2D::TMotionModelOptions motionModel() const;
     };
 
+    /** A model with the given noise options. */
     explicit OdometryModel(const TOptions& options);
 
     /** The odometry action of one step whose true pose increment (vehicle frame) is

@@ -67,7 +67,14 @@ public:
     /** A segment as origin + edge vector (what the intersection test reads). */
     struct Seg
     {
-        double ax, ay, ex, ey;
+        /** Origin x [m]. */
+        double ax;
+        /** Origin y [m]. */
+        double ay;
+        /** Edge vector x [m]. */
+        double ex;
+        /** Edge vector y [m]. */
+        double ey;
     };
 
 private:

@@ -91,10 +91,13 @@ public:
     {
         /** Index in World::objects. */
         size_t index = 0;
-        /** Exact range [m] and bearing in the sensor frame [rad] of its centre. */
-        double range_m = 0, bearing_rad = 0;
+        /** Exact range of its centre [m]. */
+        double range_m = 0;
+        /** Exact bearing of its centre in the sensor frame [rad]. */
+        double bearing_rad = 0;
     };
 
+    /** A detector of the objects of `world` with the given options. */
     SemanticDetectorModel(const World& world, const TOptions& options);
 
     /** The objects visible from vehicle pose `vehicle` (class documentation), world order. */

@@ -53,8 +53,12 @@ struct TKidnappingOptions : public mrpt::config::CLoadableOptions
     /** Teleport to a pose uniform over the free space (World::sampleFreePose) instead of
      *  (x_m, y_m, phi_deg). */
     bool random_pose = false;
-    /** The new pose: position [m] (must be free space) and heading [deg]. */
-    double x_m = 25.0, y_m = 25.0, phi_deg = 0.0;
+    /** The new pose: x position [m] (must be free space). */
+    double x_m = 25.0;
+    /** The new pose: y position [m] (must be free space). */
+    double y_m = 25.0;
+    /** The new pose: heading [deg]. */
+    double phi_deg = 0.0;
 
     /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
@@ -88,8 +92,12 @@ struct GroundTruthRow
 {
     /** Time [s] (the step's timestamp, mrpt::Clock::toDouble). */
     double t = 0;
-    /** Pose [m, m, rad], phi in [-pi, pi]. */
-    double x = 0, y = 0, phi = 0;
+    /** Pose x [m]. */
+    double x = 0;
+    /** Pose y [m]. */
+    double y = 0;
+    /** Pose heading [rad], in [-pi, pi]. */
+    double phi = 0;
     /** The pose as an MRPT TPose2D. */
     mrpt::math::TPose2D pose() const { return {x, y, phi}; }
 };
