@@ -1,8 +1,8 @@
 /* semloc — iniReference(): generated from the options structs. */
 #include <mrpt/config/CConfigFileMemory.h>
+#include <semloc/Benchmark.h>
 #include <semloc/CSemanticMap.h>
 #include <semloc/CStructureMap.h>
-#include <semloc/Benchmark.h>
 #include <semloc/IniReference.h>
 #include <semloc/LocalizationExperiment.h>
 #include <semloc/Simulator.h>
