@@ -204,33 +204,24 @@ double RayCaster::castDir(double px, double py, double dx, double dy, double max
     const double X0 = m_x0, X1 = m_x0 + m_nx * m_cell;
     const double Y0 = m_y0, Y1 = m_y0 + m_ny * m_cell;
     double t0 = 0, t1 = maxRange;
-    if (dx != 0)
+    // Narrows [t0, t1] to the slab lo <= p + t d <= hi; false if the ray misses it.
+    auto clipSlab = [&](double p, double d, double lo, double hi)
     {
-        const double inv = 1.0 / dx;
-        double ta = (X0 - px) * inv, tb = (X1 - px) * inv;
+        if (d == 0)
+        {
+            return p >= lo && p <= hi;
+        }
+        const double inv = 1.0 / d;
+        double ta = (lo - p) * inv, tb = (hi - p) * inv;
         if (ta > tb)
         {
             std::swap(ta, tb);
         }
         t0 = std::max(t0, ta);
         t1 = std::min(t1, tb);
-    }
-    else if (px < X0 || px > X1)
-    {
-        return maxRange;
-    }
-    if (dy != 0)
-    {
-        const double inv = 1.0 / dy;
-        double ta = (Y0 - py) * inv, tb = (Y1 - py) * inv;
-        if (ta > tb)
-        {
-            std::swap(ta, tb);
-        }
-        t0 = std::max(t0, ta);
-        t1 = std::min(t1, tb);
-    }
-    else if (py < Y0 || py > Y1)
+        return true;
+    };
+    if (!clipSlab(px, dx, X0, X1) || !clipSlab(py, dy, Y0, Y1))
     {
         return maxRange;
     }
