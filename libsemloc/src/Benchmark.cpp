@@ -27,11 +27,14 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include "TextFiles.h"
 
 namespace semloc
 {
 namespace
 {
+using detail::shellQuoted;
+using detail::writeFile;
 const std::string kSection = "Benchmark";
 const std::vector<std::string> kKeys = {"runs",       "variants",  "simulate_ini",
                                         "output_dir", "jobs",      "filter_threads",
@@ -84,27 +87,6 @@ std::string cell(const char* fmt, double v)
 std::string exact(double v)
 {
     return mrpt::format("%.17g", v);
-}
-
-void writeFile(const std::string& path, const std::string& text)
-{
-    std::ofstream f(path, std::ios::binary);
-    f << text;
-    f.close();
-    if (!f)
-    {
-        THROW_EXCEPTION("cannot write '" + path + "'");
-    }
-}
-
-std::string shellQuoted(const std::string& s)
-{
-    std::string out = "'";
-    for (char c : s)
-    {
-        out += (c == '\'') ? std::string("'\\''") : std::string(1, c);
-    }
-    return out + "'";
 }
 
 double mean(const std::vector<double>& v)
@@ -529,20 +511,12 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
             const auto sf = data.rawlog.getAsObservations(i);
             loc.step(*action, *sf);
             action.reset();
-            TStepRecord s;
+            TStepRecord s = loc.lastStepRecord(*sf);
             s.step = r.records.size();
-            s.t = sf->size() > 0 ? mrpt::Clock::toDouble(sf->getObservationByIndex(0)->timestamp)
-                                 : kNaN;
             if (const auto* row = gt.nearest(s.t, tolerance))
             {
                 s.gt = row->pose();
             }
-            const auto [cov, meanPose] = loc.pdf().getCovarianceAndMean();
-            s.est = meanPose.asTPose();
-            s.var_xy = cov(0, 0) + cov(1, 1);
-            s.ess = loc.lastStep().ess_before_resampling;
-            s.n_particles = loc.lastStep().particles;
-            s.update_us = loc.lastStep().update_us;
             r.records.push_back(s);
         }
         r.wallTime_s =

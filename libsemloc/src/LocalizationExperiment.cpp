@@ -21,11 +21,13 @@
 #include <sstream>
 
 #include "ExactConfigWrite.h"
+#include "TextFiles.h"
 
 namespace semloc
 {
 namespace
 {
+using detail::writeFile;
 const std::string kSection = "LocalizationExperiment";
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -121,17 +123,6 @@ double median(std::vector<double> v)
     const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
     std::nth_element(v.begin(), mid, v.end());
     return *mid;
-}
-
-void writeFile(const std::string& path, const std::string& text)
-{
-    std::ofstream f(path, std::ios::binary);
-    f << text;
-    f.close();
-    if (!f)
-    {
-        THROW_EXCEPTION("cannot write '" + path + "'");
-    }
 }
 
 std::string stepsCsv(const std::vector<TStepRecord>& records)
@@ -394,19 +385,8 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
 
     auto record = [&](const mrpt::obs::CSensoryFrame& sf)
     {
-        TStepRecord r;
+        TStepRecord r = loc.lastStepRecord(sf);
         r.step = res.records.size();
-        r.t = kNaN;
-        if (sf.size() > 0 && sf.getObservationByIndex(0)->timestamp != INVALID_TIMESTAMP)
-        {
-            r.t = mrpt::Clock::toDouble(sf.getObservationByIndex(0)->timestamp);
-        }
-        const auto [cov, mean] = loc.pdf().getCovarianceAndMean();
-        r.est = mean.asTPose();
-        r.var_xy = cov(0, 0) + cov(1, 1);
-        r.ess = loc.lastStep().ess_before_resampling;
-        r.n_particles = loc.lastStep().particles;
-        r.update_us = loc.lastStep().update_us;
         res.records.push_back(r);
     };
 

@@ -6,7 +6,9 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/ConfigHelpers.h>
 #include <semloc/Localizer.h>
+
 #include <semloc/ParallelExecutor.h>
+#include <limits>
 
 #include <algorithm>
 #include <chrono>
@@ -470,6 +472,24 @@ double Localizer::varianceXY() const
     const auto [cov, mean] = m_pdf->getCovarianceAndMean();
     (void)mean;
     return cov(0, 0) + cov(1, 1);
+}
+
+TStepRecord Localizer::lastStepRecord(const mrpt::obs::CSensoryFrame& sf) const
+{
+    TStepRecord r;
+    r.step = m_steps > 0 ? m_steps - 1 : 0;
+    r.t = std::numeric_limits<double>::quiet_NaN();
+    if (sf.size() > 0 && sf.getObservationByIndex(0)->timestamp != INVALID_TIMESTAMP)
+    {
+        r.t = mrpt::Clock::toDouble(sf.getObservationByIndex(0)->timestamp);
+    }
+    const auto [cov, mean] = m_pdf->getCovarianceAndMean();
+    r.est = mean.asTPose();
+    r.var_xy = cov(0, 0) + cov(1, 1);
+    r.ess = m_last.ess_before_resampling;
+    r.n_particles = m_last.particles;
+    r.update_us = m_last.update_us;
+    return r;
 }
 
 size_t Localizer::threads() const

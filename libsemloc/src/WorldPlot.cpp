@@ -7,11 +7,14 @@
 #include <cstdio>
 #include <fstream>
 #include <sstream>
+#include "TextFiles.h"
 
 namespace semloc
 {
 namespace
 {
+using detail::shellQuoted;
+using detail::writeFile;
 std::string quoted(const std::string& s)
 {
     std::string out = "'";
@@ -22,25 +25,6 @@ std::string quoted(const std::string& s)
     return out + "'";
 }
 
-std::string shellQuoted(const std::string& s)
-{
-    std::string out = "'";
-    for (const char c : s)
-    {
-        out += (c == '\'') ? std::string("'\\''") : std::string(1, c);
-    }
-    return out + "'";
-}
-
-void writeFile(const std::string& path, const std::string& text)
-{
-    std::ofstream f(path);
-    f << text;
-    if (!f)
-    {
-        THROW_EXCEPTION("cannot write '" + path + "'");
-    }
-}
 }  // namespace
 
 WorldPlot::WorldPlot(World world, std::string title)

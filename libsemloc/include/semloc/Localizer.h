@@ -14,6 +14,7 @@
 #include <semloc/AugmentedMCL.h>
 #include <semloc/CParallelMonteCarloLocalization2D.h>
 #include <semloc/FreeSpaceSampler.h>
+#include <semloc/RunMetrics.h>
 #include <semloc/SensoryFrameLikelihood.h>
 #include <semloc/World.h>
 
@@ -168,6 +169,10 @@ public:
     mrpt::poses::CPose2D mean() const;
     /** Trace of the x-y covariance of the particles [m^2]. */
     double varianceXY() const;
+    /** The last step as a steps.csv row (no ground truth): index, time of `sf`'s first
+     *  observation (NaN without a valid timestamp), mean, x-y variance, ESS, particles,
+     *  update time. `sf` is the frame that step used. */
+    TStepRecord lastStepRecord(const mrpt::obs::CSensoryFrame& sf) const;
     /** The last step. */
     const TStepInfo& lastStep() const { return m_last; }
     /** Steps run. */
