@@ -13,6 +13,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <unistd.h>
+
 namespace fs = std::filesystem;
 using semloc::LocalizationExperiment;
 
@@ -104,7 +106,9 @@ protected:
     static void SetUpTestSuite()
     {
         fs::create_directories(kOut);
-        rawlog = (kOut / "paper.rawlog").string();
+        // ctest runs every test of this suite as its own process, in parallel: each simulates
+        // into its own file (a shared one was overwritten while another process read it).
+        rawlog = (kOut / ("paper_" + std::to_string(::getpid()) + ".rawlog")).string();
         const semloc::Simulator sim(
             semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate.ini"));
         sim.writeDataset(sim.run(), rawlog);
