@@ -8,6 +8,7 @@
 #include <mrpt/system/filesystem.h>
 #include <semloc/ErrorMessage.h>
 #include <semloc/LandmarkImport.h>
+#include <semloc/RawlogReader.h>
 
 #include <iostream>
 
@@ -44,11 +45,7 @@ void run()
         stem.empty() || stem.back() != '.' ? stem : stem.substr(0, stem.size() - 1);
     const std::string worldOut = base + "_world.yaml", gtOut = base + "_gt.txt";
 
-    mrpt::obs::CRawlog log;
-    if (!mrpt::system::fileExists(in) || !log.loadFromRawLogFile(in) || log.size() == 0)
-    {
-        THROW_EXCEPTION("cannot read rawlog '" + in + "'");
-    }
+    mrpt::obs::CRawlog log = semloc::RawlogReader::Load(in);
     const auto objects = LandmarkImport::readLandmarks(landmarks, argLabel.getValue());
     const auto path = LandmarkImport::readPath(pathFile);
     const auto world = LandmarkImport::makeWorld(objects, path, argMargin.getValue(),

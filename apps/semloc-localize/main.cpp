@@ -1,5 +1,6 @@
 /* semloc-localize: MRPT pf-localization's configuration, our particle filter, DESIGN.md's outputs.
- *   semloc-localize config/semantic.ini [dataset.rawlog] [--threads N] [--seed S] [-o DIR] */
+ *   semloc-localize config/semantic.ini [dataset.rawlog] [--threads N] [--seed S] [-o DIR]
+ *                   [--allow-truncated] */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/ErrorMessage.h>
 #include <semloc/LocalizationExperiment.h>
@@ -26,6 +27,9 @@ TCLAP::ValueArg<int> argParticles("n", "particles", "Overrides particles_count",
                                   cmd);
 TCLAP::ValueArg<uint32_t> argSeed("s", "seed", "Overrides seed", false, 1, "S", cmd);
 TCLAP::SwitchArg argQuiet("q", "quiet", "No progress bar and no summary", cmd);
+TCLAP::SwitchArg argAllowTruncated(
+    "", "allow-truncated",
+    "Localize with the intact entries before a truncated or corrupted one (else an error)", cmd);
 
 /** A one-line progress bar on a terminal, nothing in a pipe. */
 void showProgress(size_t done, size_t total)
@@ -64,7 +68,12 @@ void run()
     {
         ov.seed = argSeed.getValue();
     }
+    ov.allow_truncated = argAllowTruncated.isSet();
     const auto experiment = semloc::LocalizationExperiment::FromConfigFile(argIni.getValue(), ov);
+    if (!experiment.rawlogWarning().empty())
+    {
+        std::cerr << "semloc-localize: warning: " << experiment.rawlogWarning() << "\n";
+    }
     const bool bar = !argQuiet.isSet() && ::isatty(::fileno(stderr));
     const auto result = experiment.run(bar ? showProgress : std::function<void(size_t, size_t)>());
     if (!argQuiet.isSet())

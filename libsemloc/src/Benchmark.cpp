@@ -379,10 +379,7 @@ void Benchmark::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 
 Benchmark Benchmark::FromConfigFile(const std::string& iniPath)
 {
-    if (!mrpt::system::fileExists(iniPath))
-    {
-        THROW_EXCEPTION("config file '" + iniPath + "' does not exist");
-    }
+    config::checkIniFile(iniPath);
     mrpt::config::CConfigFile ini(iniPath);
     if (!ini.sectionExists(kSection))
     {
@@ -420,6 +417,7 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath)
         v.iniPath = resolve("variants", isFile ? name : name + ".ini");
         try
         {
+            config::checkIniFile(v.iniPath);
             mrpt::config::CConfigFile vini(v.iniPath);
             v.options.loadFromConfigFile(vini, "LocalizationExperiment");
             v.maps = LocalizationMap::FromConfig(vini, v.options.map_file);

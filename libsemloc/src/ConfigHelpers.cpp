@@ -2,12 +2,15 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/ConfigHelpers.h>
 
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 
 namespace semloc::config
 {
@@ -150,6 +153,44 @@ void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& secti
         fail(section, key, "'" + s + "' is not one of: " + list);
     }
     value = s;
+}
+
+void checkIniFile(const std::string& path, const std::string& kind)
+{
+    const std::string file = kind + " '" + path + "'";
+    if (!std::filesystem::exists(path))
+    {
+        THROW_EXCEPTION(file + " does not exist");
+    }
+    if (std::filesystem::is_directory(path))
+    {
+        THROW_EXCEPTION(file + " is a directory, not a file");
+    }
+    std::ifstream f(path);
+    if (!f)
+    {
+        THROW_EXCEPTION("cannot read " + file);
+    }
+    std::string line;
+    for (size_t n = 1; std::getline(f, line); n++)
+    {
+        const auto b = line.find_first_not_of(" \t\r");
+        if (b == std::string::npos || line[b] == ';' || line[b] == '#' || line[b] == '%' ||
+            line[b] == '@' || line.compare(b, 2, "//") == 0)
+        {
+            continue;
+        }
+        const auto e = line.find_last_not_of(" \t\r");
+        const std::string text = line.substr(b, e - b + 1);
+        const bool section = text.front() == '[' && text.back() == ']' && text.size() > 2;
+        const auto eq = text.find('=');
+        const bool keyValue = text.front() != '[' && eq != std::string::npos && eq > 0;
+        if (!section && !keyValue)
+        {
+            THROW_EXCEPTION(mrpt::format("%s:%zu: '%s' is neither a [section] nor key = value",
+                                         file.c_str(), n, text.c_str()));
+        }
+    }
 }
 
 void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string& section,

@@ -1,4 +1,6 @@
 /* semloc — GroundTruth: nearest row in time. */
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <semloc/GroundTruth.h>
 
 #include <algorithm>
@@ -23,8 +25,22 @@ double median(std::vector<double>& v)
 
 GroundTruth::GroundTruth(std::vector<GroundTruthRow> rows) : m_rows(std::move(rows))
 {
-    std::stable_sort(m_rows.begin(), m_rows.end(),
-                     [](const GroundTruthRow& a, const GroundTruthRow& b) { return a.t < b.t; });
+    for (size_t i = 0; i < m_rows.size(); i++)
+    {
+        const auto& r = m_rows[i];
+        if (!std::isfinite(r.t) || !std::isfinite(r.x) || !std::isfinite(r.y) ||
+            !std::isfinite(r.phi))
+        {
+            THROW_EXCEPTION(mrpt::format("ground truth row %zu is not finite", i));
+        }
+        if (i > 0 && !(r.t > m_rows[i - 1].t))
+        {
+            THROW_EXCEPTION(
+                mrpt::format("ground truth row %zu: time %.17g is not after the previous row's "
+                             "%.17g (times must increase)",
+                             i, r.t, m_rows[i - 1].t));
+        }
+    }
 }
 
 GroundTruth GroundTruth::FromFile(const std::string& path)

@@ -4,11 +4,14 @@
 #include <mrpt/core/Clock.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/ConfigHelpers.h>
 #include <semloc/LocalizationExperiment.h>
+#include <semloc/RawlogReader.h>
 #include <semloc/StagedDirectory.h>
 
 #include <algorithm>
@@ -18,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <set>
 #include <sstream>
 
 #include "ExactConfigWrite.h"
@@ -179,12 +183,104 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "injected_particles: " << res.recovery.injected_particles << "\n"
       << "# free_space_prior: particle updates found outside the free space (weight 0)\n"
       << "outside_free_space: " << res.recovery.outside_free_space << "\n"
+      << "# range-scan beams with a NaN, infinite, negative or beyond-max range (skipped)\n"
+      << "beams_invalid: " << res.likelihood.beams_invalid << "\n"
       << "rawlog_format: " << yamlString(res.rawlogFormat) << "\n"
+      << "# --allow-truncated: index of the first unreadable entry (null: rawlog complete)\n"
+      << "rawlog_truncated_at_entry: "
+      << (res.rawlogTruncatedAtEntry ? std::to_string(*res.rawlogTruncatedAtEntry) : "null") << "\n"
       << "rawlog_file: " << yamlString(o.rawlog_file) << "\n"
       << "map_file: " << yamlString(o.map_file) << "\n"
       << "ground_truth_path_file: " << yamlString(o.ground_truth_path_file) << "\n"
       << "wall_time_s: " << yamlNum(res.wallTime_s) << "\n";
     return y.str();
+}
+
+bool finitePose(const mrpt::poses::CPose2D& p)
+{
+    return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi());
+}
+
+/** What the filter needs of a rawlog, checked before the run: finite odometry somewhere
+ *  (or allow_no_odometry), and at least one observation a map can score. */
+void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
+                 const mrpt::maps::CMetricMap& maps, const Localizer::TOptions& filter)
+{
+    bool odometry = false;
+    size_t observations = 0, usable = 0;
+    std::set<std::string> classes;
+    auto badOdometry = [&](size_t i)
+    {
+        THROW_EXCEPTION(
+            mrpt::format("rawlog '%s': entry %zu: the odometry is not finite", path.c_str(), i));
+    };
+    auto observe = [&](const mrpt::obs::CObservation& obs)
+    {
+        observations++;
+        classes.insert(obs.GetRuntimeClass()->className);
+        usable += maps.canComputeObservationLikelihood(obs) ? 1 : 0;
+    };
+    for (size_t i = 0; i < rawlog.size(); i++)
+    {
+        const auto obj = rawlog.getAsGeneric(i);
+        if (const auto acts = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj))
+        {
+            for (size_t k = 0; k < acts->size(); k++)
+            {
+                const auto a = acts->get(k);
+                if (const auto m2 = std::dynamic_pointer_cast<mrpt::obs::CActionRobotMovement2D>(a))
+                {
+                    odometry = true;
+                    if (!m2->poseChange || !finitePose(m2->poseChange->getMeanVal()))
+                    {
+                        badOdometry(i);
+                    }
+                }
+                odometry = odometry || IS_CLASS(*a, mrpt::obs::CActionRobotMovement3D);
+            }
+        }
+        else if (const auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj))
+        {
+            for (const auto& obs : *sf)
+            {
+                if (obs)
+                {
+                    observe(*obs);
+                }
+            }
+        }
+        else if (const auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obj))
+        {
+            odometry = true;
+            if (!finitePose(odo->odometry))
+            {
+                badOdometry(i);
+            }
+        }
+        else if (const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj))
+        {
+            observe(*obs);
+        }
+    }
+    if (!odometry && !filter.allow_no_odometry)
+    {
+        THROW_EXCEPTION("rawlog '" + path +
+                        "' holds no odometry (no CActionRobotMovement2D/3D, no "
+                        "CObservationOdometry); set [DummyOdometryParams] allow_no_odometry = "
+                        "true to localize it with zero motion plus minStdXY/minStdPHI noise");
+    }
+    if (usable == 0)
+    {
+        std::string list;
+        for (const auto& c : classes)
+        {
+            list += (list.empty() ? "" : ", ") + c;
+        }
+        THROW_EXCEPTION(mrpt::format(
+            "rawlog '%s': none of its %zu observations (%s) can be used by the maps in "
+            "[MetricMap]",
+            path.c_str(), observations, observations ? list.c_str() : "none"));
+    }
 }
 
 void requireFile(const std::string& key, const std::string& path)
@@ -258,10 +354,7 @@ void LocalizationExperiment::TOptions::saveToConfigFile(mrpt::config::CConfigFil
 LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string& iniPath,
                                                               const TOverrides& ov)
 {
-    if (!mrpt::system::fileExists(iniPath))
-    {
-        THROW_EXCEPTION("config file '" + iniPath + "' does not exist");
-    }
+    config::checkIniFile(iniPath);
     LocalizationExperiment e;
     e.m_iniPath = iniPath;
     auto ini = std::make_shared<mrpt::config::CConfigFile>(iniPath);
@@ -358,6 +451,28 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     {
         o.variant = e.m_maps.variant();
     }
+
+    auto read = RawlogReader::Read(o.rawlog_file);
+    if (read.defect)
+    {
+        if (!ov.allow_truncated)
+        {
+            THROW_EXCEPTION(read.defectMessage() +
+                            " (semloc-localize --allow-truncated uses the intact entries)");
+        }
+        e.m_truncatedAt = read.defect->entry;
+        e.m_rawlogWarning =
+            read.defectMessage() + mrpt::format(
+                                       ": --allow-truncated: localizing with the %zu intact "
+                                       "entries",
+                                       read.defect->entry);
+    }
+    if (read.rawlog.empty())
+    {
+        THROW_EXCEPTION("rawlog '" + o.rawlog_file + "' holds no entries");
+    }
+    checkRawlog(read.rawlog, o.rawlog_file, *e.m_maps.map, o.filter);
+    e.m_rawlog = std::move(read.rawlog);
     return e;
 }
 
@@ -367,13 +482,7 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
     const auto wall0 = std::chrono::steady_clock::now();
     const auto& o = m_options;
 
-    mrpt::obs::CRawlog rawlog;
-    // MRPT reports a bad file on the console and may return an empty rawlog.
-    if (!rawlog.loadFromRawLogFile(o.rawlog_file) || rawlog.size() == 0)
-    {
-        THROW_EXCEPTION("cannot read the rawlog '" + o.rawlog_file +
-                        "' (not an MRPT rawlog, or empty)");
-    }
+    const mrpt::obs::CRawlog& rawlog = m_rawlog;
     const GroundTruth gt = o.ground_truth_path_file.empty()
                                ? GroundTruth()
                                : GroundTruth::FromFile(o.ground_truth_path_file);
@@ -493,6 +602,7 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
         }
     }
     flush();
+    res.rawlogTruncatedAtEntry = m_truncatedAt;
     res.rawlogFormat = sawPairs && sawObservations ? "mixed"
                        : sawObservations           ? "observations-only"
                                                    : "action/sensory-frame";

@@ -3,6 +3,7 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/ConfigHelpers.h>
 #include <semloc/Localizer.h>
@@ -86,6 +87,73 @@ mrpt::obs::CActionRobotMovement2D::TMotionModelOptions odometryModel(const Local
     m.gaussianModel.minStdXY = o.odometry_min_std_xy;
     m.gaussianModel.minStdPHI = mrpt::DEG2RAD(o.odometry_min_std_phi_deg);
     return m;
+}
+
+/** A range reading no sensor can return: NaN, +-inf, negative, beyond the scan's maxRange
+ *  (or any reading of a scan whose maxRange is itself not a positive number). */
+bool impossibleRange(float z, float maxRange)
+{
+    return !std::isfinite(z) || z < 0 || !(maxRange > 0) || !std::isfinite(maxRange) ||
+           z > maxRange;
+}
+
+/** A copy of a scan without the cached points map the original may hold (a copy would
+ *  share it, and it holds the beams being made invalid). */
+struct UncachedScan : public mrpt::obs::CObservation2DRangeScan
+{
+    explicit UncachedScan(const mrpt::obs::CObservation2DRangeScan& scan)
+        : mrpt::obs::CObservation2DRangeScan(scan)
+    {
+        m_cachedMap.reset();
+    }
+};
+
+/** `sf`, or in `copy` the same frame with every valid beam of impossible range made invalid
+ *  (true then); adds their number to `count`. */
+bool withValidBeams(const mrpt::obs::CSensoryFrame& sf, mrpt::obs::CSensoryFrame& copy,
+                    size_t& count)
+{
+    bool replaced = false;
+    for (size_t i = 0; i < sf.size(); i++)
+    {
+        auto obs = sf.getObservationByIndex(i);
+        if (const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs))
+        {
+            const size_t n = scan->getScanSize();
+            size_t bad = 0;
+            for (size_t k = 0; k < n; k++)
+            {
+                bad += scan->getScanRangeValidity(k) &&
+                       impossibleRange(scan->getScanRange(k), scan->maxRange);
+            }
+            if (bad > 0)
+            {
+                auto fixed = std::make_shared<UncachedScan>(*scan);
+                for (size_t k = 0; k < n; k++)
+                {
+                    if (impossibleRange(fixed->getScanRange(k), fixed->maxRange))
+                    {
+                        fixed->setScanRangeValidity(k, false);
+                    }
+                }
+                count += bad;
+                obs = fixed;
+                if (!replaced)
+                {
+                    for (size_t j = 0; j < i; j++)
+                    {
+                        copy.insert(sf.getObservationByIndex(j));
+                    }
+                    replaced = true;
+                }
+            }
+        }
+        if (replaced)
+        {
+            copy.insert(obs);
+        }
+    }
+    return replaced;
 }
 }  // namespace
 
@@ -261,9 +329,11 @@ void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
 
     // [DummyOdometryParams]; the 3D keys are pf-localization's, checked and unused here.
     rejectUnknownKeys(c, kOdo,
-                      {"minStdXY", "minStdPHI", "additional_std_XYZ", "additional_std_angle"});
+                      {"minStdXY", "minStdPHI", "allow_no_odometry", "additional_std_XYZ",
+                       "additional_std_angle"});
     readDouble(c, kOdo, "minStdXY", odometry_min_std_xy, 0, 1e3);
     readDouble(c, kOdo, "minStdPHI", odometry_min_std_phi_deg, 0, 360);
+    readBool(c, kOdo, "allow_no_odometry", allow_no_odometry);
     double unused3D = 0;
     readDouble(c, kOdo, "additional_std_XYZ", unused3D, 0, 1e3);
     readDouble(c, kOdo, "additional_std_angle", unused3D, 0, 360);
@@ -318,6 +388,8 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 
     put(c, kOdo, "minStdXY", odometry_min_std_xy, "[m] observations-only rawlogs");
     put(c, kOdo, "minStdPHI", odometry_min_std_phi_deg, "[deg]");
+    put(c, kOdo, "allow_no_odometry", allow_no_odometry ? "true" : "false",
+        "true: a rawlog without odometry moves by zero + this noise");
 }
 
 // ------------------------------------------------------------------ localizer
@@ -428,9 +500,11 @@ void Localizer::reset()
 
 void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs::CSensoryFrame& sf)
 {
+    mrpt::obs::CSensoryFrame checked;
+    const bool replaced = withValidBeams(sf, checked, m_beamsInvalid);
     CParticleFilter::TParticleFilterStats stats;
     const auto t0 = std::chrono::steady_clock::now();
-    m_pf.executeOn(*m_pdf, &action, &sf, &stats);
+    m_pf.executeOn(*m_pdf, &action, replaced ? &checked : &sf, &stats);
     const auto t1 = std::chrono::steady_clock::now();
     m_last.update_us = std::chrono::duration<double, std::micro>(t1 - t0).count();
     m_last.ess_before_resampling = stats.ESS_beforeResample;
@@ -460,6 +534,13 @@ void Localizer::step(const mrpt::obs::CSensoryFrame& sf)
     mrpt::obs::CActionCollection acts;
     acts.insert(act);
     step(acts, sf);
+}
+
+SensoryFrameLikelihood::TStats Localizer::likelihoodStats() const
+{
+    auto s = m_pdf->likelihoodStats();
+    s.beams_invalid = m_beamsInvalid;
+    return s;
 }
 
 mrpt::poses::CPose2D Localizer::mean() const

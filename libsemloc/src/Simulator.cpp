@@ -20,6 +20,8 @@
 #include <charconv>
 #include <chrono>
 #include <climits>
+#include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -160,10 +162,7 @@ void TSimulatorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
 
 TSimulatorOptions TSimulatorOptions::FromConfigFile(const std::string& iniPath)
 {
-    if (!mrpt::system::fileExists(iniPath))
-    {
-        THROW_EXCEPTION("ini file '" + iniPath + "' not found");
-    }
+    config::checkIniFile(iniPath, "ini file");
     TSimulatorOptions o;
     o.loadFromConfigFile(mrpt::config::CConfigFile(iniPath));
     return o;
@@ -381,13 +380,19 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
 
 std::vector<GroundTruthRow> Simulator::readGroundTruth(const std::string& path)
 {
+    if (std::filesystem::is_directory(path))
+    {
+        THROW_EXCEPTION("ground truth '" + path + "' is a directory, not a file");
+    }
     std::ifstream f(path);
     if (!f)
     {
         THROW_EXCEPTION("cannot read ground truth '" + path + "'");
     }
+    static const char* const kColumns[] = {"t", "x", "y", "phi"};
     std::vector<GroundTruthRow> rows;
     std::string line;
+    size_t previousLine = 0;
     for (size_t n = 1; std::getline(f, line); n++)
     {
         const auto b = line.find_first_not_of(" \t\r");
@@ -395,15 +400,48 @@ std::vector<GroundTruthRow> Simulator::readGroundTruth(const std::string& path)
         {
             continue;
         }
+        const std::string at = mrpt::format("%s:%zu: ", path.c_str(), n);
         std::istringstream ss(line);
-        GroundTruthRow r;
-        std::string extra;
-        if (!(ss >> r.t >> r.x >> r.y >> r.phi) || (ss >> extra))
+        std::vector<std::string> cells;
+        for (std::string c; ss >> c;)
+        {
+            cells.push_back(c);
+        }
+        if (cells.size() != 4)
         {
             THROW_EXCEPTION(
-                mrpt::format("%s:%zu: expected 4 numbers 't x y phi'", path.c_str(), n));
+                at + mrpt::format("expected 4 columns 't x y phi', found %zu", cells.size()));
+        }
+        double v[4];
+        for (size_t k = 0; k < 4; k++)
+        {
+            // strtod, not >>: it reads "nan" and "inf", which get their own message.
+            char* end = nullptr;
+            v[k] = std::strtod(cells[k].c_str(), &end);
+            if (end == cells[k].c_str() || *end != '\0')
+            {
+                THROW_EXCEPTION(at + "column '" + kColumns[k] + "': '" + cells[k] +
+                                "' is not a number");
+            }
+            if (!std::isfinite(v[k]))
+            {
+                THROW_EXCEPTION(at + "column '" + kColumns[k] + "': '" + cells[k] +
+                                "' is not finite");
+            }
+        }
+        const GroundTruthRow r{v[0], v[1], v[2], v[3]};
+        if (!rows.empty() && !(r.t > rows.back().t))
+        {
+            THROW_EXCEPTION(at + mrpt::format("time %.17g is not after %.17g (line %zu): times "
+                                              "must increase",
+                                              r.t, rows.back().t, previousLine));
         }
         rows.push_back(r);
+        previousLine = n;
+    }
+    if (rows.empty())
+    {
+        THROW_EXCEPTION("ground truth '" + path + "' holds no rows 't x y phi'");
     }
     return rows;
 }

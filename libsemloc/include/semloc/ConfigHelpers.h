@@ -9,6 +9,12 @@
 
 namespace semloc::config
 {
+/** Throws naming `kind` and `path` if the ini file does not exist, is a directory or cannot
+ *  be read, and "<kind> 'path':LINE: ..." for a line that is neither blank, a comment
+ *  (`;`, `#`, `//`, `%`), a `[section]`, a `key = value` nor an MRPT `@` directive: MRPT's
+ *  parser skips such lines silently, so a typo would lose a setting without a word. */
+void checkIniFile(const std::string& path, const std::string& kind = "config file");
+
 /** Reads a finite number in [lo, hi]; keeps `value` when the key is absent.
  *  Throws "ini [section] key: 'text' is not a number" and the like. */
 void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,

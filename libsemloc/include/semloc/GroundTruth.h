@@ -13,7 +13,8 @@ class GroundTruth
 {
 public:
     GroundTruth() = default;
-    /** The rows, in any order (they are sorted by time). */
+    /** The rows, by strictly increasing time; throws on a non-finite value or a time not
+     *  after the previous row's (never re-ordered: a jumbled file is an error). */
     explicit GroundTruth(std::vector<GroundTruthRow> rows);
     /** Reads a ground-truth file (Simulator::readGroundTruth: `t x y phi` per line). */
     static GroundTruth FromFile(const std::string& path);

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/obs/CRawlog.h>
 #include <semloc/GroundTruth.h>
 #include <semloc/LocalizationMap.h>
 #include <semloc/Localizer.h>
@@ -87,6 +88,9 @@ public:
         std::optional<int> particles_count;
         /** seed (-s). */
         std::optional<uint32_t> seed;
+        /** Use the intact entries before a truncated or corrupted one (--allow-truncated)
+         *  instead of refusing the rawlog. */
+        bool allow_truncated = false;
     };
 
     /** What a run produced. */
@@ -108,6 +112,9 @@ public:
         size_t threads = 1;
         /** "action/sensory-frame", "observations-only" or "mixed". */
         std::string rawlogFormat;
+        /** Index of the rawlog's first unreadable entry when allow_truncated let the run use
+         *  the entries before it; empty for a complete rawlog. */
+        std::optional<size_t> rawlogTruncatedAtEntry;
         /** Wall time of run() [s]. */
         double wallTime_s = 0;
 
@@ -115,10 +122,18 @@ public:
         std::string summaryParagraph() const;
     };
 
-    /** Reads and validates everything (ini, files, maps) before any output is written.
-     *  Throws on any error. */
+    /** Reads and validates everything (ini, files, maps, the whole rawlog) before any
+     *  output is written. Throws on any error; in the rawlog: a truncated or corrupted entry
+     *  (unless `allow_truncated`), an entry of an unknown class, no odometry at all (unless
+     *  [DummyOdometryParams] allow_no_odometry), a non-finite odometry reading, or no
+     *  observation any map in [MetricMap] can use. */
     static LocalizationExperiment FromConfigFile(const std::string& iniPath,
-                                                 const TOverrides& overrides = {});
+                                                 const TOverrides& overrides);
+    /** FromConfigFile() without overrides. */
+    static LocalizationExperiment FromConfigFile(const std::string& iniPath)
+    {
+        return FromConfigFile(iniPath, TOverrides());
+    }
 
     /** Runs the filter over the rawlog and writes the outputs; `progress(done, total)` is
      *  called after every rawlog entry. On error nothing is left in logOutput_dir. */
@@ -128,6 +143,9 @@ public:
     const TOptions& options() const { return m_options; }
     /** The maps. */
     const LocalizationMap& maps() const { return m_maps; }
+    /** With allow_truncated and a defective rawlog: what was wrong and what is used (to be
+     *  shown to the user); empty otherwise. */
+    const std::string& rawlogWarning() const { return m_rawlogWarning; }
 
 private:
     LocalizationExperiment() = default;
@@ -135,6 +153,11 @@ private:
     std::string m_iniPath;
     TOptions m_options;
     LocalizationMap m_maps;
+    /** The rawlog's readable entries. */
+    mrpt::obs::CRawlog m_rawlog;
+    /** See TResult::rawlogTruncatedAtEntry. */
+    std::optional<size_t> m_truncatedAt;
+    std::string m_rawlogWarning;
     /** The ini's text with its [MetricMap...] sections, for the effective configuration. */
     std::shared_ptr<mrpt::config::CConfigFileBase> m_ini;
     /** Keys pf-localization reads that we only carry over (display, 3D). */

@@ -113,6 +113,10 @@ public:
         double odometry_min_std_xy = 0.04;
         /** Minimum std. dev. of the heading of every increment [deg] (minStdPHI). */
         double odometry_min_std_phi_deg = 2.0;
+        /** A rawlog without any odometry (no CActionRobotMovement2D/3D, no
+         *  CObservationOdometry) is an error unless this is true; then every step moves the
+         *  particles by a zero increment with the noise above (allow_no_odometry). */
+        bool allow_no_odometry = false;
         /** @} */
 
         TOptions();
@@ -149,7 +153,9 @@ public:
     /** @name Feeding the filter
      *  @{ */
     /** One step, action / sensory-frame format: the action's odometry moves the particles,
-     *  the frame's observations weigh them. */
+     *  the frame's observations weigh them. Range-scan beams flagged valid with a NaN,
+     *  infinite, negative or beyond-maxRange range are made invalid first (in a copy) and
+     *  counted (likelihoodStats().beams_invalid): no map ever sees them. */
     void step(const mrpt::obs::CActionCollection& action, const mrpt::obs::CSensoryFrame& sf);
     /** Observations-only format: remembers an odometry reading; the next step(sf) moves the
      *  particles by the increment since the previous step (pf-localization's rule; Gaussian
@@ -186,7 +192,7 @@ public:
     /** Threads of the per-particle work. */
     size_t threads() const;
     /** Observations used / skipped, invalid and unknown detections, non-finite values. */
-    SensoryFrameLikelihood::TStats likelihoodStats() const { return m_pdf->likelihoodStats(); }
+    SensoryFrameLikelihood::TStats likelihoodStats() const;
     /** Re-initializations and injected particles. */
     const CParallelMonteCarloLocalization2D::TRecoveryStats& recoveryStats() const
     {
@@ -206,6 +212,8 @@ private:
     std::optional<mrpt::poses::CPose2D> m_lastOdometry, m_pendingOdometry;
     TStepInfo m_last;
     size_t m_steps = 0;
+    /** Scan beams with impossible ranges, made invalid before the update. */
+    size_t m_beamsInvalid = 0;
 };
 
 }  // namespace semloc

@@ -160,7 +160,10 @@ public:
     static std::string groundTruthPath(const std::string& rawlogPath);
     /** `<dir>/<stem>.ini` for `<dir>/<stem>.rawlog`. */
     static std::string configPath(const std::string& rawlogPath);
-    /** Reads a ground-truth file (lines `t x y phi`; `#` comments and blank lines skipped). */
+    /** Reads a ground-truth file (lines `t x y phi`; `#` or `%` comments and blank lines
+     *  skipped). Throws "file:line: ..." on a row without exactly 4 columns, a cell that is
+     *  not a finite number, or a time not after the previous row's; and on a file without
+     *  rows. */
     static std::vector<GroundTruthRow> readGroundTruth(const std::string& path);
 
     /** The options. */
