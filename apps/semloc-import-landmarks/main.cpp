@@ -56,15 +56,30 @@ void run()
         THROW_EXCEPTION("'" + in + "' holds no CObservationBearingRange to convert");
     }
     const auto times = LandmarkImport::frameTimes(log);
-    // Everything is checked; write the outputs (each to a temporary file, then renamed).
-    LandmarkImport::writeGroundTruth(times, path, gtOut);
-    world.saveToFile(worldOut + ".tmp");
-    if (!log.saveToRawLogFile(out + ".tmp"))
+    // Everything is checked; write the outputs, each to a temporary file renamed at the end
+    // (on an error none is left behind).
+    const std::vector<std::string> outputs = {gtOut, worldOut, out};
+    try
     {
-        THROW_EXCEPTION("cannot write '" + out + "'");
+        LandmarkImport::writeGroundTruth(times, path, gtOut + ".tmp");
+        world.saveToFile(worldOut + ".tmp");
+        if (!log.saveToRawLogFile(out + ".tmp"))
+        {
+            THROW_EXCEPTION("cannot write '" + out + "'");
+        }
     }
-    std::rename((worldOut + ".tmp").c_str(), worldOut.c_str());
-    std::rename((out + ".tmp").c_str(), out.c_str());
+    catch (...)
+    {
+        for (const auto& f : outputs)
+        {
+            std::remove((f + ".tmp").c_str());
+        }
+        throw;
+    }
+    for (const auto& f : outputs)
+    {
+        std::rename((f + ".tmp").c_str(), f.c_str());
+    }
     std::cout << "Converted " << n << " observations of " << world.objects.size()
               << " landmarks: " << out << ", " << worldOut << ", " << gtOut << "\n";
 }
