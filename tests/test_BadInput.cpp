@@ -291,7 +291,13 @@ const std::map<std::string, Builder>& cases()
              return std::vector<std::string>{"semloc-benchmark", (d / "bench.ini").string()};
          }},
         // ---- world YAML
-        {"yaml-syntax", [](const fs::path& d) { return plotWorld(d, kBounds + "objects: [[[\n"); }},
+        {"yaml-syntax",
+         [](const fs::path& d)
+         {
+             return plotWorld(d, kBounds +
+                                     "objects:\n  - {id: 1, label: a, shape: point, "
+                                     "center: [5, 5]}\n   extra: 3\n");
+         }},
         {"world-unknown-key",
          [](const fs::path& d)
          {

@@ -109,7 +109,12 @@ struct BadCase
 TEST(World, RejectsEachKindOfBadFileWithFileObjectAndKey)
 {
     const std::vector<BadCase> cases = {
-        {"syntax", "bounds: {x_min: 0, x_max: [\n", {"bad.yaml"}},
+        {"syntax", "bounds: {x_min: 0, x_max: [\n", {"bad.yaml", "YAML syntax error"}},
+        // MRPT's parser alone returned the document read so far for this one.
+        {"indentation",
+         "bounds: {x_min: 0, x_max: 50, y_min: 0, y_max: 50}\nobjects:\n"
+         "  - {id: 1, label: a, shape: point, center: [5, 5]}\n   extra: 3\n",
+         {"bad.yaml", "line 4, column 4: YAML syntax error"}},
         {"not a map", "- 1\n- 2\n", {"bad.yaml"}},
         {"unknown top key",
          "bounds: {x_min: 0, x_max: 1, y_min: 0, y_max: 1}\nobjects: []\nfoo: 1\n",

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "Geometry2D.h"
+#include "YamlSyntax.h"
 
 namespace semloc
 {
@@ -464,6 +465,10 @@ const char* shapeName(ShapeType s)
 World World::FromText(const std::string& yamlText, const std::string& sourceName)
 {
     yaml doc;
+    if (const std::string err = detail::yamlSyntaxError(yamlText); !err.empty())
+    {
+        THROW_EXCEPTION("world file '" + sourceName + "': " + err);
+    }
     try
     {
         doc = yaml::FromText(yamlText);
