@@ -19,8 +19,8 @@ namespace
 TCLAP::CmdLine cmd("semloc-benchmark", ' ', "0.1");
 TCLAP::UnlabeledValueArg<std::string> argIni("config", "Benchmark ini (see config/benchmark.ini)",
                                              true, "", "benchmark.ini", cmd);
-TCLAP::ValueArg<std::string> argOut("o", "output-dir", "Overrides output_dir", false,
-                                    "", "DIR", cmd);
+TCLAP::ValueArg<std::string> argOut("o", "output-dir", "Overrides output_dir", false, "", "DIR",
+                                    cmd);
 
 std::string clock(double s)
 {

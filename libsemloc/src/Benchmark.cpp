@@ -36,14 +36,18 @@ namespace
 using detail::shellQuoted;
 using detail::writeFile;
 const std::string kSection = "Benchmark";
-const std::vector<std::string> kKeys = {"runs",        "variants",  "simulate_ini",
-                                        "output_dir",  "jobs",      "filter_threads",
-                                        "max_steps",   "particles", "same_filter",
-                                        "scenarios"};
+const std::vector<std::string> kKeys = {
+    "runs",           "variants",  "simulate_ini", "output_dir",  "jobs",
+    "filter_threads", "max_steps", "particles",    "same_filter", "scenarios"};
 const std::string kScenarioSection = "Scenario";
-const std::vector<std::string> kScenarioKeys = {
-    "name",      "description",         "variants",           "recovery",
-    "recovery_alpha_slow", "recovery_alpha_fast", "recovery_max_steps"};
+const std::vector<std::string> kScenarioKeys = {"name",
+                                                "description",
+                                                "variants",
+                                                "particles",
+                                                "recovery",
+                                                "recovery_alpha_slow",
+                                                "recovery_alpha_fast",
+                                                "recovery_max_steps"};
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The paper's Table I: average execution time of one run [ns].
 constexpr double kPaperSemanticNs = 1171934146.0;
@@ -87,8 +91,7 @@ std::vector<std::string> readList(const mrpt::config::CConfigFileBase& c, const 
 
 /** `file` resolved next to `ini` (config::resolveNextToIni), absolute; throws naming `key`. */
 std::string resolveFile(const mrpt::config::CConfigFileBase& ini, const std::string& iniPath,
-                        const std::string& section, const std::string& key,
-                        const std::string& file)
+                        const std::string& section, const std::string& key, const std::string& file)
 {
     const std::string p = config::resolveNextToIni(ini, file);
     if (!mrpt::system::fileExists(p))
@@ -227,8 +230,9 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
           << num(m.rmse_m) << ',' << num(m.final_err_m) << ',' << num(m.total_update_s) << ','
           << num(m.mean_update_us_per_particle) << ','
           << (r.records.empty() ? 0 : r.records.back().n_particles) << ',' << r.reinitializations
-          << ',' << num(r.wallTime_s) << ',' << (m.kidnap_step >= 0 ? std::to_string(m.kidnap_step) : "")
-          << ',' << (m.recovery_steps >= 0 ? std::to_string(m.recovery_steps) : "") << '\n';
+          << ',' << num(r.wallTime_s) << ','
+          << (m.kidnap_step >= 0 ? std::to_string(m.kidnap_step) : "") << ','
+          << (m.recovery_steps >= 0 ? std::to_string(m.recovery_steps) : "") << '\n';
     }
     return o.str();
 }
@@ -421,6 +425,7 @@ void Benchmark::TScenario::loadFromConfigFile(const mrpt::config::CConfigFileBas
     {
         variants = readList(c, s, "variants");
     }
+    readInt(c, s, "particles", particles, 0, 100000000);
     readBool(c, s, "recovery", recovery);
     readDouble(c, s, "recovery_alpha_slow", recovery_alpha_slow, 0, 1);
     readDouble(c, s, "recovery_alpha_fast", recovery_alpha_fast, 0, 1);
@@ -443,6 +448,7 @@ void Benchmark::TScenario::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     c.write(s, "name", name);
     c.write(s, "description", description);
     c.write(s, "variants", joinList(variants));
+    c.write(s, "particles", particles);
     c.write(s, "recovery", recovery ? "true" : "false");
     c.write(s, "recovery_alpha_slow", recovery_alpha_slow);
     c.write(s, "recovery_alpha_fast", recovery_alpha_fast);
@@ -531,6 +537,7 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::strin
             sc.m_options.variants = s.variants;
         }
         sc.m_options.scenarios.clear();
+        sc.m_scenarios.clear();
         sc.loadVariants(ini);
         b.m_scenarios.push_back(std::move(sc));
     }
@@ -544,7 +551,8 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
     {
         const bool isFile = name.size() > 4 && name.substr(name.size() - 4) == ".ini";
         TVariant v;
-        v.iniPath = resolveFile(ini, m_iniPath, kSection, "variants", isFile ? name : name + ".ini");
+        v.iniPath =
+            resolveFile(ini, m_iniPath, kSection, "variants", isFile ? name : name + ".ini");
         try
         {
             mrpt::config::CConfigFile vini(v.iniPath);
@@ -586,6 +594,10 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
         if (o.particles > 0)
         {
             v.options.filter.particles_count = o.particles;
+        }
+        if (m_scenario.particles > 0)
+        {
+            v.options.filter.particles_count = m_scenario.particles;
         }
         v.options.filter.threads = o.filter_threads;
         if (m_scenario.recovery)
@@ -971,7 +983,8 @@ std::string Benchmark::scenariosTable(const std::vector<TScenarioSummary>& summa
     return o.str();
 }
 
-Benchmark::TResult Benchmark::runScenarios(const std::function<void(size_t, size_t)>& progress) const
+Benchmark::TResult Benchmark::runScenarios(
+    const std::function<void(size_t, size_t)>& progress) const
 {
     const auto wall0 = std::chrono::steady_clock::now();
     StagedDirectory out(m_options.output_dir);

@@ -88,6 +88,8 @@ public:
         std::string description;
         /** Variants of this scenario (as [Benchmark] variants); empty: [Benchmark]'s. */
         std::vector<std::string> variants;
+        /** Particles of every variant of this scenario; 0: [Benchmark] particles. */
+        int particles = 0;
         /** true: every variant runs with augmented MCL recovery (the two rates below). */
         bool recovery = false;
         /** [PF_options] recovery_alpha_slow when `recovery`. */
