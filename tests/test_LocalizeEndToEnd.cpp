@@ -1,6 +1,7 @@
 /* semloc tests — semloc-localize end to end (LocalizationExperiment, the shipped configs) on
  * the paper's scenario simulated by semloc::Simulator: global localization of the semantic
- * and geometric variants, the same results on 1 and 2 threads, recovery from kidnapping,
+ * and geometric variants, byte-identical outputs on 1, 2 and 3 threads (KLD on and off),
+ * recovery from kidnapping, re-initialization when every weight vanishes,
  * observations-only rawlogs, and clear errors with no output for bad configurations. */
 #include <gtest/gtest.h>
 #include <mrpt/containers/yaml.h>
@@ -9,8 +10,11 @@
 #include <semloc/LocalizationExperiment.h>
 #include <semloc/Simulator.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include <unistd.h>
@@ -43,13 +47,48 @@ std::string stepsWithoutTiming(const fs::path& dir)
     return out;
 }
 
+/** Every file of an output directory, the timing and thread-count values removed: the
+ *  update_us column of steps.csv, the timing and `threads` lines of summary.yaml and the
+ *  `threads` line of config.ini (the thread count is an input). */
+std::map<std::string, std::string> outputsWithoutTiming(const fs::path& dir)
+{
+    const std::vector<std::string> dropped = {"threads", "wall_time_s", "total_update_s",
+                                              "mean_update_us_per_particle"};
+    std::map<std::string, std::string> out;
+    for (const auto& e : fs::directory_iterator(dir))
+    {
+        const std::string name = e.path().filename().string();
+        if (name == "steps.csv")
+        {
+            out[name] = stepsWithoutTiming(dir);
+            continue;
+        }
+        std::istringstream in(readText(e.path()));
+        std::string line, kept;
+        while (std::getline(in, line))
+        {
+            const std::string key = line.substr(0, line.find_first_of(" :="));
+            if (std::find(dropped.begin(), dropped.end(), key) == dropped.end())
+            {
+                kept += line + "\n";
+            }
+        }
+        out[name] = kept;
+    }
+    return out;
+}
+
 /** `config` (a file of config/) with `key = value` lines replaced (the key must be there)
- *  and map_file made absolute, written to the test output directory. */
+ *  and map_file made absolute (the paper world unless given), written to the test output directory.
+ */
 std::string patchedConfig(const std::string& config,
                           std::vector<std::pair<std::string, std::string>> keys,
                           const std::string& name)
 {
-    keys.emplace_back("map_file", SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
+    if (std::none_of(keys.begin(), keys.end(), [](const auto& k) { return k.first == "map_file"; }))
+    {
+        keys.emplace_back("map_file", SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
+    }
     std::istringstream in(readText(kConfig + config));
     std::string line, out;
     while (std::getline(in, line))
@@ -170,14 +209,46 @@ TEST_F(LocalizeEndToEnd, GeometricConvergesFromUniformStart)
     EXPECT_LT(res.metrics.mean_err_after_conv_m, 0.5);
 }
 
-TEST_F(LocalizeEndToEnd, OneAndTwoThreadsGiveTheSameSteps)
+TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
 {
-    for (const std::string v : {"semantic", "geometric", "grid_lf", "fused"})
+    // Same inputs and seed: every output file the same byte for byte, except the timing
+    // (update_us; wall_time_s, total_update_s, mean_update_us_per_particle) and the thread
+    // count itself (the `threads` key of summary.yaml and config.ini). KLD on and off.
+    const std::vector<std::pair<std::string, std::string>> runs = {
+        {"semantic", "semantic.ini"},
+        {"semantic_kld",
+         patchedConfig("semantic.ini", {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}},
+                       "semantic_kld")},
+        {"geometric_kld",
+         patchedConfig("geometric.ini", {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}},
+                       "geometric_kld")},
+        {"grid_lf", "grid_lf.ini"},
+        {"fused", "fused.ini"}};
+    for (const auto& [name, ini] : runs)
     {
-        localize(kConfig + v + ".ini", rawlog, v + "_t1", 1000, 1);
-        localize(kConfig + v + ".ini", rawlog, v + "_t2", 1000, 2);
-        EXPECT_EQ(stepsWithoutTiming(kOut / (v + "_t1")), stepsWithoutTiming(kOut / (v + "_t2")))
-            << v;
+        const std::string path = ini.find('/') == std::string::npos ? kConfig + ini : ini;
+        std::map<std::string, std::string> reference;
+        for (int threads : {1, 2, 3})
+        {
+            // One output directory for all: logOutput_dir is in config.ini.
+            const std::string dir = name + "_threads";
+            const auto res = localize(path, rawlog, dir, 1000, threads);
+            ASSERT_EQ(res.threads, static_cast<size_t>(threads));
+            const auto files = outputsWithoutTiming(kOut / dir);
+            EXPECT_EQ(files.size(), 3u) << "steps.csv, summary.yaml, config.ini";
+            if (threads == 1)
+            {
+                reference = files;
+                continue;
+            }
+            ASSERT_EQ(files.size(), reference.size()) << name;
+            for (const auto& [file, text] : files)
+            {
+                ASSERT_TRUE(reference.count(file)) << name << ": " << file;
+                EXPECT_TRUE(text == reference[file])
+                    << name << ": " << file << " differs between 1 and " << threads << " threads";
+            }
+        }
     }
 }
 
@@ -203,6 +274,67 @@ TEST_F(LocalizeEndToEnd, KidnappedVehicleIsRelocalizedWithRecovery)
         ASSERT_LT(res.records[k].errXY(), 1.0) << "step " << k;
     }
     EXPECT_LT(res.metrics.final_err_m, 0.5);
+}
+
+TEST_F(LocalizeEndToEnd, EveryWeightVanishingReinitializesAndSaysSo)
+{
+    // The paper dataset localized in an 8 x 8 m world: the vehicle's 50 m legs carry every
+    // hypothesis out of the free space, so every weight becomes zero, again and again.
+    const auto tiny = kOut / "tiny_world.yaml";
+    std::ofstream(tiny) << "name: tiny\nbounds: {x_min: 0, x_max: 8, y_min: 0, y_max: 8}\n"
+                           "objects:\n  - {id: 1, label: wellhead, shape: box, center: [4, 4], "
+                           "size: [1, 1]}\n";
+    for (const bool kld : {false, true})
+    {
+        const std::string name = kld ? "depleted_kld" : "depleted";
+        std::vector<std::pair<std::string, std::string>> keys = {{"map_file", tiny.string()}};
+        if (kld)
+        {
+            keys.insert(keys.end(), {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}});
+        }
+        const auto ini = patchedConfig("semantic.ini", keys, name);
+        testing::internal::CaptureStdout();  // MRPT's logger prints warnings there
+        const auto res = localize(ini, rawlog, name, 2000);
+        const std::string err = testing::internal::GetCapturedStdout();
+
+        EXPECT_GT(res.recovery.reinitializations, 5u) << name;
+        EXPECT_NE(err.find("every particle weight is zero"), std::string::npos)
+            << name << ": a WARN line on the console; got: " << err.substr(0, 300);
+        EXPECT_NE(res.summaryParagraph().find("Re-initialized"), std::string::npos) << name;
+        const auto y = mrpt::containers::yaml::FromFile((kOut / name / "summary.yaml").string());
+        EXPECT_EQ(y["reinitializations"].as<size_t>(), res.recovery.reinitializations) << name;
+
+        ASSERT_EQ(res.records.size(), 431u) << name;
+        for (const auto& r : res.records)
+        {
+            ASSERT_GT(r.n_particles, 0u) << name << " step " << r.step;
+            ASSERT_TRUE(std::isfinite(r.est.x) && std::isfinite(r.est.y) &&
+                        std::isfinite(r.est.phi) && std::isfinite(r.var_xy) && std::isfinite(r.ess))
+                << name << " step " << r.step;
+        }
+        const std::string csv = readText(kOut / name / "steps.csv");
+        for (const char* bad : {"nan", "inf"})
+        {
+            EXPECT_EQ(csv.find(bad), std::string::npos) << name << ": steps.csv holds " << bad;
+        }
+        std::istringstream rows(csv);
+        std::string row;
+        std::getline(rows, row);  // header
+        size_t n = 0;
+        while (std::getline(rows, row))
+        {
+            std::vector<std::string> cols;
+            std::stringstream ss(row);
+            for (std::string c; std::getline(ss, c, ',');)
+            {
+                cols.push_back(c);
+            }
+            ASSERT_EQ(cols.size(), 14u) << row;
+            EXPECT_GT(std::stoul(cols[12]), 0u) << "n_particles of " << row;
+            n++;
+        }
+        EXPECT_EQ(n, 431u);
+    }
 }
 
 TEST_F(LocalizeEndToEnd, ObservationsOnlyRawlogWorks)

@@ -71,3 +71,27 @@ TEST(RunMetrics, ConvergenceAsDesignDefinesIt)
     EXPECT_EQ(semloc::RunMetrics::compute(r, c).convergence_step, 9);
     EXPECT_EQ(semloc::RunMetrics::compute(r, c).steps_with_ground_truth, 19u);
 }
+
+TEST(RunMetrics, RecoveryStepsCountFromTheKidnapping)
+{
+    semloc::RunMetrics::TConvergenceCriterion c;
+    std::vector<semloc::TStepRecord> r;
+    for (size_t k = 0; k < 100; k++)
+    {
+        // Localized from step 5, kidnapped at 40, back from 63 on (a 4-step blip at 55).
+        const bool good = (k >= 5 && k < 40) || (k >= 55 && k < 59) || k >= 63;
+        r.push_back(rec(k, good ? 0.2 : 8.0, good ? 0.1 : 30.0));
+    }
+    auto m = semloc::RunMetrics::compute(r, c);
+    EXPECT_EQ(m.kidnap_step, -1);
+    EXPECT_EQ(m.recovery_steps, -1) << "no kidnapping given";
+    m = semloc::RunMetrics::compute(r, c, 40);
+    EXPECT_EQ(m.convergence_step, 5);
+    EXPECT_EQ(m.kidnap_step, 40);
+    EXPECT_EQ(m.recovery_steps, 23);
+    for (size_t k = 63; k < 100; k++)
+    {
+        r[k] = rec(k, 8.0, 30.0);
+    }
+    EXPECT_EQ(semloc::RunMetrics::compute(r, c, 40).recovery_steps, -1) << "never recovered";
+}

@@ -1,6 +1,7 @@
 /* semloc-benchmark: the paper's experiment, R seeds × variants (results.csv, curves.csv,
  * report.md, figures).
- *   semloc-benchmark config/benchmark.ini [--runs 20] [--jobs 2] [-o results/benchmark] */
+ *   semloc-benchmark config/benchmark.ini [-o results/benchmark]
+ *   semloc-benchmark config/robustness.ini   (scenarios: sensor faults, kidnapping) */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/format.h>
 #include <semloc/Benchmark.h>
@@ -18,6 +19,8 @@ namespace
 TCLAP::CmdLine cmd("semloc-benchmark", ' ', "0.1");
 TCLAP::UnlabeledValueArg<std::string> argIni("config", "Benchmark ini (see config/benchmark.ini)",
                                              true, "", "benchmark.ini", cmd);
+TCLAP::ValueArg<std::string> argOut("o", "output-dir", "Overrides output_dir", false, "", "DIR",
+                                    cmd);
 
 std::string clock(double s)
 {
@@ -27,10 +30,18 @@ std::string clock(double s)
 
 void run()
 {
-    const auto bench = semloc::Benchmark::FromConfigFile(argIni.getValue());
+    const auto bench = semloc::Benchmark::FromConfigFile(argIni.getValue(), argOut.getValue());
     const auto& o = bench.options();
-    std::cout << "semloc-benchmark: " << o.runs << " runs x " << bench.variants().size()
-              << " variants, " << bench.effectiveJobs() << " parallel runs, " << o.filter_threads
+    std::cout << "semloc-benchmark: " << o.runs << " runs x ";
+    if (bench.scenarios().empty())
+    {
+        std::cout << bench.variants().size() << " variants";
+    }
+    else
+    {
+        std::cout << bench.scenarios().size() << " scenarios";
+    }
+    std::cout << ", " << bench.effectiveJobs() << " parallel runs, " << o.filter_threads
               << " filter thread(s) each\n";
     const bool tty = ::isatty(STDERR_FILENO) != 0;
     const auto t0 = std::chrono::steady_clock::now();
@@ -58,7 +69,10 @@ void run()
         });
     std::cout << "\n"
               << res.table << "\nsemloc-benchmark: " << res.runs.size() << " results in "
-              << res.outputDir << " (report.md, results.csv, curves.csv, fig_*.png), "
+              << res.outputDir
+              << (bench.scenarios().empty() ? " (report.md, results.csv, curves.csv, fig_*.png), "
+                                            : " (report.md, scenarios.csv, one directory per "
+                                              "scenario), ")
               << mrpt::format("%.1f", res.wallTime_s) << " s\n";
 }
 }  // namespace

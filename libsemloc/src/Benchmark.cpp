@@ -36,9 +36,18 @@ namespace
 using detail::shellQuoted;
 using detail::writeFile;
 const std::string kSection = "Benchmark";
-const std::vector<std::string> kKeys = {"runs",       "variants",  "simulate_ini",
-                                        "output_dir", "jobs",      "filter_threads",
-                                        "max_steps",  "particles", "same_filter"};
+const std::vector<std::string> kKeys = {
+    "runs",           "variants",  "simulate_ini", "output_dir",  "jobs",
+    "filter_threads", "max_steps", "particles",    "same_filter", "scenarios"};
+const std::string kScenarioSection = "Scenario";
+const std::vector<std::string> kScenarioKeys = {"name",
+                                                "description",
+                                                "variants",
+                                                "particles",
+                                                "recovery",
+                                                "recovery_alpha_slow",
+                                                "recovery_alpha_fast",
+                                                "recovery_max_steps"};
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The paper's Table I: average execution time of one run [ns].
 constexpr double kPaperSemanticNs = 1171934146.0;
@@ -61,6 +70,37 @@ std::vector<std::string> splitList(const std::string& s)
         out.push_back(trim(item));
     }
     return out;
+}
+
+/** A comma-separated list of names or files, each without blanks; `key` names errors. */
+std::vector<std::string> readList(const mrpt::config::CConfigFileBase& c, const std::string& s,
+                                  const std::string& key)
+{
+    const std::string text = c.read_string(s, key, "");
+    auto out = splitList(text);
+    for (const auto& v : out)
+    {
+        if (v.empty() || v.find_first_of(" \t") != std::string::npos)
+        {
+            THROW_EXCEPTION("ini [" + s + "] " + key + ": '" + text +
+                            "' is not a comma-separated list of names or ini files");
+        }
+    }
+    return out;
+}
+
+/** `file` resolved next to `ini` (config::resolveNextToIni), absolute; throws naming `key`. */
+std::string resolveFile(const mrpt::config::CConfigFileBase& ini, const std::string& iniPath,
+                        const std::string& section, const std::string& key, const std::string& file)
+{
+    const std::string p = config::resolveNextToIni(ini, file);
+    if (!mrpt::system::fileExists(p))
+    {
+        THROW_EXCEPTION("ini [" + section + "] " + key + ": '" + file +
+                        "' does not exist (looked next to '" + iniPath +
+                        "' and in the working directory)");
+    }
+    return std::filesystem::absolute(p).lexically_normal().string();
 }
 
 std::string joinList(const std::vector<std::string>& v)
@@ -178,7 +218,7 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
     o << "run,seed,variant,particles,threads,steps,steps_with_ground_truth,converged,"
          "convergence_step,convergence_time_s,mean_err_after_conv_m,rmse_m,final_err_m,"
          "total_update_s,mean_update_us_per_particle,final_particles,reinitializations,"
-         "wall_time_s\n";
+         "wall_time_s,kidnap_step,recovery_steps\n";
     for (const auto& r : runs)
     {
         const auto& m = r.metrics;
@@ -190,7 +230,9 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
           << num(m.rmse_m) << ',' << num(m.final_err_m) << ',' << num(m.total_update_s) << ','
           << num(m.mean_update_us_per_particle) << ','
           << (r.records.empty() ? 0 : r.records.back().n_particles) << ',' << r.reinitializations
-          << ',' << num(r.wallTime_s) << '\n';
+          << ',' << num(r.wallTime_s) << ','
+          << (m.kidnap_step >= 0 ? std::to_string(m.kidnap_step) : "") << ','
+          << (m.recovery_steps >= 0 ? std::to_string(m.recovery_steps) : "") << '\n';
     }
     return o.str();
 }
@@ -334,15 +376,11 @@ void Benchmark::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     readInt(c, s, "runs", runs, 1, 1000000);
     if (c.keyExists(s, "variants"))
     {
-        variants = splitList(c.read_string(s, "variants", ""));
-        for (const auto& v : variants)
-        {
-            if (v.empty() || v.find_first_of(" \t") != std::string::npos)
-            {
-                THROW_EXCEPTION("ini [" + s + "] variants: '" + c.read_string(s, "variants", "") +
-                                "' is not a comma-separated list of names or ini files");
-            }
-        }
+        variants = readList(c, s, "variants");
+    }
+    if (c.keyExists(s, "scenarios") && !trim(c.read_string(s, "scenarios", "")).empty())
+    {
+        scenarios = readList(c, s, "scenarios");
     }
     simulate_ini = trim(c.read_string(s, "simulate_ini", simulate_ini));
     output_dir = trim(c.read_string(s, "output_dir", output_dir));
@@ -373,11 +411,58 @@ void Benchmark::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     c.write(s, "max_steps", max_steps);
     c.write(s, "particles", particles);
     c.write(s, "same_filter", same_filter ? "true" : "false");
+    c.write(s, "scenarios", joinList(scenarios));
+}
+
+void Benchmark::TScenario::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                              const std::string& s)
+{
+    using namespace semloc::config;
+    rejectUnknownKeys(c, s, kScenarioKeys);
+    name = trim(c.read_string(s, "name", name));
+    description = trim(c.read_string(s, "description", description));
+    if (c.keyExists(s, "variants"))
+    {
+        variants = readList(c, s, "variants");
+    }
+    readInt(c, s, "particles", particles, 0, 100000000);
+    readBool(c, s, "recovery", recovery);
+    readDouble(c, s, "recovery_alpha_slow", recovery_alpha_slow, 0, 1);
+    readDouble(c, s, "recovery_alpha_fast", recovery_alpha_fast, 0, 1);
+    readInt(c, s, "recovery_max_steps", recovery_max_steps, 0, std::numeric_limits<int>::max());
+    if (name.find_first_of("/\\ \t") != std::string::npos || name == "." || name == "..")
+    {
+        THROW_EXCEPTION("ini [" + s + "] name: '" + name + "' is not a directory name");
+    }
+    if (recovery && !(recovery_alpha_slow > 0 && recovery_alpha_fast > recovery_alpha_slow))
+    {
+        THROW_EXCEPTION("ini [" + s +
+                        "] recovery_alpha_slow, recovery_alpha_fast: recovery needs 0 < "
+                        "recovery_alpha_slow < recovery_alpha_fast");
+    }
+}
+
+void Benchmark::TScenario::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                            const std::string& s) const
+{
+    c.write(s, "name", name);
+    c.write(s, "description", description);
+    c.write(s, "variants", joinList(variants));
+    c.write(s, "particles", particles);
+    c.write(s, "recovery", recovery ? "true" : "false");
+    c.write(s, "recovery_alpha_slow", recovery_alpha_slow);
+    c.write(s, "recovery_alpha_fast", recovery_alpha_fast);
+    c.write(s, "recovery_max_steps", recovery_max_steps);
+}
+
+double Benchmark::TScenarioSummary::successRate() const
+{
+    return runs ? static_cast<double>(successes) / static_cast<double>(runs) : 0.0;
 }
 
 // ------------------------------------------------------------------ setup
 
-Benchmark Benchmark::FromConfigFile(const std::string& iniPath)
+Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::string& outputDir)
 {
     config::checkIniFile(iniPath);
     mrpt::config::CConfigFile ini(iniPath);
@@ -389,32 +474,82 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath)
     b.m_iniPath = iniPath;
     auto& o = b.m_options;
     o.loadFromConfigFile(ini, kSection);
-
-    auto resolve = [&](const std::string& key, const std::string& file)
+    if (!outputDir.empty())
     {
-        const std::string p = config::resolveNextToIni(ini, file);
-        if (!mrpt::system::fileExists(p))
-        {
-            THROW_EXCEPTION("ini [" + kSection + "] " + key + ": '" + file +
-                            "' does not exist (looked next to '" + iniPath +
-                            "' and in the working directory)");
-        }
-        return std::filesystem::absolute(p).lexically_normal().string();
-    };
+        o.output_dir = outputDir;
+    }
 
-    o.simulate_ini = resolve("simulate_ini", o.simulate_ini);
+    o.simulate_ini = resolveFile(ini, iniPath, kSection, "simulate_ini", o.simulate_ini);
     b.m_simulation = TSimulatorOptions::FromConfigFile(o.simulate_ini);
     if (o.max_steps > 0)
     {
         b.m_simulation.simulation.max_steps = o.max_steps;
     }
     (void)Simulator(b.m_simulation);  // the world and the trajectory fail here, not in a child
+    if (o.scenarios.empty())
+    {
+        b.loadVariants(ini);
+        return b;
+    }
 
+    for (const auto& file : o.scenarios)
+    {
+        Benchmark sc = b;
+        const std::string path = resolveFile(ini, iniPath, kSection, "scenarios", file);
+        try
+        {
+            mrpt::config::CConfigFile sini(path);
+            if (!sini.sectionExists(kScenarioSection))
+            {
+                THROW_EXCEPTION("no [" + kScenarioSection + "] section");
+            }
+            sc.m_scenario.loadFromConfigFile(sini, kScenarioSection);
+            // The overlay: its keys replace the base simulation's.
+            sc.m_simulation.loadFromConfigFile(sini);
+            if (o.max_steps > 0)
+            {
+                sc.m_simulation.simulation.max_steps = o.max_steps;
+            }
+            (void)Simulator(sc.m_simulation);
+        }
+        catch (const std::exception& e)
+        {
+            THROW_EXCEPTION("scenario '" + path + "': " + errorMessage(e));
+        }
+        auto& s = sc.m_scenario;
+        if (s.name.empty())
+        {
+            s.name = std::filesystem::path(path).stem().string();
+        }
+        for (const auto& other : b.m_scenarios)
+        {
+            if (other.m_scenario.name == s.name)
+            {
+                THROW_EXCEPTION("ini [" + kSection + "] scenarios: the name '" + s.name +
+                                "' appears twice");
+            }
+        }
+        if (!s.variants.empty())
+        {
+            sc.m_options.variants = s.variants;
+        }
+        sc.m_options.scenarios.clear();
+        sc.m_scenarios.clear();
+        sc.loadVariants(ini);
+        b.m_scenarios.push_back(std::move(sc));
+    }
+    return b;
+}
+
+void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
+{
+    const auto& o = m_options;
     for (const auto& name : o.variants)
     {
         const bool isFile = name.size() > 4 && name.substr(name.size() - 4) == ".ini";
         TVariant v;
-        v.iniPath = resolve("variants", isFile ? name : name + ".ini");
+        v.iniPath =
+            resolveFile(ini, m_iniPath, kSection, "variants", isFile ? name : name + ".ini");
         try
         {
             config::checkIniFile(v.iniPath);
@@ -430,7 +565,7 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath)
         {
             v.options.variant = v.maps.variant();
         }
-        for (const auto& w : b.m_variants)
+        for (const auto& w : m_variants)
         {
             if (w.name() == v.name())
             {
@@ -438,16 +573,16 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath)
                                 "' appears twice");
             }
         }
-        b.m_variants.push_back(std::move(v));
+        m_variants.push_back(std::move(v));
     }
-    if (b.m_variants.empty())
+    if (m_variants.empty())
     {
         THROW_EXCEPTION("ini [" + kSection + "] variants: empty");
     }
 
     // Only the likelihood differs between variants: the first one's filter for all.
-    const auto reference = b.m_variants.front().options;
-    for (auto& v : b.m_variants)
+    const auto reference = m_variants.front().options;
+    for (auto& v : m_variants)
     {
         if (o.same_filter)
         {
@@ -458,9 +593,23 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath)
         {
             v.options.filter.particles_count = o.particles;
         }
+        if (m_scenario.particles > 0)
+        {
+            v.options.filter.particles_count = m_scenario.particles;
+        }
         v.options.filter.threads = o.filter_threads;
+        if (m_scenario.recovery)
+        {
+            v.options.filter.recovery.alpha_slow = m_scenario.recovery_alpha_slow;
+            v.options.filter.recovery.alpha_fast = m_scenario.recovery_alpha_fast;
+        }
     }
-    return b;
+}
+
+long Benchmark::kidnapStep() const
+{
+    const auto& k = m_simulation.kidnapping;
+    return k.enabled ? static_cast<long>(k.step) : -1L;
 }
 
 size_t Benchmark::effectiveJobs() const
@@ -489,6 +638,7 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
         filter.seed = static_cast<uint32_t>(run);
         Localizer loc(filter, v.maps.map, v.maps.world ? &*v.maps.world : nullptr);
         TRunResult r;
+        r.scenario = m_scenario.name;
         r.run = run;
         r.seed = filter.seed;
         r.variant = v.name();
@@ -519,7 +669,7 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
         }
         r.wallTime_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-        r.metrics = RunMetrics::compute(r.records, v.options.convergence);
+        r.metrics = RunMetrics::compute(r.records, v.options.convergence, kidnapStep());
         r.reinitializations = loc.recoveryStats().reinitializations;
         out.push_back(std::move(r));
     }
@@ -530,6 +680,10 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
 
 Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& progress) const
 {
+    if (!m_scenarios.empty())
+    {
+        return runScenarios(progress);
+    }
     const auto wall0 = std::chrono::steady_clock::now();
     const auto& o = m_options;
     StagedDirectory out(o.output_dir);
@@ -641,7 +795,9 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
                    "incomplete results of run " + std::to_string(run));
         for (size_t k = 0; k < rs.size(); k++)
         {
-            rs[k].metrics = RunMetrics::compute(rs[k].records, m_variants[k].options.convergence);
+            rs[k].scenario = m_scenario.name;
+            rs[k].metrics =
+                RunMetrics::compute(rs[k].records, m_variants[k].options.convergence, kidnapStep());
             res.runs.push_back(std::move(rs[k]));
         }
     }
@@ -700,13 +856,18 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
     }
 
     res.table = reportTable(res.runs, names);
+    res.summaries = summarize(res.runs);
     res.wallTime_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     {
         const auto& first = m_variants.front().options.filter;
         std::ostringstream md;
-        md << "# semloc-benchmark report\n\n"
-           << "The experiment of the paper (§IV): " << o.runs
+        md << "# semloc-benchmark report\n\n";
+        if (!m_scenario.name.empty())
+        {
+            md << "Scenario **" << m_scenario.name << "**: " << m_scenario.description << "\n\n";
+        }
+        md << "The experiment of the paper (§IV): " << o.runs
            << " runs; run i simulates the scenario of `" << o.simulate_ini
            << "` with seed i and localizes it with every variant (filter seeded with i).\n\n"
            << "- steps per run: " << res.runs.front().metrics.steps
@@ -728,7 +889,16 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
               "building the filter and reading the results. The ratio is the filter time over "
               "`"
            << referenceVariant(names) << "`'s.\n\n"
-           << res.table << "\n## Table I of the paper beside ours\n\n"
+           << res.table;
+        if (!m_scenario.name.empty() || kidnapStep() >= 0)
+        {
+            md << "\n## Success and recovery\n\n"
+               << "Success: converged; with a kidnapping, re-converged (the criterion above, "
+                  "from the kidnap step on) within "
+               << m_scenario.recovery_max_steps << " steps of it.\n\n"
+               << scenariosTable(res.summaries);
+        }
+        md << "\n## Table I of the paper beside ours\n\n"
            << "The paper reports the average execution time of a run: semantic "
               "1171934146 ns, geometric 6977878010 ns (about 6x). Ours were measured on this "
               "machine with the run length and particle count above, so only the ratios "
@@ -740,6 +910,141 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
            << "- `world_paths.png`: the world, run 1's true path and each variant's estimate\n";
         writeFile(out.path("report.md"), md.str());
     }
+    res.outputDir = out.target();
+    out.commit();
+    return res;
+}
+
+std::vector<Benchmark::TScenarioSummary> Benchmark::summarize(
+    const std::vector<TRunResult>& runs) const
+{
+    std::vector<TScenarioSummary> out;
+    for (const auto& v : m_variants)
+    {
+        TScenarioSummary s;
+        s.scenario = m_scenario.name;
+        s.description = m_scenario.description;
+        s.variant = v.name();
+        s.kidnap_step = kidnapStep();
+        s.recovery_max_steps = m_scenario.recovery_max_steps;
+        std::vector<double> conv, err, rec;
+        for (const auto& r : runs)
+        {
+            if (r.variant != s.variant)
+            {
+                continue;
+            }
+            const auto& m = r.metrics;
+            s.runs++;
+            if (m.converged)
+            {
+                s.converged++;
+                conv.push_back(m.convergence_time_s);
+                err.push_back(m.mean_err_after_conv_m);
+            }
+            if (m.recovery_steps >= 0)
+            {
+                rec.push_back(static_cast<double>(m.recovery_steps));
+            }
+            const bool ok = s.kidnap_step >= 0
+                                ? m.recovery_steps >= 0 && m.recovery_steps <= s.recovery_max_steps
+                                : m.converged;
+            s.successes += ok ? 1 : 0;
+        }
+        s.mean_convergence_time_s = mean(conv);
+        s.mean_err_after_conv_m = mean(err);
+        s.mean_recovery_steps = mean(rec);
+        s.max_recovery_steps = rec.empty() ? kNaN : *std::max_element(rec.begin(), rec.end());
+        out.push_back(s);
+    }
+    return out;
+}
+
+std::string Benchmark::scenariosTable(const std::vector<TScenarioSummary>& summaries)
+{
+    std::ostringstream o;
+    o << "| scenario | variant | runs | success | converged | mean conv. time [s] | "
+         "mean err after conv. [m] | kidnap step | recovered within | mean recovery steps | "
+         "max recovery steps |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& s : summaries)
+    {
+        const bool kidnap = s.kidnap_step >= 0;
+        o << "| " << (s.scenario.empty() ? "-" : s.scenario) << " | " << s.variant << " | "
+          << s.runs << " | " << mrpt::format("%.0f%%", 100.0 * s.successRate()) << " | "
+          << s.converged << " | " << cell("%.1f", s.mean_convergence_time_s) << " | "
+          << cell("%.3f", s.mean_err_after_conv_m) << " | "
+          << (kidnap ? std::to_string(s.kidnap_step) : "-") << " | "
+          << (kidnap ? std::to_string(s.recovery_max_steps) + " steps" : "-") << " | "
+          << (kidnap ? cell("%.1f", s.mean_recovery_steps) : "-") << " | "
+          << (kidnap ? cell("%.0f", s.max_recovery_steps) : "-") << " |\n";
+    }
+    return o.str();
+}
+
+Benchmark::TResult Benchmark::runScenarios(
+    const std::function<void(size_t, size_t)>& progress) const
+{
+    const auto wall0 = std::chrono::steady_clock::now();
+    StagedDirectory out(m_options.output_dir);
+    const size_t total = m_scenarios.size() * static_cast<size_t>(m_options.runs);
+    TResult res;
+    std::ostringstream sections;
+    for (size_t i = 0; i < m_scenarios.size(); i++)
+    {
+        Benchmark sc = m_scenarios[i];
+        const std::string name = sc.m_scenario.name;
+        sc.m_options.output_dir = out.path(name);
+        const size_t offset = i * static_cast<size_t>(m_options.runs);
+        const auto r = sc.run(
+            [&](size_t done, size_t)
+            {
+                if (progress && (done > 0 || i == 0))
+                {
+                    progress(offset + done, total);
+                }
+            });
+        res.runs.insert(res.runs.end(), r.runs.begin(), r.runs.end());
+        res.summaries.insert(res.summaries.end(), r.summaries.begin(), r.summaries.end());
+        sections << "- [" << name << "](" << name << "/report.md): " << sc.m_scenario.description
+                 << " (`" << sc.m_options.simulate_ini << "` + `" << m_options.scenarios[i]
+                 << "`)\n";
+    }
+    res.table = scenariosTable(res.summaries);
+
+    std::ostringstream csv;
+    csv << "scenario,variant,runs,successes,success_rate,converged,mean_convergence_time_s,"
+           "mean_err_after_conv_m,kidnap_step,recovery_max_steps,mean_recovery_steps,"
+           "max_recovery_steps\n";
+    for (const auto& s : res.summaries)
+    {
+        const bool kidnap = s.kidnap_step >= 0;
+        csv << s.scenario << ',' << s.variant << ',' << s.runs << ',' << s.successes << ','
+            << num(s.successRate()) << ',' << s.converged << ',' << num(s.mean_convergence_time_s)
+            << ',' << num(s.mean_err_after_conv_m) << ','
+            << (kidnap ? std::to_string(s.kidnap_step) : "") << ','
+            << (kidnap ? std::to_string(s.recovery_max_steps) : "") << ','
+            << (kidnap ? num(s.mean_recovery_steps) : "") << ','
+            << (kidnap ? num(s.max_recovery_steps) : "") << '\n';
+    }
+    writeFile(out.path("scenarios.csv"), csv.str());
+
+    res.wallTime_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    const auto& crit = m_scenarios.front().m_variants.front().options.convergence;
+    std::ostringstream md;
+    md << "# semloc-benchmark report: scenarios\n\n"
+       << m_options.runs << " runs per scenario; run i simulates the scenario with seed i and "
+       << "localizes it with the scenario's variants (filter seeded with i); "
+       << m_scenarios.front().m_variants.front().options.filter.particles_count
+       << " particles; total wall time " << mrpt::format("%.1f", res.wallTime_s) << " s.\n\n"
+       << "Success: converged (err_xy < " << crit.max_err_xy_m << " m and var_xy < "
+       << crit.max_var_xy_m2 << " m² held for the rest of the run or " << crit.min_steps
+       << " consecutive steps); with a kidnapping, the same criterion met again from the kidnap "
+          "step on within the scenario's bound (recovery steps = first such step - kidnap "
+          "step).\n\n"
+       << res.table << "\n## Scenarios\n\n"
+       << sections.str();
+    writeFile(out.path("report.md"), md.str());
     res.outputDir = out.target();
     out.commit();
     return res;

@@ -35,6 +35,8 @@ std::string iniReference()
     loc.saveToConfigFile(c, "LocalizationExperiment");
     // semloc-benchmark
     Benchmark::TOptions().saveToConfigFile(c, "Benchmark");
+    // semloc-benchmark scenario files (config/faults/*.ini): [Scenario] + simulate.ini keys
+    Benchmark::TScenario().saveToConfigFile(c, "Scenario");
     // semloc-simulate
     TSimulatorOptions sim;
     sim.simulation.world_file = "../maps/paper_50x50.yaml";

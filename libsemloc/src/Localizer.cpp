@@ -448,7 +448,10 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
     m_pdf->setFreeSpaceSampler(m_freeSpace);
     m_pdf->prepareLikelihood();
 
-    mrpt::random::getRandomGenerator().randomize(o.seed);
+    // A fresh generator, not randomize(seed): randomize() re-seeds the Mersenne twister but
+    // keeps std::normal_distribution's cached second value, so the first Gaussian draw of a
+    // second filter in the same process depended on the draws of the one before.
+    mrpt::random::getRandomGenerator() = mrpt::random::CRandomGenerator(o.seed);
     reset();
 }
 

@@ -2,6 +2,7 @@
 #include <mrpt/math/wrap2pi.h>
 #include <semloc/RunMetrics.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -22,7 +23,8 @@ double TStepRecord::errPhi() const
     return gt ? mrpt::math::wrapToPi(est.phi - gt->phi) : kNaN;
 }
 
-RunMetrics RunMetrics::compute(const std::vector<TStepRecord>& r, const TConvergenceCriterion& c)
+RunMetrics RunMetrics::compute(const std::vector<TStepRecord>& r, const TConvergenceCriterion& c,
+                               long kidnapStep)
 {
     RunMetrics m;
     m.steps = r.size();
@@ -30,26 +32,49 @@ RunMetrics RunMetrics::compute(const std::vector<TStepRecord>& r, const TConverg
 
     auto ok = [&](const TStepRecord& s)
     { return s.gt && s.errXY() < c.max_err_xy_m && s.var_xy < c.max_var_xy_m2; };
-    size_t conv = 0;  // index in `r` of the convergence step
-    for (size_t k = 0; k < r.size() && !m.converged;)
+    // Index in `r` of the first step at or after index `from` from which `ok` holds for the
+    // rest of the run or for min_steps steps; r.size() if none.
+    auto settled = [&](size_t from)
     {
-        if (!ok(r[k]))
+        for (size_t k = from; k < r.size();)
         {
-            k++;
-            continue;
+            if (!ok(r[k]))
+            {
+                k++;
+                continue;
+            }
+            size_t e = k;
+            while (e < r.size() && ok(r[e]))
+            {
+                e++;
+            }
+            if (e == r.size() || e - k >= static_cast<size_t>(std::max(1, c.min_steps)))
+            {
+                return k;
+            }
+            k = e;
         }
-        size_t e = k;
-        while (e < r.size() && ok(r[e]))
+        return r.size();
+    };
+    const size_t conv = settled(0);  // index in `r` of the convergence step
+    if (conv < r.size())
+    {
+        m.converged = true;
+        m.convergence_step = static_cast<long>(r[conv].step);
+    }
+    if (kidnapStep >= 0)
+    {
+        m.kidnap_step = kidnapStep;
+        size_t from = 0;
+        while (from < r.size() && static_cast<long>(r[from].step) < kidnapStep)
         {
-            e++;
+            from++;
         }
-        if (e == r.size() || e - k >= static_cast<size_t>(std::max(1, c.min_steps)))
+        const size_t back = settled(from);
+        if (back < r.size())
         {
-            m.converged = true;
-            conv = k;
-            m.convergence_step = static_cast<long>(r[k].step);
+            m.recovery_steps = static_cast<long>(r[back].step) - kidnapStep;
         }
-        k = e;
     }
 
     double sum2 = 0, after = 0, updates = 0, particleUpdates = 0;

@@ -30,7 +30,15 @@ namespace semloc
  *  of DESIGN.md, plus wall_time_s), `curves.csv` (per variant and step: mean and 10/50/90 %
  *  percentiles of err_xy and var_xy over the runs), `report.md` (reportTable() and the
  *  paper's Table I beside ours), `figures.gp` + `fig_variance.png`, `fig_error.png` (Fig. 3)
- *  and `world_paths.png` (the world, run 1's true path and estimates; WorldPlot). */
+ *  and `world_paths.png` (the world, run 1's true path and estimates; WorldPlot).
+ *
+ *  ## Scenarios (the robustness experiment)
+ *  With `scenarios`, each scenario file is an overlay of `simulate_ini` (its [Simulation],
+ *  [Odometry], [Sonar], [SemanticDetector], [Kidnapping] keys replace the base's) plus a
+ *  [Scenario] section (TScenario: name, variants, recovery). Each scenario is a benchmark of
+ *  its own written to `output_dir/<name>/` (all the outputs above); `output_dir` also gets
+ *  `scenarios.csv` and `report.md`: per scenario and variant the success rate (converged;
+ *  with a kidnapping: recovered within `recovery_max_steps`), convergence and recovery. */
 class Benchmark
 {
 public:
@@ -58,12 +66,44 @@ public:
          *  KLD_options, initial distribution, convergence criterion), so that only the
          *  likelihood (the maps) differs; false: each variant's own. */
         bool same_filter = true;
+        /** Scenario files (overlays of simulate_ini with a [Scenario] section; resolved next
+         *  to benchmark.ini); empty: the one scenario of simulate_ini. */
+        std::vector<std::string> scenarios;
 
         /** Reads the [Benchmark] section strictly: an unknown key or a bad value is an error
          *  naming it. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
         /** Writes every key of the [Benchmark] section (the effective configuration). */
+        void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                              const std::string& section) const override;
+    };
+
+    /** Section [Scenario] of a scenario file. */
+    struct TScenario : public mrpt::config::CLoadableOptions
+    {
+        /** Name (output subdirectory); empty: the file's stem. */
+        std::string name;
+        /** One line saying what the scenario changes. */
+        std::string description;
+        /** Variants of this scenario (as [Benchmark] variants); empty: [Benchmark]'s. */
+        std::vector<std::string> variants;
+        /** Particles of every variant of this scenario; 0: [Benchmark] particles. */
+        int particles = 0;
+        /** true: every variant runs with augmented MCL recovery (the two rates below). */
+        bool recovery = false;
+        /** [PF_options] recovery_alpha_slow when `recovery`. */
+        double recovery_alpha_slow = 0.001;
+        /** [PF_options] recovery_alpha_fast when `recovery`. */
+        double recovery_alpha_fast = 0.1;
+        /** With a kidnapping: a run succeeds if it recovers (RunMetrics::recovery_steps)
+         *  within this many steps of the kidnapping. */
+        int recovery_max_steps = 100;
+
+        /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                const std::string& section) override;
+        /** Writes every key of the section. */
         void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                               const std::string& section) const override;
     };
@@ -84,6 +124,8 @@ public:
     /** One run of one variant. */
     struct TRunResult
     {
+        /** Scenario name (empty without scenarios). */
+        std::string scenario;
         /** Index of the run. */
         int run = 0;
         /** Seed of the run (simulation and filter). */
@@ -104,6 +146,36 @@ public:
         std::vector<TStepRecord> records;
     };
 
+    /** Success of one variant in one scenario over the runs. */
+    struct TScenarioSummary
+    {
+        /** Scenario name (empty without scenarios). */
+        std::string scenario;
+        /** TScenario::description. */
+        std::string description;
+        /** Variant name. */
+        std::string variant;
+        /** Runs. */
+        size_t runs = 0;
+        /** Successful runs: converged, or with a kidnapping recovered within the bound. */
+        size_t successes = 0;
+        /** Converged runs (RunMetrics::converged). */
+        size_t converged = 0;
+        /** Mean time to convergence of the converged runs [s]; NaN if none. */
+        double mean_convergence_time_s = 0;
+        /** Mean error after convergence of the converged runs [m]; NaN if none. */
+        double mean_err_after_conv_m = 0;
+        /** Kidnap step of the scenario, -1 without a kidnapping. */
+        long kidnap_step = -1;
+        /** TScenario::recovery_max_steps. */
+        int recovery_max_steps = 0;
+        /** Mean and maximum recovery steps of the runs that recovered; NaN if none. */
+        double mean_recovery_steps = 0, max_recovery_steps = 0;
+
+        /** successes / runs. */
+        double successRate() const;
+    };
+
     /** Everything the benchmark produced. */
     struct TResult
     {
@@ -111,15 +183,18 @@ public:
         std::vector<TRunResult> runs;
         /** Directory the outputs were written to. */
         std::string outputDir;
-        /** reportTable() of the runs. */
+        /** Per scenario and variant (configuration order). */
+        std::vector<TScenarioSummary> summaries;
+        /** reportTable() of the runs (with scenarios: scenariosTable()). */
         std::string table;
         /** Wall time of the whole benchmark [s]. */
         double wallTime_s = 0;
     };
 
     /** Reads [Benchmark], the simulation ini and every variant ini (strictly) before any
-     *  output is written. Throws naming the file, [section] and key of any error. */
-    static Benchmark FromConfigFile(const std::string& iniPath);
+     *  output is written. Throws naming the file, [section] and key of any error.
+     *  A non-empty `outputDir` replaces [Benchmark] output_dir. */
+    static Benchmark FromConfigFile(const std::string& iniPath, const std::string& outputDir = {});
 
     /** Runs everything and writes the outputs; `progress(runsDone, runs)` is called from the
      *  calling thread at the start (0) and after each run. On error nothing is left in output_dir.
@@ -135,20 +210,41 @@ public:
     static std::string reportTable(const std::vector<TRunResult>& runs,
                                    const std::vector<std::string>& variants);
 
+    /** The table of scenarios.csv / report.md with scenarios: per scenario and variant the
+     *  success rate, convergence and recovery. */
+    static std::string scenariosTable(const std::vector<TScenarioSummary>& summaries);
+
     /** The benchmark options. */
     const TOptions& options() const { return m_options; }
-    /** The variants, in configuration order. */
+    /** The variants, in configuration order (empty with scenarios). */
     const std::vector<TVariant>& variants() const { return m_variants; }
+    /** One benchmark per scenario file (empty without scenarios). */
+    const std::vector<Benchmark>& scenarios() const { return m_scenarios; }
+    /** The scenario of a benchmark from `scenarios()`. */
+    const TScenario& scenario() const { return m_scenario; }
+    /** The simulation options (scenario overlay applied). */
+    const TSimulatorOptions& simulation() const { return m_simulation; }
     /** Jobs actually used. */
     size_t effectiveJobs() const;
 
 private:
     Benchmark() = default;
+    /** Reads the variants of m_options (names resolved next to `ini`) and applies the
+     *  benchmark's and the scenario's filter overrides. */
+    void loadVariants(const mrpt::config::CConfigFileBase& ini);
+    /** The kidnap step of the simulation, -1 if none. */
+    long kidnapStep() const;
+    /** Summaries of `runs` (this benchmark's) per variant. */
+    std::vector<TScenarioSummary> summarize(const std::vector<TRunResult>& runs) const;
+    /** run() with scenarios. */
+    TResult runScenarios(const std::function<void(size_t, size_t)>& progress) const;
 
     std::string m_iniPath;
     TOptions m_options;
     TSimulatorOptions m_simulation;
     std::vector<TVariant> m_variants;
+    TScenario m_scenario;
+    std::vector<Benchmark> m_scenarios;
 };
 
 }  // namespace semloc

@@ -72,10 +72,19 @@ struct RunMetrics
     double total_update_s = 0;
     /** Total update time / total particle updates [us]. */
     double mean_update_us_per_particle = 0;
+    /** @name Recovery from a kidnapping (only when compute() is given the kidnap step)
+     *  @{ */
+    /** Step at which the vehicle was kidnapped, -1 if none. */
+    long kidnap_step = -1;
+    /** Steps from the kidnapping to the first step at or after it from which the convergence
+     *  criterion holds again (for the rest of the run or `min_steps` steps); -1 if never. */
+    long recovery_steps = -1;
+    /** @} */
 
-    /** The metrics of `records` (in step order). */
+    /** The metrics of `records` (in step order); `kidnapStep` >= 0: also the recovery from
+     *  a kidnapping at that step. */
     static RunMetrics compute(const std::vector<TStepRecord>& records,
-                              const TConvergenceCriterion& criterion);
+                              const TConvergenceCriterion& criterion, long kidnapStep = -1);
 };
 
 }  // namespace semloc
