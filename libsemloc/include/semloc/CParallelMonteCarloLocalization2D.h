@@ -124,6 +124,13 @@ public:
     double ESS() const override;
     /** Replaces the particles by those at the (sorted) resampled indices, in parallel. */
     void performSubstitution(const std::vector<size_t>& indx) override;
+    /** Log-weight of particle i. MRPT's base reaches the particles through a dynamic_cast
+     *  per call, and its performResampling() calls this once per particle. */
+    double getW(size_t i) const override { return m_particles.at(i).log_w; }
+    /** Sets the log-weight of particle i (without the base's dynamic_cast per call). */
+    void setW(size_t i, double w) override { m_particles.at(i).log_w = w; }
+    /** Number of particles (without the base's dynamic_cast per call). */
+    size_t particlesCount() const override { return m_particles.size(); }
 
 private:
     void predictFixedSampleSize(const mrpt::obs::CActionCollection& actions);
