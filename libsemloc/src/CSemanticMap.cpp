@@ -414,7 +414,7 @@ struct Scratch
     std::vector<Pair> pairs;  // first nPairs entries are valid
     size_t nPairs = 0;
     std::vector<uint8_t> used;
-    Memo cosHalf, sinHalf, cosYaw, sinYaw, logPu, cosGate;
+    Memo cosHalf, sinHalf, cosYaw, sinYaw;
 };
 
 Scratch& scratch()
@@ -653,22 +653,74 @@ double assignGreedy(Scratch& sc)
     return sum;
 }
 
+/** What a model needs that is the same for every particle of a call (options, sensor
+ *  range and FOV): computed once per call, not per particle. */
+struct ModelConsts
+{
+    double ir = 0, ib = 0;  // 1 / sigma_rho, 1 / sigma_theta [1/m, 1/rad]
+    /** Largest (dr/sigma_r)^2 + (db/sigma_b)^2 a pair may cost and still gain. */
+    double budget = 0;
+    /** cos of the largest |dtheta| the budget allows (-2: no bearing gate). */
+    double cosGate = -2;
+    double logPu = 0;  // paper: log p_u
+    // probabilistic
+    double sb = 0, logNorm = 0, logKappa = 0, logSame = 0, logOther = 0, lambda = 0;
+    bool confusable = false;
+};
+
+ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels, double R,
+                        double fov)
+{
+    ModelConsts k;
+    double sigmaB = 0;
+    if (opt.model == CSemanticMap::Model::Paper)
+    {
+        k.ir = 1.0 / opt.sigma_range_m;
+        k.ib = 1.0 / (opt.sigma_bearing_deg * M_PI / 180.0);
+        k.logPu = std::log(opt.unmatched_penalty);
+        // Matching a pair instead of leaving both unmatched gains s - 2 log(p_u) (> 0 to
+        // match). Gain > 0 needs (dr/sr)^2 + (db/sb)^2 < -4 log(p_u).
+        k.budget = -4 * k.logPu;
+        sigmaB = 1.0 / k.ib;
+    }
+    else
+    {
+        const double sr = opt.sigma_range_m, sb = opt.sigma_bearing_deg * M_PI / 180.0;
+        k.sb = sb;
+        k.logNorm = -std::log(2 * M_PI * sr * sb);
+        const double K = static_cast<double>(std::max<size_t>(1, nLabels));
+        k.lambda = opt.clutter_per_scan;
+        k.logKappa = std::log(k.lambda / (R * std::min(fov, 2 * M_PI) * K));
+        k.logSame = std::log1p(-opt.p_confusion);
+        k.confusable = opt.p_confusion > 0 && nLabels > 1;
+        k.logOther = k.confusable ? std::log(opt.p_confusion / (K - 1)) : 0;
+        k.ir = 1.0 / sr;
+        k.ib = 1.0 / sb;
+        // Gain > 0 needs the Gaussian terms to cost less than the best the rest can give:
+        // P_D at its largest, a label term <= 0.
+        const double pmax =
+            std::clamp(std::max(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
+        k.budget = 2 * (std::log(pmax) - std::log1p(-pmax) + k.logNorm - k.logKappa);
+        sigmaB = sb;
+    }
+    const double maxAbsDb = sigmaB * std::sqrt(std::max(0.0, k.budget));
+    k.cosGate = maxAbsDb >= M_PI ? -2.0 : std::cos(maxAbsDb);
+    return k;
+}
+
 /** Candidate (detection, object) pairs with a positive log-gain `pairGain`: the object a
  *  detection names, else the visible objects of its label (all of them when `anyLabel`
- *  or the detection has none). `maxBudget` bounds what the two Gaussian terms may cost
- *  for the gain to stay positive: (dr/sigma_r)^2 <= maxBudget and
- *  |dtheta| <= sigma_theta sqrt(maxBudget) are exact necessary conditions, checked
+ *  or the detection has none). `k.budget` bounds what the two Gaussian terms may cost
+ *  for the gain to stay positive: (dr/sigma_r)^2 <= budget and
+ *  |dtheta| <= sigma_theta sqrt(budget) are exact necessary conditions, checked
  *  before any atan2 (most same-label candidates fail them). The bearing difference is
  *  atan2(u x v, u . v) of the detection's unit vector u and the object's direction v:
  *  exact, no angle wrapping. */
 template <typename GainFn>
-void collectPairs(Scratch& sc, bool anyLabel, double maxBudget, double ir, double sigmaB,
-                  GainFn&& pairGain)
+void collectPairs(Scratch& sc, bool anyLabel, const ModelConsts& k, GainFn&& pairGain)
 {
     const size_t nv = visibleCount(sc);
-    const double maxAbsDb = sigmaB * std::sqrt(std::max(0.0, maxBudget));
-    const double cosGate =
-        maxAbsDb >= M_PI ? -2.0 : sc.cosGate.get(maxAbsDb, [](double a) { return std::cos(a); });
+    const double maxBudget = k.budget, ir = k.ir, cosGate = k.cosGate;
     auto consider = [&](uint32_t j, uint32_t v)
     {
         const Det& d = sc.dets[j];
@@ -721,14 +773,10 @@ void collectPairs(Scratch& sc, bool anyLabel, double maxBudget, double ir, doubl
     }
 }
 
-double scorePaper(const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc)
+double scorePaper(const ModelConsts& k, Scratch& sc)
 {
-    const double ir = 1.0 / opt.sigma_range_m;
-    const double ib = 1.0 / (opt.sigma_bearing_deg * M_PI / 180.0);
-    const double logPu = sc.logPu.get(opt.unmatched_penalty, [](double p) { return std::log(p); });
-    // Matching a pair instead of leaving both unmatched gains s - 2 log(p_u) (> 0 to match).
-    // Gain > 0 needs (dr/sr)^2 + (db/sb)^2 < -4 log(p_u).
-    collectPairs(sc, false, -4 * logPu, ir, 1.0 / ib,
+    const double ir = k.ir, ib = k.ib, logPu = k.logPu;
+    collectPairs(sc, false, k,
                  [&](const Det&, const Vis&, double dr, double db) {
                      return -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu;
                  });
@@ -736,44 +784,32 @@ double scorePaper(const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc)
     return static_cast<double>(sc.dets.size() + visibleCount(sc)) * logPu + assignGreedy(sc);
 }
 
-double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels,
+double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k,
                           const Geom& g, Scratch& sc)
 {
-    const double sr = opt.sigma_range_m, sb = opt.sigma_bearing_deg * M_PI / 180.0;
-    const double logNorm = -std::log(2 * M_PI * sr * sb);
-    const double K = static_cast<double>(std::max<size_t>(1, nLabels));
-    const double lambda = opt.clutter_per_scan;
-    const double logKappa = std::log(lambda / (g.R * std::min(g.fov, 2 * M_PI) * K));
-    const double logSame = std::log1p(-opt.p_confusion);
-    const bool confusable = opt.p_confusion > 0 && nLabels > 1;
-    const double logOther = confusable ? std::log(opt.p_confusion / (K - 1)) : 0;
     auto pd = [&](double r)
     {
         const double p = opt.p_detect_near + (opt.p_detect_far - opt.p_detect_near) * (r / g.R);
         return std::clamp(p, 1e-6, 1 - 1e-6);
     };
-    double base = -lambda + static_cast<double>(sc.dets.size()) * logKappa;
+    double base = -k.lambda + static_cast<double>(sc.dets.size()) * k.logKappa;
     const size_t nv = visibleCount(sc);
     for (size_t v = 0; v < nv; v++)
     {
         base += std::log1p(-pd(rangeOf(sc.vis[v])));
     }
-    const double ir = 1.0 / sr, ib = 1.0 / sb;
-    // Gain > 0 needs the Gaussian terms to cost less than the best the rest can give:
-    // P_D at its largest, a label term <= 0.
-    const double pmax = std::clamp(std::max(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
-    const double budget = 2 * (std::log(pmax) - std::log1p(-pmax) + logNorm - logKappa);
-    collectPairs(sc, confusable, budget, ir, sb,
+    const double ir = k.ir, ib = k.ib;
+    collectPairs(sc, k.confusable, k,
                  [&](const Det& d, const Vis& v, double dr, double db)
                  {
                      const double p = pd(v.r);  // rangeOf() ran for every visible object above
                      double logC = 0;           // landmarks without a label: no label term
                      if (d.label >= 0)
                      {
-                         logC = (d.label == v.label) ? logSame : logOther;
+                         logC = (d.label == v.label) ? k.logSame : k.logOther;
                      }
-                     return std::log(p) - std::log1p(-p) + logC + logNorm -
-                            0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - logKappa;
+                     return std::log(p) - std::log1p(-p) + logC + k.logNorm -
+                            0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - k.logKappa;
                  });
     return base + assignGreedy(sc);
 }
@@ -793,12 +829,12 @@ bool finitePose(const TPose2D& p)
 }
 
 double score(const CSemanticMap::Index& ix, size_t nLabels,
-             const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc, const Geom& g)
+             const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k, Scratch& sc,
+             const Geom& g)
 {
     predictVisible(ix, nLabels, g, sc);
-    const double ll = opt.model == CSemanticMap::Model::Paper
-                          ? scorePaper(opt, sc)
-                          : scoreProbabilistic(opt, nLabels, g, sc);
+    const double ll = opt.model == CSemanticMap::Model::Paper ? scorePaper(k, sc)
+                                                              : scoreProbabilistic(opt, k, g, sc);
     return finite(ll);
 }
 
@@ -896,8 +932,8 @@ Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
 }
 
 double scoreAt(const CSemanticMap::Index& ix, size_t nLabels,
-               const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc, const Sensor& s,
-               const TPose2D& pose)
+               const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k, Scratch& sc,
+               const Sensor& s, const TPose2D& pose)
 {
     if (!s.usable)
     {
@@ -907,7 +943,7 @@ double scoreAt(const CSemanticMap::Index& ix, size_t nLabels,
     {
         return kMinLogLik;
     }
-    return score(ix, nLabels, opt, sc, makeGeom(sc, pose, s.ox, s.oy, s.oyaw, s.R, s.fov));
+    return score(ix, nLabels, opt, k, sc, makeGeom(sc, pose, s.ox, s.oy, s.oyaw, s.R, s.fov));
 }
 
 }  // namespace
@@ -917,11 +953,14 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
 {
     Scratch& sc = scratch();
     const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
+    const size_t nLabels = m_labels->size();
+    const ModelConsts k =
+        s.usable ? modelConsts(likelihoodOptions, nLabels, s.R, s.fov) : ModelConsts();
     if (!s.usable || n == 1)
     {
         for (size_t i = 0; i < n; i++)
         {
-            out[i] = scoreAt(*m_index, m_labels->size(), likelihoodOptions, sc, s, poses[i]);
+            out[i] = scoreAt(*m_index, nLabels, likelihoodOptions, k, sc, s, poses[i]);
         }
         return;
     }
@@ -939,7 +978,7 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
         for (size_t i = 0; i < m; i++)
         {
             out[i0 + i] = finitePose(poses[i0 + i])
-                              ? score(*m_index, m_labels->size(), likelihoodOptions, sc, geoms[i])
+                              ? score(*m_index, nLabels, likelihoodOptions, k, sc, geoms[i])
                               : kMinLogLik;
         }
     }
