@@ -410,7 +410,11 @@ struct Scratch
     std::vector<Det> dets;
     std::vector<Vis> vis;  // first nVis entries are valid
     size_t nVis = 0;
-    std::vector<uint32_t> byLabel, labelStart;
+    std::vector<uint32_t> hits;  // sorted indices of the visible objects (first nVis)
+    /** Per call: the detections to pair with a visible object of label l are
+     *  detByLabel[detStart[l] .. detStart[l + 1]), then anyDets (any label), then the
+     *  fixedDets whose object it is. */
+    std::vector<uint32_t> detByLabel, detStart, anyDets, fixedDets;
     std::vector<Pair> pairs;  // first nPairs entries are valid
     size_t nPairs = 0;
     std::vector<uint8_t> used;
@@ -459,11 +463,11 @@ Geom makeGeom(Scratch& sc, const TPose2D& pose, double ox, double oy, double oya
     return g;
 }
 
-/** Fills sc.vis with the objects inside range and FOV (z^k) and buckets them by label.
+/** Finds the objects inside range and FOV (z^k): their sorted indices in sc.hits.
  *  The scan is branch-free (compaction by a counter) and takes no square root until an
  *  object is known to be visible: most candidates are not, and mispredicted branches
  *  and sqrt latency were the cost of this loop. */
-void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g, Scratch& sc)
+void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
 {
     auto& vis = sc.vis;
     size_t cnt = 0;
@@ -472,6 +476,7 @@ void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g
         if (vis.size() < ix.x.size())
         {
             vis.resize(ix.x.size());
+            sc.hits.resize(ix.x.size());
         }
         const double R2 = g.R * g.R;
         // Cells overlapping the bounding box of the FOV sector (apex, both arc ends, and
@@ -514,64 +519,44 @@ void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g
             grow(g.sx - g.R, g.sy - g.R);
             grow(g.sx + g.R, g.sy + g.R);
         }
-        const double fx0 = std::floor((bx0 - ix.x0) * ix.inv_cell);
-        const double fx1 = std::floor((bx1 - ix.x0) * ix.inv_cell);
-        const double fy0 = std::floor((by0 - ix.y0) * ix.inv_cell);
-        const double fy1 = std::floor((by1 - ix.y0) * ix.inv_cell);
-        const int cx0 = static_cast<int>(std::max(0.0, fx0));
-        const int cx1 = static_cast<int>(std::min(ix.nx - 1.0, fx1));
-        const int cy0 = static_cast<int>(std::max(0.0, fy0));
-        const int cy1 = static_cast<int>(std::min(ix.ny - 1.0, fy1));
+        // Cell range of the box, clamped to the grid; empty when the box misses it.
+        auto lowCell = [](double v, int n)
+        { return v <= 0 ? 0 : static_cast<int>(std::min(n - 1.0, v)); };
+        auto highCell = [](double v, int n)
+        { return v < 0 ? -1 : static_cast<int>(std::min(n - 1.0, v)); };
+        const int cx0 = lowCell((bx0 - ix.x0) * ix.inv_cell, ix.nx);
+        const int cx1 = highCell((bx1 - ix.x0) * ix.inv_cell, ix.nx);
+        const int cy0 = lowCell((by0 - ix.y0) * ix.inv_cell, ix.ny);
+        const int cy1 = highCell((by1 - ix.y0) * ix.inv_cell, ix.ny);
         const double ch2 = g.cosHalf * g.cosHalf;
         const bool narrow = g.cosHalf >= 0;  // FOV <= 180 deg
+        // Locals, not members: the stores to `out` could alias them, which made the compiler
+        // reload every member and vector pointer at each candidate.
+        const double sx = g.sx, sy = g.sy, c = g.c, sn = g.s;
+        const double* X = ix.x.data();
+        const double* Y = ix.y.data();
+        const uint32_t* cellStart = ix.cellStart.data();
+        const auto nx = static_cast<size_t>(ix.nx);
+        uint32_t* out = sc.hits.data();
         for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
         {
-            const size_t row = static_cast<size_t>(cy) * static_cast<size_t>(ix.nx);
-            const uint32_t a = ix.cellStart[row + static_cast<size_t>(cx0)];
-            const uint32_t b = ix.cellStart[row + static_cast<size_t>(cx1) + 1];
+            const size_t row = static_cast<size_t>(cy) * nx;
+            const uint32_t a = cellStart[row + static_cast<size_t>(cx0)];
+            const uint32_t b = cellStart[row + static_cast<size_t>(cx1) + 1];
             for (uint32_t k = a; k < b; k++)
             {
-                const double dx = ix.x[k] - g.sx, dy = ix.y[k] - g.sy;
+                const double dx = X[k] - sx, dy = Y[k] - sy;
                 const double d2 = dx * dx + dy * dy;
-                const double lx = g.c * dx + g.s * dy;
+                const double lx = c * dx + sn * dy;
                 // lx >= cos(fov/2) * d, squared without the sqrt, per sign of cos(fov/2).
                 const bool inFov =
                     narrow ? (lx >= 0) & (lx * lx >= ch2 * d2) : (lx >= 0) | (lx * lx <= ch2 * d2);
-                Vis& v = vis[cnt];  // written always, kept only if visible
-                v.lx = lx;
-                v.ly = -g.s * dx + g.c * dy;
-                v.d2 = d2;
-                v.sorted = static_cast<int32_t>(k);
-                v.label = ix.label[k];
+                out[cnt] = k;  // written always, kept only if visible
                 cnt += static_cast<size_t>((d2 <= R2) & inFov);
             }
         }
     }
     sc.nVis = cnt;
-    // Counting sort of the visible objects by label: label l is byLabel[start[l] .. start[l+1]).
-    auto& start = sc.labelStart;
-    if (start.size() < nLabels + 2)
-    {
-        start.resize(nLabels + 2);
-    }
-    std::fill(start.begin(), start.begin() + static_cast<std::ptrdiff_t>(nLabels + 2), 0u);
-    for (size_t i = 0; i < cnt; i++)
-    {
-        vis[i].hasR = false;
-        start[static_cast<size_t>(vis[i].label) + 2]++;
-    }
-    for (size_t l = 2; l < nLabels + 2; l++)
-    {
-        start[l] += start[l - 1];
-    }
-    if (sc.byLabel.size() < cnt)
-    {
-        sc.byLabel.resize(ix.x.size());
-    }
-    for (size_t i = 0; i < cnt; i++)
-    {
-        sc.byLabel[start[static_cast<size_t>(vis[i].label) + 1]++] = static_cast<uint32_t>(i);
-    }
     // At most one pair per (detection, visible object): sized once, filled by index.
     sc.nPairs = 0;
     if (sc.pairs.size() < sc.dets.size() * cnt)
@@ -708,23 +693,68 @@ ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLab
     return k;
 }
 
-/** Candidate (detection, object) pairs with a positive log-gain `pairGain`: the object a
- *  detection names, else the visible objects of its label (all of them when `anyLabel`
- *  or the detection has none). `k.budget` bounds what the two Gaussian terms may cost
- *  for the gain to stay positive: (dr/sigma_r)^2 <= budget and
- *  |dtheta| <= sigma_theta sqrt(budget) are exact necessary conditions, checked
+/** Which detections may pair with an object of which label (once per call): the
+ *  object a detection names (fixedDets), else the objects of its label (detByLabel), or
+ *  of any label when `anyLabel` or the detection has none (anyDets). */
+void planPairs(Scratch& sc, size_t nLabels, bool anyLabel)
+{
+    sc.detStart.assign(nLabels + 1, 0);
+    sc.anyDets.clear();
+    sc.fixedDets.clear();
+    const auto nd = static_cast<uint32_t>(sc.dets.size());
+    for (uint32_t j = 0; j < nd; j++)
+    {
+        const Det& d = sc.dets[j];
+        if (d.fixed >= 0)
+        {
+            sc.fixedDets.push_back(j);
+        }
+        else if (anyLabel || d.label < 0)
+        {
+            sc.anyDets.push_back(j);
+        }
+        else
+        {
+            sc.detStart[static_cast<size_t>(d.label) + 1]++;
+        }
+    }
+    for (size_t l = 0; l < nLabels; l++)
+    {
+        sc.detStart[l + 1] += sc.detStart[l];
+    }
+    sc.detByLabel.resize(nd);
+    std::vector<uint32_t> fill(sc.detStart.begin(), sc.detStart.end() - 1);
+    for (uint32_t j = 0; j < nd; j++)
+    {
+        const Det& d = sc.dets[j];
+        if (d.fixed < 0 && !(anyLabel || d.label < 0))
+        {
+            sc.detByLabel[fill[static_cast<size_t>(d.label)]++] = j;
+        }
+    }
+}
+
+/** Sets up sc.vis (the visible objects in the sensor frame, the scan's arithmetic again
+ *  for the few it kept) and collects the candidate (detection, object) pairs with a
+ *  positive log-gain `pairGain`, as planned by planPairs(). `k.budget` bounds what the
+ *  two Gaussian terms may cost for the gain to stay positive: (dr/sigma_r)^2 <= budget
+ *  and |dtheta| <= sigma_theta sqrt(budget) are exact necessary conditions, checked
  *  before any atan2 (most same-label candidates fail them). The bearing difference is
  *  atan2(u x v, u . v) of the detection's unit vector u and the object's direction v:
- *  exact, no angle wrapping. */
+ *  exact, no angle wrapping. The order in which pairs are collected does not matter:
+ *  assignGreedy() sorts them by (gain, j, v). */
 template <typename GainFn>
-void collectPairs(Scratch& sc, bool anyLabel, const ModelConsts& k, GainFn&& pairGain)
+void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k, Scratch& sc,
+                  GainFn&& pairGain)
 {
     const size_t nv = visibleCount(sc);
     const double maxBudget = k.budget, ir = k.ir, cosGate = k.cosGate;
-    auto consider = [&](uint32_t j, uint32_t v)
+    const Det* dets = sc.dets.data();
+    Pair* pairs = sc.pairs.data();
+    size_t np = 0;
+    auto consider = [&](uint32_t j, uint32_t v, Vis& o)
     {
-        const Det& d = sc.dets[j];
-        Vis& o = sc.vis[v];
+        const Det& d = dets[j];
         const double dr = d.r - rangeOf(o);
         if ((dr * ir) * (dr * ir) > maxBudget)
         {
@@ -736,47 +766,62 @@ void collectPairs(Scratch& sc, bool anyLabel, const ModelConsts& k, GainFn&& pai
             return;
         }
         const double db = detail::fastAtan2(d.uc * o.ly - d.us * o.lx, dot);
-        const double g = pairGain(d, o, dr, db);
-        if (g > 0)
+        const double gain = pairGain(d, o, dr, db);
+        if (gain > 0)
         {
-            sc.pairs[sc.nPairs++] = {g, j, v};
+            pairs[np++] = {gain, j, v};
         }
     };
-    for (uint32_t j = 0; j < sc.dets.size(); j++)
+    const double sx = g.sx, sy = g.sy, c = g.c, sn = g.s;
+    const double* X = ix.x.data();
+    const double* Y = ix.y.data();
+    const int32_t* L = ix.label.data();
+    const uint32_t* hit = sc.hits.data();
+    const uint32_t* detStart = sc.detStart.data();
+    const uint32_t* detByLabel = sc.detByLabel.data();
+    const bool anyDets = !sc.anyDets.empty(), fixedDets = !sc.fixedDets.empty();
+    Vis* vis = sc.vis.data();
+    for (uint32_t v = 0; v < nv; v++)
     {
-        const Det& d = sc.dets[j];
-        if (d.fixed >= 0)
+        const uint32_t kk = hit[v];
+        const double dx = X[kk] - sx, dy = Y[kk] - sy;
+        Vis& o = vis[v];
+        o.lx = c * dx + sn * dy;
+        o.ly = -sn * dx + c * dy;
+        o.d2 = dx * dx + dy * dy;
+        o.sorted = static_cast<int32_t>(kk);
+        o.label = L[kk];
+        o.hasR = false;
+        const auto l = static_cast<size_t>(o.label);
+        for (uint32_t i = detStart[l]; i < detStart[l + 1]; i++)
         {
-            for (uint32_t v = 0; v < nv; v++)
+            consider(detByLabel[i], v, o);
+        }
+        if (anyDets)
+        {
+            for (const uint32_t j : sc.anyDets)
             {
-                if (sc.vis[v].sorted == d.fixed)
+                consider(j, v, o);
+            }
+        }
+        if (fixedDets)
+        {
+            for (const uint32_t j : sc.fixedDets)
+            {
+                if (dets[j].fixed == o.sorted)
                 {
-                    consider(j, v);
+                    consider(j, v, o);
                 }
             }
         }
-        else if (anyLabel || d.label < 0)
-        {
-            for (uint32_t v = 0; v < nv; v++)
-            {
-                consider(j, v);
-            }
-        }
-        else
-        {
-            const size_t l = static_cast<size_t>(d.label);
-            for (uint32_t i = sc.labelStart[l]; i < sc.labelStart[l + 1]; i++)
-            {
-                consider(j, sc.byLabel[i]);
-            }
-        }
     }
+    sc.nPairs = np;
 }
 
-double scorePaper(const ModelConsts& k, Scratch& sc)
+double scorePaper(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k, Scratch& sc)
 {
     const double ir = k.ir, ib = k.ib, logPu = k.logPu;
-    collectPairs(sc, false, k,
+    collectPairs(ix, g, k, sc,
                  [&](const Det&, const Vis&, double dr, double db) {
                      return -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu;
                  });
@@ -784,7 +829,8 @@ double scorePaper(const ModelConsts& k, Scratch& sc)
     return static_cast<double>(sc.dets.size() + visibleCount(sc)) * logPu + assignGreedy(sc);
 }
 
-double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k,
+double scoreProbabilistic(const CSemanticMap::Index& ix,
+                          const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k,
                           const Geom& g, Scratch& sc)
 {
     auto pd = [&](double r)
@@ -792,17 +838,11 @@ double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, const Mod
         const double p = opt.p_detect_near + (opt.p_detect_far - opt.p_detect_near) * (r / g.R);
         return std::clamp(p, 1e-6, 1 - 1e-6);
     };
-    double base = -k.lambda + static_cast<double>(sc.dets.size()) * k.logKappa;
-    const size_t nv = visibleCount(sc);
-    for (size_t v = 0; v < nv; v++)
-    {
-        base += std::log1p(-pd(rangeOf(sc.vis[v])));
-    }
     const double ir = k.ir, ib = k.ib;
-    collectPairs(sc, k.confusable, k,
+    collectPairs(ix, g, k, sc,
                  [&](const Det& d, const Vis& v, double dr, double db)
                  {
-                     const double p = pd(v.r);  // rangeOf() ran for every visible object above
+                     const double p = pd(v.r);  // consider() took rangeOf() first
                      double logC = 0;           // landmarks without a label: no label term
                      if (d.label >= 0)
                      {
@@ -811,6 +851,12 @@ double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, const Mod
                      return std::log(p) - std::log1p(-p) + logC + k.logNorm -
                             0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - k.logKappa;
                  });
+    double base = -k.lambda + static_cast<double>(sc.dets.size()) * k.logKappa;
+    const size_t nv = visibleCount(sc);
+    for (size_t v = 0; v < nv; v++)
+    {
+        base += std::log1p(-pd(rangeOf(sc.vis[v])));
+    }
     return base + assignGreedy(sc);
 }
 
@@ -828,13 +874,13 @@ bool finitePose(const TPose2D& p)
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
 }
 
-double score(const CSemanticMap::Index& ix, size_t nLabels,
-             const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k, Scratch& sc,
-             const Geom& g)
+double score(const CSemanticMap::Index& ix, const CSemanticMap::TLikelihoodOptions& opt,
+             const ModelConsts& k, Scratch& sc, const Geom& g)
 {
-    predictVisible(ix, nLabels, g, sc);
-    const double ll = opt.model == CSemanticMap::Model::Paper ? scorePaper(k, sc)
-                                                              : scoreProbabilistic(opt, k, g, sc);
+    predictVisible(ix, g, sc);
+    const double ll = opt.model == CSemanticMap::Model::Paper
+                          ? scorePaper(ix, g, k, sc)
+                          : scoreProbabilistic(ix, opt, k, g, sc);
     return finite(ll);
 }
 
@@ -931,9 +977,8 @@ Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
     return s;
 }
 
-double scoreAt(const CSemanticMap::Index& ix, size_t nLabels,
-               const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k, Scratch& sc,
-               const Sensor& s, const TPose2D& pose)
+double scoreAt(const CSemanticMap::Index& ix, const CSemanticMap::TLikelihoodOptions& opt,
+               const ModelConsts& k, Scratch& sc, const Sensor& s, const TPose2D& pose)
 {
     if (!s.usable)
     {
@@ -943,7 +988,7 @@ double scoreAt(const CSemanticMap::Index& ix, size_t nLabels,
     {
         return kMinLogLik;
     }
-    return score(ix, nLabels, opt, k, sc, makeGeom(sc, pose, s.ox, s.oy, s.oyaw, s.R, s.fov));
+    return score(ix, opt, k, sc, makeGeom(sc, pose, s.ox, s.oy, s.oyaw, s.R, s.fov));
 }
 
 }  // namespace
@@ -956,11 +1001,12 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     const size_t nLabels = m_labels->size();
     const ModelConsts k =
         s.usable ? modelConsts(likelihoodOptions, nLabels, s.R, s.fov) : ModelConsts();
+    planPairs(sc, nLabels, k.confusable);
     if (!s.usable || n == 1)
     {
         for (size_t i = 0; i < n; i++)
         {
-            out[i] = scoreAt(*m_index, nLabels, likelihoodOptions, k, sc, s, poses[i]);
+            out[i] = scoreAt(*m_index, likelihoodOptions, k, sc, s, poses[i]);
         }
         return;
     }
@@ -978,7 +1024,7 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
         for (size_t i = 0; i < m; i++)
         {
             out[i0 + i] = finitePose(poses[i0 + i])
-                              ? score(*m_index, nLabels, likelihoodOptions, k, sc, geoms[i])
+                              ? score(*m_index, likelihoodOptions, k, sc, geoms[i])
                               : kMinLogLik;
         }
     }
