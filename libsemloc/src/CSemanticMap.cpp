@@ -411,10 +411,9 @@ struct Scratch
     std::vector<Vis> vis;  // first nVis entries are valid
     size_t nVis = 0;
     std::vector<uint32_t> hits;  // sorted indices of the visible objects (first nVis)
-    /** Per call: the detections to pair with a visible object of label l are
-     *  detByLabel[detStart[l] .. detStart[l + 1]), then anyDets (any label), then the
-     *  fixedDets whose object it is. */
-    std::vector<uint32_t> detByLabel, detStart, anyDets, fixedDets;
+    /** Per call: the detections that may pair with a visible object of label l are
+     *  detByLabel[detStart[l] .. detStart[l + 1]) (planPairs). */
+    std::vector<uint32_t> detByLabel, detStart;
     std::vector<Pair> pairs;  // first nPairs entries are valid
     size_t nPairs = 0;
     std::vector<uint8_t> used;
@@ -538,22 +537,32 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         const uint32_t* cellStart = ix.cellStart.data();
         const auto nx = static_cast<size_t>(ix.nx);
         uint32_t* out = sc.hits.data();
-        for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
+        // One loop per FOV kind (the test inlined, not selected at every candidate).
+        auto scanRows = [&](auto inFov)
         {
-            const size_t row = static_cast<size_t>(cy) * nx;
-            const uint32_t a = cellStart[row + static_cast<size_t>(cx0)];
-            const uint32_t b = cellStart[row + static_cast<size_t>(cx1) + 1];
-            for (uint32_t k = a; k < b; k++)
+            for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
             {
-                const double dx = X[k] - sx, dy = Y[k] - sy;
-                const double d2 = dx * dx + dy * dy;
-                const double lx = c * dx + sn * dy;
-                // lx >= cos(fov/2) * d, squared without the sqrt, per sign of cos(fov/2).
-                const bool inFov =
-                    narrow ? (lx >= 0) & (lx * lx >= ch2 * d2) : (lx >= 0) | (lx * lx <= ch2 * d2);
-                out[cnt] = k;  // written always, kept only if visible
-                cnt += static_cast<size_t>((d2 <= R2) & inFov);
+                const size_t row = static_cast<size_t>(cy) * nx;
+                const uint32_t a = cellStart[row + static_cast<size_t>(cx0)];
+                const uint32_t b = cellStart[row + static_cast<size_t>(cx1) + 1];
+                for (uint32_t k = a; k < b; k++)
+                {
+                    const double dx = X[k] - sx, dy = Y[k] - sy;
+                    const double d2 = dx * dx + dy * dy;
+                    const double lx = c * dx + sn * dy;
+                    out[cnt] = k;  // written always, kept only if visible
+                    cnt += static_cast<size_t>((d2 <= R2) & inFov(lx, d2));
+                }
             }
+        };
+        // lx >= cos(fov/2) * d, squared without the sqrt, per sign of cos(fov/2).
+        if (narrow)
+        {
+            scanRows([ch2](double lx, double d2) { return (lx >= 0) & (lx * lx >= ch2 * d2); });
+        }
+        else
+        {
+            scanRows([ch2](double lx, double d2) { return (lx >= 0) | (lx * lx <= ch2 * d2); });
         }
     }
     sc.nVis = cnt;
@@ -693,44 +702,45 @@ ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLab
     return k;
 }
 
-/** Which detections may pair with an object of which label (once per call): the
- *  object a detection names (fixedDets), else the objects of its label (detByLabel), or
- *  of any label when `anyLabel` or the detection has none (anyDets). */
-void planPairs(Scratch& sc, size_t nLabels, bool anyLabel)
+/** Which detections may pair with an object of label l (once per call):
+ *  detByLabel[detStart[l] .. detStart[l + 1]) holds those of label l, those of any label
+ *  (`anyLabel`, or a detection without one), and those naming an object of label l (they
+ *  pair with that object only: Det::fixed). */
+void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, bool anyLabel)
 {
-    sc.detStart.assign(nLabels + 1, 0);
-    sc.anyDets.clear();
-    sc.fixedDets.clear();
     const auto nd = static_cast<uint32_t>(sc.dets.size());
-    for (uint32_t j = 0; j < nd; j++)
+    auto labelsOf = [&](const Det& d, auto&& add)
     {
-        const Det& d = sc.dets[j];
         if (d.fixed >= 0)
         {
-            sc.fixedDets.push_back(j);
+            add(static_cast<size_t>(ix.label[static_cast<size_t>(d.fixed)]));
         }
         else if (anyLabel || d.label < 0)
         {
-            sc.anyDets.push_back(j);
+            for (size_t l = 0; l < nLabels; l++)
+            {
+                add(l);
+            }
         }
         else
         {
-            sc.detStart[static_cast<size_t>(d.label) + 1]++;
+            add(static_cast<size_t>(d.label));
         }
+    };
+    sc.detStart.assign(nLabels + 1, 0);
+    for (uint32_t j = 0; j < nd; j++)
+    {
+        labelsOf(sc.dets[j], [&](size_t l) { sc.detStart[l + 1]++; });
     }
     for (size_t l = 0; l < nLabels; l++)
     {
         sc.detStart[l + 1] += sc.detStart[l];
     }
-    sc.detByLabel.resize(nd);
+    sc.detByLabel.resize(sc.detStart[nLabels]);
     std::vector<uint32_t> fill(sc.detStart.begin(), sc.detStart.end() - 1);
     for (uint32_t j = 0; j < nd; j++)
     {
-        const Det& d = sc.dets[j];
-        if (d.fixed < 0 && !(anyLabel || d.label < 0))
-        {
-            sc.detByLabel[fill[static_cast<size_t>(d.label)]++] = j;
-        }
+        labelsOf(sc.dets[j], [&](size_t l) { sc.detByLabel[fill[l]++] = j; });
     }
 }
 
@@ -779,39 +789,25 @@ void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConst
     const uint32_t* hit = sc.hits.data();
     const uint32_t* detStart = sc.detStart.data();
     const uint32_t* detByLabel = sc.detByLabel.data();
-    const bool anyDets = !sc.anyDets.empty(), fixedDets = !sc.fixedDets.empty();
     Vis* vis = sc.vis.data();
     for (uint32_t v = 0; v < nv; v++)
     {
         const uint32_t kk = hit[v];
+        const auto l = static_cast<size_t>(L[kk]);
         const double dx = X[kk] - sx, dy = Y[kk] - sy;
         Vis& o = vis[v];
         o.lx = c * dx + sn * dy;
         o.ly = -sn * dx + c * dy;
         o.d2 = dx * dx + dy * dy;
         o.sorted = static_cast<int32_t>(kk);
-        o.label = L[kk];
+        o.label = static_cast<int32_t>(l);
         o.hasR = false;
-        const auto l = static_cast<size_t>(o.label);
         for (uint32_t i = detStart[l]; i < detStart[l + 1]; i++)
         {
-            consider(detByLabel[i], v, o);
-        }
-        if (anyDets)
-        {
-            for (const uint32_t j : sc.anyDets)
+            const uint32_t j = detByLabel[i];
+            if (dets[j].fixed < 0 || dets[j].fixed == o.sorted)
             {
                 consider(j, v, o);
-            }
-        }
-        if (fixedDets)
-        {
-            for (const uint32_t j : sc.fixedDets)
-            {
-                if (dets[j].fixed == o.sorted)
-                {
-                    consider(j, v, o);
-                }
             }
         }
     }
@@ -1001,7 +997,7 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     const size_t nLabels = m_labels->size();
     const ModelConsts k =
         s.usable ? modelConsts(likelihoodOptions, nLabels, s.R, s.fov) : ModelConsts();
-    planPairs(sc, nLabels, k.confusable);
+    planPairs(sc, *m_index, nLabels, k.confusable);
     if (!s.usable || n == 1)
     {
         for (size_t i = 0; i < n; i++)
