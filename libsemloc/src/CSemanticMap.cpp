@@ -11,6 +11,7 @@
 #include <semloc/ConfigHelpers.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -403,6 +404,21 @@ struct Memo
     }
 };
 
+/** What a model needs that is the same for every particle of a call (options, sensor
+ *  range and FOV): computed once per call, not per particle. */
+struct ModelConsts
+{
+    double ir = 0, ib = 0;  // 1 / sigma_rho, 1 / sigma_theta [1/m, 1/rad]
+    /** Largest (dr/sigma_r)^2 + (db/sigma_b)^2 a pair may cost and still gain. */
+    double budget = 0;
+    /** cos of the largest |dtheta| the budget allows (-2: no bearing gate). */
+    double cosGate = -2;
+    double logPu = 0;  // paper: log p_u
+    // probabilistic
+    double sb = 0, logNorm = 0, logKappa = 0, logSame = 0, logOther = 0, lambda = 0;
+    bool confusable = false;
+};
+
 /** Per-thread scratch (one TLS access per call): no allocation per particle once
  *  warmed up, and safe for concurrent const calls from many threads. */
 struct Scratch
@@ -413,7 +429,12 @@ struct Scratch
     std::vector<uint32_t> hits;  // sorted indices of the visible objects (first nVis)
     /** Per call: the detections that may pair with a visible object of label l are
      *  detByLabel[detStart[l] .. detStart[l + 1]) (planPairs). */
-    std::vector<uint32_t> detByLabel, detStart;
+    std::vector<uint32_t> detByLabel, detStart, detFill;
+    /** modelConsts() of the last call, kept while its inputs stay the same (MRPT's
+     *  per-particle path makes one call per particle). */
+    std::array<double, 11> constsKey{};
+    ModelConsts consts;
+    bool constsValid = false;
     std::vector<Pair> pairs;  // first nPairs entries are valid
     size_t nPairs = 0;
     std::vector<uint8_t> used;
@@ -647,21 +668,6 @@ double assignGreedy(Scratch& sc)
     return sum;
 }
 
-/** What a model needs that is the same for every particle of a call (options, sensor
- *  range and FOV): computed once per call, not per particle. */
-struct ModelConsts
-{
-    double ir = 0, ib = 0;  // 1 / sigma_rho, 1 / sigma_theta [1/m, 1/rad]
-    /** Largest (dr/sigma_r)^2 + (db/sigma_b)^2 a pair may cost and still gain. */
-    double budget = 0;
-    /** cos of the largest |dtheta| the budget allows (-2: no bearing gate). */
-    double cosGate = -2;
-    double logPu = 0;  // paper: log p_u
-    // probabilistic
-    double sb = 0, logNorm = 0, logKappa = 0, logSame = 0, logOther = 0, lambda = 0;
-    bool confusable = false;
-};
-
 ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels, double R,
                         double fov)
 {
@@ -702,6 +708,29 @@ ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLab
     return k;
 }
 
+const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels,
+                                     double R, double fov, Scratch& sc)
+{
+    const std::array<double, 11> key = {static_cast<double>(opt.model),
+                                        opt.sigma_range_m,
+                                        opt.sigma_bearing_deg,
+                                        opt.unmatched_penalty,
+                                        opt.p_detect_near,
+                                        opt.p_detect_far,
+                                        opt.clutter_per_scan,
+                                        opt.p_confusion,
+                                        static_cast<double>(nLabels),
+                                        R,
+                                        fov};
+    if (!sc.constsValid || key != sc.constsKey)
+    {
+        sc.consts = modelConsts(opt, nLabels, R, fov);
+        sc.constsKey = key;
+        sc.constsValid = true;
+    }
+    return sc.consts;
+}
+
 /** Which detections may pair with an object of label l (once per call):
  *  detByLabel[detStart[l] .. detStart[l + 1]) holds those of label l, those of any label
  *  (`anyLabel`, or a detection without one), and those naming an object of label l (they
@@ -737,7 +766,8 @@ void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, bool 
         sc.detStart[l + 1] += sc.detStart[l];
     }
     sc.detByLabel.resize(sc.detStart[nLabels]);
-    std::vector<uint32_t> fill(sc.detStart.begin(), sc.detStart.end() - 1);
+    auto& fill = sc.detFill;
+    fill.assign(sc.detStart.begin(), sc.detStart.end() - 1);
     for (uint32_t j = 0; j < nd; j++)
     {
         labelsOf(sc.dets[j], [&](size_t l) { sc.detByLabel[fill[l]++] = j; });
@@ -996,7 +1026,7 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
     const size_t nLabels = m_labels->size();
     const ModelConsts k =
-        s.usable ? modelConsts(likelihoodOptions, nLabels, s.R, s.fov) : ModelConsts();
+        s.usable ? cachedModelConsts(likelihoodOptions, nLabels, s.R, s.fov, sc) : ModelConsts();
     planPairs(sc, *m_index, nLabels, k.confusable);
     if (!s.usable || n == 1)
     {
