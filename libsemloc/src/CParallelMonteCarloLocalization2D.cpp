@@ -33,6 +33,8 @@ constexpr double kNegInf = -std::numeric_limits<double>::infinity();
  *  particles on: below, waking the pool costs more than it saves (the results are the same
  *  either way). */
 constexpr size_t kCheapLoopChunk = 16384;
+/** Loops with an exp() per particle (~20 ns) are worth splitting from this many on. */
+constexpr size_t kExpLoopChunk = 4096;
 
 /** mrpt::math::wrapToPi, bit for bit, without its fmod for angles already in range
  *  (fmod(t, 2 pi) is exactly t for 0 <= t < 2 pi). */
@@ -298,7 +300,7 @@ double CParallelMonteCarloLocalization2D::logSumExpWeights() const
             }
             return s;
         },
-        kCheapLoopChunk / ParallelExecutor::kReduceBlock);
+        kExpLoopChunk / ParallelExecutor::kReduceBlock);
     return maxW + std::log(sum);
 }
 
@@ -490,7 +492,7 @@ double CParallelMonteCarloLocalization2D::ESS() const
                 sumW2[blk] = s2;
             }
         },
-        kCheapLoopChunk / ParallelExecutor::kReduceBlock);
+        kExpLoopChunk / ParallelExecutor::kReduceBlock);
     double s = 0, s2 = 0;
     for (size_t blk = 0; blk < blocks; blk++)
     {
