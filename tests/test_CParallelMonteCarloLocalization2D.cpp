@@ -99,36 +99,64 @@ class CNanMap : public semloc::CStructureMap
 };
 }  // namespace
 
-TEST(CParallelMonteCarloLocalization2D, PredictionDrawsMrptsRandomNumbers)
+TEST(CParallelMonteCarloLocalization2D, PredictionSamplesMrptsOdometryGaussian)
 {
-    // The same seed and action: MRPT's particles (3D composition) and ours (2D) agree.
+    // Every particle at one pose: the moved particles are samples of the action's Gaussian.
+    // Ours draws its own numbers (per-particle streams), so compare distributions with
+    // MRPT's sampler: sample means and covariances, 20000 samples each.
+    const size_t M = 20000;
+    const TPose2D start(3, 4, 0.5);
+    const auto acts = odometry(mrpt::poses::CPose2D(0.7, -0.1, 0.3));
+    mrpt::bayes::CParticleFilter::TParticleFilterOptions o;
     mrpt::slam::CMonteCarloLocalization2D stock;
     CParallelMonteCarloLocalization2D ours;
-    mrpt::random::getRandomGenerator().randomize(7);
-    stock.resetUniform(0, 50, 0, 50, -M_PI, M_PI, 2000);
-    mrpt::random::getRandomGenerator().randomize(7);
-    ours.resetUniform(0, 50, 0, 50, -M_PI, M_PI, 2000);
     ours.setExecutor(std::make_shared<ParallelExecutor>(2));
-
-    mrpt::bayes::CParticleFilter::TParticleFilterOptions o;
-    const auto acts = odometry(mrpt::poses::CPose2D(0.7, -0.1, 0.3));
+    stock.resetDeterministic(start, M);
+    ours.resetDeterministic(start, M);
     mrpt::random::getRandomGenerator().randomize(11);
     stock.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
     mrpt::random::getRandomGenerator().randomize(11);
     ours.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
     ASSERT_EQ(stock.size(), ours.size());
-    for (size_t i = 0; i < stock.size(); i++)
+    const auto [covStock, meanStock] = stock.getCovarianceAndMean();
+    const auto [covOurs, meanOurs] = ours.getCovarianceAndMean();
+    for (int d = 0; d < 3; d++)
     {
-        const auto a = stock.getParticlePose(i), b = ours.getParticlePose(i);
-        ASSERT_NEAR(a.x, b.x, 1e-9) << i;
-        ASSERT_NEAR(a.y, b.y, 1e-9) << i;
-        ASSERT_NEAR(mrpt::math::wrapToPi(a.phi - b.phi), 0, 1e-9) << i;
+        // Means agree within 5 standard errors of the difference of two sample means.
+        const double se = std::sqrt(2 * covStock(d, d) / M);
+        EXPECT_NEAR(meanOurs[d], meanStock[d], 5 * se) << d;
+        for (int e = 0; e < 3; e++)
+        {
+            // Covariances within 5 % of the larger variance (sampling error ~1 %).
+            const double scale = std::sqrt(covStock(d, d) * covStock(e, e));
+            EXPECT_NEAR(covOurs(d, e), covStock(d, e), 0.05 * scale) << d << "," << e;
+        }
     }
-    // And the generator is left in the same state.
-    const uint32_t afterOurs = mrpt::random::getRandomGenerator().drawUniform32bit();
+    // The particles did move (the check above is not comparing two unmoved clouds).
+    EXPECT_NEAR(meanOurs.x(), 3 + 0.7 * std::cos(0.5) + 0.1 * std::sin(0.5), 0.01);
+
+    // The seed decides the draws; the thread count does not.
+    CParallelMonteCarloLocalization2D one, again, other;
+    for (auto* p : {&one, &again, &other})
+    {
+        p->resetDeterministic(start, 1000);
+    }
+    again.setExecutor(std::make_shared<ParallelExecutor>(3));
     mrpt::random::getRandomGenerator().randomize(11);
-    stock.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
-    EXPECT_EQ(afterOurs, mrpt::random::getRandomGenerator().drawUniform32bit());
+    one.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
+    mrpt::random::getRandomGenerator().randomize(11);
+    again.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
+    mrpt::random::getRandomGenerator().randomize(12);
+    other.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
+    size_t differ = 0;
+    for (size_t i = 0; i < one.size(); i++)
+    {
+        ASSERT_EQ(one.m_particles[i].d.x, again.m_particles[i].d.x) << i;
+        ASSERT_EQ(one.m_particles[i].d.y, again.m_particles[i].d.y) << i;
+        ASSERT_EQ(one.m_particles[i].d.phi, again.m_particles[i].d.phi) << i;
+        differ += one.m_particles[i].d.x != other.m_particles[i].d.x;
+    }
+    EXPECT_EQ(differ, one.size());
 }
 
 TEST(CParallelMonteCarloLocalization2D, UpdateEqualsMrptsLikelihoodOnEveryThreadCount)

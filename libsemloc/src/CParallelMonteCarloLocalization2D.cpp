@@ -17,7 +17,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+
+#include "FastMath.h"
 
 namespace semloc
 {
@@ -30,6 +33,8 @@ constexpr double kNegInf = -std::numeric_limits<double>::infinity();
  *  particles on: below, waking the pool costs more than it saves (the results are the same
  *  either way). */
 constexpr size_t kCheapLoopChunk = 16384;
+/** Loops with an exp() per particle (~20 ns) are worth splitting from this many on. */
+constexpr size_t kExpLoopChunk = 4096;
 
 /** mrpt::math::wrapToPi, bit for bit, without its fmod for angles already in range
  *  (fmod(t, 2 pi) is exactly t for 0 <= t < 2 pi). */
@@ -43,9 +48,45 @@ inline double wrapToPiExact(double a)
     return mrpt::math::wrapToPi(a);
 }
 
-/** Draws pose increments from a CPosePDFGaussian with the random numbers and arithmetic of
- *  MRPT's CPoseRandomSampler (setPosePDF, do_sample_2D, drawSample(CPose3D&)), without its
- *  heap allocation per sample. */
+/** Standard normal draws of one particle: a splitmix64 sequence (Steele, Lea & Flood 2014)
+ *  started from (step key, particle index), turned into normals by Box-Muller. A particle's
+ *  numbers depend on nothing else, so any thread may draw them: the same bits for any
+ *  thread count, and no shared generator to serialize on. */
+class ParticleNormals
+{
+public:
+    ParticleNormals(uint64_t key, size_t particle)
+        : m_state(key ^ (static_cast<uint64_t>(particle) * 0xD1B54A32D192ED03ull))
+    {
+    }
+
+    /** Two independent N(0, 1). */
+    void pair(double& a, double& b)
+    {
+        // u1 in (0, 1]: log(u1) is finite.
+        const double u1 = static_cast<double>((next() >> 11) + 1) * 0x1p-53;
+        const double u2 = static_cast<double>(next() >> 11) * 0x1p-53;
+        const double r = std::sqrt(-2 * std::log(u1));
+        double s = 0, c = 0;
+        detail::fastSinCos(2 * M_PI * u2, s, c);
+        a = r * c;
+        b = r * s;
+    }
+
+private:
+    uint64_t next()
+    {
+        uint64_t z = (m_state += 0x9E3779B97F4A7C15ull);
+        z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+        return z ^ (z >> 31);
+    }
+    uint64_t m_state;
+};
+
+/** Draws pose increments from a CPosePDFGaussian as MRPT's CPoseRandomSampler does
+ *  (setPosePDF, do_sample_2D: mean + Z sqrt(D) n for the eigen-decomposition Z D Z^T of
+ *  the covariance), with the normals n of ParticleNormals. */
 class GaussianIncrementDrawer
 {
 public:
@@ -59,20 +100,20 @@ public:
         m_Z.matProductOf_AB(m_Z, D);
     }
 
-    TPose2D draw(mrpt::random::CRandomGenerator& rng) const
+    TPose2D draw(ParticleNormals& rng) const
     {
+        double n[4];
+        rng.pair(n[0], n[1]);
+        rng.pair(n[2], n[3]);
         double r[3] = {0, 0, 0};
         for (int i = 0; i < 3; i++)
         {
-            const double rnd = rng.drawGaussian1D_normalized();
             for (int d = 0; d < 3; d++)
             {
-                r[d] += m_Z(d, i) * rnd;
+                r[d] += m_Z(d, i) * n[i];
             }
         }
-        // CPose2D::normalizePhi, then CPose3D::setFromValues wraps the yaw again.
-        return {m_mean.x() + r[0], m_mean.y() + r[1],
-                wrapToPiExact(wrapToPiExact(m_mean.phi() + r[2]))};
+        return {m_mean.x() + r[0], m_mean.y() + r[1], wrapToPiExact(m_mean.phi() + r[2])};
     }
 
 private:
@@ -83,7 +124,8 @@ private:
 /** p (+) u for 2D poses. */
 inline TPose2D compose(const TPose2D& p, const TPose2D& u)
 {
-    const double c = std::cos(p.phi), s = std::sin(p.phi);
+    double s = 0, c = 0;
+    detail::fastSinCos(p.phi, s, c);
     return {p.x + c * u.x - s * u.y, p.y + s * u.x + c * u.y, wrapToPiExact(p.phi + u.phi)};
 }
 }  // namespace
@@ -186,19 +228,18 @@ void CParallelMonteCarloLocalization2D::predictFixedSampleSize(
               : nullptr;
     if (gauss)
     {
-        // The random numbers, in MRPT's order, on this thread; the moves on every thread.
+        // One key per step from MRPT's generator (the seed decides it); each particle's
+        // numbers from (key, index), drawn and applied on every thread.
+        const uint64_t key =
+            (static_cast<uint64_t>(rng.drawUniform32bit()) << 32) | rng.drawUniform32bit();
         const GaussianIncrementDrawer drawer(*gauss);
-        m_increments.resize(M);
-        for (size_t i = 0; i < M; i++)
-        {
-            m_increments[i] = drawer.draw(rng);
-        }
         ex.forEachChunk(M,
                         [&](size_t b, size_t e)
                         {
                             for (size_t i = b; i < e; i++)
                             {
-                                m_particles[i].d = compose(m_particles[i].d, m_increments[i]);
+                                ParticleNormals normals(key, i);
+                                m_particles[i].d = compose(m_particles[i].d, drawer.draw(normals));
                             }
                         });
         return;
@@ -259,7 +300,7 @@ double CParallelMonteCarloLocalization2D::logSumExpWeights() const
             }
             return s;
         },
-        kCheapLoopChunk / ParallelExecutor::kReduceBlock);
+        kExpLoopChunk / ParallelExecutor::kReduceBlock);
     return maxW + std::log(sum);
 }
 
@@ -451,7 +492,7 @@ double CParallelMonteCarloLocalization2D::ESS() const
                 sumW2[blk] = s2;
             }
         },
-        kCheapLoopChunk / ParallelExecutor::kReduceBlock);
+        kExpLoopChunk / ParallelExecutor::kReduceBlock);
     double s = 0, s2 = 0;
     for (size_t blk = 0; blk < blocks; blk++)
     {

@@ -11,6 +11,7 @@
 #include <semloc/ConfigHelpers.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -403,6 +404,21 @@ struct Memo
     }
 };
 
+/** What a model needs that is the same for every particle of a call (options, sensor
+ *  range and FOV): computed once per call, not per particle. */
+struct ModelConsts
+{
+    double ir = 0, ib = 0;  // 1 / sigma_rho, 1 / sigma_theta [1/m, 1/rad]
+    /** Largest (dr/sigma_r)^2 + (db/sigma_b)^2 a pair may cost and still gain. */
+    double budget = 0;
+    /** cos of the largest |dtheta| the budget allows (-2: no bearing gate). */
+    double cosGate = -2;
+    double logPu = 0;  // paper: log p_u
+    // probabilistic
+    double sb = 0, logNorm = 0, logKappa = 0, logSame = 0, logOther = 0, lambda = 0;
+    bool confusable = false;
+};
+
 /** Per-thread scratch (one TLS access per call): no allocation per particle once
  *  warmed up, and safe for concurrent const calls from many threads. */
 struct Scratch
@@ -410,11 +426,19 @@ struct Scratch
     std::vector<Det> dets;
     std::vector<Vis> vis;  // first nVis entries are valid
     size_t nVis = 0;
-    std::vector<uint32_t> byLabel, labelStart;
+    std::vector<uint32_t> hits;  // sorted indices of the visible objects (first nVis)
+    /** Per call: the detections that may pair with a visible object of label l are
+     *  detByLabel[detStart[l] .. detStart[l + 1]) (planPairs). */
+    std::vector<uint32_t> detByLabel, detStart, detFill;
+    /** modelConsts() of the last call, kept while its inputs stay the same (MRPT's
+     *  per-particle path makes one call per particle). */
+    std::array<double, 11> constsKey{};
+    ModelConsts consts;
+    bool constsValid = false;
     std::vector<Pair> pairs;  // first nPairs entries are valid
     size_t nPairs = 0;
     std::vector<uint8_t> used;
-    Memo cosHalf, sinHalf, cosYaw, sinYaw, logPu, cosGate;
+    Memo cosHalf, sinHalf, cosYaw, sinYaw;
 };
 
 Scratch& scratch()
@@ -459,11 +483,11 @@ Geom makeGeom(Scratch& sc, const TPose2D& pose, double ox, double oy, double oya
     return g;
 }
 
-/** Fills sc.vis with the objects inside range and FOV (z^k) and buckets them by label.
+/** Finds the objects inside range and FOV (z^k): their sorted indices in sc.hits.
  *  The scan is branch-free (compaction by a counter) and takes no square root until an
  *  object is known to be visible: most candidates are not, and mispredicted branches
  *  and sqrt latency were the cost of this loop. */
-void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g, Scratch& sc)
+void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
 {
     auto& vis = sc.vis;
     size_t cnt = 0;
@@ -472,6 +496,7 @@ void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g
         if (vis.size() < ix.x.size())
         {
             vis.resize(ix.x.size());
+            sc.hits.resize(ix.x.size());
         }
         const double R2 = g.R * g.R;
         // Cells overlapping the bounding box of the FOV sector (apex, both arc ends, and
@@ -514,64 +539,54 @@ void predictVisible(const CSemanticMap::Index& ix, size_t nLabels, const Geom& g
             grow(g.sx - g.R, g.sy - g.R);
             grow(g.sx + g.R, g.sy + g.R);
         }
-        const double fx0 = std::floor((bx0 - ix.x0) * ix.inv_cell);
-        const double fx1 = std::floor((bx1 - ix.x0) * ix.inv_cell);
-        const double fy0 = std::floor((by0 - ix.y0) * ix.inv_cell);
-        const double fy1 = std::floor((by1 - ix.y0) * ix.inv_cell);
-        const int cx0 = static_cast<int>(std::max(0.0, fx0));
-        const int cx1 = static_cast<int>(std::min(ix.nx - 1.0, fx1));
-        const int cy0 = static_cast<int>(std::max(0.0, fy0));
-        const int cy1 = static_cast<int>(std::min(ix.ny - 1.0, fy1));
+        // Cell range of the box, clamped to the grid; empty when the box misses it.
+        auto lowCell = [](double v, int n)
+        { return v <= 0 ? 0 : static_cast<int>(std::min(n - 1.0, v)); };
+        auto highCell = [](double v, int n)
+        { return v < 0 ? -1 : static_cast<int>(std::min(n - 1.0, v)); };
+        const int cx0 = lowCell((bx0 - ix.x0) * ix.inv_cell, ix.nx);
+        const int cx1 = highCell((bx1 - ix.x0) * ix.inv_cell, ix.nx);
+        const int cy0 = lowCell((by0 - ix.y0) * ix.inv_cell, ix.ny);
+        const int cy1 = highCell((by1 - ix.y0) * ix.inv_cell, ix.ny);
         const double ch2 = g.cosHalf * g.cosHalf;
         const bool narrow = g.cosHalf >= 0;  // FOV <= 180 deg
-        for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
+        // Locals, not members: the stores to `out` could alias them, which made the compiler
+        // reload every member and vector pointer at each candidate.
+        const double sx = g.sx, sy = g.sy, c = g.c, sn = g.s;
+        const double* X = ix.x.data();
+        const double* Y = ix.y.data();
+        const uint32_t* cellStart = ix.cellStart.data();
+        const auto nx = static_cast<size_t>(ix.nx);
+        uint32_t* out = sc.hits.data();
+        // One loop per FOV kind (the test inlined, not selected at every candidate).
+        auto scanRows = [&](auto inFov)
         {
-            const size_t row = static_cast<size_t>(cy) * static_cast<size_t>(ix.nx);
-            const uint32_t a = ix.cellStart[row + static_cast<size_t>(cx0)];
-            const uint32_t b = ix.cellStart[row + static_cast<size_t>(cx1) + 1];
-            for (uint32_t k = a; k < b; k++)
+            for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
             {
-                const double dx = ix.x[k] - g.sx, dy = ix.y[k] - g.sy;
-                const double d2 = dx * dx + dy * dy;
-                const double lx = g.c * dx + g.s * dy;
-                // lx >= cos(fov/2) * d, squared without the sqrt, per sign of cos(fov/2).
-                const bool inFov =
-                    narrow ? (lx >= 0) & (lx * lx >= ch2 * d2) : (lx >= 0) | (lx * lx <= ch2 * d2);
-                Vis& v = vis[cnt];  // written always, kept only if visible
-                v.lx = lx;
-                v.ly = -g.s * dx + g.c * dy;
-                v.d2 = d2;
-                v.sorted = static_cast<int32_t>(k);
-                v.label = ix.label[k];
-                cnt += static_cast<size_t>((d2 <= R2) & inFov);
+                const size_t row = static_cast<size_t>(cy) * nx;
+                const uint32_t a = cellStart[row + static_cast<size_t>(cx0)];
+                const uint32_t b = cellStart[row + static_cast<size_t>(cx1) + 1];
+                for (uint32_t k = a; k < b; k++)
+                {
+                    const double dx = X[k] - sx, dy = Y[k] - sy;
+                    const double d2 = dx * dx + dy * dy;
+                    const double lx = c * dx + sn * dy;
+                    out[cnt] = k;  // written always, kept only if visible
+                    cnt += static_cast<size_t>((d2 <= R2) & inFov(lx, d2));
+                }
             }
+        };
+        // lx >= cos(fov/2) * d, squared without the sqrt, per sign of cos(fov/2).
+        if (narrow)
+        {
+            scanRows([ch2](double lx, double d2) { return (lx >= 0) & (lx * lx >= ch2 * d2); });
+        }
+        else
+        {
+            scanRows([ch2](double lx, double d2) { return (lx >= 0) | (lx * lx <= ch2 * d2); });
         }
     }
     sc.nVis = cnt;
-    // Counting sort of the visible objects by label: label l is byLabel[start[l] .. start[l+1]).
-    auto& start = sc.labelStart;
-    if (start.size() < nLabels + 2)
-    {
-        start.resize(nLabels + 2);
-    }
-    std::fill(start.begin(), start.begin() + static_cast<std::ptrdiff_t>(nLabels + 2), 0u);
-    for (size_t i = 0; i < cnt; i++)
-    {
-        vis[i].hasR = false;
-        start[static_cast<size_t>(vis[i].label) + 2]++;
-    }
-    for (size_t l = 2; l < nLabels + 2; l++)
-    {
-        start[l] += start[l - 1];
-    }
-    if (sc.byLabel.size() < cnt)
-    {
-        sc.byLabel.resize(ix.x.size());
-    }
-    for (size_t i = 0; i < cnt; i++)
-    {
-        sc.byLabel[start[static_cast<size_t>(vis[i].label) + 1]++] = static_cast<uint32_t>(i);
-    }
     // At most one pair per (detection, visible object): sized once, filled by index.
     sc.nPairs = 0;
     if (sc.pairs.size() < sc.dets.size() * cnt)
@@ -653,26 +668,133 @@ double assignGreedy(Scratch& sc)
     return sum;
 }
 
-/** Candidate (detection, object) pairs with a positive log-gain `pairGain`: the object a
- *  detection names, else the visible objects of its label (all of them when `anyLabel`
- *  or the detection has none). `maxBudget` bounds what the two Gaussian terms may cost
- *  for the gain to stay positive: (dr/sigma_r)^2 <= maxBudget and
- *  |dtheta| <= sigma_theta sqrt(maxBudget) are exact necessary conditions, checked
+ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels, double R,
+                        double fov)
+{
+    ModelConsts k;
+    double sigmaB = 0;
+    if (opt.model == CSemanticMap::Model::Paper)
+    {
+        k.ir = 1.0 / opt.sigma_range_m;
+        k.ib = 1.0 / (opt.sigma_bearing_deg * M_PI / 180.0);
+        k.logPu = std::log(opt.unmatched_penalty);
+        // Matching a pair instead of leaving both unmatched gains s - 2 log(p_u) (> 0 to
+        // match). Gain > 0 needs (dr/sr)^2 + (db/sb)^2 < -4 log(p_u).
+        k.budget = -4 * k.logPu;
+        sigmaB = 1.0 / k.ib;
+    }
+    else
+    {
+        const double sr = opt.sigma_range_m, sb = opt.sigma_bearing_deg * M_PI / 180.0;
+        k.sb = sb;
+        k.logNorm = -std::log(2 * M_PI * sr * sb);
+        const double K = static_cast<double>(std::max<size_t>(1, nLabels));
+        k.lambda = opt.clutter_per_scan;
+        k.logKappa = std::log(k.lambda / (R * std::min(fov, 2 * M_PI) * K));
+        k.logSame = std::log1p(-opt.p_confusion);
+        k.confusable = opt.p_confusion > 0 && nLabels > 1;
+        k.logOther = k.confusable ? std::log(opt.p_confusion / (K - 1)) : 0;
+        k.ir = 1.0 / sr;
+        k.ib = 1.0 / sb;
+        // Gain > 0 needs the Gaussian terms to cost less than the best the rest can give:
+        // P_D at its largest, a label term <= 0.
+        const double pmax =
+            std::clamp(std::max(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
+        k.budget = 2 * (std::log(pmax) - std::log1p(-pmax) + k.logNorm - k.logKappa);
+        sigmaB = sb;
+    }
+    const double maxAbsDb = sigmaB * std::sqrt(std::max(0.0, k.budget));
+    k.cosGate = maxAbsDb >= M_PI ? -2.0 : std::cos(maxAbsDb);
+    return k;
+}
+
+const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels,
+                                     double R, double fov, Scratch& sc)
+{
+    const std::array<double, 11> key = {static_cast<double>(opt.model),
+                                        opt.sigma_range_m,
+                                        opt.sigma_bearing_deg,
+                                        opt.unmatched_penalty,
+                                        opt.p_detect_near,
+                                        opt.p_detect_far,
+                                        opt.clutter_per_scan,
+                                        opt.p_confusion,
+                                        static_cast<double>(nLabels),
+                                        R,
+                                        fov};
+    if (!sc.constsValid || key != sc.constsKey)
+    {
+        sc.consts = modelConsts(opt, nLabels, R, fov);
+        sc.constsKey = key;
+        sc.constsValid = true;
+    }
+    return sc.consts;
+}
+
+/** Which detections may pair with an object of label l (once per call):
+ *  detByLabel[detStart[l] .. detStart[l + 1]) holds those of label l, those of any label
+ *  (`anyLabel`, or a detection without one), and those naming an object of label l (they
+ *  pair with that object only: Det::fixed). */
+void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, bool anyLabel)
+{
+    const auto nd = static_cast<uint32_t>(sc.dets.size());
+    auto labelsOf = [&](const Det& d, auto&& add)
+    {
+        if (d.fixed >= 0)
+        {
+            add(static_cast<size_t>(ix.label[static_cast<size_t>(d.fixed)]));
+        }
+        else if (anyLabel || d.label < 0)
+        {
+            for (size_t l = 0; l < nLabels; l++)
+            {
+                add(l);
+            }
+        }
+        else
+        {
+            add(static_cast<size_t>(d.label));
+        }
+    };
+    sc.detStart.assign(nLabels + 1, 0);
+    for (uint32_t j = 0; j < nd; j++)
+    {
+        labelsOf(sc.dets[j], [&](size_t l) { sc.detStart[l + 1]++; });
+    }
+    for (size_t l = 0; l < nLabels; l++)
+    {
+        sc.detStart[l + 1] += sc.detStart[l];
+    }
+    sc.detByLabel.resize(sc.detStart[nLabels]);
+    auto& fill = sc.detFill;
+    fill.assign(sc.detStart.begin(), sc.detStart.end() - 1);
+    for (uint32_t j = 0; j < nd; j++)
+    {
+        labelsOf(sc.dets[j], [&](size_t l) { sc.detByLabel[fill[l]++] = j; });
+    }
+}
+
+/** Sets up sc.vis (the visible objects in the sensor frame, the scan's arithmetic again
+ *  for the few it kept) and collects the candidate (detection, object) pairs with a
+ *  positive log-gain `pairGain`, as planned by planPairs(). `k.budget` bounds what the
+ *  two Gaussian terms may cost for the gain to stay positive: (dr/sigma_r)^2 <= budget
+ *  and |dtheta| <= sigma_theta sqrt(budget) are exact necessary conditions, checked
  *  before any atan2 (most same-label candidates fail them). The bearing difference is
  *  atan2(u x v, u . v) of the detection's unit vector u and the object's direction v:
- *  exact, no angle wrapping. */
+ *  exact, no angle wrapping. The order in which pairs are collected does not matter:
+ *  assignGreedy() sorts them by (gain, j, v). */
 template <typename GainFn>
-void collectPairs(Scratch& sc, bool anyLabel, double maxBudget, double ir, double sigmaB,
+void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k, Scratch& sc,
                   GainFn&& pairGain)
 {
     const size_t nv = visibleCount(sc);
-    const double maxAbsDb = sigmaB * std::sqrt(std::max(0.0, maxBudget));
-    const double cosGate =
-        maxAbsDb >= M_PI ? -2.0 : sc.cosGate.get(maxAbsDb, [](double a) { return std::cos(a); });
-    auto consider = [&](uint32_t j, uint32_t v)
+    const double maxBudget = k.budget, ir = k.ir, cosGate = k.cosGate;
+    const Det* dets = sc.dets.data();
+    Pair* pairs = sc.pairs.data();
+    size_t np = 0;
+    auto consider = [&](uint32_t j, uint32_t v, Vis& o)
     {
-        const Det& d = sc.dets[j];
-        Vis& o = sc.vis[v];
+        const Det& d = dets[j];
         const double dr = d.r - rangeOf(o);
         if ((dr * ir) * (dr * ir) > maxBudget)
         {
@@ -684,51 +806,48 @@ void collectPairs(Scratch& sc, bool anyLabel, double maxBudget, double ir, doubl
             return;
         }
         const double db = detail::fastAtan2(d.uc * o.ly - d.us * o.lx, dot);
-        const double g = pairGain(d, o, dr, db);
-        if (g > 0)
+        const double gain = pairGain(d, o, dr, db);
+        if (gain > 0)
         {
-            sc.pairs[sc.nPairs++] = {g, j, v};
+            pairs[np++] = {gain, j, v};
         }
     };
-    for (uint32_t j = 0; j < sc.dets.size(); j++)
+    const double sx = g.sx, sy = g.sy, c = g.c, sn = g.s;
+    const double* X = ix.x.data();
+    const double* Y = ix.y.data();
+    const int32_t* L = ix.label.data();
+    const uint32_t* hit = sc.hits.data();
+    const uint32_t* detStart = sc.detStart.data();
+    const uint32_t* detByLabel = sc.detByLabel.data();
+    Vis* vis = sc.vis.data();
+    for (uint32_t v = 0; v < nv; v++)
     {
-        const Det& d = sc.dets[j];
-        if (d.fixed >= 0)
+        const uint32_t kk = hit[v];
+        const auto l = static_cast<size_t>(L[kk]);
+        const double dx = X[kk] - sx, dy = Y[kk] - sy;
+        Vis& o = vis[v];
+        o.lx = c * dx + sn * dy;
+        o.ly = -sn * dx + c * dy;
+        o.d2 = dx * dx + dy * dy;
+        o.sorted = static_cast<int32_t>(kk);
+        o.label = static_cast<int32_t>(l);
+        o.hasR = false;
+        for (uint32_t i = detStart[l]; i < detStart[l + 1]; i++)
         {
-            for (uint32_t v = 0; v < nv; v++)
+            const uint32_t j = detByLabel[i];
+            if (dets[j].fixed < 0 || dets[j].fixed == o.sorted)
             {
-                if (sc.vis[v].sorted == d.fixed)
-                {
-                    consider(j, v);
-                }
-            }
-        }
-        else if (anyLabel || d.label < 0)
-        {
-            for (uint32_t v = 0; v < nv; v++)
-            {
-                consider(j, v);
-            }
-        }
-        else
-        {
-            const size_t l = static_cast<size_t>(d.label);
-            for (uint32_t i = sc.labelStart[l]; i < sc.labelStart[l + 1]; i++)
-            {
-                consider(j, sc.byLabel[i]);
+                consider(j, v, o);
             }
         }
     }
+    sc.nPairs = np;
 }
 
-double scorePaper(const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc)
+double scorePaper(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k, Scratch& sc)
 {
-    const double ir = 1.0 / opt.sigma_range_m;
-    const double ib = 1.0 / (opt.sigma_bearing_deg * M_PI / 180.0);
-    const double logPu = sc.logPu.get(opt.unmatched_penalty, [](double p) { return std::log(p); });
-    // Matching a pair instead of leaving both unmatched gains s - 2 log(p_u) (> 0 to match).
-    // Gain > 0 needs (dr/sr)^2 + (db/sb)^2 < -4 log(p_u).
-    collectPairs(sc, false, -4 * logPu, ir, 1.0 / ib,
+    const double ir = k.ir, ib = k.ib, logPu = k.logPu;
+    collectPairs(ix, g, k, sc,
                  [&](const Det&, const Vis&, double dr, double db) {
                      return -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu;
                  });
@@ -736,45 +855,34 @@ double scorePaper(const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc)
     return static_cast<double>(sc.dets.size() + visibleCount(sc)) * logPu + assignGreedy(sc);
 }
 
-double scoreProbabilistic(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels,
+double scoreProbabilistic(const CSemanticMap::Index& ix,
+                          const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k,
                           const Geom& g, Scratch& sc)
 {
-    const double sr = opt.sigma_range_m, sb = opt.sigma_bearing_deg * M_PI / 180.0;
-    const double logNorm = -std::log(2 * M_PI * sr * sb);
-    const double K = static_cast<double>(std::max<size_t>(1, nLabels));
-    const double lambda = opt.clutter_per_scan;
-    const double logKappa = std::log(lambda / (g.R * std::min(g.fov, 2 * M_PI) * K));
-    const double logSame = std::log1p(-opt.p_confusion);
-    const bool confusable = opt.p_confusion > 0 && nLabels > 1;
-    const double logOther = confusable ? std::log(opt.p_confusion / (K - 1)) : 0;
     auto pd = [&](double r)
     {
         const double p = opt.p_detect_near + (opt.p_detect_far - opt.p_detect_near) * (r / g.R);
         return std::clamp(p, 1e-6, 1 - 1e-6);
     };
-    double base = -lambda + static_cast<double>(sc.dets.size()) * logKappa;
+    const double ir = k.ir, ib = k.ib;
+    collectPairs(ix, g, k, sc,
+                 [&](const Det& d, const Vis& v, double dr, double db)
+                 {
+                     const double p = pd(v.r);  // consider() took rangeOf() first
+                     double logC = 0;           // landmarks without a label: no label term
+                     if (d.label >= 0)
+                     {
+                         logC = (d.label == v.label) ? k.logSame : k.logOther;
+                     }
+                     return std::log(p) - std::log1p(-p) + logC + k.logNorm -
+                            0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - k.logKappa;
+                 });
+    double base = -k.lambda + static_cast<double>(sc.dets.size()) * k.logKappa;
     const size_t nv = visibleCount(sc);
     for (size_t v = 0; v < nv; v++)
     {
         base += std::log1p(-pd(rangeOf(sc.vis[v])));
     }
-    const double ir = 1.0 / sr, ib = 1.0 / sb;
-    // Gain > 0 needs the Gaussian terms to cost less than the best the rest can give:
-    // P_D at its largest, a label term <= 0.
-    const double pmax = std::clamp(std::max(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
-    const double budget = 2 * (std::log(pmax) - std::log1p(-pmax) + logNorm - logKappa);
-    collectPairs(sc, confusable, budget, ir, sb,
-                 [&](const Det& d, const Vis& v, double dr, double db)
-                 {
-                     const double p = pd(v.r);  // rangeOf() ran for every visible object above
-                     double logC = 0;           // landmarks without a label: no label term
-                     if (d.label >= 0)
-                     {
-                         logC = (d.label == v.label) ? logSame : logOther;
-                     }
-                     return std::log(p) - std::log1p(-p) + logC + logNorm -
-                            0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - logKappa;
-                 });
     return base + assignGreedy(sc);
 }
 
@@ -792,13 +900,13 @@ bool finitePose(const TPose2D& p)
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
 }
 
-double score(const CSemanticMap::Index& ix, size_t nLabels,
-             const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc, const Geom& g)
+double score(const CSemanticMap::Index& ix, const CSemanticMap::TLikelihoodOptions& opt,
+             const ModelConsts& k, Scratch& sc, const Geom& g)
 {
-    predictVisible(ix, nLabels, g, sc);
+    predictVisible(ix, g, sc);
     const double ll = opt.model == CSemanticMap::Model::Paper
-                          ? scorePaper(opt, sc)
-                          : scoreProbabilistic(opt, nLabels, g, sc);
+                          ? scorePaper(ix, g, k, sc)
+                          : scoreProbabilistic(ix, opt, k, g, sc);
     return finite(ll);
 }
 
@@ -895,9 +1003,8 @@ Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
     return s;
 }
 
-double scoreAt(const CSemanticMap::Index& ix, size_t nLabels,
-               const CSemanticMap::TLikelihoodOptions& opt, Scratch& sc, const Sensor& s,
-               const TPose2D& pose)
+double scoreAt(const CSemanticMap::Index& ix, const CSemanticMap::TLikelihoodOptions& opt,
+               const ModelConsts& k, Scratch& sc, const Sensor& s, const TPose2D& pose)
 {
     if (!s.usable)
     {
@@ -907,7 +1014,7 @@ double scoreAt(const CSemanticMap::Index& ix, size_t nLabels,
     {
         return kMinLogLik;
     }
-    return score(ix, nLabels, opt, sc, makeGeom(sc, pose, s.ox, s.oy, s.oyaw, s.R, s.fov));
+    return score(ix, opt, k, sc, makeGeom(sc, pose, s.ox, s.oy, s.oyaw, s.R, s.fov));
 }
 
 }  // namespace
@@ -917,11 +1024,15 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
 {
     Scratch& sc = scratch();
     const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
+    const size_t nLabels = m_labels->size();
+    const ModelConsts k =
+        s.usable ? cachedModelConsts(likelihoodOptions, nLabels, s.R, s.fov, sc) : ModelConsts();
+    planPairs(sc, *m_index, nLabels, k.confusable);
     if (!s.usable || n == 1)
     {
         for (size_t i = 0; i < n; i++)
         {
-            out[i] = scoreAt(*m_index, m_labels->size(), likelihoodOptions, sc, s, poses[i]);
+            out[i] = scoreAt(*m_index, likelihoodOptions, k, sc, s, poses[i]);
         }
         return;
     }
@@ -939,7 +1050,7 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
         for (size_t i = 0; i < m; i++)
         {
             out[i0 + i] = finitePose(poses[i0 + i])
-                              ? score(*m_index, m_labels->size(), likelihoodOptions, sc, geoms[i])
+                              ? score(*m_index, likelihoodOptions, k, sc, geoms[i])
                               : kMinLogLik;
         }
     }

@@ -21,11 +21,12 @@ class ParallelExecutor;
  *  mrpt::bayes::CParticleFilter::executeOn like its base class.
  *
  *  ## The step (pfStandardProposal)
- *  - Prediction, fixed sample size: the motion increments are drawn one after the other from
- *    MRPT's global generator (mrpt::random::getRandomGenerator()), with the same calls in the
- *    same order as MRPT's CPoseRandomSampler (so a seed gives MRPT's random numbers); each
- *    particle is then moved by its increment on the executor's threads (2D composition,
- *    equal to MRPT's 3D composition up to rounding).
+ *  - Prediction, fixed sample size, Gaussian odometry (CPosePDFGaussian): one 64-bit key per
+ *    step from MRPT's global generator (mrpt::random::getRandomGenerator(), so the seed
+ *    decides it), then each particle's increment from its own counter-based stream
+ *    (splitmix64 of key and particle index, Box-Muller normals, MRPT's CPoseRandomSampler
+ *    transform mean + Z sqrt(D) n), drawn and composed (2D) on the executor's threads.
+ *    Other motion models (Thrun's particles, 3D actions): MRPT's sampler on this thread.
  *  - Prediction, adaptive sample size (KLD, `adaptiveSampleSize = 1`): MRPT's own sequential
  *    implementation.
  *  - Update: every particle's log-likelihood on the executor's threads
@@ -124,6 +125,13 @@ public:
     double ESS() const override;
     /** Replaces the particles by those at the (sorted) resampled indices, in parallel. */
     void performSubstitution(const std::vector<size_t>& indx) override;
+    /** Log-weight of particle i. MRPT's base reaches the particles through a dynamic_cast
+     *  per call, and its performResampling() calls this once per particle. */
+    double getW(size_t i) const override { return m_particles.at(i).log_w; }
+    /** Sets the log-weight of particle i (without the base's dynamic_cast per call). */
+    void setW(size_t i, double w) override { m_particles.at(i).log_w = w; }
+    /** Number of particles (without the base's dynamic_cast per call). */
+    size_t particlesCount() const override { return m_particles.size(); }
 
 private:
     void predictFixedSampleSize(const mrpt::obs::CActionCollection& actions);
@@ -143,7 +151,7 @@ private:
     bool m_freeSpacePrior = false;
 
     /** Per-step buffers, reused (no allocation per step once sized). */
-    std::vector<mrpt::math::TPose2D> m_poses, m_increments;
+    std::vector<mrpt::math::TPose2D> m_poses;
     std::vector<double> m_logLik;
     CParticleList m_resampled;
 };
