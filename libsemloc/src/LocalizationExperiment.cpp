@@ -28,6 +28,7 @@ namespace semloc
 namespace
 {
 using detail::writeFile;
+using detail::writeText;
 const std::string kSection = "LocalizationExperiment";
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -74,12 +75,6 @@ std::string trim(std::string s)
     s.erase(0, s.find_first_not_of(" \t"));
     s.erase(s.find_last_not_of(" \t\r") + 1);
     return s;
-}
-
-void writeText(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key,
-               const std::string& value, const std::string& comment)
-{
-    c.write(s, key, value, 24, 24, comment);
 }
 
 /** Shortest round-trip text of a number; "" for NaN (steps.csv's empty cells). */
