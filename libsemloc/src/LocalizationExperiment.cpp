@@ -30,7 +30,6 @@ namespace
 using detail::writeFile;
 using detail::writeText;
 const std::string kSection = "LocalizationExperiment";
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /** Sections semloc-localize reads; [MetricMap_...] are checked by LocalizationMap. */
 const std::vector<std::string> kSections = {kSection, "PF_options", "KLD_options",
