@@ -1,6 +1,7 @@
 # Builds examples/embed against an *installed* semloc and runs it: install the build tree
 # into a scratch prefix, configure the example with find_package(semloc), build, run.
-# Inputs: BUILD_DIR (semloc's build tree), SRC_DIR, OUT_DIR.
+# Inputs: BUILD_DIR (semloc's build tree), SRC_DIR, OUT_DIR, CXX_COMPILER, CXX_FLAGS (may be
+# empty; a sanitized tree's flags).
 file(REMOVE_RECURSE ${OUT_DIR})
 execute_process(COMMAND ${CMAKE_COMMAND} --install ${BUILD_DIR} --prefix ${OUT_DIR}/install
                 RESULT_VARIABLE rc OUTPUT_QUIET ERROR_VARIABLE err)
@@ -9,6 +10,8 @@ if(NOT rc EQUAL 0)
 endif()
 execute_process(COMMAND ${CMAKE_COMMAND} -S ${SRC_DIR}/examples/embed -B ${OUT_DIR}/build
                         -DCMAKE_PREFIX_PATH=${OUT_DIR}/install -DCMAKE_BUILD_TYPE=Release
+                        -DCMAKE_CXX_COMPILER=${CXX_COMPILER} "-DCMAKE_CXX_FLAGS=${CXX_FLAGS}"
+                        "-DCMAKE_EXE_LINKER_FLAGS=${CXX_FLAGS}"
                 RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "configuring the example against the installed tree failed:\n${out}${err}")

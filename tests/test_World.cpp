@@ -99,6 +99,29 @@ TEST(World, MissingFileNamesThePath)
     EXPECT_NE(e.find("cannot open"), std::string::npos) << e;
 }
 
+// Found by tests/fuzz/fuzz_world: libfyaml loops forever on a directive line with bytes that
+// are not UTF-8; the loader rejects such text first, naming the line.
+TEST(World, RejectsTextThatIsNotUtf8NamingTheLine)
+{
+    const std::string e = []
+    {
+        try
+        {
+            World::FromText("name: w\n%" + std::string(40, '\xff') + " A\nbounds: {}\n", "w.yaml");
+        }
+        catch (const std::exception& ex)
+        {
+            return std::string(ex.what());
+        }
+        return std::string();
+    }();
+    EXPECT_NE(e.find("w.yaml': line 2: not UTF-8"), std::string::npos) << e;
+    // Multi-byte UTF-8 (a label in Spanish) is accepted.
+    EXPECT_NO_THROW(World::FromText(
+        "name: dársena\n" + withObject("{id: 1, label: bolardo, shape: point, center: [5, 5]}"),
+        "u.yaml"));
+}
+
 struct BadCase
 {
     const char* name;

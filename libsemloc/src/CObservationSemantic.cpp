@@ -7,6 +7,8 @@
 #include <cmath>
 #include <ostream>
 
+#include "BoundedRead.h"
+
 IMPLEMENTS_SERIALIZABLE(CObservationSemantic, CObservation, semloc)
 
 namespace semloc
@@ -42,22 +44,21 @@ void CObservationSemantic::serializeFrom(mrpt::serialization::CArchive& in, uint
     {
         case 0:
         {
-            in >> sensorLabel >> timestamp;
+            detail::readString(in, sensorLabel, "CObservationSemantic sensor label");
+            in >> timestamp;
             double x, y, z, yaw, pitch, roll;
             in >> x >> y >> z >> yaw >> pitch >> roll;
             sensorPose = mrpt::poses::CPose3D(x, y, z, yaw, pitch, roll);
             in >> maxRange_m >> fov_rad;
-            const auto n = in.ReadAs<uint32_t>();
-            if (n > kMaxSerializedDetections)
+            const uint32_t n =
+                detail::readCount(in, kMaxSerializedDetections, "CObservationSemantic detections");
+            detections.clear();
+            for (uint32_t i = 0; i < n; i++)
             {
-                THROW_EXCEPTION_FMT(
-                    "CObservationSemantic: corrupted data: %u detections in one scan",
-                    static_cast<unsigned>(n));
-            }
-            detections.resize(n);
-            for (auto& d : detections)
-            {
-                in >> d.label >> d.range_m >> d.bearing_rad >> d.confidence >> d.object_id;
+                TSemanticDetection d;
+                detail::readString(in, d.label, "CObservationSemantic detection label");
+                in >> d.range_m >> d.bearing_rad >> d.confidence >> d.object_id;
+                detections.push_back(std::move(d));
             }
             break;
         }

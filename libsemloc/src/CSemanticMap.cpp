@@ -15,7 +15,10 @@
 #include <cmath>
 #include <limits>
 #include <unordered_map>
+#include <unordered_set>
 
+#include "BoundedRead.h"
+#include "ExactConfigWrite.h"
 #include "FastMath.h"
 #include "LabelIndex.h"
 
@@ -84,6 +87,15 @@ const char* modelName(CSemanticMap::Model m)
 {
     return m == CSemanticMap::Model::Paper ? "paper" : "probabilistic";
 }
+
+/** What the map accepts of an object, from addObject or from a file: a positive id, a label,
+ *  finite coordinates. */
+void checkObject(const CSemanticMap::TObject& o)
+{
+    ASSERT_GT_(o.id, 0);
+    ASSERT_(!o.label.empty());
+    ASSERT_(std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z));
+}
 }  // namespace
 
 void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
@@ -142,8 +154,8 @@ void CSemanticMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfigFile
 {
     c.write(s, "merge_distance_m", merge_distance_m, 24, 24,
             "merge a detection into a same-label object this close [m]");
-    c.write(s, "landmark_label", landmark_label, 24, 24,
-            "label of CObservationBearingRange landmarks");
+    detail::writeText(c, s, "landmark_label", landmark_label,
+                      "label of CObservationBearingRange landmarks");
 }
 
 // ------------------------------------------------------------------ index
@@ -296,9 +308,7 @@ void CSemanticMap::loadFromWorldFile(const std::string& path)
 
 void CSemanticMap::addObject(const TObject& o)
 {
-    ASSERT_GT_(o.id, 0);
-    ASSERT_(!o.label.empty());
-    ASSERT_(std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z));
+    checkObject(o);
     if (m_index->idToSorted.count(o.id))
     {
         THROW_EXCEPTION_FMT("CSemanticMap::addObject: duplicate object id %d", o.id);
@@ -1254,20 +1264,31 @@ void CSemanticMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t vers
     {
         case 0:
         {
+            // Read into locals: a throw leaves the map as it was, objects and index consistent.
+            bool hasBounds = false;
+            WorldBounds bounds;
             in >> genericMapParams;
-            in >> m_hasBounds >> m_bounds.x_min >> m_bounds.x_max >> m_bounds.y_min >>
-                m_bounds.y_max;
-            const auto n = in.ReadAs<uint32_t>();
-            if (n > (1u << 24))
+            in >> hasBounds >> bounds.x_min >> bounds.x_max >> bounds.y_min >> bounds.y_max;
+            const uint32_t n = detail::readCount(in, 1u << 24, "CSemanticMap objects");
+            std::vector<TObject> objects;
+            std::unordered_set<int32_t> ids;
+            for (uint32_t i = 0; i < n; i++)
             {
-                THROW_EXCEPTION_FMT("CSemanticMap: corrupted data: %u objects",
-                                    static_cast<unsigned>(n));
+                TObject o;
+                in >> o.id;
+                detail::readString(in, o.label, "CSemanticMap object label");
+                in >> o.x >> o.y >> o.z >> o.extent_m >> o.n_observations;
+                checkObject(o);
+                if (!ids.insert(o.id).second)
+                {
+                    THROW_EXCEPTION_FMT("CSemanticMap: corrupted data: duplicate object id %d",
+                                        o.id);
+                }
+                objects.push_back(std::move(o));
             }
-            m_objects.resize(n);
-            for (auto& o : m_objects)
-            {
-                in >> o.id >> o.label >> o.x >> o.y >> o.z >> o.extent_m >> o.n_observations;
-            }
+            m_hasBounds = hasBounds;
+            m_bounds = bounds;
+            m_objects = std::move(objects);
             rebuildIndex();
             break;
         }

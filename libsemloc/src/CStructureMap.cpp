@@ -14,6 +14,8 @@
 #include <limits>
 #include <memory>
 
+#include "BoundedRead.h"
+
 using mrpt::math::TPose2D;
 
 //  =========== Map definition (CMultiMetricMap factory) ============
@@ -290,17 +292,15 @@ void CStructureMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t ver
             o.decimation = decimation;
             std::string name;
             double cell = 0;
-            in >> name >> cell;
-            const auto n = in.ReadAs<uint32_t>();
-            if (n > (1u << 26))
+            detail::readString(in, name, "CStructureMap name");
+            in >> cell;
+            const uint32_t n = detail::readCount(in, 1u << 26, "CStructureMap segments");
+            std::vector<mrpt::math::TSegment2D> segs;
+            for (uint32_t i = 0; i < n; i++)
             {
-                THROW_EXCEPTION_FMT("CStructureMap: corrupted data: %u segments",
-                                    static_cast<unsigned>(n));
-            }
-            std::vector<mrpt::math::TSegment2D> segs(n);
-            for (auto& sg : segs)
-            {
+                mrpt::math::TSegment2D sg;
                 in >> sg.point1.x >> sg.point1.y >> sg.point2.x >> sg.point2.y;
+                segs.push_back(sg);
             }
             setSegments(segs, cell);
             m_name = name;

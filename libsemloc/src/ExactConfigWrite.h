@@ -18,4 +18,19 @@ inline void writeExact(mrpt::config::CConfigFileBase& c, const std::string& sect
     c.write(section, key, std::string(buf, r.ptr), 24, 24, comment);
 }
 
+/** Writes a text value with its comment, or without the comment when the value is empty: MRPT
+ *  reads `key = // comment` back as "// comment" (found by tests/fuzz/fuzz_ini). */
+inline void writeText(mrpt::config::CConfigFileBase& c, const std::string& section,
+                      const std::string& key, const std::string& value, const std::string& comment)
+{
+    if (value.empty())
+    {
+        c.write(section, key, value);
+    }
+    else
+    {
+        c.write(section, key, value, 24, 24, comment);
+    }
+}
+
 }  // namespace semloc::detail

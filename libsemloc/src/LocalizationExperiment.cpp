@@ -32,8 +32,8 @@ namespace semloc
 namespace
 {
 using detail::writeFile;
+using detail::writeText;
 const std::string kSection = "LocalizationExperiment";
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 /** Sections semloc-localize reads; [MetricMap_...] are checked by LocalizationMap. */
 const std::vector<std::string> kSections = {kSection, "PF_options", "KLD_options",
@@ -78,12 +78,6 @@ std::string trim(std::string s)
     s.erase(0, s.find_first_not_of(" \t"));
     s.erase(s.find_last_not_of(" \t\r") + 1);
     return s;
-}
-
-void writeText(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key,
-               const std::string& value, const std::string& comment)
-{
-    c.write(s, key, value, 24, 24, comment);
 }
 
 /** Shortest round-trip text of a number; "" for NaN (steps.csv's empty cells). */

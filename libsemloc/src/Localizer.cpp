@@ -66,7 +66,7 @@ int readEnum(const mrpt::config::CConfigFileBase& c, const std::string& s, const
 void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key,
          const std::string& value, const std::string& comment)
 {
-    c.write(s, key, value, 24, 24, comment);
+    detail::writeText(c, s, key, value, comment);
 }
 void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key, double v,
          const std::string& comment)

@@ -76,11 +76,13 @@ void TSimulationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase&
                                             const std::string& s)
 {
     config::rejectUnknownKeys(c, s, config::keysOf(*this));
-    if (c.keyExists(s, "world_file"))
+    // An empty world_file is unset, as the effective configuration writes it before one is
+    // given (running without one fails: "world_file: not set").
+    const std::string given = c.read_string(s, "world_file", "");
+    if (!given.empty())
     {
-        const std::string given = c.read_string(s, "world_file", "");
         const std::string found = config::resolveNextToIni(c, given);
-        if (given.empty() || !mrpt::system::fileExists(found))
+        if (!mrpt::system::fileExists(found))
         {
             THROW_EXCEPTION("ini [" + s + "] world_file: file '" + given +
                             "' not found (relative paths are tried next to the ini file and "
@@ -109,13 +111,14 @@ void TSimulationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                           const std::string& s) const
 {
     using detail::writeExact;
-    c.write(s, "world_file", world_file, 24, 24, "world YAML with a trajectory");
+    detail::writeText(c, s, "world_file", world_file, "world YAML with a trajectory");
     c.write(s, "seed", static_cast<int>(seed), 24, 24, "seed of every random stream");
     writeExact(c, s, "time_step_s", time_step_s, "time between steps [s]");
     writeExact(c, s, "speed_mps", speed_mps, "vehicle speed [m/s]; 0: the trajectory's");
     c.write(s, "max_steps", max_steps, 24, 24, "0: the whole trajectory");
     writeExact(c, s, "start_time_s", start_time_s, "time of step 0 [s since 1970]");
-    c.write(s, "output_rawlog", output_rawlog, 24, 24, "dataset; also <stem>_gt.txt, <stem>.ini");
+    detail::writeText(c, s, "output_rawlog", output_rawlog,
+                      "dataset; also <stem>_gt.txt, <stem>.ini");
 }
 
 void TKidnappingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,

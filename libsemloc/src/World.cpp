@@ -20,6 +20,37 @@ namespace semloc
 {
 namespace
 {
+/** 1-based line of the first byte sequence that is not UTF-8 (overlong forms and surrogates
+ *  are not told apart), or 0 if there is none. YAML text must be Unicode, and libfyaml (MRPT's
+ *  YAML parser) loops forever on some invalid bytes (found by tests/fuzz/fuzz_world). */
+size_t firstNonUtf8Line(const std::string& text)
+{
+    size_t line = 1;
+    for (size_t i = 0; i < text.size();)
+    {
+        const auto c = static_cast<unsigned char>(text[i]);
+        const size_t len = c < 0x80           ? 1
+                           : (c >> 5) == 0x6  ? 2
+                           : (c >> 4) == 0xE  ? 3
+                           : (c >> 3) == 0x1E ? 4
+                                              : 0;
+        if (len == 0 || i + len > text.size())
+        {
+            return line;
+        }
+        for (size_t k = 1; k < len; k++)
+        {
+            if ((static_cast<unsigned char>(text[i + k]) >> 6) != 0x2)
+            {
+                return line;
+            }
+        }
+        line += c == '\n' ? 1 : 0;
+        i += len;
+    }
+    return 0;
+}
+
 using mrpt::containers::yaml;
 using node_t = mrpt::containers::yaml::node_t;
 using mrpt::math::TPoint2D;
@@ -464,6 +495,11 @@ const char* shapeName(ShapeType s)
 
 World World::FromText(const std::string& yamlText, const std::string& sourceName)
 {
+    if (const size_t line = firstNonUtf8Line(yamlText))
+    {
+        THROW_EXCEPTION(
+            mrpt::format("world file '%s': line %zu: not UTF-8 text", sourceName.c_str(), line));
+    }
     yaml doc;
     if (const std::string err = detail::yamlSyntaxError(yamlText); !err.empty())
     {

@@ -1,0 +1,83 @@
+/* semloc — libFuzzer target: ini text -> semloc's option loaders (README "Fuzzing and
+ * sanitizers"): [LocalizationExperiment] with the filter's sections, [MetricMap] and its map
+ * sections (semanticMap, structureMap and MRPT's own maps), semloc-simulate's sections and
+ * [Benchmark]. Each loader must accept or throw; what it accepted must be written out as an
+ * effective configuration that loads again to the same text (what the tools' config.ini
+ * promises). The maps are filled from the shipped paper world; run from config/ so that the
+ * seeds' relative paths (../maps/...) resolve as they do next to the ini files. */
+#include <mrpt/config/CConfigFileMemory.h>
+#include <semloc/Benchmark.h>
+#include <semloc/LocalizationExperiment.h>
+#include <semloc/LocalizationMap.h>
+#include <semloc/Simulator.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdlib>
+#include <functional>
+#include <iostream>
+#include <string>
+
+namespace
+{
+/** Runs `load` on `ini`; if it succeeds, `save` then `load` again on the saved text must
+ *  succeed and save the same text. */
+template <class OPTIONS>
+void loadAndRoundTrip(
+    const mrpt::config::CConfigFileBase& ini,
+    const std::function<void(OPTIONS&, const mrpt::config::CConfigFileBase&)>& load,
+    const std::function<void(const OPTIONS&, mrpt::config::CConfigFileBase&)>& save)
+{
+    OPTIONS o;
+    try
+    {
+        load(o, ini);
+    }
+    catch (const std::exception&)
+    {
+        return;  // rejected with a message
+    }
+    mrpt::config::CConfigFileMemory saved;
+    save(o, saved);
+    // Reloaded from the text, as a user reruns a tool's config.ini (MRPT's CConfigFileMemory
+    // does not read back keys it wrote with a comment until its text is parsed again).
+    OPTIONS again;
+    load(again, mrpt::config::CConfigFileMemory(saved.getContent()));  // a throw is a finding
+    mrpt::config::CConfigFileMemory savedAgain;
+    save(again, savedAgain);
+    if (saved.getContent() != savedAgain.getContent())
+    {
+        std::cerr << "effective configuration changed on reloading:\n"
+                  << saved.getContent() << "\n---- reloaded:\n"
+                  << savedAgain.getContent() << "\n";
+        std::abort();
+    }
+}
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
+{
+    const mrpt::config::CConfigFileMemory ini(
+        std::string(reinterpret_cast<const char*>(data), size));
+    using Experiment = semloc::LocalizationExperiment::TOptions;
+    loadAndRoundTrip<Experiment>(
+        ini,
+        [](Experiment& o, const auto& c) { o.loadFromConfigFile(c, "LocalizationExperiment"); },
+        [](const Experiment& o, auto& c) { o.saveToConfigFile(c, "LocalizationExperiment"); });
+    using Simulation = semloc::TSimulatorOptions;
+    loadAndRoundTrip<Simulation>(
+        ini, [](Simulation& o, const auto& c) { o.loadFromConfigFile(c); },
+        [](const Simulation& o, auto& c) { o.saveToConfigFile(c); });
+    using Bench = semloc::Benchmark::TOptions;
+    loadAndRoundTrip<Bench>(
+        ini, [](Bench& o, const auto& c) { o.loadFromConfigFile(c, "Benchmark"); },
+        [](const Bench& o, auto& c) { o.saveToConfigFile(c, "Benchmark"); });
+    try
+    {
+        (void)semloc::LocalizationMap::FromConfig(ini, SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
+    }
+    catch (const std::exception&)
+    {
+    }
+    return 0;
+}

@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# The whole test suite built with clang's AddressSanitizer + UndefinedBehaviorSanitizer
+# (README "Fuzzing and sanitizers"): configures and builds build-asan/ (SEMLOC_SANITIZE=ON;
+# the benchmarks are not part of the suite), then runs every ctest entry there. Any
+# sanitizer report fails the test that triggered it.   Usage: bash tests/sanitize.sh
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source tests/sanitizer_env.sh
+semloc_configure "$SEMLOC_ASAN_DIR" -DSEMLOC_SANITIZE=ON -DSEMLOC_BUILD_BENCHMARKS=OFF
+cmake --build "$SEMLOC_ASAN_DIR" -j2
+ctest --test-dir "$SEMLOC_ASAN_DIR" -j2 --output-on-failure

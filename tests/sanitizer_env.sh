@@ -1,0 +1,23 @@
+# Sourced by tests/sanitize.sh and tests/fuzz/run.sh (from the repository root): the clang
+# build directories and the sanitizers' run-time options.
+#   build-asan  everything with AddressSanitizer + UndefinedBehaviorSanitizer (SEMLOC_SANITIZE)
+#   build-fuzz  the library with libFuzzer's coverage and the fuzz targets (SEMLOC_BUILD_FUZZERS)
+# Optimized, with line tables for the reports' stack traces.
+SEMLOC_ASAN_DIR=${SEMLOC_ASAN_DIR:-build-asan}
+SEMLOC_FUZZ_DIR=${SEMLOC_FUZZ_DIR:-build-fuzz}
+semloc_clang_flags=(-DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo
+                    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG")
+
+# semloc_configure <dir> <cmake options...>: configures <dir> once.
+semloc_configure()
+{
+    local dir=$1
+    shift
+    [ -f "$dir/CMakeCache.txt" ] || cmake -S . -B "$dir" "${semloc_clang_flags[@]}" "$@"
+}
+
+# Any finding aborts with a stack trace; leaks inside third-party libraries that semloc
+# cannot change are suppressed, each explained, in tests/lsan.supp.
+export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:strict_string_checks=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export LSAN_OPTIONS=${LSAN_OPTIONS:-suppressions=$PWD/tests/lsan.supp:print_suppressions=0}
