@@ -21,6 +21,8 @@ TCLAP::UnlabeledValueArg<std::string> argIni("config", "Benchmark ini (see confi
                                              true, "", "benchmark.ini", cmd);
 TCLAP::ValueArg<std::string> argOut("o", "output-dir", "Overrides output_dir", false, "", "DIR",
                                     cmd);
+TCLAP::ValueArg<int> argRuns("r", "runs", "Overrides [Benchmark] runs (seeds 1..N)", false, 0, "N",
+                             cmd);
 
 std::string clock(double s)
 {
@@ -30,7 +32,12 @@ std::string clock(double s)
 
 void run()
 {
-    const auto bench = semloc::Benchmark::FromConfigFile(argIni.getValue(), argOut.getValue());
+    if (argRuns.isSet() && argRuns.getValue() < 1)
+    {
+        THROW_EXCEPTION("--runs: must be >= 1");
+    }
+    const auto bench =
+        semloc::Benchmark::FromConfigFile(argIni.getValue(), argOut.getValue(), argRuns.getValue());
     const auto& o = bench.options();
     std::cout << "semloc-benchmark: " << o.runs << " runs x ";
     if (bench.scenarios().empty())

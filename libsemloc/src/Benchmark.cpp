@@ -462,8 +462,10 @@ double Benchmark::TScenarioSummary::successRate() const
 
 // ------------------------------------------------------------------ setup
 
-Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::string& outputDir)
+Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::string& outputDir,
+                                    int runs)
 {
+    ASSERTMSG_(runs >= 0, "runs must be >= 0");
     config::checkIniFile(iniPath);
     mrpt::config::CConfigFile ini(iniPath);
     if (!ini.sectionExists(kSection))
@@ -477,6 +479,10 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::strin
     if (!outputDir.empty())
     {
         o.output_dir = outputDir;
+    }
+    if (runs > 0)
+    {
+        o.runs = runs;
     }
 
     o.simulate_ini = resolveFile(ini, iniPath, kSection, "simulate_ini", o.simulate_ini);

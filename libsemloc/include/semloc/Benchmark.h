@@ -193,8 +193,9 @@ public:
 
     /** Reads [Benchmark], the simulation ini and every variant ini (strictly) before any
      *  output is written. Throws naming the file, [section] and key of any error.
-     *  A non-empty `outputDir` replaces [Benchmark] output_dir. */
-    static Benchmark FromConfigFile(const std::string& iniPath, const std::string& outputDir = {});
+     *  A non-empty `outputDir` replaces [Benchmark] output_dir, `runs` > 0 its runs. */
+    static Benchmark FromConfigFile(const std::string& iniPath, const std::string& outputDir = {},
+                                    int runs = 0);
 
     /** Runs everything and writes the outputs; `progress(runsDone, runs)` is called from the
      *  calling thread at the start (0) and after each run. On error nothing is left in output_dir.
