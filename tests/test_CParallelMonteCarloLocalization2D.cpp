@@ -317,3 +317,65 @@ TEST(CParallelMonteCarloLocalization2D, AugmentedMclInjectsWhenTheLikelihoodColl
     EXPECT_GT(pdf.recoveryStats().injected_particles, 0u);
     EXPECT_EQ(pdf.recoveryStats().reinitializations, 0u);
 }
+
+TEST(CParallelMonteCarloLocalization2D, SensorResettingInjectsTheSameOnOneAndTwoThreads)
+{
+    // Kidnapped after tracking (w_slow starts at 0, Table 8.3: the first injections come
+    // some 40 steps after the kidnapping here): with from_detections part of the injected
+    // particles come from the frame's detections (test_Robustness measures the recovery
+    // itself), and every draw (injection, detection, uniform fallback) is on the calling
+    // thread: the same bits on 1 and 2.
+    const Maps maps(false);
+    mrpt::bayes::CParticleFilter pf;
+    pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
+    auto run = [&](size_t threads, double fromDetections)
+    {
+        auto pdf = std::make_unique<CParallelMonteCarloLocalization2D>();
+        pdf->options.metricMap = maps.multi;
+        pdf->setExecutor(std::make_shared<ParallelExecutor>(threads));
+        pdf->setFreeSpaceSampler(std::make_shared<semloc::FreeSpaceSampler>(
+            semloc::FreeSpaceSampler::FromWorld(maps.world)));
+        semloc::AugmentedMCL::TOptions ro;
+        ro.alpha_slow = 0.001;
+        ro.alpha_fast = 0.1;
+        ro.from_detections = fromDetections;
+        pdf->setRecoveryOptions(ro);
+        mrpt::random::getRandomGenerator().randomize(2);
+        pdf->resetUniform(4.5, 5.5, 3.5, 4.5, -0.05, 0.05, 2000);
+        TPose2D truth(5, 4, 0);
+        auto step = [&](double dx)
+        {
+            truth.x += dx;
+            const auto acts = odometry(mrpt::poses::CPose2D(0.5, 0, 0));
+            const auto sf = maps.frame(truth);
+            pf.executeOn(*pdf, &acts, &sf);
+        };
+        for (int k = 0; k < 60; k++)
+        {
+            step(0.5);
+        }
+        truth = TPose2D(45, 30, M_PI);
+        for (int k = 0; k < 60; k++)
+        {
+            step(-0.5);
+        }
+        const double err =
+            std::hypot(pdf->getMeanVal().x() - truth.x, pdf->getMeanVal().y() - truth.y);
+        return std::make_pair(std::move(pdf), err);
+    };
+    const auto [a, errA] = run(1, 0.8);
+    const auto [b, errB] = run(2, 0.8);
+    ASSERT_EQ(a->size(), b->size());
+    for (size_t i = 0; i < a->size(); i++)
+    {
+        ASSERT_EQ(a->m_particles[i].d.x, b->m_particles[i].d.x) << i;
+        ASSERT_EQ(a->m_particles[i].d.phi, b->m_particles[i].d.phi) << i;
+        ASSERT_EQ(a->m_particles[i].log_w, b->m_particles[i].log_w) << i;
+    }
+    EXPECT_EQ(errA, errB);
+    EXPECT_GT(a->recoveryStats().injected_from_detections, 0u);
+    EXPECT_LT(a->recoveryStats().injected_from_detections,
+              a->recoveryStats().injected_particles);  // the rest uniform
+    const auto [u, errU] = run(1, 0.0);
+    EXPECT_EQ(u->recoveryStats().injected_from_detections, 0u);
+}

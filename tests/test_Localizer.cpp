@@ -76,6 +76,7 @@ BETA = 0.25
 threads = 3
 recovery_alpha_slow = 0.001
 recovery_alpha_fast = 0.1
+recovery_from_detections = 0.5
 free_space_prior = true
 [KLD_options]
 KLD_binSize_PHI_deg = 5
@@ -92,6 +93,8 @@ minStdPHI = 3   // degrees
     EXPECT_EQ(o.threads, 3);
     EXPECT_EQ(o.effectiveThreads(), 3u);
     EXPECT_TRUE(o.recovery.enabled());
+    EXPECT_EQ(o.recovery.from_detections, 0.5);
+    EXPECT_EQ(Localizer::TOptions().recovery.from_detections, 0.8);
     EXPECT_TRUE(o.free_space_prior);
     EXPECT_NEAR(o.kld.KLD_binSize_PHI, mrpt::DEG2RAD(5.0), 1e-12);
     EXPECT_EQ(o.odometry_min_std_phi_deg, 3);
@@ -124,6 +127,12 @@ minStdPHI = 3   // degrees
               std::string::npos);
     EXPECT_NE(fails("[PF_options]\nrecovery_alpha_slow = 0.2\nrecovery_alpha_fast = 0.1\n")
                   .find("recovery_alpha_fast"),
+              std::string::npos);
+    EXPECT_NE(fails("[PF_options]\nrecovery_from_detections = 1.5\n")
+                  .find("[PF_options] recovery_from_detections"),
+              std::string::npos);
+    EXPECT_NE(fails("[PF_options]\nrecovery_from_detections = -0.1\n")
+                  .find("[PF_options] recovery_from_detections"),
               std::string::npos);
     EXPECT_NE(fails("[LocalizationExperiment]\nparticles_count = lots\n")
                   .find("[LocalizationExperiment] particles_count"),

@@ -1,6 +1,7 @@
 /* semloc — CParallelMonteCarloLocalization2D: MRPT's MCL step with per-particle work on a
  * thread pool, a never-empty particle set and augmented-MCL recovery. */
 #include <mrpt/core/exceptions.h>
+#include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionCollection.h>
@@ -11,6 +12,8 @@
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/CParallelMonteCarloLocalization2D.h>
+#include <semloc/CSemanticMap.h>
+#include <semloc/DetectionPoseSampler.h>
 #include <semloc/ParallelExecutor.h>
 
 #include <Eigen/Dense>
@@ -19,6 +22,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 
 #include "FastMath.h"
 
@@ -120,6 +124,24 @@ private:
     mrpt::poses::CPose2D m_mean;
     mrpt::math::CMatrixDouble33 m_Z;
 };
+
+/** Draws from the detections before falling back to a uniform pose: a detection near the
+ *  map's border or an object leaves most of its circle in the free space. */
+constexpr int kDetectionTries = 10;
+
+/** The first CSemanticMap of `map` (itself, or in a CMultiMetricMap), else nullptr. */
+const CSemanticMap* semanticMapOf(const mrpt::maps::CMetricMap* map)
+{
+    if (const auto* sem = dynamic_cast<const CSemanticMap*>(map))
+    {
+        return sem;
+    }
+    if (const auto* multi = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(map))
+    {
+        return multi->mapByClass<CSemanticMap>().get();
+    }
+    return nullptr;
+}
 
 /** p (+) u for 2D poses. */
 inline TPose2D compose(const TPose2D& p, const TPose2D& u)
@@ -374,7 +396,15 @@ void CParallelMonteCarloLocalization2D::update(
                              << (m_sampler ? m_sampler->description() : "same poses"));
         if (m_sampler)
         {
-            resetFromSampler(M);
+            // With recovery on, from the frame's detections too (the frame that killed
+            // every particle is the best evidence of where the vehicle is).
+            const auto detections = detectionSampler(sf);
+            for (auto& p : m_particles)
+            {
+                m_recoveryStats.reinitialized_from_detections +=
+                    drawRecoveryPose(detections, p.d) ? 1 : 0;
+                p.log_w = 0;
+            }
         }
         else
         {
@@ -396,32 +426,75 @@ void CParallelMonteCarloLocalization2D::update(
         m_lastPInject = pInject;
         if (pInject > 0 && m_sampler)
         {
-            injectRandomParticles(pInject, PF_options);
+            injectRandomParticles(pInject, sf, PF_options);
         }
     }
 }
 
+std::optional<DetectionPoseSampler> CParallelMonteCarloLocalization2D::detectionSampler(
+    const mrpt::obs::CSensoryFrame& sf) const
+{
+    std::optional<DetectionPoseSampler> out;
+    if (m_augmented.options().enabled() && m_augmented.options().from_detections > 0)
+    {
+        const auto* semMap = semanticMapOf(options.metricMap.get());
+        const auto obs = sf.getObservationByClass<CObservationSemantic>();
+        if (semMap && obs)
+        {
+            out.emplace(*semMap, *obs);
+            if (out->empty())
+            {
+                out.reset();
+            }
+        }
+    }
+    return out;
+}
+
+bool CParallelMonteCarloLocalization2D::drawRecoveryPose(
+    const std::optional<DetectionPoseSampler>& detections, TPose2D& out) const
+{
+    auto& rng = mrpt::random::getRandomGenerator();
+    if (detections && rng.drawUniform(0.0, 1.0) < m_augmented.options().from_detections)
+    {
+        for (int t = 0; t < kDetectionTries; t++)
+        {
+            const TPose2D q = detections->draw(rng);
+            if (m_sampler->contains(q.x, q.y))
+            {
+                out = q;
+                return true;
+            }
+        }
+    }
+    out = m_sampler->draw(rng);
+    return false;
+}
+
 void CParallelMonteCarloLocalization2D::injectRandomParticles(
-    double pInject, const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o)
+    double pInject, const mrpt::obs::CSensoryFrame& sf,
+    const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o)
 {
     // Table 8.3: each particle of the resampled set is, with probability p_inject, a
     // random pose instead.
     normalizeWeights();
     performResampling(o);
     auto& rng = mrpt::random::getRandomGenerator();
-    size_t injected = 0;
+    const auto detections = detectionSampler(sf);
+    size_t injected = 0, fromDet = 0;
     for (auto& p : m_particles)
     {
         if (rng.drawUniform(0.0, 1.0) < pInject)
         {
-            p.d = m_sampler->draw(rng);
             injected++;
+            fromDet += drawRecoveryPose(detections, p.d) ? 1 : 0;
         }
     }
     if (injected > 0)
     {
         m_recoveryStats.injection_steps++;
         m_recoveryStats.injected_particles += injected;
+        m_recoveryStats.injected_from_detections += fromDet;
     }
 }
 

@@ -1097,14 +1097,9 @@ void CSemanticMap::computeLogLikelihoods(const mrpt::obs::CObservationBearingRan
 CSemanticMap::TObservationCheck CSemanticMap::check(const CObservationSemantic& obs) const
 {
     TObservationCheck c;
-    const double R =
-        likelihoodOptions.max_range_m > 0 ? likelihoodOptions.max_range_m : obs.maxRange_m;
-    const double fov =
-        likelihoodOptions.fov_deg > 0 ? likelihoodOptions.fov_deg * M_PI / 180.0 : obs.fov_rad;
     for (const auto& d : obs.detections)
     {
-        if (!CObservationSemantic::isValid(d, R, fov) ||
-            d.confidence < likelihoodOptions.min_confidence)
+        if (!isUsable(obs, d))
         {
             c.invalid++;
         }
@@ -1119,6 +1114,44 @@ CSemanticMap::TObservationCheck CSemanticMap::check(const CObservationSemantic& 
         }
     }
     return c;
+}
+
+bool CSemanticMap::isUsable(const CObservationSemantic& obs, const TSemanticDetection& d) const
+{
+    const auto& lo = likelihoodOptions;
+    const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxRange_m;
+    const double fov = lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : obs.fov_rad;
+    return CObservationSemantic::isValid(d, R, fov) && d.confidence >= lo.min_confidence;
+}
+
+std::vector<size_t> CSemanticMap::candidatesOf(const CObservationSemantic& obs,
+                                               const TSemanticDetection& d) const
+{
+    std::vector<size_t> out;
+    if (!isUsable(obs, d))
+    {
+        return out;
+    }
+    // As the likelihood associates: by id when the map knows it, else by label.
+    if (d.object_id >= 0 && m_index->idToSorted.count(d.object_id))
+    {
+        for (size_t i = 0; i < m_objects.size(); i++)
+        {
+            if (m_objects[i].id == d.object_id)
+            {
+                out.push_back(i);
+            }
+        }
+        return out;
+    }
+    for (size_t i = 0; i < m_objects.size(); i++)
+    {
+        if (m_objects[i].label == d.label)
+        {
+            out.push_back(i);
+        }
+    }
+    return out;
 }
 
 bool CSemanticMap::internal_canComputeObservationLikelihood(

@@ -172,9 +172,11 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "nonfinite_likelihoods: " << res.likelihood.nonfinite_likelihoods << "\n"
       << "# every weight zero: particles re-initialized over the free space\n"
       << "reinitializations: " << res.recovery.reinitializations << "\n"
+      << "reinitialized_from_detections: " << res.recovery.reinitialized_from_detections << "\n"
       << "# augmented MCL (recovery_alpha_slow / recovery_alpha_fast)\n"
       << "injection_steps: " << res.recovery.injection_steps << "\n"
       << "injected_particles: " << res.recovery.injected_particles << "\n"
+      << "injected_from_detections: " << res.recovery.injected_from_detections << "\n"
       << "# free_space_prior: particle updates found outside the free space (weight 0)\n"
       << "outside_free_space: " << res.recovery.outside_free_space << "\n"
       << "# range-scan beams with a NaN, infinite, negative or beyond-max range (skipped)\n"
@@ -686,8 +688,9 @@ std::string LocalizationExperiment::TResult::summaryParagraph() const
     }
     if (recovery.injected_particles > 0)
     {
-        s += mrpt::format(" Recovery injected %zu particles in %zu steps.",
-                          recovery.injected_particles, recovery.injection_steps);
+        s += mrpt::format(" Recovery injected %zu particles (%zu from detections) in %zu steps.",
+                          recovery.injected_particles, recovery.injected_from_detections,
+                          recovery.injection_steps);
     }
     if (likelihood.observations_skipped > 0)
     {

@@ -247,8 +247,8 @@ void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     // [PF_options]: MRPT's TParticleFilterOptions, strictly, plus ours.
     {
         auto known = keysOf(pf);
-        known.insert(known.end(),
-                     {"threads", "recovery_alpha_slow", "recovery_alpha_fast", "free_space_prior"});
+        known.insert(known.end(), {"threads", "recovery_alpha_slow", "recovery_alpha_fast",
+                                   "recovery_from_detections", "free_space_prior"});
         rejectUnknownKeys(c, kPF, known);
     }
     pf.PF_algorithm = static_cast<CParticleFilter::TParticleFilterAlgorithm>(
@@ -273,6 +273,7 @@ void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     readInt(c, kPF, "threads", threads, 0, 1024);
     readDouble(c, kPF, "recovery_alpha_slow", recovery.alpha_slow, 0, 1);
     readDouble(c, kPF, "recovery_alpha_fast", recovery.alpha_fast, 0, 1);
+    readDouble(c, kPF, "recovery_from_detections", recovery.from_detections, 0, 1);
     readBool(c, kPF, "free_space_prior", free_space_prior);
     if (pf.PF_algorithm == CParticleFilter::pfOptimalProposal)
     {
@@ -375,6 +376,8 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     put(c, kPF, "threads", std::to_string(threads), "0: every hardware thread");
     put(c, kPF, "recovery_alpha_slow", recovery.alpha_slow, "augmented MCL (0 0: off)");
     put(c, kPF, "recovery_alpha_fast", recovery.alpha_fast, "");
+    put(c, kPF, "recovery_from_detections", recovery.from_detections,
+        "fraction of injected particles drawn from the detections");
     put(c, kPF, "free_space_prior", free_space_prior ? "1" : "0",
         "weight 0 outside the free space");
 

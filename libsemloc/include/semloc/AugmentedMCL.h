@@ -15,7 +15,9 @@ namespace semloc
  *      p_inject = max(0, 1 - w_fast / w_slow)
  *
  *  A sudden drop of the likelihood (kidnapping, a wrong convergence) makes w_fast fall
- *  below w_slow, and a fraction p_inject of the particles is replaced by random poses. */
+ *  below w_slow, and a fraction p_inject of the particles is replaced by random poses:
+ *  `from_detections` of them drawn from the current detections (sensor-resetting, Lenser &
+ *  Veloso 2000), the rest uniform over the free space. */
 class AugmentedMCL
 {
 public:
@@ -26,6 +28,11 @@ public:
         double alpha_slow = 0;
         /** Rate of the short-term average. 0 = off. */
         double alpha_fast = 0;
+        /** Fraction in [0, 1] of the injected particles drawn from the current semantic
+         *  detections (DetectionPoseSampler, sensor-resetting localization) instead of
+         *  uniformly over the free space; 0 = all uniform. Without a semantic map or a
+         *  usable detection, every injected particle is uniform. */
+        double from_detections = 0.8;
 
         /** True when 0 < alpha_slow < alpha_fast. */
         bool enabled() const { return alpha_slow > 0 && alpha_fast > alpha_slow; }

@@ -211,6 +211,14 @@ public:
                                const mrpt::math::TPose2D* poses, size_t n, double* out) const;
     /** Counts what the likelihood will use of `obs` (call once per observation). */
     TObservationCheck check(const CObservationSemantic& obs) const;
+    /** True if the likelihood uses `d` of `obs` as valid (range, bearing within the
+     *  effective max range and field of view, confidence >= min_confidence). */
+    bool isUsable(const CObservationSemantic& obs, const TSemanticDetection& d) const;
+    /** Indices into objects() of the map objects detection `d` of `obs` may be, as the
+     *  likelihood associates it: its object if it carries an id the map knows, else every
+     *  object with its label; empty if the likelihood skips it (not usable, unknown). */
+    std::vector<size_t> candidatesOf(const CObservationSemantic& obs,
+                                     const TSemanticDetection& d) const;
     /** @} */
 
     // CMetricMap interface

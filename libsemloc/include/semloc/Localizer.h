@@ -98,7 +98,9 @@ public:
         mrpt::bayes::CParticleFilter::TParticleFilterOptions pf;
         /** Threads of the per-particle work; 0 = every hardware thread. */
         int threads = 0;
-        /** Augmented MCL (recovery_alpha_slow, recovery_alpha_fast); off by default. */
+        /** Augmented MCL (recovery_alpha_slow, recovery_alpha_fast; off by default) and the
+         *  fraction of injected particles drawn from the detections
+         *  (recovery_from_detections). */
         AugmentedMCL::TOptions recovery;
         /** Weight zero for particles outside the free space (free_space_prior). */
         bool free_space_prior = false;
