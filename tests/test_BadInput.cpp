@@ -253,7 +253,12 @@ const std::map<std::string, Builder>& cases()
              fs::create_directory(d / "dir.ini");
              return localize(d, d / "dir.ini", d / "data.rawlog");
          }},
-        {"ini-syntax", [](const fs::path& d) { return localizeGood(d, "[PF_options]\nBETA 0.5"); }},
+        {"ini-syntax",  // its own file: the line number must not follow semantic.ini's length
+         [](const fs::path& d)
+         {
+             writeText(d / "loc.ini", "[PF_options]\nBETA 0.5\n");
+             return std::vector<std::string>{"semloc-localize", (d / "loc.ini").string()};
+         }},
         {"ini-unknown-section", [](const fs::path& d) { return localizeGood(d, "[PF_option]"); }},
         {"ini-unknown-key",
          [](const fs::path& d) { return localizeGood(d, "[PF_options]\nBETTA = 0.5"); }},
