@@ -36,6 +36,17 @@ objects:
                            "smallWorld");
 }
 
+/** A detection of `label` at range `r` [m] and bearing `b` [rad]; `id` -1: no object id. */
+inline TSemanticDetection detection(const std::string& label, double r, double b, int id = -1)
+{
+    TSemanticDetection d;
+    d.label = label;
+    d.range_m = r;
+    d.bearing_rad = b;
+    d.object_id = id;
+    return d;
+}
+
 /** Detector settings for the test observations. */
 struct DetectorSim
 {

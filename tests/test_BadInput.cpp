@@ -139,12 +139,13 @@ using Keys = std::vector<std::pair<std::string, std::string>>;
  *  the file) and `extra` appended. */
 fs::path writeIni(const fs::path& dir, const std::string& extra = "", Keys keys = {})
 {
-    for (const auto& [k, v] :
+    for (const auto& kv :
          Keys{{"map_file", kSrc + "/maps/paper_50x50.yaml"}, {"particles_count", "200"}})
     {
-        if (std::none_of(keys.begin(), keys.end(), [&](const auto& p) { return p.first == k; }))
+        if (std::none_of(keys.begin(), keys.end(),
+                         [&](const auto& p) { return p.first == kv.first; }))
         {
-            keys.emplace_back(k, v);
+            keys.push_back(kv);
         }
     }
     std::istringstream in(readText(kSrc + "/config/semantic.ini"));

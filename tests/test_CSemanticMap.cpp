@@ -32,16 +32,6 @@ CSemanticMap smallMap(CSemanticMap::Model model = CSemanticMap::Model::Paper)
     return m;
 }
 
-TSemanticDetection det(const std::string& label, double r, double b, int id = -1)
-{
-    TSemanticDetection d;
-    d.label = label;
-    d.range_m = r;
-    d.bearing_rad = b;
-    d.object_id = id;
-    return d;
-}
-
 std::string writeWorldFile(const std::string& name)
 {
     const std::string path = std::string(SEMLOC_TEST_OUT) + "/" + name;
@@ -170,7 +160,7 @@ TEST_P(BothModels, UnmatchedObjectsLowerTheLikelihoodMonotonically)
     double prev = m.computeLogLikelihood(obs, kTrue);
     for (int k = 0; k < 4; k++)
     {
-        obs.detections.push_back(det("wellhead", 2.0 + k, -0.5 + 0.2 * k));
+        obs.detections.push_back(detection("wellhead", 2.0 + k, -0.5 + 0.2 * k));
         const double l = m.computeLogLikelihood(obs, kTrue);
         EXPECT_LT(l, prev) << "after adding unmatched detection " << k;
         prev = l;
@@ -203,7 +193,7 @@ TEST(CSemanticMap, PaperFormulaExactly)
     obs.maxRange_m = 10;
     obs.fov_rad = M_PI;
     const double dr = 0.3, db = 2.0 * M_PI / 180;
-    obs.detections.push_back(det("pillar", 5 + dr, db));
+    obs.detections.push_back(detection("pillar", 5 + dr, db));
     const double sb = o.sigma_bearing_deg * M_PI / 180;
     const double expected = -0.5 * std::pow(dr / o.sigma_range_m, 2) - 0.5 * std::pow(db / sb, 2);
     EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), expected, 1e-6);
@@ -227,22 +217,22 @@ TEST(CSemanticMap, SameLabelAmbiguityIsOneToOne)
     obs.maxRange_m = 10;
     obs.fov_rad = M_PI;
     const double r = std::hypot(5, 1), b = std::atan2(1, 5);
-    obs.detections = {det("pillar", r, b), det("pillar", r, -b)};
+    obs.detections = {detection("pillar", r, b), detection("pillar", r, -b)};
     const TPose2D origin(0, 0, 0);
     const double both = m.computeLogLikelihood(obs, origin);
     EXPECT_NEAR(both, 0, 1e-9);  // both matched perfectly
     std::swap(obs.detections[0], obs.detections[1]);
     EXPECT_NEAR(m.computeLogLikelihood(obs, origin), both, 1e-12);  // order does not matter
     // Two detections on the same pillar: only one may take it.
-    obs.detections = {det("pillar", r, b), det("pillar", r, b)};
+    obs.detections = {detection("pillar", r, b), detection("pillar", r, b)};
     const double oneToOne = m.computeLogLikelihood(obs, origin);
     // Best: one perfect match, the other detection matched to the other pillar (far in
     // bearing, so cheaper unmatched): l=2, q=2, m=1 -> 2 log p_u.
     EXPECT_NEAR(oneToOne, 2 * logPu, 1e-6);
     // With ids the detector says which is which: a swapped id costs.
-    obs.detections = {det("pillar", r, b, 1), det("pillar", r, -b, 2)};
+    obs.detections = {detection("pillar", r, b, 1), detection("pillar", r, -b, 2)};
     EXPECT_NEAR(m.computeLogLikelihood(obs, origin), 0, 1e-9);
-    obs.detections = {det("pillar", r, b, 2), det("pillar", r, -b, 1)};
+    obs.detections = {detection("pillar", r, b, 2), detection("pillar", r, -b, 1)};
     EXPECT_LT(m.computeLogLikelihood(obs, origin), both - 1);
 }
 
@@ -256,10 +246,17 @@ TEST(CSemanticMap, FiniteOnEveryBadInput)
         CObservationSemantic obs;
         obs.maxRange_m = 12;
         EXPECT_TRUE(std::isfinite(m.computeLogLikelihood(obs, kTrue))) << "empty";
-        obs.detections = {det("kraken", 3, 0),     det("pillar", nan, 0),     det("pillar", -1, 0),
-                          det("pillar", inf, 0),   det("pillar", 3, nan),     det("pillar", 3, inf),
-                          det("pillar", 30, 0),    det("pillar", 3, 2.5),     det("", 3, 0),
-                          det("pillar", 3, 1e300), det("pillar", 3, 0, 99999)};
+        obs.detections = {detection("kraken", 3, 0),
+                          detection("pillar", nan, 0),
+                          detection("pillar", -1, 0),
+                          detection("pillar", inf, 0),
+                          detection("pillar", 3, nan),
+                          detection("pillar", 3, inf),
+                          detection("pillar", 30, 0),
+                          detection("pillar", 3, 2.5),
+                          detection("", 3, 0),
+                          detection("pillar", 3, 1e300),
+                          detection("pillar", 3, 0, 99999)};
         obs.detections.back().confidence = nan;
         const auto c = m.check(obs);
         EXPECT_EQ(c.used, 0u);
@@ -282,7 +279,7 @@ TEST(CSemanticMap, FiniteOnEveryBadInput)
         CObservationSemantic many = observe(smallWorld(), kTrue);
         for (int i = 0; i < 5000; i++)
         {
-            many.detections.push_back(det("pillar", 1 + (i % 10), 0.01 * (i % 50) - 0.25));
+            many.detections.push_back(detection("pillar", 1 + (i % 10), 0.01 * (i % 50) - 0.25));
         }
         EXPECT_TRUE(std::isfinite(m.computeLogLikelihood(many, kTrue)));
         const CSemanticMap empty;

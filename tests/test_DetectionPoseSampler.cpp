@@ -9,11 +9,14 @@
 
 #include <cmath>
 
+#include "TestHelpers.h"
+
 using mrpt::math::TPose2D;
 using semloc::CObservationSemantic;
 using semloc::CSemanticMap;
 using semloc::DetectionPoseSampler;
 using semloc::TSemanticDetection;
+using semloc::test::detection;
 
 namespace
 {
@@ -24,16 +27,6 @@ CSemanticMap map3()
     m.addObject({2, "pillar", 20, 10, 0, 0.3, 1});
     m.addObject({3, "anchor", -4, 7, 0, 0.3, 1});
     return m;
-}
-
-TSemanticDetection detection(const std::string& label, double r, double b, int id = -1)
-{
-    TSemanticDetection d;
-    d.label = label;
-    d.range_m = r;
-    d.bearing_rad = b;
-    d.object_id = id;
-    return d;
 }
 
 /** An observation with the detector off-centre and turned on the vehicle. */
