@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "ExactConfigWrite.h"
+#include "SensorMount.h"
 #include "SimRandom.h"
 
 namespace semloc
@@ -26,9 +27,7 @@ void SemanticDetectorModel::TOptions::loadFromConfigFile(const mrpt::config::CCo
     config::readDouble(c, s, "false_positives_per_scan", false_positives_per_scan, 0, 100);
     config::readDouble(c, s, "p_confusion", p_confusion, 0, 1);
     config::readBool(c, s, "report_ids", report_ids);
-    config::readDouble(c, s, "sensor_x_m", sensor_x_m, -1e3, 1e3);
-    config::readDouble(c, s, "sensor_y_m", sensor_y_m, -1e3, 1e3);
-    config::readDouble(c, s, "sensor_yaw_deg", sensor_yaw_deg, -360, 360);
+    detail::readSensorMount(c, s, sensor_x_m, sensor_y_m, sensor_yaw_deg);
 }
 
 void SemanticDetectorModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -45,14 +44,12 @@ void SemanticDetectorModel::TOptions::saveToConfigFile(mrpt::config::CConfigFile
                "Poisson mean of false positives per scan");
     writeExact(c, s, "p_confusion", p_confusion, "P(label swapped to another world label)");
     c.write(s, "report_ids", report_ids, 24, 24, "report map object ids (else -1)");
-    writeExact(c, s, "sensor_x_m", sensor_x_m, "detector pose on the vehicle: forward [m]");
-    writeExact(c, s, "sensor_y_m", sensor_y_m, "left [m]");
-    writeExact(c, s, "sensor_yaw_deg", sensor_yaw_deg, "yaw [deg]");
+    detail::writeSensorMount(c, s, "detector", sensor_x_m, sensor_y_m, sensor_yaw_deg);
 }
 
 mrpt::poses::CPose3D SemanticDetectorModel::TOptions::sensorPose() const
 {
-    return mrpt::poses::CPose3D(sensor_x_m, sensor_y_m, 0, mrpt::DEG2RAD(sensor_yaw_deg), 0, 0);
+    return detail::sensorMountPose(sensor_x_m, sensor_y_m, sensor_yaw_deg);
 }
 
 SemanticDetectorModel::SemanticDetectorModel(const World& world, const TOptions& options)

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "ExactConfigWrite.h"
+#include "SensorMount.h"
 #include "SimRandom.h"
 
 namespace semloc
@@ -21,9 +22,7 @@ void SonarModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBas
     config::readDouble(c, s, "max_range_m", max_range_m, 1e-3, 1e5);
     config::readDouble(c, s, "range_noise_std_m", range_noise_std_m, 0, 1e3);
     config::readDouble(c, s, "dropout_probability", dropout_probability, 0, 1);
-    config::readDouble(c, s, "sensor_x_m", sensor_x_m, -1e3, 1e3);
-    config::readDouble(c, s, "sensor_y_m", sensor_y_m, -1e3, 1e3);
-    config::readDouble(c, s, "sensor_yaw_deg", sensor_yaw_deg, -360, 360);
+    detail::readSensorMount(c, s, sensor_x_m, sensor_y_m, sensor_yaw_deg);
 }
 
 void SonarModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -35,14 +34,12 @@ void SonarModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     writeExact(c, s, "max_range_m", max_range_m, "maximum range [m]; no echo reads this");
     writeExact(c, s, "range_noise_std_m", range_noise_std_m, "range noise of a hit [m]");
     writeExact(c, s, "dropout_probability", dropout_probability, "P(beam lost: invalid)");
-    writeExact(c, s, "sensor_x_m", sensor_x_m, "sonar pose on the vehicle: forward [m]");
-    writeExact(c, s, "sensor_y_m", sensor_y_m, "left [m]");
-    writeExact(c, s, "sensor_yaw_deg", sensor_yaw_deg, "yaw [deg]");
+    detail::writeSensorMount(c, s, "sonar", sensor_x_m, sensor_y_m, sensor_yaw_deg);
 }
 
 mrpt::poses::CPose3D SonarModel::TOptions::sensorPose() const
 {
-    return mrpt::poses::CPose3D(sensor_x_m, sensor_y_m, 0, mrpt::DEG2RAD(sensor_yaw_deg), 0, 0);
+    return detail::sensorMountPose(sensor_x_m, sensor_y_m, sensor_yaw_deg);
 }
 
 SonarModel::SonarModel(const World& world, const TOptions& options)
