@@ -397,6 +397,8 @@ struct Pair
     uint32_t j, v;
 };
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
 /** Lazily recomputed value of f(key): the per-step angles and options are the same
  *  for every particle of a step, so their trig/log is computed once per change. */
 struct Memo
@@ -440,6 +442,10 @@ struct Scratch
     /** Per call: the detections that may pair with a visible object of label l are
      *  detByLabel[detStart[l] .. detStart[l + 1]) (planPairs). */
     std::vector<uint32_t> detByLabel, detStart, detFill;
+    /** Per call: squared ranges [gateLo2[l], gateHi2[l]] outside which no detection may
+     *  pair with a visible object of label l (planPairs; empty interval: none may). */
+    std::vector<double> gateLo2, gateHi2;
+    std::vector<uint32_t> gated;  // visible indices v that pass the range hull (scorePaper)
     /** modelConsts() of the last call, kept while its inputs stay the same (MRPT's
      *  per-particle path makes one call per particle). */
     std::array<double, 11> constsKey{};
@@ -447,6 +453,7 @@ struct Scratch
     bool constsValid = false;
     std::vector<Pair> pairs;  // first nPairs entries are valid
     size_t nPairs = 0;
+    /** assignGreedy's marks: all zero between calls (it clears what it set). */
     std::vector<uint8_t> used;
     Memo cosHalf, sinHalf, cosYaw, sinYaw;
 };
@@ -507,6 +514,7 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         {
             vis.resize(ix.x.size());
             sc.hits.resize(ix.x.size());
+            sc.gated.resize(ix.x.size());
         }
         const double R2 = g.R * g.R;
         // Cells overlapping the bounding box of the FOV sector (apex, both arc ends, and
@@ -603,12 +611,10 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
     {
         sc.pairs.resize(sc.dets.size() * std::max<size_t>(cnt, 16));
     }
-    const size_t nUsed = sc.dets.size() + cnt;
-    if (sc.used.size() < nUsed)
+    if (sc.used.size() < sc.dets.size() + cnt)
     {
-        sc.used.resize(sc.dets.size() + ix.x.size());
+        sc.used.resize(sc.dets.size() + ix.x.size(), 0);
     }
-    std::fill(sc.used.begin(), sc.used.begin() + static_cast<std::ptrdiff_t>(nUsed), uint8_t{0});
 }
 
 size_t visibleCount(const Scratch& sc)
@@ -638,6 +644,10 @@ double assignGreedy(Scratch& sc)
 {
     Pair* pairs = sc.pairs.data();
     const size_t np = sc.nPairs;
+    if (np <= 1)
+    {
+        return np == 0 ? 0.0 : pairs[0].gain;  // the usual case: no conflict to resolve
+    }
     auto before = [](const Pair& a, const Pair& b)
     {
         if (a.gain != b.gain)
@@ -674,6 +684,10 @@ double assignGreedy(Scratch& sc)
         }
         sc.used[p.j] = sc.used[nd + p.v] = 1;
         sum += p.gain;
+    }
+    for (size_t i = 0; i < np; i++)
+    {
+        sc.used[pairs[i].j] = sc.used[nd + pairs[i].v] = 0;
     }
     return sum;
 }
@@ -743,10 +757,14 @@ const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt
 
 /** Which detections may pair with an object of label l (once per call):
  *  detByLabel[detStart[l] .. detStart[l + 1]) holds those of label l, those of any label
- *  (`anyLabel`, or a detection without one), and those naming an object of label l (they
- *  pair with that object only: Det::fixed). */
-void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, bool anyLabel)
+ *  (`k.confusable`, or a detection without one), and those naming an object of label l
+ *  (they pair with that object only: Det::fixed). Also the range hull of each label: a pair
+ *  passes collectPairs' range gate only if |rho^r - rho^k| <= sigma_rho sqrt(budget), so
+ *  an object of label l whose squared range is outside [gateLo2[l], gateHi2[l]] pairs with
+ *  none of them (bounds widened by a relative 1e-9 for rounding: a necessary condition). */
+void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const ModelConsts& k)
 {
+    const bool anyLabel = k.confusable;
     const auto nd = static_cast<uint32_t>(sc.dets.size());
     auto labelsOf = [&](const Det& d, auto&& add)
     {
@@ -782,18 +800,41 @@ void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, bool 
     {
         labelsOf(sc.dets[j], [&](size_t l) { sc.detByLabel[fill[l]++] = j; });
     }
+    const double reach = k.ir > 0 ? std::sqrt(std::max(0.0, k.budget)) / k.ir : kInf;
+    sc.gateLo2.assign(nLabels, kInf);
+    sc.gateHi2.assign(nLabels, -kInf);
+    for (size_t l = 0; l < nLabels; l++)
+    {
+        for (uint32_t i = sc.detStart[l]; i < sc.detStart[l + 1]; i++)
+        {
+            const double r = sc.dets[sc.detByLabel[i]].r;
+            const double lo = std::max(0.0, (r - reach) * (1 - 1e-9) - 1e-9);
+            const double hi = (r + reach) * (1 + 1e-9) + 1e-9;
+            sc.gateLo2[l] = std::min(sc.gateLo2[l], lo * lo * (1 - 1e-9));
+            sc.gateHi2[l] = std::max(sc.gateHi2[l], hi * hi * (1 + 1e-9));
+        }
+    }
 }
+
+/** Which visible objects collectPairs() sets up in sc.vis. */
+enum class SetUp
+{
+    All,    // every one (the probabilistic model reads every range)
+    Gated,  // only those inside their label's range hull (the others cannot pair)
+};
 
 /** Sets up sc.vis (the visible objects in the sensor frame, the scan's arithmetic again
  *  for the few it kept) and collects the candidate (detection, object) pairs with a
  *  positive log-gain `pairGain`, as planned by planPairs(). `k.budget` bounds what the
  *  two Gaussian terms may cost for the gain to stay positive: (dr/sigma_r)^2 <= budget
  *  and |dtheta| <= sigma_theta sqrt(budget) are exact necessary conditions, checked
- *  before any atan2 (most same-label candidates fail them). The bearing difference is
+ *  before any atan2 (most same-label candidates fail them); the label's range hull
+ *  (planPairs) is checked first, on the squared range. The bearing difference is
  *  atan2(u x v, u . v) of the detection's unit vector u and the object's direction v:
  *  exact, no angle wrapping. The order in which pairs are collected does not matter:
- *  assignGreedy() sorts them by (gain, j, v). */
-template <typename GainFn>
+ *  assignGreedy() sorts them by (gain, j, v). With SetUp::Gated, only the visible objects
+ *  inside the hull are set up: found by a branch-free pass, as most are outside. */
+template <SetUp kSetUp = SetUp::All, typename GainFn>
 void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k, Scratch& sc,
                   GainFn&& pairGain)
 {
@@ -829,19 +870,25 @@ void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConst
     const uint32_t* hit = sc.hits.data();
     const uint32_t* detStart = sc.detStart.data();
     const uint32_t* detByLabel = sc.detByLabel.data();
+    const double* lo2 = sc.gateLo2.data();
+    const double* hi2 = sc.gateHi2.data();
     Vis* vis = sc.vis.data();
-    for (uint32_t v = 0; v < nv; v++)
+    auto setUp = [&](uint32_t v) -> Vis&
     {
         const uint32_t kk = hit[v];
-        const auto l = static_cast<size_t>(L[kk]);
         const double dx = X[kk] - sx, dy = Y[kk] - sy;
         Vis& o = vis[v];
         o.lx = c * dx + sn * dy;
         o.ly = -sn * dx + c * dy;
         o.d2 = dx * dx + dy * dy;
         o.sorted = static_cast<int32_t>(kk);
-        o.label = static_cast<int32_t>(l);
+        o.label = L[kk];
         o.hasR = false;
+        return o;
+    };
+    auto pairWith = [&](uint32_t v, Vis& o)
+    {
+        const auto l = static_cast<size_t>(o.label);
         for (uint32_t i = detStart[l]; i < detStart[l + 1]; i++)
         {
             const uint32_t j = detByLabel[i];
@@ -850,6 +897,36 @@ void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConst
                 consider(j, v, o);
             }
         }
+    };
+    if constexpr (kSetUp == SetUp::All)
+    {
+        for (uint32_t v = 0; v < nv; v++)
+        {
+            Vis& o = setUp(v);
+            const auto l = static_cast<size_t>(o.label);
+            if (o.d2 >= lo2[l] && o.d2 <= hi2[l])
+            {
+                pairWith(v, o);
+            }
+        }
+    }
+    else
+    {
+        uint32_t* gated = sc.gated.data();
+        size_t ng = 0;
+        for (uint32_t v = 0; v < nv; v++)
+        {
+            const uint32_t kk = hit[v];
+            const auto l = static_cast<size_t>(L[kk]);
+            const double dx = X[kk] - sx, dy = Y[kk] - sy;
+            const double d2 = dx * dx + dy * dy;
+            gated[ng] = v;  // written always, kept only if inside the hull
+            ng += static_cast<size_t>((d2 >= lo2[l]) & (d2 <= hi2[l]));
+        }
+        for (size_t i = 0; i < ng; i++)
+        {
+            pairWith(gated[i], setUp(gated[i]));
+        }
     }
     sc.nPairs = np;
 }
@@ -857,10 +934,10 @@ void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConst
 double scorePaper(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k, Scratch& sc)
 {
     const double ir = k.ir, ib = k.ib, logPu = k.logPu;
-    collectPairs(ix, g, k, sc,
-                 [&](const Det&, const Vis&, double dr, double db) {
-                     return -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu;
-                 });
+    collectPairs<SetUp::Gated>(
+        ix, g, k, sc,
+        [&](const Det&, const Vis&, double dr, double db)
+        { return -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu; });
     // sum(s_i) + d log p_u  with d = q + l - 2m  ==  (q + l) log p_u + sum(gain_i)
     return static_cast<double>(sc.dets.size() + visibleCount(sc)) * logPu + assignGreedy(sc);
 }
@@ -1037,7 +1114,7 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     const size_t nLabels = m_labels->size();
     const ModelConsts k =
         s.usable ? cachedModelConsts(likelihoodOptions, nLabels, s.R, s.fov, sc) : ModelConsts();
-    planPairs(sc, *m_index, nLabels, k.confusable);
+    planPairs(sc, *m_index, nLabels, k);
     if (!s.usable || n == 1)
     {
         for (size_t i = 0; i < n; i++)
