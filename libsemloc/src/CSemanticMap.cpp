@@ -16,6 +16,9 @@
 #include <limits>
 #include <unordered_map>
 #include <unordered_set>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "BoundedRead.h"
 #include "ExactConfigWrite.h"
@@ -167,7 +170,7 @@ struct CSemanticMap::Index
     double x0 = 0, y0 = 0, cell = 10, inv_cell = 0.1;
     int nx = 0, ny = 0;
     std::vector<uint32_t> cellStart;  // nx*ny + 1
-    std::vector<double> x, y;
+    std::vector<double> x, y;         // n + 1: one padding element
     std::vector<int32_t> label;
     std::vector<int32_t> objIdx;  // index into m_objects
     std::unordered_map<int32_t, int32_t> idToSorted;
@@ -254,8 +257,9 @@ void CSemanticMap::rebuildIndex()
     {
         ix.cellStart[c + 1] += ix.cellStart[c];
     }
-    ix.x.resize(n);
-    ix.y.resize(n);
+    // One padding element: the scan reads candidates in pairs (predictVisible).
+    ix.x.assign(n + 1, 0.0);
+    ix.y.assign(n + 1, 0.0);
     ix.label.resize(n);
     ix.objIdx.resize(n);
     std::vector<uint32_t> fill(ix.cellStart.begin(), ix.cellStart.end() - 1);
@@ -577,6 +581,57 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         const auto nx = static_cast<size_t>(ix.nx);
         uint32_t* out = sc.hits.data();
         // One loop per FOV kind (the test inlined, not selected at every candidate).
+#if defined(__SSE2__)
+        // Two candidates per step in SSE2 (every x86-64 CPU has it): the same IEEE double
+        // operations in the same order as the scalar test below, so the same decisions.
+        // Rows hold ~2-3 candidates, so a 2-wide step (the arrays have one padding element;
+        // the lane past the row's end is masked) suits them better than wider vectors.
+        const __m128d vsx = _mm_set1_pd(sx), vsy = _mm_set1_pd(sy), vc = _mm_set1_pd(c),
+                      vsn = _mm_set1_pd(sn), vR2 = _mm_set1_pd(R2), vch2 = _mm_set1_pd(ch2),
+                      zero = _mm_setzero_pd();
+        auto scanRows = [&](auto inFov)
+        {
+            for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
+            {
+                const size_t row = static_cast<size_t>(cy) * nx;
+                const uint32_t a = cellStart[row + static_cast<size_t>(cx0)];
+                const uint32_t b = cellStart[row + static_cast<size_t>(cx1) + 1];
+                for (uint32_t k = a; k < b; k += 2)
+                {
+                    const __m128d dx = _mm_sub_pd(_mm_loadu_pd(X + k), vsx);
+                    const __m128d dy = _mm_sub_pd(_mm_loadu_pd(Y + k), vsy);
+                    const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
+                    const __m128d lx = _mm_add_pd(_mm_mul_pd(vc, dx), _mm_mul_pd(vsn, dy));
+                    const __m128d in = _mm_and_pd(_mm_cmple_pd(d2, vR2), inFov(lx, d2));
+                    const auto m =
+                        static_cast<unsigned>(_mm_movemask_pd(in)) & (b - k >= 2 ? 3u : 1u);
+                    out[cnt] = k;  // written always, kept only if visible
+                    cnt += m & 1u;
+                    out[cnt] = k + 1;
+                    cnt += m >> 1;
+                }
+            }
+        };
+        // lx >= cos(fov/2) * d, squared without the sqrt, per sign of cos(fov/2).
+        if (narrow)
+        {
+            scanRows(
+                [&](__m128d lx, __m128d d2)
+                {
+                    return _mm_and_pd(_mm_cmpge_pd(lx, zero),
+                                      _mm_cmpge_pd(_mm_mul_pd(lx, lx), _mm_mul_pd(vch2, d2)));
+                });
+        }
+        else
+        {
+            scanRows(
+                [&](__m128d lx, __m128d d2)
+                {
+                    return _mm_or_pd(_mm_cmpge_pd(lx, zero),
+                                     _mm_cmple_pd(_mm_mul_pd(lx, lx), _mm_mul_pd(vch2, d2)));
+                });
+        }
+#else
         auto scanRows = [&](auto inFov)
         {
             for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
@@ -603,6 +658,7 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         {
             scanRows([ch2](double lx, double d2) { return (lx >= 0) | (lx * lx <= ch2 * d2); });
         }
+#endif
     }
     sc.nVis = cnt;
     // At most one pair per (detection, visible object): sized once, filled by index.
