@@ -504,6 +504,98 @@ Geom makeGeom(Scratch& sc, const TPose2D& pose, double ox, double oy, double oya
     return g;
 }
 
+/** The cells [cx0, cx1] x [cy0, cy1] of the grid that the bounding box of the FOV sector
+ *  overlaps (apex, both arc ends, and the arc's extreme points along the axes that lie
+ *  inside the FOV); empty when the box misses the grid. Branch-free, x and y together. */
+void sectorCells(const CSemanticMap::Index& ix, const Geom& g, int& cx0, int& cx1, int& cy0,
+                 int& cy1)
+{
+#if defined(__SSE2__)
+    const __m128d p = _mm_set_pd(g.sy, g.sx);
+    __m128d lo = p, hi = p;
+    const __m128d R = _mm_set1_pd(g.R);
+    if (g.fov < 2 * M_PI)
+    {
+        const double ch = g.cosHalf, sh = g.sinHalf;
+        const __m128d e1 =
+            _mm_add_pd(p, _mm_mul_pd(R, _mm_set_pd(g.s * ch + g.c * sh, g.c * ch - g.s * sh)));
+        const __m128d e2 =
+            _mm_add_pd(p, _mm_mul_pd(R, _mm_set_pd(g.s * ch - g.c * sh, g.c * ch + g.s * sh)));
+        lo = _mm_min_pd(lo, _mm_min_pd(e1, e2));
+        hi = _mm_max_pd(hi, _mm_max_pd(e1, e2));
+        // The arc reaches +R (-R) along an axis if that direction is inside the FOV.
+        const __m128d dir = _mm_set_pd(g.s, g.c), vch = _mm_set1_pd(ch);
+        hi = _mm_max_pd(hi, _mm_add_pd(p, _mm_and_pd(_mm_cmpge_pd(dir, vch), R)));
+        lo = _mm_min_pd(
+            lo, _mm_sub_pd(p, _mm_and_pd(_mm_cmpge_pd(_mm_sub_pd(_mm_setzero_pd(), dir), vch), R)));
+    }
+    else
+    {
+        lo = _mm_sub_pd(p, R);
+        hi = _mm_add_pd(p, R);
+    }
+    const __m128d origin = _mm_set_pd(ix.y0, ix.x0), inv = _mm_set1_pd(ix.inv_cell);
+    const __m128d last = _mm_set_pd(ix.ny - 1.0, ix.nx - 1.0);
+    // low: clamp to [0, n-1], truncate; high: clamp to [-1, n-1], floor (-1: box before
+    // the grid, then the range is empty).
+    const __m128i c0 = _mm_cvttpd_epi32(
+        _mm_min_pd(last, _mm_max_pd(_mm_mul_pd(_mm_sub_pd(lo, origin), inv), _mm_setzero_pd())));
+    const __m128d h =
+        _mm_min_pd(last, _mm_max_pd(_mm_mul_pd(_mm_sub_pd(hi, origin), inv), _mm_set1_pd(-1.0)));
+    const __m128d t = _mm_cvtepi32_pd(_mm_cvttpd_epi32(h));
+    const __m128i c1 =
+        _mm_cvttpd_epi32(_mm_sub_pd(t, _mm_and_pd(_mm_cmplt_pd(h, t), _mm_set1_pd(1.0))));
+    cx0 = _mm_cvtsi128_si32(c0);
+    cy0 = _mm_cvtsi128_si32(_mm_srli_si128(c0, 4));
+    cx1 = _mm_cvtsi128_si32(c1);
+    cy1 = _mm_cvtsi128_si32(_mm_srli_si128(c1, 4));
+#else
+    double bx0 = g.sx, bx1 = g.sx, by0 = g.sy, by1 = g.sy;
+    auto grow = [&](double x, double y)
+    {
+        bx0 = std::min(bx0, x);
+        bx1 = std::max(bx1, x);
+        by0 = std::min(by0, y);
+        by1 = std::max(by1, y);
+    };
+    if (g.fov < 2 * M_PI)
+    {
+        const double ch = g.cosHalf, sh = g.sinHalf;
+        grow(g.sx + g.R * (g.c * ch - g.s * sh), g.sy + g.R * (g.s * ch + g.c * sh));
+        grow(g.sx + g.R * (g.c * ch + g.s * sh), g.sy + g.R * (g.s * ch - g.c * sh));
+        if (g.c >= ch)
+        {
+            grow(g.sx + g.R, g.sy);
+        }
+        if (-g.c >= ch)
+        {
+            grow(g.sx - g.R, g.sy);
+        }
+        if (g.s >= ch)
+        {
+            grow(g.sx, g.sy + g.R);
+        }
+        if (-g.s >= ch)
+        {
+            grow(g.sx, g.sy - g.R);
+        }
+    }
+    else
+    {
+        grow(g.sx - g.R, g.sy - g.R);
+        grow(g.sx + g.R, g.sy + g.R);
+    }
+    auto lowCell = [](double v, int n)
+    { return v <= 0 ? 0 : static_cast<int>(std::min(n - 1.0, v)); };
+    auto highCell = [](double v, int n)
+    { return v < 0 ? -1 : static_cast<int>(std::min(n - 1.0, v)); };
+    cx0 = lowCell((bx0 - ix.x0) * ix.inv_cell, ix.nx);
+    cx1 = highCell((bx1 - ix.x0) * ix.inv_cell, ix.nx);
+    cy0 = lowCell((by0 - ix.y0) * ix.inv_cell, ix.ny);
+    cy1 = highCell((by1 - ix.y0) * ix.inv_cell, ix.ny);
+#endif
+}
+
 /** Finds the objects inside range and FOV (z^k): their sorted indices in sc.hits.
  *  The scan is branch-free (compaction by a counter) and takes no square root until an
  *  object is known to be visible: most candidates are not, and mispredicted branches
@@ -521,55 +613,8 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
             sc.gated.resize(ix.x.size());
         }
         const double R2 = g.R * g.R;
-        // Cells overlapping the bounding box of the FOV sector (apex, both arc ends, and
-        // the arc's extreme points along the axes that lie inside the FOV): for a
-        // forward-looking detector a fraction of the range disc's box.
-        double bx0 = g.sx, bx1 = g.sx, by0 = g.sy, by1 = g.sy;
-        auto grow = [&](double x, double y)
-        {
-            bx0 = std::min(bx0, x);
-            bx1 = std::max(bx1, x);
-            by0 = std::min(by0, y);
-            by1 = std::max(by1, y);
-        };
-        if (g.fov < 2 * M_PI)
-        {
-            const double sh = g.sinHalf;
-            grow(g.sx + g.R * (g.c * g.cosHalf - g.s * sh),
-                 g.sy + g.R * (g.s * g.cosHalf + g.c * sh));
-            grow(g.sx + g.R * (g.c * g.cosHalf + g.s * sh),
-                 g.sy + g.R * (g.s * g.cosHalf - g.c * sh));
-            if (g.c >= g.cosHalf)
-            {
-                grow(g.sx + g.R, g.sy);
-            }
-            if (-g.c >= g.cosHalf)
-            {
-                grow(g.sx - g.R, g.sy);
-            }
-            if (g.s >= g.cosHalf)
-            {
-                grow(g.sx, g.sy + g.R);
-            }
-            if (-g.s >= g.cosHalf)
-            {
-                grow(g.sx, g.sy - g.R);
-            }
-        }
-        else
-        {
-            grow(g.sx - g.R, g.sy - g.R);
-            grow(g.sx + g.R, g.sy + g.R);
-        }
-        // Cell range of the box, clamped to the grid; empty when the box misses it.
-        auto lowCell = [](double v, int n)
-        { return v <= 0 ? 0 : static_cast<int>(std::min(n - 1.0, v)); };
-        auto highCell = [](double v, int n)
-        { return v < 0 ? -1 : static_cast<int>(std::min(n - 1.0, v)); };
-        const int cx0 = lowCell((bx0 - ix.x0) * ix.inv_cell, ix.nx);
-        const int cx1 = highCell((bx1 - ix.x0) * ix.inv_cell, ix.nx);
-        const int cy0 = lowCell((by0 - ix.y0) * ix.inv_cell, ix.ny);
-        const int cy1 = highCell((by1 - ix.y0) * ix.inv_cell, ix.ny);
+        int cx0 = 0, cx1 = -1, cy0 = 0, cy1 = -1;
+        sectorCells(ix, g, cx0, cx1, cy0, cy1);
         const double ch2 = g.cosHalf * g.cosHalf;
         const bool narrow = g.cosHalf >= 0;  // FOV <= 180 deg
         // Locals, not members: the stores to `out` could alias them, which made the compiler
