@@ -974,18 +974,16 @@ void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConst
     const double* lo2 = sc.gateLo2.data();
     const double* hi2 = sc.gateHi2.data();
     Vis* vis = sc.vis.data();
-    auto setUp = [&](uint32_t v) -> Vis&
+    auto setUp = [&](uint32_t v, Vis& o)
     {
         const uint32_t kk = hit[v];
         const double dx = X[kk] - sx, dy = Y[kk] - sy;
-        Vis& o = vis[v];
         o.lx = c * dx + sn * dy;
         o.ly = -sn * dx + c * dy;
         o.d2 = dx * dx + dy * dy;
         o.sorted = static_cast<int32_t>(kk);
         o.label = L[kk];
         o.hasR = false;
-        return o;
     };
     auto pairWith = [&](uint32_t v, Vis& o)
     {
@@ -1003,7 +1001,8 @@ void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConst
     {
         for (uint32_t v = 0; v < nv; v++)
         {
-            Vis& o = setUp(v);
+            Vis& o = vis[v];
+            setUp(v, o);
             const auto l = static_cast<size_t>(o.label);
             if (o.d2 >= lo2[l] && o.d2 <= hi2[l])
             {
@@ -1026,7 +1025,13 @@ void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConst
         }
         for (size_t i = 0; i < ng; i++)
         {
-            pairWith(gated[i], setUp(gated[i]));
+            // Most of these pair: range at once, and in registers (scorePaper reads no
+            // sc.vis afterwards).
+            Vis o;
+            setUp(gated[i], o);
+            o.r = std::sqrt(o.d2);
+            o.hasR = true;
+            pairWith(gated[i], o);
         }
     }
     sc.nPairs = np;
