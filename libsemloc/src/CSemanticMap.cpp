@@ -401,6 +401,26 @@ struct Pair
     uint32_t j, v;
 };
 
+/** A detection as one of a label's slots (planPairs). */
+struct Slot
+{
+    Det d;
+    uint32_t j;  // index into Scratch::dets
+};
+
+/** A visible object, of particle p of a block, that may pair (scorePaperBlock). */
+struct Gated
+{
+    Vis o;
+    uint32_t p, v;
+};
+
+/** A (detection j, gated object e) pair that passed the range and bearing gates. */
+struct Cand
+{
+    uint32_t j, e;
+};
+
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /** Lazily recomputed value of f(key): the per-step angles and options are the same
@@ -449,7 +469,15 @@ struct Scratch
     /** Per call: squared ranges [gateLo2[l], gateHi2[l]] outside which no detection may
      *  pair with a visible object of label l (planPairs; empty interval: none may). */
     std::vector<double> gateLo2, gateHi2;
-    std::vector<uint32_t> gated;  // visible indices v that pass the range hull (scorePaper)
+    /** Per call: the detections that may pair with label l, padded to slotCount each with
+     *  a detection no object can pair with (planPairs), so every object tests as many. */
+    std::vector<Slot> slots;
+    size_t slotCount = 0;
+    /** scorePaperBlock's stages: per particle of the block, its q and its pairs' particle
+     *  index; the objects that may pair and the gated candidate pairs of the whole block. */
+    std::vector<uint32_t> blockVis, pairOf;
+    std::vector<Gated> gated;
+    std::vector<Cand> cands;
     /** modelConsts() of the last call, kept while its inputs stay the same (MRPT's
      *  per-particle path makes one call per particle). */
     std::array<double, 11> constsKey{};
@@ -610,7 +638,6 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         {
             vis.resize(ix.x.size());
             sc.hits.resize(ix.x.size());
-            sc.gated.resize(ix.x.size());
         }
         const double R2 = g.R * g.R;
         int cx0 = 0, cx1 = -1, cy0 = 0, cy1 = -1;
@@ -741,10 +768,8 @@ double wrapBearing(double b)
 
 /** Greedy one-to-one assignment, best pair first; ties broken by (j, v) so the
  *  result never depends on the sort implementation. Returns the summed gain. */
-double assignGreedy(Scratch& sc)
+double assignGreedy(Pair* pairs, size_t np, size_t nd, uint8_t* used)
 {
-    Pair* pairs = sc.pairs.data();
-    const size_t np = sc.nPairs;
     if (np <= 1)
     {
         return np == 0 ? 0.0 : pairs[0].gain;  // the usual case: no conflict to resolve
@@ -774,23 +799,28 @@ double assignGreedy(Scratch& sc)
             pairs[k] = p;
         }
     }
-    const size_t nd = sc.dets.size();
     double sum = 0;
     for (size_t i = 0; i < np; i++)
     {
         const Pair& p = pairs[i];
-        if (sc.used[p.j] | sc.used[nd + p.v])
+        if (used[p.j] | used[nd + p.v])
         {
             continue;
         }
-        sc.used[p.j] = sc.used[nd + p.v] = 1;
+        used[p.j] = used[nd + p.v] = 1;
         sum += p.gain;
     }
     for (size_t i = 0; i < np; i++)
     {
-        sc.used[pairs[i].j] = sc.used[nd + pairs[i].v] = 0;
+        used[pairs[i].j] = used[nd + pairs[i].v] = 0;
     }
     return sum;
+}
+
+/** assignGreedy() of the pairs collectPairs() left in sc. */
+double assignGreedy(Scratch& sc)
+{
+    return assignGreedy(sc.pairs.data(), sc.nPairs, sc.dets.size(), sc.used.data());
 }
 
 ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels, double R,
@@ -901,6 +931,23 @@ void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const
     {
         labelsOf(sc.dets[j], [&](size_t l) { sc.detByLabel[fill[l]++] = j; });
     }
+    size_t slotCount = 0;
+    for (size_t l = 0; l < nLabels; l++)
+    {
+        slotCount = std::max<size_t>(slotCount, sc.detStart[l + 1] - sc.detStart[l]);
+    }
+    // The padding: an infinite range fails the range gate.
+    const Slot none{{kInf, 0, 0, -1, -1}, 0};
+    sc.slotCount = slotCount;
+    sc.slots.assign(nLabels * slotCount, none);
+    for (size_t l = 0; l < nLabels; l++)
+    {
+        for (uint32_t i = sc.detStart[l]; i < sc.detStart[l + 1]; i++)
+        {
+            const uint32_t j = sc.detByLabel[i];
+            sc.slots[l * slotCount + (i - sc.detStart[l])] = {sc.dets[j], j};
+        }
+    }
     const double reach = k.ir > 0 ? std::sqrt(std::max(0.0, k.budget)) / k.ir : kInf;
     sc.gateLo2.assign(nLabels, kInf);
     sc.gateHi2.assign(nLabels, -kInf);
@@ -917,13 +964,6 @@ void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const
     }
 }
 
-/** Which visible objects collectPairs() sets up in sc.vis. */
-enum class SetUp
-{
-    All,    // every one (the probabilistic model reads every range)
-    Gated,  // only those inside their label's range hull (the others cannot pair)
-};
-
 /** Sets up sc.vis (the visible objects in the sensor frame, the scan's arithmetic again
  *  for the few it kept) and collects the candidate (detection, object) pairs with a
  *  positive log-gain `pairGain`, as planned by planPairs(). `k.budget` bounds what the
@@ -933,9 +973,8 @@ enum class SetUp
  *  (planPairs) is checked first, on the squared range. The bearing difference is
  *  atan2(u x v, u . v) of the detection's unit vector u and the object's direction v:
  *  exact, no angle wrapping. The order in which pairs are collected does not matter:
- *  assignGreedy() sorts them by (gain, j, v). With SetUp::Gated, only the visible objects
- *  inside the hull are set up: found by a branch-free pass, as most are outside. */
-template <SetUp kSetUp = SetUp::All, typename GainFn>
+ *  assignGreedy() sorts them by (gain, j, v). */
+template <typename GainFn>
 void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k, Scratch& sc,
                   GainFn&& pairGain)
 {
@@ -997,55 +1036,166 @@ void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConst
             }
         }
     };
-    if constexpr (kSetUp == SetUp::All)
+    for (uint32_t v = 0; v < nv; v++)
     {
-        for (uint32_t v = 0; v < nv; v++)
+        Vis& o = vis[v];
+        setUp(v, o);
+        const auto l = static_cast<size_t>(o.label);
+        if (o.d2 >= lo2[l] && o.d2 <= hi2[l])
         {
-            Vis& o = vis[v];
-            setUp(v, o);
-            const auto l = static_cast<size_t>(o.label);
-            if (o.d2 >= lo2[l] && o.d2 <= hi2[l])
-            {
-                pairWith(v, o);
-            }
-        }
-    }
-    else
-    {
-        uint32_t* gated = sc.gated.data();
-        size_t ng = 0;
-        for (uint32_t v = 0; v < nv; v++)
-        {
-            const uint32_t kk = hit[v];
-            const auto l = static_cast<size_t>(L[kk]);
-            const double dx = X[kk] - sx, dy = Y[kk] - sy;
-            const double d2 = dx * dx + dy * dy;
-            gated[ng] = v;  // written always, kept only if inside the hull
-            ng += static_cast<size_t>((d2 >= lo2[l]) & (d2 <= hi2[l]));
-        }
-        for (size_t i = 0; i < ng; i++)
-        {
-            // Most of these pair: range at once, and in registers (scorePaper reads no
-            // sc.vis afterwards).
-            Vis o;
-            setUp(gated[i], o);
-            o.r = std::sqrt(o.d2);
-            o.hasR = true;
-            pairWith(gated[i], o);
+            pairWith(v, o);
         }
     }
     sc.nPairs = np;
 }
 
-double scorePaper(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k, Scratch& sc)
+/** Lowest value returned: keeps MRPT's finite-likelihood assertion true even if an
+ *  extreme option set ever made the sum overflow. */
+constexpr double kMinLogLik = -1e300;
+
+double finite(double v)
 {
-    const double ir = k.ir, ib = k.ib, logPu = k.logPu;
-    collectPairs<SetUp::Gated>(
-        ix, g, k, sc,
-        [&](const Det&, const Vis&, double dr, double db)
-        { return -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu; });
+    return std::isfinite(v) ? v : kMinLogLik;
+}
+
+bool finitePose(const TPose2D& p)
+{
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
+}
+
+/** The paper likelihood of the m particles of a block (sensor geometry geoms[i] of pose
+ *  poses[i]) into out[0..m), in stages that each run over the whole block: z^k of every
+ *  particle and its objects that may pair (label's range hull); those objects in the
+ *  sensor frame and against the exact gates of collectPairs() for every detection of their
+ *  label; atan2 and gain of the pairs that pass; the assignments. Most of the time of a
+ *  particle was spent waiting on short dependent chains (sqrt, then the gates, atan2, the
+ *  gain) and on the branches that test them; one stage at a time, the chains of
+ *  successive particles overlap. Per particle the arithmetic is collectPairs()'s and
+ *  assignGreedy()'s, so the values do not depend on the block (n = 1 takes this path too).
+ */
+void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratch& sc,
+                     const Geom* geoms, const TPose2D* poses, size_t m, double* out)
+{
+    const size_t nd = sc.dets.size(), ns = sc.slotCount;
+    const double ir = k.ir, ib = k.ib, logPu = k.logPu, maxBudget = k.budget, cosGate = k.cosGate;
+    const double* X = ix.x.data();
+    const double* Y = ix.y.data();
+    const int32_t* L = ix.label.data();
+    const double* lo2 = sc.gateLo2.data();
+    const double* hi2 = sc.gateHi2.data();
+    if (sc.blockVis.size() < m)
+    {
+        sc.blockVis.resize(m);
+    }
+    // z^k of every particle (q = blockVis[i]) and the visible objects that may pair.
+    size_t ne = 0;
+    for (uint32_t i = 0; i < m; i++)
+    {
+        sc.blockVis[i] = 0;
+        if (!finitePose(poses[i]))
+        {
+            continue;
+        }
+        const Geom& g = geoms[i];
+        predictVisible(ix, g, sc);
+        const auto nv = static_cast<uint32_t>(visibleCount(sc));
+        sc.blockVis[i] = nv;
+        if (nd == 0)
+        {
+            continue;
+        }
+        if (sc.gated.size() < ne + nv)
+        {
+            sc.gated.resize(2 * (ne + nv));
+        }
+        const uint32_t* hit = sc.hits.data();
+        Gated* gated = sc.gated.data();
+        for (uint32_t v = 0; v < nv; v++)
+        {
+            const uint32_t kk = hit[v];
+            const auto l = static_cast<size_t>(L[kk]);
+            const double dx = X[kk] - g.sx, dy = Y[kk] - g.sy;
+            const double d2 = dx * dx + dy * dy;
+            // Written always, kept only if it may pair.
+            gated[ne].o.sorted = static_cast<int32_t>(kk);
+            gated[ne].p = i;
+            gated[ne].v = v;
+            ne += static_cast<size_t>((d2 >= lo2[l]) & (d2 <= hi2[l]));
+        }
+    }
+    // Those objects in the sensor frame, and every (object, detection of its label) against
+    // the exact range and bearing gates of collectPairs(), branch-free: each object tests
+    // slotCount detections, the same number for every particle of the call.
+    if (sc.cands.size() < ne * ns)
+    {
+        sc.cands.resize(2 * ne * ns);
+    }
+    Gated* gated = sc.gated.data();
+    Cand* cands = sc.cands.data();
+    const Slot* slots = sc.slots.data();
+    size_t nc = 0;
+    for (uint32_t e = 0; e < ne; e++)
+    {
+        Vis& o = gated[e].o;
+        const Geom& g = geoms[gated[e].p];
+        const auto kk = static_cast<size_t>(o.sorted);
+        const double dx = X[kk] - g.sx, dy = Y[kk] - g.sy;
+        o.lx = g.c * dx + g.s * dy;
+        o.ly = -g.s * dx + g.c * dy;
+        o.d2 = dx * dx + dy * dy;
+        o.label = L[kk];
+        o.r = std::sqrt(o.d2);
+        o.hasR = true;
+        const Slot* sl = slots + static_cast<size_t>(o.label) * ns;
+        for (size_t t = 0; t < ns; t++)
+        {
+            const Det& d = sl[t].d;
+            const double dr = d.r - o.r;
+            const double dot = d.uc * o.lx + d.us * o.ly;
+            cands[nc] = {sl[t].j, e};  // written always, kept if it passes
+            nc +=
+                static_cast<size_t>(((dr * ir) * (dr * ir) <= maxBudget) & (dot >= cosGate * o.r) &
+                                    ((d.fixed < 0) | (d.fixed == o.sorted)));
+        }
+    }
+    // atan2 and gain of the candidates: the pairs, in particle order.
+    if (sc.pairs.size() < nc)
+    {
+        sc.pairs.resize(2 * nc);
+    }
+    if (sc.pairOf.size() < nc)
+    {
+        sc.pairOf.resize(2 * nc);
+    }
+    Pair* pairs = sc.pairs.data();
+    uint32_t* pairOf = sc.pairOf.data();
+    const Det* dets = sc.dets.data();
+    size_t np = 0;
+    for (size_t t = 0; t < nc; t++)
+    {
+        const Det& d = dets[cands[t].j];
+        const Gated& q = gated[cands[t].e];
+        const double dr = d.r - q.o.r;
+        const double dot = d.uc * q.o.lx + d.us * q.o.ly;
+        const double db = detail::fastAtan2(d.uc * q.o.ly - d.us * q.o.lx, dot);
+        const double gain = -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu;
+        pairs[np] = {gain, cands[t].j, q.v};  // written always, kept if it gains
+        pairOf[np] = q.p;
+        np += static_cast<size_t>(gain > 0);
+    }
     // sum(s_i) + d log p_u  with d = q + l - 2m  ==  (q + l) log p_u + sum(gain_i)
-    return static_cast<double>(sc.dets.size() + visibleCount(sc)) * logPu + assignGreedy(sc);
+    size_t t = 0;
+    for (uint32_t i = 0; i < m; i++)
+    {
+        const size_t t0 = t;
+        while (t < np && pairOf[t] == i)
+        {
+            t++;
+        }
+        out[i] = finitePose(poses[i]) ? finite(static_cast<double>(nd + sc.blockVis[i]) * logPu +
+                                               assignGreedy(pairs + t0, t - t0, nd, sc.used.data()))
+                                      : kMinLogLik;
+    }
 }
 
 double scoreProbabilistic(const CSemanticMap::Index& ix,
@@ -1079,28 +1229,13 @@ double scoreProbabilistic(const CSemanticMap::Index& ix,
     return base + assignGreedy(sc);
 }
 
-/** Lowest value returned: keeps MRPT's finite-likelihood assertion true even if an
- *  extreme option set ever made the sum overflow. */
-constexpr double kMinLogLik = -1e300;
-
-double finite(double v)
-{
-    return std::isfinite(v) ? v : kMinLogLik;
-}
-
-bool finitePose(const TPose2D& p)
-{
-    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
-}
-
-double score(const CSemanticMap::Index& ix, const CSemanticMap::TLikelihoodOptions& opt,
-             const ModelConsts& k, Scratch& sc, const Geom& g)
+/** The probabilistic likelihood of one particle. */
+double scoreProbabilisticAt(const CSemanticMap::Index& ix,
+                            const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k,
+                            Scratch& sc, const Geom& g)
 {
     predictVisible(ix, g, sc);
-    const double ll = opt.model == CSemanticMap::Model::Paper
-                          ? scorePaper(ix, g, k, sc)
-                          : scoreProbabilistic(ix, opt, k, g, sc);
-    return finite(ll);
+    return finite(scoreProbabilistic(ix, opt, k, g, sc));
 }
 
 /** What a likelihood call knows of the sensor, fixed for all particles of a step. */
@@ -1196,20 +1331,6 @@ Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
     return s;
 }
 
-double scoreAt(const CSemanticMap::Index& ix, const CSemanticMap::TLikelihoodOptions& opt,
-               const ModelConsts& k, Scratch& sc, const Sensor& s, const TPose2D& pose)
-{
-    if (!s.usable)
-    {
-        return 0;  // nothing usable: uninformative, identical for every particle
-    }
-    if (!finitePose(pose))
-    {
-        return kMinLogLik;
-    }
-    return score(ix, opt, k, sc, makeGeom(sc, pose, s.ox, s.oy, s.oyaw, s.R, s.fov));
-}
-
 }  // namespace
 
 template <typename OBS>
@@ -1221,16 +1342,13 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     const ModelConsts k =
         s.usable ? cachedModelConsts(likelihoodOptions, nLabels, s.R, s.fov, sc) : ModelConsts();
     planPairs(sc, *m_index, nLabels, k);
-    if (!s.usable || n == 1)
+    if (!s.usable)
     {
-        for (size_t i = 0; i < n; i++)
-        {
-            out[i] = scoreAt(*m_index, likelihoodOptions, k, sc, s, poses[i]);
-        }
+        std::fill(out, out + n, 0.0);  // nothing usable: uninformative, the same everywhere
         return;
     }
-    // Two passes: the sensor geometry of every particle first (independent short chains
-    // the CPU overlaps across particles), then the matching, which reads it.
+    // The sensor geometry of every particle of a block first (independent short chains the
+    // CPU overlaps across particles), then the matching, which reads it.
     constexpr size_t kBlock = 256;
     Geom geoms[kBlock];
     for (size_t i0 = 0; i0 < n; i0 += kBlock)
@@ -1240,10 +1358,15 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
         {
             geoms[i] = makeGeom(sc, poses[i0 + i], s.ox, s.oy, s.oyaw, s.R, s.fov);
         }
+        if (likelihoodOptions.model == Model::Paper)
+        {
+            scorePaperBlock(*m_index, k, sc, geoms, poses + i0, m, out + i0);
+            continue;
+        }
         for (size_t i = 0; i < m; i++)
         {
             out[i0 + i] = finitePose(poses[i0 + i])
-                              ? score(*m_index, likelihoodOptions, k, sc, geoms[i])
+                              ? scoreProbabilisticAt(*m_index, likelihoodOptions, k, sc, geoms[i])
                               : kMinLogLik;
         }
     }
