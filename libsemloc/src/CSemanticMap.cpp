@@ -474,8 +474,8 @@ struct Scratch
     std::vector<Slot> slots;
     size_t slotCount = 0;
     /** scorePaperBlock's stages: per particle of the block, its q and its pairs' particle
-     *  index; the objects that may pair and the gated candidate pairs of the whole block. */
-    std::vector<uint32_t> blockVis, pairOf;
+     *  count; the objects that may pair and the gated candidate pairs of the whole block. */
+    std::vector<uint32_t> blockVis, pairCount;
     std::vector<Gated> gated;
     std::vector<Cand> cands;
     /** modelConsts() of the last call, kept while its inputs stay the same (MRPT's
@@ -1073,6 +1073,9 @@ bool finitePose(const TPose2D& p)
  *  successive particles overlap. Per particle the arithmetic is collectPairs()'s and
  *  assignGreedy()'s, so the values do not depend on the block (n = 1 takes this path too).
  */
+/** scorePaperBlock's q of a particle whose pose is not finite. */
+constexpr uint32_t kNoPose = std::numeric_limits<uint32_t>::max();
+
 void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratch& sc,
                      const Geom* geoms, const TPose2D* poses, size_t m, double* out)
 {
@@ -1086,12 +1089,17 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
     if (sc.blockVis.size() < m)
     {
         sc.blockVis.resize(m);
+        sc.pairCount.resize(m);
     }
+    uint32_t* blockVis = sc.blockVis.data();
+    uint32_t* pairCount = sc.pairCount.data();
+    uint8_t* used = nullptr;
     // z^k of every particle (q = blockVis[i]) and the visible objects that may pair.
     size_t ne = 0;
     for (uint32_t i = 0; i < m; i++)
     {
-        sc.blockVis[i] = 0;
+        blockVis[i] = kNoPose;
+        pairCount[i] = 0;
         if (!finitePose(poses[i]))
         {
             continue;
@@ -1099,7 +1107,7 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
         const Geom& g = geoms[i];
         predictVisible(ix, g, sc);
         const auto nv = static_cast<uint32_t>(visibleCount(sc));
-        sc.blockVis[i] = nv;
+        blockVis[i] = nv;
         if (nd == 0)
         {
             continue;
@@ -1159,16 +1167,12 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
         }
     }
     // atan2 and gain of the candidates: the pairs, in particle order.
-    if (sc.pairs.size() < nc)
+    if (sc.pairs.size() < nc + 1)
     {
-        sc.pairs.resize(2 * nc);
-    }
-    if (sc.pairOf.size() < nc)
-    {
-        sc.pairOf.resize(2 * nc);
+        sc.pairs.resize(2 * nc + 1);  // at least one: read (not used) when a particle has none
     }
     Pair* pairs = sc.pairs.data();
-    uint32_t* pairOf = sc.pairOf.data();
+    used = sc.used.data();  // sized by predictVisible()
     const Det* dets = sc.dets.data();
     size_t np = 0;
     for (size_t t = 0; t < nc; t++)
@@ -1180,21 +1184,20 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
         const double db = detail::fastAtan2(d.uc * q.o.ly - d.us * q.o.lx, dot);
         const double gain = -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu;
         pairs[np] = {gain, cands[t].j, q.v};  // written always, kept if it gains
-        pairOf[np] = q.p;
+        pairCount[q.p] += static_cast<uint32_t>(gain > 0);
         np += static_cast<size_t>(gain > 0);
     }
     // sum(s_i) + d log p_u  with d = q + l - 2m  ==  (q + l) log p_u + sum(gain_i)
     size_t t = 0;
     for (uint32_t i = 0; i < m; i++)
     {
-        const size_t t0 = t;
-        while (t < np && pairOf[t] == i)
-        {
-            t++;
-        }
-        out[i] = finitePose(poses[i]) ? finite(static_cast<double>(nd + sc.blockVis[i]) * logPu +
-                                               assignGreedy(pairs + t0, t - t0, nd, sc.used.data()))
-                                      : kMinLogLik;
+        const uint32_t c = pairCount[i];
+        const double gains =
+            c <= 1 ? (c == 0 ? 0.0 : pairs[t].gain) : assignGreedy(pairs + t, c, nd, used);
+        t += c;
+        out[i] = blockVis[i] == kNoPose
+                     ? kMinLogLik
+                     : finite(static_cast<double>(nd + blockVis[i]) * logPu + gains);
     }
 }
 
