@@ -1142,29 +1142,42 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
     Cand* cands = sc.cands.data();
     const Slot* slots = sc.slots.data();
     size_t nc = 0;
-    for (uint32_t e = 0; e < ne; e++)
+    // Without detections naming an object (the usual case), no id test.
+    const bool anyFixed =
+        std::any_of(sc.dets.begin(), sc.dets.end(), [](const Det& d) { return d.fixed >= 0; });
+    auto gate = [&](auto idTest)
     {
-        Vis& o = gated[e].o;
-        const Geom& g = geoms[gated[e].p];
-        const auto kk = static_cast<size_t>(o.sorted);
-        const double dx = X[kk] - g.sx, dy = Y[kk] - g.sy;
-        o.lx = g.c * dx + g.s * dy;
-        o.ly = -g.s * dx + g.c * dy;
-        o.d2 = dx * dx + dy * dy;
-        o.label = L[kk];
-        o.r = std::sqrt(o.d2);
-        o.hasR = true;
-        const Slot* sl = slots + static_cast<size_t>(o.label) * ns;
-        for (size_t t = 0; t < ns; t++)
+        for (uint32_t e = 0; e < ne; e++)
         {
-            const Det& d = sl[t].d;
-            const double dr = d.r - o.r;
-            const double dot = d.uc * o.lx + d.us * o.ly;
-            cands[nc] = {sl[t].j, e};  // written always, kept if it passes
-            nc +=
-                static_cast<size_t>(((dr * ir) * (dr * ir) <= maxBudget) & (dot >= cosGate * o.r) &
-                                    ((d.fixed < 0) | (d.fixed == o.sorted)));
+            Vis& o = gated[e].o;
+            const Geom& g = geoms[gated[e].p];
+            const auto kk = static_cast<size_t>(o.sorted);
+            const double dx = X[kk] - g.sx, dy = Y[kk] - g.sy;
+            o.lx = g.c * dx + g.s * dy;
+            o.ly = -g.s * dx + g.c * dy;
+            o.d2 = dx * dx + dy * dy;
+            o.label = L[kk];
+            o.r = std::sqrt(o.d2);
+            o.hasR = true;
+            const Slot* sl = slots + static_cast<size_t>(o.label) * ns;
+            for (size_t t = 0; t < ns; t++)
+            {
+                const Det& d = sl[t].d;
+                const double dr = d.r - o.r;
+                const double dot = d.uc * o.lx + d.us * o.ly;
+                cands[nc] = {sl[t].j, e};  // written always, kept if it passes
+                nc += static_cast<size_t>(((dr * ir) * (dr * ir) <= maxBudget) &
+                                          (dot >= cosGate * o.r) & idTest(d, o));
+            }
         }
+    };
+    if (anyFixed)
+    {
+        gate([](const Det& d, const Vis& o) { return (d.fixed < 0) | (d.fixed == o.sorted); });
+    }
+    else
+    {
+        gate([](const Det&, const Vis&) { return true; });
     }
     // atan2 and gain of the candidates: the pairs, in particle order.
     if (sc.pairs.size() < nc + 1)
