@@ -12,6 +12,7 @@
 #include <fstream>
 #include <limits>
 #include <thread>
+#include <utility>
 
 #include "TestHelpers.h"
 
@@ -511,13 +512,18 @@ TEST(CSemanticMap, WorldFileIsFoundNextToTheIni)
 
 TEST(CSemanticMap, BatchEqualsSingleCalls)
 {
-    for (const auto model : {CSemanticMap::Model::Paper, CSemanticMap::Model::Probabilistic})
+    // Both models, detections with and without object ids (the paper model's gates differ).
+    for (const auto& [model, ids] :
+         {std::pair{CSemanticMap::Model::Paper, false}, std::pair{CSemanticMap::Model::Paper, true},
+          std::pair{CSemanticMap::Model::Probabilistic, false},
+          std::pair{CSemanticMap::Model::Probabilistic, true}})
     {
         const CSemanticMap m = smallMap(model);
         mrpt::random::CRandomGenerator rng(21);
         DetectorSim ds;
         ds.sigma_range_m = 0.2;
         ds.sigma_bearing_rad = 0.02;
+        ds.reportIds = ids;
         auto obs = observe(smallWorld(), kTrue, ds, &rng);
         obs.sensorPose = mrpt::poses::CPose3D(0.4, -0.2, 0, 0.3, 0, 0);  // off-centre, yawed
         std::vector<TPose2D> poses(1000);
