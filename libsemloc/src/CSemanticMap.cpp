@@ -463,6 +463,7 @@ struct Scratch
     std::vector<Vis> vis;  // first nVis entries are valid
     size_t nVis = 0;
     std::vector<uint32_t> hits;  // sorted indices of the visible objects (first nVis)
+    std::vector<double> hitD2;   // and their squared ranges
     /** Per call: the detections that may pair with a visible object of label l are
      *  detByLabel[detStart[l] .. detStart[l + 1]) (planPairs). */
     std::vector<uint32_t> detByLabel, detStart, detFill;
@@ -638,6 +639,7 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         {
             vis.resize(ix.x.size());
             sc.hits.resize(ix.x.size());
+            sc.hitD2.resize(ix.x.size());
         }
         const double R2 = g.R * g.R;
         int cx0 = 0, cx1 = -1, cy0 = 0, cy1 = -1;
@@ -652,6 +654,7 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         const uint32_t* cellStart = ix.cellStart.data();
         const auto nx = static_cast<size_t>(ix.nx);
         uint32_t* out = sc.hits.data();
+        double* outD2 = sc.hitD2.data();
         // One loop per FOV kind (the test inlined, not selected at every candidate).
 #if defined(__SSE2__)
         // Two candidates per step in SSE2 (every x86-64 CPU has it): the same IEEE double
@@ -678,8 +681,10 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
                     const auto m =
                         static_cast<unsigned>(_mm_movemask_pd(in)) & (b - k >= 2 ? 3u : 1u);
                     out[cnt] = k;  // written always, kept only if visible
+                    _mm_storel_pd(outD2 + cnt, d2);
                     cnt += m & 1u;
                     out[cnt] = k + 1;
+                    _mm_storeh_pd(outD2 + cnt, d2);
                     cnt += m >> 1;
                 }
             }
@@ -717,6 +722,7 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
                     const double d2 = dx * dx + dy * dy;
                     const double lx = c * dx + sn * dy;
                     out[cnt] = k;  // written always, kept only if visible
+                    outD2[cnt] = d2;
                     cnt += static_cast<size_t>((d2 <= R2) & inFov(lx, d2));
                 }
             }
@@ -1117,13 +1123,13 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
             sc.gated.resize(2 * (ne + nv));
         }
         const uint32_t* hit = sc.hits.data();
+        const double* hitD2 = sc.hitD2.data();
         Gated* gated = sc.gated.data();
         for (uint32_t v = 0; v < nv; v++)
         {
             const uint32_t kk = hit[v];
             const auto l = static_cast<size_t>(L[kk]);
-            const double dx = X[kk] - g.sx, dy = Y[kk] - g.sy;
-            const double d2 = dx * dx + dy * dy;
+            const double d2 = hitD2[v];
             // Written always, kept only if it may pair.
             gated[ne].o.sorted = static_cast<int32_t>(kk);
             gated[ne].p = i;
