@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -174,6 +175,8 @@ struct CSemanticMap::Index
     std::vector<int32_t> label;
     std::vector<int32_t> objIdx;  // index into m_objects
     std::unordered_map<int32_t, int32_t> idToSorted;
+    /** Unique per build of an index (any map, any thread): keys what callers cache. */
+    uint64_t stamp = 0;
 };
 
 CSemanticMap::CSemanticMap()
@@ -215,7 +218,9 @@ void CSemanticMap::rebuildIndex()
 {
     m_labels->clear();
     Index& ix = *m_index;
+    static std::atomic<uint64_t> stamps{0};
     ix = Index();
+    ix.stamp = ++stamps;
     const size_t n = m_objects.size();
     if (n == 0)
     {
@@ -479,6 +484,10 @@ struct Scratch
     std::vector<uint32_t> blockVis, pairCount;
     std::vector<Gated> gated;
     std::vector<Cand> cands;
+    /** planPairs() of the last call is kept while these stay the same. */
+    std::vector<Det> planDets;
+    std::array<double, 4> planKey{};
+    bool planConfusable = false, planValid = false;
     /** modelConsts() of the last call, kept while its inputs stay the same (MRPT's
      *  per-particle path makes one call per particle). */
     std::array<double, 11> constsKey{};
@@ -1363,7 +1372,24 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     const size_t nLabels = m_labels->size();
     const ModelConsts k =
         s.usable ? cachedModelConsts(likelihoodOptions, nLabels, s.R, s.fov, sc) : ModelConsts();
-    planPairs(sc, *m_index, nLabels, k);
+    // MRPT's per-particle path makes one call per particle with the same observation: the
+    // plan is then the last call's (same detections, index build and constants).
+    const std::array<double, 4> planKey = {static_cast<double>(m_index->stamp),
+                                           static_cast<double>(nLabels), k.budget, k.ir};
+    auto sameDet = [](const Det& a, const Det& b) {
+        return a.r == b.r && a.uc == b.uc && a.us == b.us && a.label == b.label &&
+               a.fixed == b.fixed;
+    };
+    if (!sc.planValid || planKey != sc.planKey || k.confusable != sc.planConfusable ||
+        !std::equal(sc.dets.begin(), sc.dets.end(), sc.planDets.begin(), sc.planDets.end(),
+                    sameDet))
+    {
+        planPairs(sc, *m_index, nLabels, k);
+        sc.planKey = planKey;
+        sc.planConfusable = k.confusable;
+        sc.planDets = sc.dets;
+        sc.planValid = true;
+    }
     if (!s.usable)
     {
         std::fill(out, out + n, 0.0);  // nothing usable: uninformative, the same everywhere
