@@ -479,8 +479,8 @@ struct Scratch
      *  a detection no object can pair with (planPairs), so every object tests as many. */
     std::vector<Slot> slots;
     size_t slotCount = 0;
-    /** scorePaperBlock's stages: per particle of the block, its q and its pairs' particle
-     *  count; the objects that may pair and the gated candidate pairs of the whole block. */
+    /** scorePaperBlock's stages: per particle of the block, its q and its number of pairs;
+     *  the objects that may pair and the gated candidate pairs of the whole block. */
     std::vector<uint32_t> blockVis, pairCount;
     std::vector<Gated> gated;
     std::vector<Cand> cands;
@@ -1078,6 +1078,9 @@ bool finitePose(const TPose2D& p)
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
 }
 
+/** scorePaperBlock's q of a particle whose pose is not finite. */
+constexpr uint32_t kNoPose = std::numeric_limits<uint32_t>::max();
+
 /** The paper likelihood of the m particles of a block (sensor geometry geoms[i] of pose
  *  poses[i]) into out[0..m), in stages that each run over the whole block: z^k of every
  *  particle and its objects that may pair (label's range hull); those objects in the
@@ -1088,9 +1091,6 @@ bool finitePose(const TPose2D& p)
  *  successive particles overlap. Per particle the arithmetic is collectPairs()'s and
  *  assignGreedy()'s, so the values do not depend on the block (n = 1 takes this path too).
  */
-/** scorePaperBlock's q of a particle whose pose is not finite. */
-constexpr uint32_t kNoPose = std::numeric_limits<uint32_t>::max();
-
 void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratch& sc,
                      const Geom* geoms, const TPose2D* poses, size_t m, double* out)
 {
