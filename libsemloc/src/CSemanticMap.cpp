@@ -884,16 +884,26 @@ double scoreProbabilistic(const CSemanticMap::Index& ix,
                      {
                          logC = (d.label == v.label) ? k.logSame : k.logOther;
                      }
-                     return std::log(p) - std::log1p(-p) + logC + k.logNorm -
-                            0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - k.logKappa;
+                     // log P_D - log(1 - P_D) in one log (P_D is clamped inside (0, 1)).
+                     return std::log(p / (1 - p)) + logC + k.logNorm - 0.5 * (dr * ir) * (dr * ir) -
+                            0.5 * (db * ib) * (db * ib) - k.logKappa;
                  });
     double base = -k.lambda + static_cast<double>(sc.dets.size()) * k.logKappa;
+    // sum_v log(1 - P_D(rho_v)) as the log of the product: one log per particle instead of
+    // one per visible object. Each factor is >= 1e-6 (P_D is clamped), so the product is
+    // folded into the sum before it could underflow.
     const size_t nv = visibleCount(sc);
+    double miss = 1;
     for (size_t v = 0; v < nv; v++)
     {
-        base += std::log1p(-pd(rangeOf(sc.vis[v])));
+        miss *= 1 - pd(rangeOf(sc.vis[v]));
+        if (miss < 1e-250)
+        {
+            base += std::log(miss);
+            miss = 1;
+        }
     }
-    return base + assignGreedy(sc);
+    return base + std::log(miss) + assignGreedy(sc);
 }
 
 /** Lowest value returned: keeps MRPT's finite-likelihood assertion true even if an
