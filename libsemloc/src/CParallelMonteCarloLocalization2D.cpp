@@ -38,6 +38,8 @@ constexpr double kNegInf = -std::numeric_limits<double>::infinity();
  *  particles on: below, waking the pool costs more than it saves (the results are the same
  *  either way). */
 constexpr size_t kCheapLoopChunk = 16384;
+/** Loops that copy a particle or do a little more per particle (~10 ns). */
+constexpr size_t kCopyLoopChunk = 4096;
 /** Loops with an exp() per particle (~20 ns) are worth splitting from this many on. */
 constexpr size_t kExpLoopChunk = 4096;
 
@@ -203,6 +205,7 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options)
 {
     MRPT_START
+    m_posesFresh = false;
     if (sf)
     {
         ASSERTMSG_(options.metricMap,
@@ -300,15 +303,18 @@ void CParallelMonteCarloLocalization2D::predictFixedSampleSize(
         const uint64_t key =
             (static_cast<uint64_t>(rng.drawUniform32bit()) << 32) | rng.drawUniform32bit();
         const GaussianIncrementDrawer drawer(*gauss);
+        m_poses.resize(M);
         ex.forEachChunk(M,
                         [&](size_t b, size_t e)
                         {
                             for (size_t i = b; i < e; i++)
                             {
                                 ParticleNormals normals(key, i);
-                                m_particles[i].d = compose(m_particles[i].d, drawer.draw(normals));
+                                m_particles[i].d = m_poses[i] =
+                                    compose(m_particles[i].d, drawer.draw(normals));
                             }
                         });
+        m_posesFresh = true;  // the update reads them from m_poses
         return;
     }
 
@@ -383,54 +389,62 @@ void CParallelMonteCarloLocalization2D::update(
     const bool recovery = m_augmented.options().enabled();
     const double lsePrior = recovery ? logSumExpWeights() : 0;
 
-    m_poses.resize(M);
     m_logLik.resize(M);
-    ex.forEachChunk(
-        M,
-        [&](size_t b, size_t e)
-        {
-            for (size_t i = b; i < e; i++)
-            {
-                m_poses[i] = m_particles[i].d;
-            }
-        },
-        kCheapLoopChunk);
-    m_likelihood->evaluate(sf, m_poses.data(), M, m_logLik.data(), ex);
-    if (m_freeSpacePrior && m_sampler)
+    if (!m_posesFresh)
     {
-        const auto before = std::count(m_logLik.begin(), m_logLik.end(), kNegInf);
+        m_poses.resize(M);
         ex.forEachChunk(
             M,
             [&](size_t b, size_t e)
             {
                 for (size_t i = b; i < e; i++)
                 {
-                    if (!m_sampler->contains(m_poses[i].x, m_poses[i].y))
-                    {
-                        m_logLik[i] = kNegInf;
-                    }
+                    m_poses[i] = m_particles[i].d;
                 }
             },
-            kCheapLoopChunk);
-        m_recoveryStats.outside_free_space +=
-            static_cast<size_t>(std::count(m_logLik.begin(), m_logLik.end(), kNegInf) - before);
+            kCopyLoopChunk);
     }
+    m_posesFresh = false;
+    m_likelihood->evaluate(sf, m_poses.data(), M, m_logLik.data(), ex);
+
+    // One pass: the free-space prior, the weight update and the largest weight, per fixed
+    // block (the maximum and the count do not depend on how blocks meet threads).
+    const bool prior = m_freeSpacePrior && m_sampler;
     const double pow = PF_options.powFactor;
+    const size_t blocks = (M + ParallelExecutor::kReduceBlock - 1) / ParallelExecutor::kReduceBlock;
+    m_blockMax.assign(blocks, kNegInf);
+    m_blockOutside.assign(blocks, 0);
     ex.forEachChunk(
-        M,
-        [&](size_t b, size_t e)
+        blocks,
+        [&](size_t b0, size_t b1)
         {
-            for (size_t i = b; i < e; i++)
+            for (size_t blk = b0; blk < b1; blk++)
             {
-                m_particles[i].log_w += m_logLik[i] * pow;
+                const size_t e = std::min(M, (blk + 1) * ParallelExecutor::kReduceBlock);
+                double mx = kNegInf;
+                size_t outside = 0;
+                for (size_t i = blk * ParallelExecutor::kReduceBlock; i < e; i++)
+                {
+                    if (prior && m_logLik[i] != kNegInf &&
+                        !m_sampler->contains(m_poses[i].x, m_poses[i].y))
+                    {
+                        m_logLik[i] = kNegInf;
+                        outside++;
+                    }
+                    auto& w = m_particles[i].log_w;
+                    w += m_logLik[i] * pow;
+                    mx = std::max(mx, w);  // NaN never wins a std::max against a number
+                }
+                m_blockMax[blk] = mx;
+                m_blockOutside[blk] = outside;
             }
         },
-        kCheapLoopChunk);
-
+        kCopyLoopChunk / ParallelExecutor::kReduceBlock);
     double maxW = kNegInf;
-    for (const auto& p : m_particles)
+    for (size_t blk = 0; blk < blocks; blk++)
     {
-        maxW = std::max(maxW, p.log_w);  // NaN never wins a std::max against a number
+        maxW = std::max(maxW, m_blockMax[blk]);
+        m_recoveryStats.outside_free_space += m_blockOutside[blk];
     }
     if (!std::isfinite(maxW))
     {
@@ -676,7 +690,7 @@ void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<si
                 m_resampled[i].log_w = 0;  // equal weights after resampling
             }
         },
-        kCheapLoopChunk);
+        kCopyLoopChunk);
     m_particles.swap(m_resampled);
 }
 

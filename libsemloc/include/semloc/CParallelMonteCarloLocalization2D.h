@@ -193,6 +193,10 @@ private:
     std::vector<double> m_logLik;
     CParticleList m_resampled;
     std::vector<size_t> m_resampleIdx;
+    std::vector<double> m_blockMax;
+    std::vector<size_t> m_blockOutside;
+    /** m_poses holds the particles' poses already (the prediction wrote both). */
+    bool m_posesFresh = false;
     std::vector<double> m_linW;
     double m_essBeforeResampling = 1;
 };
