@@ -7,6 +7,7 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/CParallelMonteCarloLocalization2D.h>
 #include <semloc/CSemanticMap.h>
+#include <semloc/FreeSpaceSampler.h>
 #include <semloc/LocalizationMap.h>
 #include <semloc/ParallelExecutor.h>
 #include <semloc/Simulator.h>
@@ -56,7 +57,8 @@ const semloc::LocalizationMap& maps(const std::string& variant)
 
 /** One CParticleFilter::executeOn with the action and frame of step kStep, from the same
  *  cloud every time: 10 000 particles around the true pose (1 m, 6 deg), resampled at each
- *  step (BETA = 1). Time = wall time of the step. */
+ *  step (BETA = 1), with the free-space prior on as in every config/<variant>.ini. Time =
+ *  wall time of the step. */
 void BM_FilterStep(benchmark::State& state, const std::string& variant)
 {
     const auto& sim = dataset();
@@ -67,6 +69,10 @@ void BM_FilterStep(benchmark::State& state, const std::string& variant)
 
     semloc::CParallelMonteCarloLocalization2D pdf;
     pdf.options.metricMap = lm.map;
+    // As semloc-localize with the variant's ini: free_space_prior = 1 (every config/*.ini).
+    pdf.setFreeSpaceSampler(
+        std::make_shared<semloc::FreeSpaceSampler>(semloc::FreeSpaceSampler::FromWorld(*lm.world)));
+    pdf.setFreeSpacePrior(true);
     pdf.setExecutor(
         std::make_shared<semloc::ParallelExecutor>(static_cast<size_t>(state.range(0))));
     auto& rng = mrpt::random::getRandomGenerator();

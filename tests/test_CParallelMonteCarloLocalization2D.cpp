@@ -166,6 +166,7 @@ TEST(CParallelMonteCarloLocalization2D, UpdateEqualsMrptsLikelihoodOnEveryThread
     const auto sf = maps.frame(truth);
     mrpt::bayes::CParticleFilter::TParticleFilterOptions o;
     o.powFactor = 0.7;
+    o.BETA = 0;  // ours resamples at the end of the step when ESS < BETA: not here
 
     mrpt::slam::CMonteCarloLocalization2D stock;
     stock.options.metricMap = maps.multi;
@@ -189,6 +190,62 @@ TEST(CParallelMonteCarloLocalization2D, UpdateEqualsMrptsLikelihoodOnEveryThread
         }
         EXPECT_EQ(ours.likelihoodStats().observations_used, 2u);
     }
+}
+
+TEST(CParallelMonteCarloLocalization2D, StepResamplesSystematicallyWhenEssIsBelowBeta)
+{
+    // Weights 0, 1, 2, ..., 9 (relative), 1000 particles each: systematic resampling gives
+    // particle i floor or ceil of M w_i / sum(w) copies, never one of weight zero, in order.
+    constexpr size_t kGroups = 10, kEach = 1000, M = kGroups * kEach;
+    CParallelMonteCarloLocalization2D pdf(M);
+    double sumW = 0, sumW2 = 0;
+    for (size_t i = 0; i < M; i++)
+    {
+        const double w = static_cast<double>(i % kGroups);
+        pdf.m_particles[i].d = TPose2D(static_cast<double>(i), 0, 0);
+        pdf.m_particles[i].log_w =
+            w > 0 ? std::log(w) - 7 : -std::numeric_limits<double>::infinity();
+        sumW += w;
+        sumW2 += w * w;
+    }
+    mrpt::bayes::CParticleFilter::TParticleFilterOptions o;
+    o.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
+    o.BETA = 1.0;
+    mrpt::random::getRandomGenerator().randomize(5);
+    pdf.prediction_and_update_pfStandardProposal(nullptr, nullptr, o);
+
+    EXPECT_NEAR(pdf.essBeforeResampling(), sumW * sumW / (M * sumW2), 1e-12);
+    ASSERT_EQ(pdf.size(), M);
+    std::vector<size_t> copies(M, 0);
+    double prev = -1;
+    for (const auto& p : pdf.m_particles)
+    {
+        EXPECT_EQ(p.log_w, 0);
+        EXPECT_GE(p.d.x, prev);  // sorted
+        prev = p.d.x;
+        copies[static_cast<size_t>(p.d.x)]++;
+    }
+    for (size_t i = 0; i < M; i++)
+    {
+        const double expected = static_cast<double>(M) * static_cast<double>(i % kGroups) / sumW;
+        EXPECT_GE(static_cast<double>(copies[i]), std::floor(expected) - 1e-9) << i;
+        EXPECT_LE(static_cast<double>(copies[i]), std::ceil(expected) + 1e-9) << i;
+    }
+    // Equal weights afterwards: CParticleFilter::executeOn's own test finds nothing to do.
+    EXPECT_EQ(pdf.ESS(), 1.0);
+
+    // ESS above BETA: no resampling, the weights stay.
+    CParallelMonteCarloLocalization2D keep(M);
+    for (size_t i = 0; i < M; i++)
+    {
+        keep.m_particles[i].d = TPose2D(static_cast<double>(i), 0, 0);
+        keep.m_particles[i].log_w = i % 2 ? 0.0 : -0.1;
+    }
+    o.BETA = 0.5;
+    keep.prediction_and_update_pfStandardProposal(nullptr, nullptr, o);
+    EXPECT_GT(keep.essBeforeResampling(), 0.99);
+    EXPECT_EQ(keep.m_particles[0].log_w, -0.1);
+    EXPECT_EQ(keep.m_particles[M - 1].d.x, static_cast<double>(M - 1));
 }
 
 TEST(CParallelMonteCarloLocalization2D, SameBitsOnOneTwoAndThreeThreads)

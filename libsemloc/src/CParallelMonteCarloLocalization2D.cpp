@@ -25,6 +25,7 @@
 #include <optional>
 
 #include "FastMath.h"
+#include "Ziggurat.h"
 
 namespace semloc
 {
@@ -37,6 +38,8 @@ constexpr double kNegInf = -std::numeric_limits<double>::infinity();
  *  particles on: below, waking the pool costs more than it saves (the results are the same
  *  either way). */
 constexpr size_t kCheapLoopChunk = 16384;
+/** Loops that copy a particle or do a little more per particle (~10 ns). */
+constexpr size_t kCopyLoopChunk = 4096;
 /** Loops with an exp() per particle (~20 ns) are worth splitting from this many on. */
 constexpr size_t kExpLoopChunk = 4096;
 
@@ -53,9 +56,9 @@ inline double wrapToPiExact(double a)
 }
 
 /** Standard normal draws of one particle: a splitmix64 sequence (Steele, Lea & Flood 2014)
- *  started from (step key, particle index), turned into normals by Box-Muller. A particle's
- *  numbers depend on nothing else, so any thread may draw them: the same bits for any
- *  thread count, and no shared generator to serialize on. */
+ *  started from (step key, particle index), turned into normals by the ziggurat method. A
+ *  particle's numbers depend on nothing else, so any thread may draw them: the same bits for
+ *  any thread count, and no shared generator to serialize on. */
 class ParticleNormals
 {
 public:
@@ -64,17 +67,10 @@ public:
     {
     }
 
-    /** Two independent N(0, 1). */
-    void pair(double& a, double& b)
+    /** One N(0, 1). */
+    double operator()()
     {
-        // u1 in (0, 1]: log(u1) is finite.
-        const double u1 = static_cast<double>((next() >> 11) + 1) * 0x1p-53;
-        const double u2 = static_cast<double>(next() >> 11) * 0x1p-53;
-        const double r = std::sqrt(-2 * std::log(u1));
-        double s = 0, c = 0;
-        detail::fastSinCos(2 * M_PI * u2, s, c);
-        a = r * c;
-        b = r * s;
+        return detail::Ziggurat::draw([this] { return next(); });
     }
 
 private:
@@ -106,9 +102,7 @@ public:
 
     TPose2D draw(ParticleNormals& rng) const
     {
-        double n[4];
-        rng.pair(n[0], n[1]);
-        rng.pair(n[2], n[3]);
+        const double n[3] = {rng(), rng(), rng()};
         double r[3] = {0, 0, 0};
         for (int i = 0; i < 3; i++)
         {
@@ -211,6 +205,7 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options)
 {
     MRPT_START
+    m_posesFresh = false;
     if (sf)
     {
         ASSERTMSG_(options.metricMap,
@@ -234,7 +229,60 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     {
         update(*sf, PF_options);
     }
+    // CParticleFilter::executeOn's resampling test and call, done here where the weights are
+    // at hand: executeOn then finds equal weights (its normalizeWeights() and ESS() are a
+    // max/min pass) and does not resample again. MRPT's computeResampling() draws the same
+    // random numbers as executeOn's performResampling() would, at the same point of the
+    // sequence: the same particles either way.
+    m_essBeforeResampling = weightsAndESS(&m_linW);
+    if (!PF_options.adaptiveSampleSize && m_essBeforeResampling < PF_options.BETA)
+    {
+        if (PF_options.resamplingMethod == mrpt::bayes::CParticleFilter::prSystematic)
+        {
+            systematicResampling(m_linW, m_resampleIdx);
+        }
+        else
+        {
+            std::vector<double> logW(m_particles.size());
+            for (size_t i = 0; i < logW.size(); i++)
+            {
+                logW[i] = m_particles[i].log_w;
+            }
+            computeResampling(PF_options.resamplingMethod, logW, m_resampleIdx);
+        }
+        performSubstitution(m_resampleIdx);
+    }
     MRPT_END
+}
+
+void CParallelMonteCarloLocalization2D::systematicResampling(const std::vector<double>& w,
+                                                             std::vector<size_t>& out)
+{
+    // Systematic resampling (Kitagawa 1996): M equally spaced pointers (u + i) / M, u one
+    // uniform draw of MRPT's generator, into the cumulative weights. Sorted output.
+    const size_t M = w.size();
+    double total = 0;
+    size_t last = 0;  // the last particle of positive weight: no pointer goes beyond it
+    for (size_t i = 0; i < M; i++)
+    {
+        total += w[i];
+        last = w[i] > 0 ? i : last;
+    }
+    ASSERT_(total > 0);
+    const double u = mrpt::random::getRandomGenerator().drawUniform(0.0, 1.0);
+    const double step = total / static_cast<double>(M);
+    out.resize(M);
+    size_t j = 0;
+    double cum = w[0];
+    for (size_t i = 0; i < M; i++)
+    {
+        const double t = (u + static_cast<double>(i)) * step;
+        while (t >= cum && j < last)
+        {
+            cum += w[++j];
+        }
+        out[i] = j;
+    }
 }
 
 void CParallelMonteCarloLocalization2D::predictFixedSampleSize(
@@ -255,15 +303,18 @@ void CParallelMonteCarloLocalization2D::predictFixedSampleSize(
         const uint64_t key =
             (static_cast<uint64_t>(rng.drawUniform32bit()) << 32) | rng.drawUniform32bit();
         const GaussianIncrementDrawer drawer(*gauss);
+        m_poses.resize(M);
         ex.forEachChunk(M,
                         [&](size_t b, size_t e)
                         {
                             for (size_t i = b; i < e; i++)
                             {
                                 ParticleNormals normals(key, i);
-                                m_particles[i].d = compose(m_particles[i].d, drawer.draw(normals));
+                                m_particles[i].d = m_poses[i] =
+                                    compose(m_particles[i].d, drawer.draw(normals));
                             }
                         });
+        m_posesFresh = true;  // the update reads them from m_poses
         return;
     }
 
@@ -338,54 +389,62 @@ void CParallelMonteCarloLocalization2D::update(
     const bool recovery = m_augmented.options().enabled();
     const double lsePrior = recovery ? logSumExpWeights() : 0;
 
-    m_poses.resize(M);
     m_logLik.resize(M);
-    ex.forEachChunk(
-        M,
-        [&](size_t b, size_t e)
-        {
-            for (size_t i = b; i < e; i++)
-            {
-                m_poses[i] = m_particles[i].d;
-            }
-        },
-        kCheapLoopChunk);
-    m_likelihood->evaluate(sf, m_poses.data(), M, m_logLik.data(), ex);
-    if (m_freeSpacePrior && m_sampler)
+    if (!m_posesFresh)
     {
-        const auto before = std::count(m_logLik.begin(), m_logLik.end(), kNegInf);
+        m_poses.resize(M);
         ex.forEachChunk(
             M,
             [&](size_t b, size_t e)
             {
                 for (size_t i = b; i < e; i++)
                 {
-                    if (!m_sampler->contains(m_poses[i].x, m_poses[i].y))
-                    {
-                        m_logLik[i] = kNegInf;
-                    }
+                    m_poses[i] = m_particles[i].d;
                 }
             },
-            kCheapLoopChunk);
-        m_recoveryStats.outside_free_space +=
-            static_cast<size_t>(std::count(m_logLik.begin(), m_logLik.end(), kNegInf) - before);
+            kCopyLoopChunk);
     }
+    m_posesFresh = false;
+    m_likelihood->evaluate(sf, m_poses.data(), M, m_logLik.data(), ex);
+
+    // One pass: the free-space prior, the weight update and the largest weight, per fixed
+    // block (the maximum and the count do not depend on how blocks meet threads).
+    const bool prior = m_freeSpacePrior && m_sampler;
     const double pow = PF_options.powFactor;
+    const size_t blocks = (M + ParallelExecutor::kReduceBlock - 1) / ParallelExecutor::kReduceBlock;
+    m_blockMax.assign(blocks, kNegInf);
+    m_blockOutside.assign(blocks, 0);
     ex.forEachChunk(
-        M,
-        [&](size_t b, size_t e)
+        blocks,
+        [&](size_t b0, size_t b1)
         {
-            for (size_t i = b; i < e; i++)
+            for (size_t blk = b0; blk < b1; blk++)
             {
-                m_particles[i].log_w += m_logLik[i] * pow;
+                const size_t e = std::min(M, (blk + 1) * ParallelExecutor::kReduceBlock);
+                double mx = kNegInf;
+                size_t outside = 0;
+                for (size_t i = blk * ParallelExecutor::kReduceBlock; i < e; i++)
+                {
+                    if (prior && m_logLik[i] != kNegInf &&
+                        !m_sampler->contains(m_poses[i].x, m_poses[i].y))
+                    {
+                        m_logLik[i] = kNegInf;
+                        outside++;
+                    }
+                    auto& w = m_particles[i].log_w;
+                    w += m_logLik[i] * pow;
+                    mx = std::max(mx, w);  // NaN never wins a std::max against a number
+                }
+                m_blockMax[blk] = mx;
+                m_blockOutside[blk] = outside;
             }
         },
-        kCheapLoopChunk);
-
+        kCopyLoopChunk / ParallelExecutor::kReduceBlock);
     double maxW = kNegInf;
-    for (const auto& p : m_particles)
+    for (size_t blk = 0; blk < blocks; blk++)
     {
-        maxW = std::max(maxW, p.log_w);  // NaN never wins a std::max against a number
+        maxW = std::max(maxW, m_blockMax[blk]);
+        m_recoveryStats.outside_free_space += m_blockOutside[blk];
     }
     if (!std::isfinite(maxW))
     {
@@ -510,6 +569,15 @@ double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w
         maxW = std::max(maxW, p.log_w);
         minW = std::min(minW, p.log_w);
     }
+    if (maxW == 0)
+    {
+        // Already normalized (e.g. just resampled): subtracting 0 changes nothing.
+        if (out_max_log_w)
+        {
+            *out_max_log_w = 0;
+        }
+        return std::exp(-minW);
+    }
     m_executor->forEachChunk(
         m_particles.size(),
         [&](size_t b, size_t e)
@@ -529,6 +597,11 @@ double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w
 
 double CParallelMonteCarloLocalization2D::ESS() const
 {
+    return weightsAndESS(nullptr);
+}
+
+double CParallelMonteCarloLocalization2D::weightsAndESS(std::vector<double>* linW) const
+{
     // ESS = (sum w)^2 / (M sum w^2), shift-invariant: computed relative to the largest
     // log-weight, over fixed blocks (same bits for any thread count).
     const size_t M = m_particles.size();
@@ -536,15 +609,29 @@ double CParallelMonteCarloLocalization2D::ESS() const
     {
         return 0;
     }
-    double maxW = kNegInf;
+    double maxW = kNegInf, minW = std::numeric_limits<double>::infinity();
     for (const auto& p : m_particles)
     {
         maxW = std::max(maxW, p.log_w);
+        minW = std::min(minW, p.log_w);
     }
     if (!(maxW > kNegInf) || std::isinf(maxW))
     {
         return 0;
     }
+    if (linW)
+    {
+        linW->resize(M);
+    }
+    if (minW == maxW)
+    {
+        if (linW)
+        {
+            std::fill(linW->begin(), linW->end(), 1.0);
+        }
+        return 1;  // equal weights (e.g. just resampled): what the sums below give exactly
+    }
+    double* out = linW ? linW->data() : nullptr;
     const size_t blocks = (M + ParallelExecutor::kReduceBlock - 1) / ParallelExecutor::kReduceBlock;
     std::vector<double> sumW(blocks), sumW2(blocks);
     m_executor->forEachChunk(
@@ -558,6 +645,10 @@ double CParallelMonteCarloLocalization2D::ESS() const
                 for (size_t i = blk * ParallelExecutor::kReduceBlock; i < e; i++)
                 {
                     const double w = std::exp(m_particles[i].log_w - maxW);
+                    if (out)
+                    {
+                        out[i] = w;
+                    }
                     s += w;
                     s2 += w * w;
                 }
@@ -599,7 +690,7 @@ void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<si
                 m_resampled[i].log_w = 0;  // equal weights after resampling
             }
         },
-        kCheapLoopChunk);
+        kCopyLoopChunk);
     m_particles.swap(m_resampled);
 }
 

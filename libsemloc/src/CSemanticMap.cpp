@@ -488,6 +488,9 @@ struct Scratch
     std::vector<Det> planDets;
     std::array<double, 4> planKey{};
     bool planConfusable = false, planValid = false;
+    /** Per call: the detections by increasing range (planByRange): index and range. */
+    std::vector<uint32_t> byRange;
+    std::vector<double> rangeByRange;
     /** modelConsts() of the last call, kept while its inputs stay the same (MRPT's
      *  per-particle path makes one call per particle). */
     std::array<double, 11> constsKey{};
@@ -1064,6 +1067,96 @@ void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConst
     sc.nPairs = np;
 }
 
+/** The detections sorted by range (once per call), for collectPairsByRange(). */
+void planByRange(Scratch& sc)
+{
+    const auto nd = static_cast<uint32_t>(sc.dets.size());
+    sc.byRange.resize(nd);
+    for (uint32_t j = 0; j < nd; j++)
+    {
+        sc.byRange[j] = j;
+    }
+    std::sort(sc.byRange.begin(), sc.byRange.end(),
+              [&](uint32_t a, uint32_t b)
+              { return sc.dets[a].r != sc.dets[b].r ? sc.dets[a].r < sc.dets[b].r : a < b; });
+    sc.rangeByRange.resize(nd);
+    for (uint32_t i = 0; i < nd; i++)
+    {
+        sc.rangeByRange[i] = sc.dets[sc.byRange[i]].r;
+    }
+}
+
+/** collectPairs() when any detection may pair with any visible object (class confusion,
+ *  unlabelled landmarks): instead of every (detection, object) combination, each object
+ *  meets only the detections inside its range window |dr| <= sigma_rho sqrt(budget) (the
+ *  range gate as an interval, widened by a relative 1e-9 against rounding; the exact gate
+ *  and the bearing gate are then applied as in collectPairs). The same pairs, in another
+ *  order (assignGreedy() sorts them). */
+template <typename GainFn>
+void collectPairsByRange(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k,
+                         Scratch& sc, GainFn&& pairGain)
+{
+    const size_t nv = visibleCount(sc);
+    const double maxBudget = k.budget, ir = k.ir, cosGate = k.cosGate;
+    const double window = std::sqrt(std::max(0.0, maxBudget)) / ir * (1 + 1e-9);
+    const Det* dets = sc.dets.data();
+    const uint32_t* byRange = sc.byRange.data();
+    const double* rs = sc.rangeByRange.data();
+    const size_t nd = sc.dets.size();
+    Pair* pairs = sc.pairs.data();
+    size_t np = 0;
+    const double sx = g.sx, sy = g.sy, c = g.c, sn = g.s;
+    const double* X = ix.x.data();
+    const double* Y = ix.y.data();
+    const int32_t* L = ix.label.data();
+    const uint32_t* hit = sc.hits.data();
+    Vis* vis = sc.vis.data();
+    for (uint32_t v = 0; v < nv; v++)
+    {
+        const uint32_t kk = hit[v];
+        const double dx = X[kk] - sx, dy = Y[kk] - sy;
+        Vis& o = vis[v];
+        o.lx = c * dx + sn * dy;
+        o.ly = -sn * dx + c * dy;
+        o.d2 = dx * dx + dy * dy;
+        o.r = std::sqrt(o.d2);
+        o.hasR = true;
+        o.sorted = static_cast<int32_t>(kk);
+        o.label = L[kk];
+        size_t i = 0;
+        while (i < nd && rs[i] < o.r - window)
+        {
+            i++;
+        }
+        for (; i < nd && rs[i] <= o.r + window; i++)
+        {
+            const uint32_t j = byRange[i];
+            const Det& d = dets[j];
+            if (d.fixed >= 0 && d.fixed != o.sorted)
+            {
+                continue;
+            }
+            const double dr = d.r - o.r;
+            if ((dr * ir) * (dr * ir) > maxBudget)
+            {
+                continue;
+            }
+            const double dot = d.uc * o.lx + d.us * o.ly;
+            if (dot < cosGate * o.r)
+            {
+                continue;
+            }
+            const double db = detail::fastAtan2(d.uc * o.ly - d.us * o.lx, dot);
+            const double gain = pairGain(d, o, dr, db);
+            if (gain > 0)
+            {
+                pairs[np++] = {gain, j, v};
+            }
+        }
+    }
+    sc.nPairs = np;
+}
+
 /** Lowest value returned: keeps MRPT's finite-likelihood assertion true even if an
  *  extreme option set ever made the sum overflow. */
 constexpr double kMinLogLik = -1e300;
@@ -1239,25 +1332,42 @@ double scoreProbabilistic(const CSemanticMap::Index& ix,
         return std::clamp(p, 1e-6, 1 - 1e-6);
     };
     const double ir = k.ir, ib = k.ib;
-    collectPairs(ix, g, k, sc,
-                 [&](const Det& d, const Vis& v, double dr, double db)
-                 {
-                     const double p = pd(v.r);  // consider() took rangeOf() first
-                     double logC = 0;           // landmarks without a label: no label term
-                     if (d.label >= 0)
-                     {
-                         logC = (d.label == v.label) ? k.logSame : k.logOther;
-                     }
-                     return std::log(p) - std::log1p(-p) + logC + k.logNorm -
-                            0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - k.logKappa;
-                 });
+    auto gain = [&](const Det& d, const Vis& v, double dr, double db)
+    {
+        const double p = pd(v.r);  // the pair collectors took the range first
+        double logC = 0;           // landmarks without a label: no label term
+        if (d.label >= 0)
+        {
+            logC = (d.label == v.label) ? k.logSame : k.logOther;
+        }
+        // log P_D - log(1 - P_D) in one log (P_D is clamped inside (0, 1)).
+        return std::log(p / (1 - p)) + logC + k.logNorm - 0.5 * (dr * ir) * (dr * ir) -
+               0.5 * (db * ib) * (db * ib) - k.logKappa;
+    };
+    if (k.confusable)
+    {
+        collectPairsByRange(ix, g, k, sc, gain);
+    }
+    else
+    {
+        collectPairs(ix, g, k, sc, gain);
+    }
     double base = -k.lambda + static_cast<double>(sc.dets.size()) * k.logKappa;
+    // sum_v log(1 - P_D(rho_v)) as the log of the product: one log per particle instead of
+    // one per visible object. Each factor is >= 1e-6 (P_D is clamped), so the product is
+    // folded into the sum before it could underflow.
     const size_t nv = visibleCount(sc);
+    double miss = 1;
     for (size_t v = 0; v < nv; v++)
     {
-        base += std::log1p(-pd(rangeOf(sc.vis[v])));
+        miss *= 1 - pd(rangeOf(sc.vis[v]));
+        if (miss < 1e-250)
+        {
+            base += std::log(miss);
+            miss = 1;
+        }
     }
-    return base + assignGreedy(sc);
+    return base + std::log(miss) + assignGreedy(sc);
 }
 
 /** The probabilistic likelihood of one particle. */
@@ -1385,6 +1495,10 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
                     sameDet))
     {
         planPairs(sc, *m_index, nLabels, k);
+        if (k.confusable)
+        {
+            planByRange(sc);
+        }
         sc.planKey = planKey;
         sc.planConfusable = k.confusable;
         sc.planDets = sc.dets;

@@ -26,7 +26,7 @@ class ParallelExecutor;
  *  - Prediction, fixed sample size, Gaussian odometry (CPosePDFGaussian): one 64-bit key per
  *    step from MRPT's global generator (mrpt::random::getRandomGenerator(), so the seed
  *    decides it), then each particle's increment from its own counter-based stream
- *    (splitmix64 of key and particle index, Box-Muller normals, MRPT's CPoseRandomSampler
+ *    (splitmix64 of key and particle index, ziggurat normals, MRPT's CPoseRandomSampler
  *    transform mean + Z sqrt(D) n), drawn and composed (2D) on the executor's threads.
  *    Other motion models (Thrun's particles, 3D actions): MRPT's sampler on this thread.
  *  - Prediction, adaptive sample size (KLD, `adaptiveSampleSize = 1`): MRPT's own sequential
@@ -67,6 +67,14 @@ class ParallelExecutor;
  *  same for any thread count.
  *
  *  ## Resampling
+ *  With a fixed sample size, the step resamples at its own end when ESS() < BETA (the test
+ *  of CParticleFilter::executeOn): `resamplingMethod` 3 (systematic) by its own
+ *  implementation, from the weights of the ESS pass, with one uniform draw of MRPT's
+ *  generator as MRPT's; the others by MRPT's computeResampling(). This avoids executeOn's
+ *  per-particle virtual getW()/setW() calls and its extra weight passes (executeOn then
+ *  finds equal weights and leaves them). Hence
+ *  executeOn's TParticleFilterStats::ESS_beforeResample reads 1 after a resampling step:
+ *  read essBeforeResampling() instead.
  *  performSubstitution() gives every resampled particle the log-weight 0: MRPT 2.5.8's
  *  CParticleFilterCapable::performResampling() keeps the old weights when called with the
  *  default particle count, as CParticleFilter::executeOn does (fixed upstream by MRPT commit
@@ -120,6 +128,8 @@ public:
     const TRecoveryStats& recoveryStats() const { return m_recoveryStats; }
     /** Augmented MCL's p_inject at the last update (0 when off). */
     double lastInjectionProbability() const { return m_lastPInject; }
+    /** ESS() at the end of the last step, before its resampling (see "Resampling"). */
+    double essBeforeResampling() const { return m_essBeforeResampling; }
     /** @} */
 
     /** Sets up the sensor model for options.metricMap now (else at the first update): the
@@ -131,7 +141,8 @@ public:
 
     // CMonteCarloLocalization2D / CParticleFilterCapable
     /** One step: predicts from the odometry (in parallel; MRPT's own KLD sampling if
-     *  PF_options.adaptiveSampleSize), then weights by the frame with options.metricMap. */
+     *  PF_options.adaptiveSampleSize), weights by the frame with options.metricMap, then
+     *  resamples when ESS < BETA (fixed sample size; see "Resampling"). */
     void prediction_and_update_pfStandardProposal(
         const mrpt::obs::CActionCollection* action, const mrpt::obs::CSensoryFrame* observation,
         const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options) override;
@@ -154,6 +165,10 @@ private:
     void update(const mrpt::obs::CSensoryFrame& sf,
                 const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options);
     double logSumExpWeights() const;
+    /** ESS(); with `linW`, also each particle's weight relative to the largest. */
+    double weightsAndESS(std::vector<double>* linW) const;
+    /** Sorted indices of a systematic resampling of the (unnormalized) weights `w`. */
+    static void systematicResampling(const std::vector<double>& w, std::vector<size_t>& out);
     void injectRandomParticles(double pInject, const mrpt::obs::CSensoryFrame& sf,
                                const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o);
     /** The frame's detections to draw recovery poses from (recovery on, from_detections > 0,
@@ -177,6 +192,13 @@ private:
     std::vector<mrpt::math::TPose2D> m_poses;
     std::vector<double> m_logLik;
     CParticleList m_resampled;
+    std::vector<size_t> m_resampleIdx;
+    std::vector<double> m_blockMax;
+    std::vector<size_t> m_blockOutside;
+    /** m_poses holds the particles' poses already (the prediction wrote both). */
+    bool m_posesFresh = false;
+    std::vector<double> m_linW;
+    double m_essBeforeResampling = 1;
 };
 
 }  // namespace semloc
