@@ -229,11 +229,11 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     {
         update(*sf, PF_options);
     }
-    // CParticleFilter::executeOn's resampling test and call, done here where the weights are
-    // at hand: executeOn then finds equal weights (its normalizeWeights() and ESS() are a
-    // max/min pass) and does not resample again. MRPT's computeResampling() draws the same
-    // random numbers as executeOn's performResampling() would, at the same point of the
-    // sequence: the same particles either way.
+    // CParticleFilter::executeOn's resampling test, done here where the weights are at hand:
+    // executeOn then finds equal weights (its normalizeWeights() and ESS() are a max/min
+    // pass) and does not resample again. Either branch takes the random numbers MRPT's
+    // performResampling() would, at the same point of the sequence (the systematic one a
+    // single uniform draw, as MRPT's).
     m_essBeforeResampling = weightsAndESS(&m_linW);
     if (!PF_options.adaptiveSampleSize && m_essBeforeResampling < PF_options.BETA)
     {
