@@ -982,6 +982,31 @@ void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const
     }
 }
 
+/** The range and bearing gates of the pair (detection d = dets[j], visible object v = o,
+ *  whose range o.r is set) and, if it passes them, its gain: appended to pairs[np++] when
+ *  positive. */
+template <typename GainFn>
+inline void considerPair(const Det& d, uint32_t j, uint32_t v, const Vis& o, const ModelConsts& k,
+                         GainFn& pairGain, Pair* pairs, size_t& np)
+{
+    const double dr = d.r - o.r;
+    if ((dr * k.ir) * (dr * k.ir) > k.budget)
+    {
+        return;
+    }
+    const double dot = d.uc * o.lx + d.us * o.ly;
+    if (dot < k.cosGate * o.r)
+    {
+        return;
+    }
+    const double db = detail::fastAtan2(d.uc * o.ly - d.us * o.lx, dot);
+    const double gain = pairGain(d, o, dr, db);
+    if (gain > 0)
+    {
+        pairs[np++] = {gain, j, v};
+    }
+}
+
 /** Sets up sc.vis (the visible objects in the sensor frame, the scan's arithmetic again
  *  for the few it kept) and collects the candidate (detection, object) pairs with a
  *  positive log-gain `pairGain`, as planned by planPairs(). `k.budget` bounds what the
@@ -997,29 +1022,13 @@ void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConst
                   GainFn&& pairGain)
 {
     const size_t nv = visibleCount(sc);
-    const double maxBudget = k.budget, ir = k.ir, cosGate = k.cosGate;
     const Det* dets = sc.dets.data();
     Pair* pairs = sc.pairs.data();
     size_t np = 0;
     auto consider = [&](uint32_t j, uint32_t v, Vis& o)
     {
-        const Det& d = dets[j];
-        const double dr = d.r - rangeOf(o);
-        if ((dr * ir) * (dr * ir) > maxBudget)
-        {
-            return;
-        }
-        const double dot = d.uc * o.lx + d.us * o.ly;
-        if (dot < cosGate * o.r)
-        {
-            return;
-        }
-        const double db = detail::fastAtan2(d.uc * o.ly - d.us * o.lx, dot);
-        const double gain = pairGain(d, o, dr, db);
-        if (gain > 0)
-        {
-            pairs[np++] = {gain, j, v};
-        }
+        rangeOf(o);
+        considerPair(dets[j], j, v, o, k, pairGain, pairs, np);
     };
     const double sx = g.sx, sy = g.sy, c = g.c, sn = g.s;
     const double* X = ix.x.data();
@@ -1097,7 +1106,7 @@ void collectPairsByRange(const CSemanticMap::Index& ix, const Geom& g, const Mod
                          Scratch& sc, GainFn&& pairGain)
 {
     const size_t nv = visibleCount(sc);
-    const double maxBudget = k.budget, ir = k.ir, cosGate = k.cosGate;
+    const double maxBudget = k.budget, ir = k.ir;
     const double window = std::sqrt(std::max(0.0, maxBudget)) / ir * (1 + 1e-9);
     const Det* dets = sc.dets.data();
     const uint32_t* byRange = sc.byRange.data();
@@ -1131,26 +1140,9 @@ void collectPairsByRange(const CSemanticMap::Index& ix, const Geom& g, const Mod
         for (; i < nd && rs[i] <= o.r + window; i++)
         {
             const uint32_t j = byRange[i];
-            const Det& d = dets[j];
-            if (d.fixed >= 0 && d.fixed != o.sorted)
+            if (dets[j].fixed < 0 || dets[j].fixed == o.sorted)
             {
-                continue;
-            }
-            const double dr = d.r - o.r;
-            if ((dr * ir) * (dr * ir) > maxBudget)
-            {
-                continue;
-            }
-            const double dot = d.uc * o.lx + d.us * o.ly;
-            if (dot < cosGate * o.r)
-            {
-                continue;
-            }
-            const double db = detail::fastAtan2(d.uc * o.ly - d.us * o.lx, dot);
-            const double gain = pairGain(d, o, dr, db);
-            if (gain > 0)
-            {
-                pairs[np++] = {gain, j, v};
+                considerPair(dets[j], j, v, o, k, pairGain, pairs, np);
             }
         }
     }
