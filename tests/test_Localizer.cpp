@@ -242,3 +242,36 @@ TEST(Localizer, InitialCloudsFollowInitPdfMode)
     EXPECT_NE(errorOf([&] { Localizer none(o, semanticMap(world)); }).find("init_PDF_mode = 0"),
               std::string::npos);
 }
+
+TEST(Localizer, EssBeforeResamplingIsReportedForEveryAlgorithm)
+{
+    // pfStandardProposal resamples inside its own step (CParallelMonteCarloLocalization2D
+    // keeps the ESS before it); pfAuxiliaryPFStandard runs MRPT's step (the ESS comes from
+    // executeOn's stats). Either way the steps.csv `ess` column must be the weights' ESS
+    // before resampling: in (0, 1], and below 1 once the observations weigh the particles.
+    const auto world = semloc::World::FromFile(kPaperWorld);
+    const auto sim = simulate(10);
+    for (const auto alg : {mrpt::bayes::CParticleFilter::pfStandardProposal,
+                           mrpt::bayes::CParticleFilter::pfAuxiliaryPFStandard})
+    {
+        Localizer::TOptions o;
+        o.particles_count = 500;
+        o.init_PDF_mode = Localizer::InitMode::Gaussian;
+        o.init_PDF_mean_x = 4;
+        o.init_PDF_mean_y = 5;
+        o.init_PDF_std_xy = 1.5;
+        o.pf.PF_algorithm = alg;
+        o.free_space_prior = false;
+        Localizer loc(o, semanticMap(world), &world);
+        double minEss = 1;
+        for (size_t i = 0; i + 1 < sim.rawlog.size(); i += 2)
+        {
+            loc.step(*sim.rawlog.getAsAction(i), *sim.rawlog.getAsObservations(i + 1));
+            const double ess = loc.lastStep().ess_before_resampling;
+            EXPECT_GT(ess, 0) << "PF_algorithm " << alg;
+            EXPECT_LE(ess, 1) << "PF_algorithm " << alg;
+            minEss = std::min(minEss, ess);
+        }
+        EXPECT_LT(minEss, 0.9) << "PF_algorithm " << alg;
+    }
+}

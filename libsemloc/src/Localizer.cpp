@@ -508,13 +508,17 @@ void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs
 {
     mrpt::obs::CSensoryFrame checked;
     const bool replaced = withValidBeams(sf, checked, m_beamsInvalid);
+    // The standard proposal resamples inside its step and keeps the ESS before it; asking
+    // executeOn for TParticleFilterStats there would read 1 and cost two exp() and two
+    // virtual calls per particle (its weight variance). The other algorithms run MRPT's
+    // step: their ESS comes from the stats.
+    const bool ours = m_pf.m_options.PF_algorithm == CParticleFilter::pfStandardProposal;
+    CParticleFilter::TParticleFilterStats stats;
     const auto t0 = std::chrono::steady_clock::now();
-    // No TParticleFilterStats: the step resamples itself (its ESS is kept by the pdf), and
-    // the stats' weight variance would cost two exp() and two virtual calls per particle.
-    m_pf.executeOn(*m_pdf, &action, replaced ? &checked : &sf);
+    m_pf.executeOn(*m_pdf, &action, replaced ? &checked : &sf, ours ? nullptr : &stats);
     const auto t1 = std::chrono::steady_clock::now();
     m_last.update_us = std::chrono::duration<double, std::micro>(t1 - t0).count();
-    m_last.ess_before_resampling = m_pdf->essBeforeResampling();
+    m_last.ess_before_resampling = ours ? m_pdf->essBeforeResampling() : stats.ESS_beforeResample;
     m_last.particles = m_pdf->size();
     m_steps++;
 }
