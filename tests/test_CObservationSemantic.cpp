@@ -14,6 +14,8 @@
 #include <cstring>
 #include <sstream>
 
+#include "TestHelpers.h"
+
 using semloc::CObservationSemantic;
 using semloc::TSemanticDetection;
 
@@ -153,10 +155,7 @@ TEST(CObservationSemantic, ValidityOfDetections)
     o.fov_rad = M_PI / 2;
     auto det = [](double r, double b, double c = 1.0, const char* l = "x")
     {
-        TSemanticDetection d;
-        d.label = l;
-        d.range_m = r;
-        d.bearing_rad = b;
+        TSemanticDetection d = semloc::test::detection(l, r, b);
         d.confidence = c;
         return d;
     };

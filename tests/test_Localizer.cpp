@@ -117,34 +117,30 @@ minStdPHI = 3   // degrees
                 x.loadFromConfigFile(ini(text), "LocalizationExperiment");
             });
     };
-    EXPECT_NE(fails("[PF_options]\nBETTA = 0.5\n").find("[PF_options] BETTA"), std::string::npos);
-    EXPECT_NE(fails("[PF_options]\nBETA = 1.5\n").find("[PF_options] BETA"), std::string::npos);
-    EXPECT_NE(fails("[PF_options]\nPF_algorithm = 7\n").find("PF_algorithm"), std::string::npos);
-    EXPECT_NE(fails("[PF_options]\nPF_algorithm = 2\n").find("pfOptimalProposal"),
-              std::string::npos);
-    EXPECT_NE(fails("[PF_options]\nadaptiveSampleSize = 1\nresamplingMethod = 3\n")
-                  .find("[PF_options] adaptiveSampleSize"),
-              std::string::npos);
-    EXPECT_NE(fails("[PF_options]\nrecovery_alpha_slow = 0.2\nrecovery_alpha_fast = 0.1\n")
-                  .find("recovery_alpha_fast"),
-              std::string::npos);
-    EXPECT_NE(fails("[PF_options]\nrecovery_from_detections = 1.5\n")
-                  .find("[PF_options] recovery_from_detections"),
-              std::string::npos);
-    EXPECT_NE(fails("[PF_options]\nrecovery_from_detections = -0.1\n")
-                  .find("[PF_options] recovery_from_detections"),
-              std::string::npos);
-    EXPECT_NE(fails("[LocalizationExperiment]\nparticles_count = lots\n")
-                  .find("[LocalizationExperiment] particles_count"),
-              std::string::npos);
-    EXPECT_NE(fails("[LocalizationExperiment]\nparticles_count = 100 200\n").find("one number"),
-              std::string::npos);
-    EXPECT_NE(fails("[LocalizationExperiment]\ninit_PDF_mode = 1\n").find("init_PDF_mode"),
-              std::string::npos);
-    EXPECT_NE(fails("[KLD_options]\nKLD_minSampleSize = 10\nKLD_maxSampleSize = 5\n")
-                  .find("KLD_maxSampleSize"),
-              std::string::npos);
-    EXPECT_NE(fails("[DummyOdometryParams]\nminStdXYZ = 1\n").find("minStdXYZ"), std::string::npos);
+    // (ini text, what the error message must name)
+    const std::pair<const char*, const char*> bad[] = {
+        {"[PF_options]\nBETTA = 0.5\n", "[PF_options] BETTA"},
+        {"[PF_options]\nBETA = 1.5\n", "[PF_options] BETA"},
+        {"[PF_options]\nPF_algorithm = 7\n", "PF_algorithm"},
+        {"[PF_options]\nPF_algorithm = 2\n", "pfOptimalProposal"},
+        {"[PF_options]\nadaptiveSampleSize = 1\nresamplingMethod = 3\n",
+         "[PF_options] adaptiveSampleSize"},
+        {"[PF_options]\nrecovery_alpha_slow = 0.2\nrecovery_alpha_fast = 0.1\n",
+         "recovery_alpha_fast"},
+        {"[PF_options]\nrecovery_from_detections = 1.5\n", "[PF_options] recovery_from_detections"},
+        {"[PF_options]\nrecovery_from_detections = -0.1\n",
+         "[PF_options] recovery_from_detections"},
+        {"[LocalizationExperiment]\nparticles_count = lots\n",
+         "[LocalizationExperiment] particles_count"},
+        {"[LocalizationExperiment]\nparticles_count = 100 200\n", "one number"},
+        {"[LocalizationExperiment]\ninit_PDF_mode = 1\n", "init_PDF_mode"},
+        {"[KLD_options]\nKLD_minSampleSize = 10\nKLD_maxSampleSize = 5\n", "KLD_maxSampleSize"},
+        {"[DummyOdometryParams]\nminStdXYZ = 1\n", "minStdXYZ"},
+    };
+    for (const auto& [text, needle] : bad)
+    {
+        EXPECT_NE(fails(text).find(needle), std::string::npos) << text;
+    }
 }
 
 TEST(Localizer, StepApiLocalizesInBothRawlogFormats)
