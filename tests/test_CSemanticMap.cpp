@@ -114,6 +114,34 @@ TEST(CSemanticMap, IniErrorsNameSectionAndKey)
     EXPECT_NE(e.find("/no/such/world.yaml"), std::string::npos) << e;
 }
 
+TEST(CSemanticMap, OptionsWrittenToIniReadBackToTheBit)
+{
+    // The apps' config.ini must reproduce the run: MRPT's write() of a double keeps 6 decimals.
+    CSemanticMap::TLikelihoodOptions a;
+    a.model = CSemanticMap::Model::Paper;
+    a.sigma_range_m = 0.123456789012345;
+    a.sigma_bearing_deg = 2.718281828459045;
+    a.p_confusion = 1.2345678901234567e-7;
+    a.clutter_per_scan = 1.0 / 3.0;
+    CSemanticMap::TInsertionOptions ia;
+    ia.merge_distance_m = 2.0 / 3.0;
+    mrpt::config::CConfigFileMemory out;
+    a.saveToConfigFile(out, "l");
+    ia.saveToConfigFile(out, "i");
+    const mrpt::config::CConfigFileMemory in(out.getContent());
+    CSemanticMap::TLikelihoodOptions b;
+    CSemanticMap::TInsertionOptions ib;
+    b.loadFromConfigFile(in, "l");
+    ib.loadFromConfigFile(in, "i");
+    EXPECT_EQ(b.model, a.model);
+    EXPECT_EQ(b.sigma_range_m, a.sigma_range_m);
+    EXPECT_EQ(b.sigma_bearing_deg, a.sigma_bearing_deg);
+    EXPECT_EQ(b.p_confusion, a.p_confusion);
+    EXPECT_EQ(b.clutter_per_scan, a.clutter_per_scan);
+    EXPECT_EQ(b.p_detect_near, a.p_detect_near);
+    EXPECT_EQ(ib.merge_distance_m, ia.merge_distance_m);
+}
+
 class BothModels : public ::testing::TestWithParam<CSemanticMap::Model>
 {
 };

@@ -307,17 +307,20 @@ TEST(CStructureMap, UnknownIniKeysAreRejected)
     EXPECT_ANY_THROW(o.loadFromConfigFile(mrpt::config::CConfigFileMemory("[l]\nz_hit=2\n"), "l"));
     EXPECT_ANY_THROW(o.loadFromConfigFile(
         mrpt::config::CConfigFileMemory("[l]\nz_hit=0\nz_short=0\nz_max=0\nz_rand=0\n"), "l"));
-    // Every key written by saveToConfigFile (as the apps' config.ini) reads back.
+    // Every key written by saveToConfigFile (as the apps' config.ini) reads back, to the bit
+    // (MRPT's write() of a double keeps 6 decimals).
     mrpt::config::CConfigFileMemory round;
     CStructureMap::TLikelihoodOptions a;
-    a.sigma_hit_m = 0.7;
+    a.sigma_hit_m = 0.123456789012345;
+    a.min_beam_likelihood = 1.2345678901234567e-13;
     a.decimation = 3;
     a.saveToConfigFile(round, "l");
     std::string text;
     round.getContent(text);
     CStructureMap::TLikelihoodOptions b;
     b.loadFromConfigFile(mrpt::config::CConfigFileMemory(text), "l");
-    EXPECT_EQ(b.sigma_hit_m, 0.7);
+    EXPECT_EQ(b.sigma_hit_m, a.sigma_hit_m);
+    EXPECT_EQ(b.min_beam_likelihood, a.min_beam_likelihood);
     EXPECT_EQ(b.decimation, 3);
 }
 

@@ -27,6 +27,7 @@
 #include <map>
 #include <sstream>
 #include <thread>
+#include "ExactConfigWrite.h"
 #include "TextFiles.h"
 
 namespace semloc
@@ -450,8 +451,8 @@ void Benchmark::TScenario::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     c.write(s, "variants", joinList(variants));
     c.write(s, "particles", particles);
     c.write(s, "recovery", recovery ? "true" : "false");
-    c.write(s, "recovery_alpha_slow", recovery_alpha_slow);
-    c.write(s, "recovery_alpha_fast", recovery_alpha_fast);
+    detail::writeExact(c, s, "recovery_alpha_slow", recovery_alpha_slow, "");
+    detail::writeExact(c, s, "recovery_alpha_fast", recovery_alpha_fast, "");
     c.write(s, "recovery_max_steps", recovery_max_steps);
 }
 

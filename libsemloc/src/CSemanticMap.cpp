@@ -126,19 +126,21 @@ void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFil
                                                         const std::string& s) const
 {
     c.write(s, "model", std::string(modelName(model)), 24, 24, "paper | probabilistic");
-    c.write(s, "sigma_range_m", sigma_range_m, 24, 24, "range noise sigma_rho [m]");
-    c.write(s, "sigma_bearing_deg", sigma_bearing_deg, 24, 24, "bearing noise sigma_theta [deg]");
-    c.write(s, "unmatched_penalty", unmatched_penalty, 24, 24,
-            "paper: factor per object in one observation only, (0,1)");
-    c.write(s, "p_detect_near", p_detect_near, 24, 24, "probabilistic: P_D at range 0");
-    c.write(s, "p_detect_far", p_detect_far, 24, 24, "probabilistic: P_D at max range");
-    c.write(s, "clutter_per_scan", clutter_per_scan, 24, 24,
-            "probabilistic: mean false positives per scan");
-    c.write(s, "p_confusion", p_confusion, 24, 24, "probabilistic: P(wrong label)");
-    c.write(s, "min_confidence", min_confidence, 24, 24, "ignore detections below this");
-    c.write(s, "max_range_m", max_range_m, 24, 24, ">0 overrides the observation's max range");
-    c.write(s, "fov_deg", fov_deg, 24, 24, ">0 overrides the observation's field of view");
-    c.write(s, "index_cell_m", index_cell_m, 24, 24, "cell of the object index [m]");
+    detail::writeExact(c, s, "sigma_range_m", sigma_range_m, "range noise sigma_rho [m]");
+    detail::writeExact(c, s, "sigma_bearing_deg", sigma_bearing_deg,
+                       "bearing noise sigma_theta [deg]");
+    detail::writeExact(c, s, "unmatched_penalty", unmatched_penalty,
+                       "paper: factor per object in one observation only, (0,1)");
+    detail::writeExact(c, s, "p_detect_near", p_detect_near, "probabilistic: P_D at range 0");
+    detail::writeExact(c, s, "p_detect_far", p_detect_far, "probabilistic: P_D at max range");
+    detail::writeExact(c, s, "clutter_per_scan", clutter_per_scan,
+                       "probabilistic: mean false positives per scan");
+    detail::writeExact(c, s, "p_confusion", p_confusion, "probabilistic: P(wrong label)");
+    detail::writeExact(c, s, "min_confidence", min_confidence, "ignore detections below this");
+    detail::writeExact(c, s, "max_range_m", max_range_m,
+                       ">0 overrides the observation's max range");
+    detail::writeExact(c, s, "fov_deg", fov_deg, ">0 overrides the observation's field of view");
+    detail::writeExact(c, s, "index_cell_m", index_cell_m, "cell of the object index [m]");
 }
 
 void CSemanticMap::TInsertionOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
@@ -156,8 +158,8 @@ void CSemanticMap::TInsertionOptions::loadFromConfigFile(const mrpt::config::CCo
 void CSemanticMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                                        const std::string& s) const
 {
-    c.write(s, "merge_distance_m", merge_distance_m, 24, 24,
-            "merge a detection into a same-label object this close [m]");
+    detail::writeExact(c, s, "merge_distance_m", merge_distance_m,
+                       "merge a detection into a same-label object this close [m]");
     detail::writeText(c, s, "landmark_label", landmark_label,
                       "label of CObservationBearingRange landmarks");
 }

@@ -15,6 +15,7 @@
 #include <memory>
 
 #include "BoundedRead.h"
+#include "ExactConfigWrite.h"
 
 using mrpt::math::TPose2D;
 
@@ -90,16 +91,16 @@ void CStructureMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::C
 void CStructureMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                                          const std::string& s) const
 {
-    c.write(s, "sigma_hit_m", sigma_hit_m, 24, 24, "range noise of a hit, sigma_hit [m]");
-    c.write(s, "z_hit", z_hit, 24, 24, "weight of the Gaussian hit term (weights sum to 1)");
-    c.write(s, "z_short", z_short, 24, 24, "weight of the exponential short term");
-    c.write(s, "lambda_short", lambda_short, 24, 24, "rate of the short term [1/m]");
-    c.write(s, "z_max", z_max, 24, 24, "weight of the max-range point mass");
-    c.write(s, "z_rand", z_rand, 24, 24, "weight of the uniform random term");
+    detail::writeExact(c, s, "sigma_hit_m", sigma_hit_m, "range noise of a hit, sigma_hit [m]");
+    detail::writeExact(c, s, "z_hit", z_hit, "weight of the Gaussian hit term (weights sum to 1)");
+    detail::writeExact(c, s, "z_short", z_short, "weight of the exponential short term");
+    detail::writeExact(c, s, "lambda_short", lambda_short, "rate of the short term [1/m]");
+    detail::writeExact(c, s, "z_max", z_max, "weight of the max-range point mass");
+    detail::writeExact(c, s, "z_rand", z_rand, "weight of the uniform random term");
     c.write(s, "decimation", decimation, 24, 24, "use one beam out of this many");
-    c.write(s, "max_range_m", max_range_m, 24, 24, ">0 overrides the scan's max range [m]");
-    c.write(s, "min_beam_likelihood", min_beam_likelihood, 24, 24,
-            "floor of each beam's probability");
+    detail::writeExact(c, s, "max_range_m", max_range_m, ">0 overrides the scan's max range [m]");
+    detail::writeExact(c, s, "min_beam_likelihood", min_beam_likelihood,
+                       "floor of each beam's probability");
 }
 
 // ------------------------------------------------------------------ contents

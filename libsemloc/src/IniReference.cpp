@@ -7,6 +7,8 @@
 #include <semloc/LocalizationExperiment.h>
 #include <semloc/Simulator.h>
 
+#include "ExactConfigWrite.h"
+
 namespace semloc
 {
 std::string iniReference()
@@ -21,10 +23,10 @@ std::string iniReference()
     const CStructureMap::TMapDefinition sdef;
     c.write(st + "_creationOpts", "world_file", std::string("maps/paper_50x50.yaml"), 24, 24,
             "world YAML whose outlines are loaded");
-    c.write(st + "_creationOpts", "cylinder_tolerance_m", sdef.cylinder_tolerance_m, 24, 24,
-            "max gap between a cylinder and its polygon [m]");
-    c.write(st + "_creationOpts", "raycast_cell_m", sdef.raycast_cell_m, 24, 24,
-            "ray-casting grid cell [m], 0 = automatic");
+    detail::writeExact(c, st + "_creationOpts", "cylinder_tolerance_m", sdef.cylinder_tolerance_m,
+                       "max gap between a cylinder and its polygon [m]");
+    detail::writeExact(c, st + "_creationOpts", "raycast_cell_m", sdef.raycast_cell_m,
+                       "ray-casting grid cell [m], 0 = automatic");
     CStructureMap::TLikelihoodOptions().saveToConfigFile(c, st + "_likelihoodOpts");
     // semloc-localize: [LocalizationExperiment], [PF_options], [KLD_options],
     // [DummyOdometryParams]; the maps are the [MetricMap_*] sections above
