@@ -6,6 +6,7 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/CObservationSemantic.h>
 #include <semloc/CSemanticMap.h>
+#include <semloc/ErrorMessage.h>
 #include <semloc/World.h>
 
 #include <cmath>
@@ -91,6 +92,21 @@ inline CObservationSemantic observe(const World& w, const mrpt::math::TPose2D& p
         }
     }
     return obs;
+}
+
+/** The message of the exception `f` throws, as the apps print it ("" if none). */
+template <typename F>
+std::string errorOf(F&& f)
+{
+    try
+    {
+        f();
+    }
+    catch (const std::exception& e)
+    {
+        return semloc::errorMessage(e);
+    }
+    return "";
 }
 
 }  // namespace semloc::test

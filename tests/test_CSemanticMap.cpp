@@ -40,19 +40,6 @@ std::string writeWorldFile(const std::string& name)
     return path;
 }
 
-std::string errorOf(const std::function<void()>& f)
-{
-    try
-    {
-        f();
-    }
-    catch (const std::exception& e)
-    {
-        return e.what();
-    }
-    return "";
-}
-
 mrpt::maps::CMultiMetricMap mapFromIni(const std::string& ini)
 {
     mrpt::config::CConfigFileMemory cfg(ini);

@@ -3,10 +3,13 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <semloc/CSemanticMap.h>
-#include <semloc/ErrorMessage.h>
 #include <semloc/LocalizationMap.h>
 
 #include <string>
+
+#include "TestHelpers.h"
+
+using semloc::test::errorOf;
 
 namespace
 {
@@ -17,20 +20,6 @@ mrpt::config::CConfigFileMemory ini(const std::string& text)
     mrpt::config::CConfigFileMemory c;
     c.setContent(text);
     return c;
-}
-
-template <typename F>
-std::string errorOf(F&& f)
-{
-    try
-    {
-        f();
-    }
-    catch (const std::exception& e)
-    {
-        return semloc::errorMessage(e);
-    }
-    return "";
 }
 }  // namespace
 

@@ -19,6 +19,10 @@
 
 #include <unistd.h>
 
+#include "TestHelpers.h"
+
+using semloc::test::errorOf;
+
 namespace fs = std::filesystem;
 using semloc::LocalizationExperiment;
 
@@ -108,20 +112,6 @@ std::string patchedConfig(const std::string& config,
     const auto path = kOut / (name + ".ini");
     std::ofstream(path) << out;
     return path.string();
-}
-
-template <typename F>
-std::string errorOf(F&& f)
-{
-    try
-    {
-        f();
-    }
-    catch (const std::exception& e)
-    {
-        return semloc::errorMessage(e);
-    }
-    return "";
 }
 
 /** Runs `ini` on `rawlog` into kOut/<name>. */

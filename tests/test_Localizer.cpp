@@ -10,27 +10,16 @@
 
 #include <cmath>
 
+#include "TestHelpers.h"
+
+using semloc::test::errorOf;
+
 using mrpt::math::TPose2D;
 using semloc::Localizer;
 
 namespace
 {
 const std::string kPaperWorld = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
-
-/** The message of the exception `f` throws ("" if none). */
-template <typename F>
-std::string errorOf(F&& f)
-{
-    try
-    {
-        f();
-    }
-    catch (const std::exception& e)
-    {
-        return semloc::errorMessage(e);
-    }
-    return "";
-}
 
 mrpt::config::CConfigFileMemory ini(const std::string& text)
 {
