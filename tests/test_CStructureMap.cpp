@@ -18,6 +18,9 @@
 #include <thread>
 
 #include "ScanSimulation.h"
+#include "TestHelpers.h"
+
+using semloc::test::errorOf;
 
 using mrpt::math::TPose2D;
 using mrpt::obs::CObservation2DRangeScan;
@@ -350,6 +353,38 @@ TEST(CStructureMap, SerializationRoundTrip)
     {
         EXPECT_EQ(back->computeLogLikelihood(scan, p), map.computeLogLikelihood(scan, p));
     }
+}
+
+TEST(CStructureMap, CorruptedOptionsInAnArchiveAreRejected)
+{
+    // A map whose options the ini reader would reject, serialized as is: reading it back into
+    // an existing map throws, names the option, and leaves that map as it was.
+    const CStructureMap good = paperMap();
+    const auto scan = simulateScan(good.rayCaster(), kTruePoses[1]);
+    const double before = good.computeLogLikelihood(scan, kTruePoses[1]);
+    auto corrupted = [&](auto&& spoil)
+    {
+        CStructureMap bad = paperMap();
+        spoil(bad.likelihoodOptions);
+        mrpt::io::CMemoryStream buf;
+        auto arch = mrpt::serialization::archiveFrom(buf);
+        arch << bad;
+        buf.Seek(0);
+        CStructureMap target = paperMap();
+        const std::string e = errorOf([&] { arch.ReadObject(&target); });
+        EXPECT_EQ(target.computeLogLikelihood(scan, kTruePoses[1]), before);
+        EXPECT_EQ(target.segments().size(), good.segments().size());
+        return e;
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::string e = corrupted([&](auto& o) { o.sigma_hit_m = nan; });
+    EXPECT_NE(e.find("sigma_hit_m"), std::string::npos) << e;
+    e = corrupted([](auto& o) { o.z_rand = -0.5; });
+    EXPECT_NE(e.find("z_rand"), std::string::npos) << e;
+    e = corrupted([](auto& o) { o.decimation = 0; });
+    EXPECT_NE(e.find("decimation"), std::string::npos) << e;
+    e = corrupted([](auto& o) { o.z_hit = o.z_short = o.z_max = o.z_rand = 0; });
+    EXPECT_NE(e.find("all zero"), std::string::npos) << e;
 }
 
 TEST(CStructureMap, StaticMapInterface)

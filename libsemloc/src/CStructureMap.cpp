@@ -69,23 +69,71 @@ namespace semloc
 {
 // ------------------------------------------------------------------ options
 
+namespace
+{
+using LikOptions = CStructureMap::TLikelihoodOptions;
+
+/** The real-valued likelihood options and their valid ranges: one table for the ini reader
+ *  and for the check of deserialized maps. */
+struct DoubleOption
+{
+    const char* key;
+    double LikOptions::*field;
+    double lo, hi;
+};
+const DoubleOption kDoubleOptions[] = {
+    {"sigma_hit_m", &LikOptions::sigma_hit_m, 1e-6, 1e6},
+    {"z_hit", &LikOptions::z_hit, 0, 1},
+    {"z_short", &LikOptions::z_short, 0, 1},
+    {"lambda_short", &LikOptions::lambda_short, 1e-9, 1e6},
+    {"z_max", &LikOptions::z_max, 0, 1},
+    {"z_rand", &LikOptions::z_rand, 0, 1},
+    {"max_range_m", &LikOptions::max_range_m, 0, 1e6},
+    {"min_beam_likelihood", &LikOptions::min_beam_likelihood, 1e-300, 1}};
+constexpr int kMaxDecimation = 1000000;
+
+/** The check both readers share once every value is in range; `where` prefixes the error. */
+void checkWeights(const LikOptions& o, const std::string& where)
+{
+    if (!(o.z_hit + o.z_short + o.z_max + o.z_rand > 0))
+    {
+        THROW_EXCEPTION(where + " z_hit, z_short, z_max, z_rand: all zero");
+    }
+}
+
+/** The options of a deserialized map, checked as the ini reader checks them (a crafted or
+ *  corrupted .simplemap must not give NaN likelihoods). */
+void checkDeserialized(const LikOptions& o)
+{
+    const std::string where = "CStructureMap: corrupted data: likelihood option";
+    for (const auto& d : kDoubleOptions)
+    {
+        const double v = o.*d.field;
+        if (!(v >= d.lo && v <= d.hi))
+        {
+            THROW_EXCEPTION(mrpt::format("%s %s = %g is out of range [%g, %g]", where.c_str(),
+                                         d.key, v, d.lo, d.hi));
+        }
+    }
+    if (o.decimation < 1 || o.decimation > kMaxDecimation)
+    {
+        THROW_EXCEPTION(mrpt::format("%s decimation = %d is out of range [1, %d]", where.c_str(),
+                                     o.decimation, kMaxDecimation));
+    }
+    checkWeights(o, where + "s");
+}
+}  // namespace
+
 void CStructureMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                                            const std::string& s)
 {
     config::rejectUnknownKeys(c, s, config::keysOf(*this));
-    config::readDouble(c, s, "sigma_hit_m", sigma_hit_m, 1e-6, 1e6);
-    config::readDouble(c, s, "z_hit", z_hit, 0, 1);
-    config::readDouble(c, s, "z_short", z_short, 0, 1);
-    config::readDouble(c, s, "lambda_short", lambda_short, 1e-9, 1e6);
-    config::readDouble(c, s, "z_max", z_max, 0, 1);
-    config::readDouble(c, s, "z_rand", z_rand, 0, 1);
-    config::readInt(c, s, "decimation", decimation, 1, 1000000);
-    config::readDouble(c, s, "max_range_m", max_range_m, 0, 1e6);
-    config::readDouble(c, s, "min_beam_likelihood", min_beam_likelihood, 1e-300, 1);
-    if (!(z_hit + z_short + z_max + z_rand > 0))
+    for (const auto& d : kDoubleOptions)
     {
-        THROW_EXCEPTION("ini [" + s + "] z_hit, z_short, z_max, z_rand: all zero");
+        config::readDouble(c, s, d.key, this->*d.field, d.lo, d.hi);
     }
+    config::readInt(c, s, "decimation", decimation, 1, kMaxDecimation);
+    checkWeights(*this, "ini [" + s + "]");
 }
 
 void CStructureMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -285,25 +333,40 @@ void CStructureMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t ver
     {
         case 0:
         {
-            auto& o = likelihoodOptions;
+            // Read into locals and check: a throw leaves the map as it was.
+            mrpt::maps::TMapGenericParams params;
+            TLikelihoodOptions o;
             int32_t decimation = 1;
-            in >> genericMapParams;
+            in >> params;
             in >> o.sigma_hit_m >> o.z_hit >> o.z_short >> o.lambda_short >> o.z_max >> o.z_rand >>
                 decimation >> o.max_range_m >> o.min_beam_likelihood;
             o.decimation = decimation;
+            checkDeserialized(o);
             std::string name;
             double cell = 0;
             detail::readString(in, name, "CStructureMap name");
             in >> cell;
+            if (!std::isfinite(cell))
+            {
+                THROW_EXCEPTION("CStructureMap: corrupted data: non-finite ray-casting cell");
+            }
             const uint32_t n = detail::readCount(in, 1u << 26, "CStructureMap segments");
             std::vector<mrpt::math::TSegment2D> segs;
             for (uint32_t i = 0; i < n; i++)
             {
                 mrpt::math::TSegment2D sg;
                 in >> sg.point1.x >> sg.point1.y >> sg.point2.x >> sg.point2.y;
+                if (!(std::isfinite(sg.point1.x) && std::isfinite(sg.point1.y) &&
+                      std::isfinite(sg.point2.x) && std::isfinite(sg.point2.y)))
+                {
+                    THROW_EXCEPTION_FMT(
+                        "CStructureMap: corrupted data: segment %u has a non-finite coordinate", i);
+                }
                 segs.push_back(sg);
             }
             setSegments(segs, cell);
+            genericMapParams = params;
+            likelihoodOptions = o;
             m_name = name;
             break;
         }
