@@ -4,7 +4,10 @@
 #include <mrpt/core/exceptions.h>
 #include <semloc/Benchmark.h>
 #include <semloc/ErrorMessage.h>
+#include <semloc/Interrupt.h>
 
+#include <csignal>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -81,5 +84,43 @@ TEST(Benchmark, ARunDependsOnItsSeedOnly)
         EXPECT_EQ(a1[k].records.back().var_xy, again[k].records.back().var_xy);
         EXPECT_NE(a1[k].records.back().est.x, a2[k].records.back().est.x);
         EXPECT_EQ(a1[k].seed, 1u);
+    }
+}
+
+TEST(Benchmark, InterruptStopsTheRunsAndWritesNothing)
+{
+    // Ctrl-C as semloc-benchmark sees it: the handler turns SIGINT into a request...
+    semloc::installInterruptHandlers();
+    std::raise(SIGINT);
+    EXPECT_TRUE(semloc::interruptRequested());
+    semloc::clearInterrupt();
+    std::signal(SIGINT, SIG_DFL);
+
+    // ...and a request while runs are under way ends them: Interrupted, no output directory,
+    // no staging directory left beside it.
+    const std::string out = std::string(SEMLOC_TEST_OUT) + "/bench_interrupted";
+    std::filesystem::remove_all(out);
+    const auto b = semloc::Benchmark::FromConfigFile(
+        writeIni("bench_interrupt.ini", "runs = 4\njobs = 2\nmax_steps = 15\nparticles = 200\n"),
+        out);
+    size_t seen = 0;
+    EXPECT_THROW(b.run(
+                     [&](size_t done, size_t)
+                     {
+                         seen = done;
+                         if (done == 1)
+                         {
+                             semloc::requestInterrupt();
+                         }
+                     }),
+                 semloc::Interrupted);
+    semloc::clearInterrupt();
+    EXPECT_GE(seen, 1u);
+    EXPECT_LT(seen, 4u) << "runs went on after the request";
+    EXPECT_FALSE(std::filesystem::exists(out));
+    for (const auto& e : std::filesystem::directory_iterator(SEMLOC_TEST_OUT))
+    {
+        EXPECT_EQ(e.path().filename().string().rfind(".bench_interrupted", 0), std::string::npos)
+            << e.path();
     }
 }

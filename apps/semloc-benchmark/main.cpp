@@ -5,6 +5,7 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/format.h>
 #include <semloc/Benchmark.h>
+#include <semloc/Interrupt.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -38,6 +39,8 @@ void run()
     }
     const auto bench =
         semloc::Benchmark::FromConfigFile(argIni.getValue(), argOut.getValue(), argRuns.getValue());
+    // Ctrl-C: the running runs end, nothing is written (the staging directory is removed).
+    semloc::installInterruptHandlers();
     const auto& o = bench.options();
     std::cout << "semloc-benchmark: " << o.runs << " runs x ";
     if (bench.scenarios().empty())

@@ -9,14 +9,17 @@
 #include <semloc/ConfigHelpers.h>
 #include <semloc/ErrorMessage.h>
 #include <semloc/GroundTruth.h>
+#include <semloc/Interrupt.h>
 #include <semloc/Localizer.h>
 #include <semloc/StagedDirectory.h>
 #include <semloc/WorldPlot.h>
+#include <signal.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -711,6 +714,10 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
         const pid_t pid = ::waitpid(-1, &status, 0);
         if (pid < 0)
         {
+            if (errno == EINTR)
+            {
+                return;  // a signal: the loop looks at interruptRequested()
+            }
             THROW_EXCEPTION("waitpid failed");
         }
         const auto it = children.find(pid);
@@ -746,9 +753,21 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
     {
         progress(0, static_cast<size_t>(o.runs));
     }
-    while ((next <= o.runs && failure.empty()) || !children.empty())
+    // Ctrl-C (installInterruptHandlers): no new run, the running ones ended, then Interrupted;
+    // the staging directory goes with the exception.
+    bool interrupted = false;
+    while ((next <= o.runs && failure.empty() && !interrupted) || !children.empty())
     {
-        if (next <= o.runs && failure.empty() && children.size() < jobs)
+        if (interruptRequested() && !interrupted)
+        {
+            interrupted = true;
+            for (const auto& child : children)
+            {
+                ::kill(child.first, SIGTERM);
+            }
+            continue;
+        }
+        if (next <= o.runs && failure.empty() && !interrupted && children.size() < jobs)
         {
             const int run = next++;
             const pid_t pid = ::fork();
@@ -759,6 +778,9 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
             }
             if (pid == 0)
             {
+                // The run ends at Ctrl-C or the parent's SIGTERM (its outputs are not kept).
+                ::signal(SIGINT, SIG_DFL);
+                ::signal(SIGTERM, SIG_DFL);
                 // MRPT's warnings (e.g. re-initializations, counted in results.csv) go to the
                 // run's log, not over the progress bar.
                 const int log =
@@ -788,6 +810,10 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
             continue;
         }
         reap();
+    }
+    if (interrupted)
+    {
+        throw Interrupted();
     }
     if (!failure.empty())
     {
