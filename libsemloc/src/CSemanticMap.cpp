@@ -477,6 +477,10 @@ struct Scratch
      *  a detection no object can pair with (planPairs), so every object tests as many. */
     std::vector<Slot> slots;
     size_t slotCount = 0;
+    /** Per call: the range bins of the slots (planRangeBins): count, 1 / width, spans. */
+    size_t binCount = 1;
+    double binInv = 0;
+    std::vector<uint32_t> binSpan;
     /** The block stages: per particle of the block, its q, its number of pairs and
      *  (probabilistic) where its objects start; the objects that may pair (paper) and the
      *  gated candidate pairs of the whole block. */
@@ -919,6 +923,59 @@ const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt
     return sc.consts;
 }
 
+/** The range bins of planPairs(): each label's slots by increasing range, and for an object
+ *  of label l in range bin b (width binW, the last bin open-ended) the slots
+ *  [binSpan[2 (l nb + b)], binSpan[2 (l nb + b) + 1]) whose range may be within `reach` of
+ *  its range (bounds widened by a relative 1e-9 for rounding: a superset of the pairs that
+ *  pass the range gate). So an object meets ~2 reach of detections, not all of its label's. */
+void planRangeBins(Scratch& sc, size_t nLabels, double reach)
+{
+    const size_t ns = sc.slotCount;
+    double maxR = 0;
+    for (size_t l = 0; l < nLabels; l++)
+    {
+        Slot* sl = sc.slots.data() + l * ns;
+        const size_t cnt = sc.detStart[l + 1] - sc.detStart[l];
+        std::sort(sl, sl + cnt,
+                  [](const Slot& a, const Slot& b)
+                  { return a.d.r != b.d.r ? a.d.r < b.d.r : a.j < b.j; });
+        maxR = cnt > 0 ? std::max(maxR, sl[cnt - 1].d.r) : maxR;
+    }
+    // Bins of half the window, at most 1024 of them; one bin (no filtering) if the window
+    // is not finite.
+    sc.binCount = 1;
+    sc.binInv = 0;
+    double w = kInf;
+    if (std::isfinite(reach) && std::isfinite(maxR))
+    {
+        w = std::max(reach / 2, (maxR + reach) / 1022);
+        if (w > 0)
+        {
+            sc.binCount = static_cast<size_t>((maxR + reach) / w) + 2;
+            sc.binInv = 1 / w;
+        }
+    }
+    const size_t nb = sc.binCount;
+    sc.binSpan.resize(2 * nLabels * nb);
+    for (size_t l = 0; l < nLabels; l++)
+    {
+        const Slot* sl = sc.slots.data() + l * ns;
+        const Slot* end = sl + (sc.detStart[l + 1] - sc.detStart[l]);
+        for (size_t b = 0; b < nb; b++)
+        {
+            const double lo = nb == 1 ? -kInf : static_cast<double>(b) * w - reach;
+            const double hi = b + 1 == nb ? kInf : static_cast<double>(b + 1) * w + reach;
+            const double margin = 1e-9 * (static_cast<double>(b + 1) * w + reach) + 1e-9;
+            const Slot* first = std::lower_bound(sl, end, lo - margin,
+                                                 [](const Slot& a, double r) { return a.d.r < r; });
+            const Slot* last = std::upper_bound(first, end, hi + margin,
+                                                [](double r, const Slot& a) { return r < a.d.r; });
+            sc.binSpan[2 * (l * nb + b)] = static_cast<uint32_t>(first - sc.slots.data());
+            sc.binSpan[2 * (l * nb + b) + 1] = static_cast<uint32_t>(last - sc.slots.data());
+        }
+    }
+}
+
 /** Which detections may pair with an object of label l (once per call):
  *  detByLabel[detStart[l] .. detStart[l + 1]) holds those of label l, those of any label
  *  (`k.confusable`, or a detection without one), and those naming an object of label l
@@ -995,6 +1052,7 @@ void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const
             sc.gateHi2[l] = std::max(sc.gateHi2[l], hi * hi * (1 + 1e-9));
         }
     }
+    planRangeBins(sc, nLabels, reach);
 }
 
 /** The exact gates of the pair (detection d, visible object at (lx, ly) in the sensor frame,
@@ -1279,7 +1337,7 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
         PD[e] = std::clamp(pNear + slope * (RR[e] / R), 1e-6, 1 - 1e-6);
     }
 #endif
-    // Every (object, detection slot of its label) against the exact gates.
+    // Every (object, detection slot of its label in its range bin) against the exact gates.
     if (sc.cands.size() < ne * ns)
     {
         sc.cands.resize(2 * ne * ns);
@@ -1289,17 +1347,21 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
     const Slot* slots = sc.slots.data();
     const double ir = k.ir, ib = k.ib, budget = k.budget, cosGate = k.cosGate;
     size_t nc = 0;
+    const uint32_t* binSpan = sc.binSpan.data();
+    const size_t nb = sc.binCount;
+    const double binInv = sc.binInv, lastBin = static_cast<double>(nb - 1);
     auto gate = [&](auto idTest)
     {
         for (uint32_t e = 0; e < ne; e++)
         {
             const double r = RR[e], lx = LX[e], ly = LY[e];
             const auto kk = static_cast<int32_t>(hit[e]);
-            const Slot* sl = slots + static_cast<size_t>(L[kk]) * ns;
-            for (size_t t = 0; t < ns; t++)
+            const auto b = static_cast<size_t>(std::min(r * binInv, lastBin));
+            const uint32_t* span = binSpan + 2 * (static_cast<size_t>(L[kk]) * nb + b);
+            for (uint32_t t = span[0]; t < span[1]; t++)
             {
-                const Det& d = sl[t].d;
-                cands[nc] = {sl[t].j, e};  // written always, kept if it passes
+                const Det& d = slots[t].d;
+                cands[nc] = {slots[t].j, e};  // written always, kept if it passes
                 nc += static_cast<size_t>(passesGates(d, r, lx, ly, ir, budget, cosGate) &
                                           idTest(d.fixed, kk));
             }
