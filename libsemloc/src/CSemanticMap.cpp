@@ -1248,39 +1248,20 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
     }
 }
 
-/** The probabilistic likelihood of the m particles of a block (sensor geometry geoms[i] of
- *  pose poses[i], range R) into out[0..m), in stages over the whole block as in
- *  scorePaperBlock: z^k of every particle with its objects in the sensor frame (kept from
- *  the scan); their ranges and P_D (two at a time); every (object, detection slot of its
- *  label) against the exact gates, branch-free; atan2 and gain of the pairs that pass; per
- *  particle the missed objects' term and the assignment. With class confusion every
- *  detection is a slot of every label (planPairs). A particle's value depends on its own
- *  arithmetic only, so not on the block (n = 1 takes this path too). */
-void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
-                             const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k,
-                             Scratch& sc, const Geom* geoms, const TPose2D* poses, size_t m,
-                             double* out)
+/** Stage 1 of scoreProbabilisticBlock: z^k of particles [0, m) one after the other
+ *  (entries e of the block: sorted index, particle, squared range, sensor-frame position)
+ *  and per particle its q (kNoPose if its pose is not finite) and first entry. Returns the
+ *  number of entries. */
+size_t scanBlock(const CSemanticMap::Index& ix, Scratch& sc, const Geom* geoms,
+                 const TPose2D* poses, size_t m)
 {
-    const size_t nd = sc.dets.size(), ns = sc.slotCount, nObj = ix.x.size();
-    if (sc.blockVis.size() < m)
-    {
-        sc.blockVis.resize(m);
-        sc.pairCount.resize(m);
-        sc.visStart.resize(m);
-    }
-    if (sc.used.size() < nd + nObj)
-    {
-        sc.used.resize(nd + nObj, 0);
-    }
+    const size_t nObj = ix.x.size();
     uint32_t* blockVis = sc.blockVis.data();
-    uint32_t* pairCount = sc.pairCount.data();
     uint32_t* visStart = sc.visStart.data();
-    // z^k of every particle, its objects one after the other: entries e of the block.
     size_t ne = 0;
     for (uint32_t i = 0; i < m; i++)
     {
         blockVis[i] = kNoPose;
-        pairCount[i] = 0;
         visStart[i] = static_cast<uint32_t>(ne);
         if (!finitePose(poses[i]))
         {
@@ -1307,28 +1288,26 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
         }
         ne += nv;
     }
-    const uint32_t* hit = sc.bHit.data();
-    const uint32_t* part = sc.bPart.data();
+    return ne;
+}
+
+/** Stage 2: the ranges of the ne entries and their P_D(rho), clamped inside (0, 1), two at
+ *  a time (the arrays have room for the pair's second lane). */
+void rangesBlock(Scratch& sc, size_t ne, const CSemanticMap::TLikelihoodOptions& opt, double R)
+{
     const double* D2 = sc.bD2.data();
-    const double* LX = sc.bLx.data();
-    const double* LY = sc.bLy.data();
     double* RR = sc.bR.data();
     double* PD = sc.bPd.data();
-    // Their ranges and P_D(rho), clamped inside (0, 1) (the arrays have room for the pair's
-    // second lane).
     const double pNear = opt.p_detect_near, slope = opt.p_detect_far - opt.p_detect_near;
-    const double R = m > 0 ? geoms[0].R : 1;
 #if defined(__SSE2__)
+    const __m128d vnear = _mm_set1_pd(pNear), vslope = _mm_set1_pd(slope), vR = _mm_set1_pd(R),
+                  lo = _mm_set1_pd(1e-6), hi = _mm_set1_pd(1 - 1e-6);
+    for (size_t e = 0; e < ne; e += 2)
     {
-        const __m128d vnear = _mm_set1_pd(pNear), vslope = _mm_set1_pd(slope), vR = _mm_set1_pd(R),
-                      lo = _mm_set1_pd(1e-6), hi = _mm_set1_pd(1 - 1e-6);
-        for (size_t e = 0; e < ne; e += 2)
-        {
-            const __m128d r = _mm_sqrt_pd(_mm_loadu_pd(D2 + e));
-            const __m128d p = _mm_add_pd(vnear, _mm_mul_pd(vslope, _mm_div_pd(r, vR)));
-            _mm_storeu_pd(RR + e, r);
-            _mm_storeu_pd(PD + e, _mm_max_pd(_mm_min_pd(p, hi), lo));  // p is finite
-        }
+        const __m128d r = _mm_sqrt_pd(_mm_loadu_pd(D2 + e));
+        const __m128d p = _mm_add_pd(vnear, _mm_mul_pd(vslope, _mm_div_pd(r, vR)));
+        _mm_storeu_pd(RR + e, r);
+        _mm_storeu_pd(PD + e, _mm_max_pd(_mm_min_pd(p, hi), lo));  // = std::clamp: p is finite
     }
 #else
     for (size_t e = 0; e < ne; e++)
@@ -1337,19 +1316,28 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
         PD[e] = std::clamp(pNear + slope * (RR[e] / R), 1e-6, 1 - 1e-6);
     }
 #endif
-    // Every (object, detection slot of its label in its range bin) against the exact gates.
-    if (sc.cands.size() < ne * ns)
+}
+
+/** Stage 3: every (entry, detection slot of its label in its range bin) against the exact
+ *  gates, branch-free, into sc.cands; returns how many pass. */
+size_t gateBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t ne)
+{
+    if (sc.cands.size() < ne * sc.slotCount)
     {
-        sc.cands.resize(2 * ne * ns);
+        sc.cands.resize(2 * ne * sc.slotCount);
     }
+    const uint32_t* hit = sc.bHit.data();
+    const double* RR = sc.bR.data();
+    const double* LX = sc.bLx.data();
+    const double* LY = sc.bLy.data();
     const int32_t* L = ix.label.data();
     Cand* cands = sc.cands.data();
     const Slot* slots = sc.slots.data();
-    const double ir = k.ir, ib = k.ib, budget = k.budget, cosGate = k.cosGate;
-    size_t nc = 0;
     const uint32_t* binSpan = sc.binSpan.data();
     const size_t nb = sc.binCount;
     const double binInv = sc.binInv, lastBin = static_cast<double>(nb - 1);
+    const double ir = k.ir, budget = k.budget, cosGate = k.cosGate;
+    size_t nc = 0;
     auto gate = [&](auto idTest)
     {
         for (uint32_t e = 0; e < ne; e++)
@@ -1375,13 +1363,30 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
     {
         gate([](int32_t, int32_t) { return true; });
     }
-    // atan2 and gain of the candidates: the pairs, in particle order.
+    return nc;
+}
+
+/** Stage 4: atan2 and gain of the nc candidates; those with a positive gain are the pairs,
+ *  in particle order (sc.pairs, sc.pairCount[i] of particle i). */
+void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t nc)
+{
     if (sc.pairs.size() < nc + 1)
     {
         sc.pairs.resize(2 * nc + 1);  // at least one: read (not used) when a particle has none
     }
-    Pair* pairs = sc.pairs.data();
+    const Cand* cands = sc.cands.data();
+    const uint32_t* hit = sc.bHit.data();
+    const uint32_t* part = sc.bPart.data();
+    const uint32_t* visStart = sc.visStart.data();
+    const double* RR = sc.bR.data();
+    const double* LX = sc.bLx.data();
+    const double* LY = sc.bLy.data();
+    const double* PD = sc.bPd.data();
+    const int32_t* L = ix.label.data();
     const Det* dets = sc.dets.data();
+    Pair* pairs = sc.pairs.data();
+    uint32_t* pairCount = sc.pairCount.data();
+    const double ir = k.ir, ib = k.ib;
     size_t np = 0;
     for (size_t t = 0; t < nc; t++)
     {
@@ -1402,9 +1407,19 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
         pairCount[i] += static_cast<uint32_t>(gain > 0);
         np += static_cast<size_t>(gain > 0);
     }
-    // Per particle: sum_v log(1 - P_D(rho_v)) as the log of the product (one log instead of
-    // one per visible object; each factor is >= 1e-6, so the product is folded into the sum
-    // before it could underflow), and the assignment.
+}
+
+/** Stage 5: per particle, -lambda + l log kappa, sum_v log(1 - P_D(rho_v)) as the log of the
+ *  product (one log instead of one per visible object; each factor is >= 1e-6, so the
+ *  product is folded into the sum before it could underflow), and the assignment. */
+void totalsBlock(Scratch& sc, const ModelConsts& k, size_t m, double* out)
+{
+    const size_t nd = sc.dets.size();
+    const uint32_t* blockVis = sc.blockVis.data();
+    const uint32_t* visStart = sc.visStart.data();
+    const uint32_t* pairCount = sc.pairCount.data();
+    const double* PD = sc.bPd.data();
+    Pair* pairs = sc.pairs.data();
     uint8_t* used = sc.used.data();
     size_t t = 0;
     for (uint32_t i = 0; i < m; i++)
@@ -1431,6 +1446,37 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
         t += c;
         out[i] = finite(base + std::log(miss) + gains);
     }
+}
+
+/** The probabilistic likelihood of the m particles of a block (sensor geometry geoms[i] of
+ *  pose poses[i], range R) into out[0..m), in stages over the whole block as in
+ *  scorePaperBlock (above). With class confusion every detection is a slot of every label
+ *  (planPairs). A particle's value depends on its own arithmetic only, so not on the block
+ *  (n = 1 takes this path too). */
+void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
+                             const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k,
+                             Scratch& sc, const Geom* geoms, const TPose2D* poses, size_t m,
+                             double* out)
+{
+    if (sc.blockVis.size() < m)
+    {
+        sc.blockVis.resize(m);
+        sc.pairCount.resize(m);
+        sc.visStart.resize(m);
+    }
+    std::fill(sc.pairCount.begin(), sc.pairCount.begin() + static_cast<ptrdiff_t>(m), 0u);
+    if (sc.used.size() < sc.dets.size() + ix.x.size())
+    {
+        sc.used.resize(sc.dets.size() + ix.x.size(), 0);
+    }
+    const size_t ne = scanBlock(ix, sc, geoms, poses, m);
+    if (m > 0)
+    {
+        rangesBlock(sc, ne, opt, geoms[0].R);
+    }
+    const size_t nc = gateBlock(ix, sc, k, ne);
+    gainBlock(ix, sc, k, nc);
+    totalsBlock(sc, k, m, out);
 }
 
 /** What a likelihood call knows of the sensor, fixed for all particles of a step. */
