@@ -1458,11 +1458,12 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
                              Scratch& sc, const Geom* geoms, const TPose2D* poses, size_t m,
                              double* out)
 {
-    if (sc.blockVis.size() < m)
+    for (auto* v : {&sc.blockVis, &sc.pairCount, &sc.visStart})  // shared with the paper block
     {
-        sc.blockVis.resize(m);
-        sc.pairCount.resize(m);
-        sc.visStart.resize(m);
+        if (v->size() < m)
+        {
+            v->resize(m);
+        }
     }
     std::fill(sc.pairCount.begin(), sc.pairCount.begin() + static_cast<ptrdiff_t>(m), 0u);
     if (sc.used.size() < sc.dets.size() + ix.x.size())
