@@ -397,9 +397,8 @@ Det makeDet(double r, double bearing, int32_t label, int32_t fixed)
 struct Vis
 {
     double lx, ly, d2;  // position in the sensor frame, squared range
-    double r;           // range, computed on first use
+    double r;           // range
     int32_t label, sorted;
-    bool hasR;
 };
 
 struct Pair
@@ -467,7 +466,6 @@ struct ModelConsts
 struct Scratch
 {
     std::vector<Det> dets;
-    std::vector<Vis> vis;  // first nVis entries are valid
     size_t nVis = 0;
     std::vector<uint32_t> hits;  // sorted indices of the visible objects (first nVis)
     std::vector<double> hitD2;   // and their squared ranges
@@ -481,25 +479,30 @@ struct Scratch
      *  a detection no object can pair with (planPairs), so every object tests as many. */
     std::vector<Slot> slots;
     size_t slotCount = 0;
-    /** scorePaperBlock's stages: per particle of the block, its q and its number of pairs;
-     *  the objects that may pair and the gated candidate pairs of the whole block. */
-    std::vector<uint32_t> blockVis, pairCount;
+    /** Per call: the range bins of the slots (planRangeBins): count, 1 / width, spans. */
+    size_t binCount = 1;
+    double binInv = 0;
+    std::vector<uint32_t> binSpan;
+    /** The block stages: per particle of the block, its q, its number of pairs and
+     *  (probabilistic) where its objects start; the objects that may pair (paper) and the
+     *  gated candidate pairs of the whole block. */
+    std::vector<uint32_t> blockVis, pairCount, visStart;
     std::vector<Gated> gated;
     std::vector<Cand> cands;
     /** planPairs() of the last call is kept while these stay the same. */
     std::vector<Det> planDets;
     std::array<double, 4> planKey{};
     bool planConfusable = false, planValid = false;
-    /** Per call: the detections by increasing range (planByRange): index and range. */
-    std::vector<uint32_t> byRange;
-    std::vector<double> rangeByRange;
+    /** scoreProbabilisticBlock's visible objects of the whole block, structure of arrays:
+     *  sorted index, particle, squared range, position in the sensor frame, range, P_D. */
+    std::vector<uint32_t> bHit, bPart;
+    std::vector<double> bD2, bLx, bLy, bR, bPd;
     /** modelConsts() of the last call, kept while its inputs stay the same (MRPT's
      *  per-particle path makes one call per particle). */
     std::array<double, 11> constsKey{};
     ModelConsts consts;
     bool constsValid = false;
-    std::vector<Pair> pairs;  // first nPairs entries are valid
-    size_t nPairs = 0;
+    std::vector<Pair> pairs;
     /** assignGreedy's marks: all zero between calls (it clears what it set). */
     std::vector<uint8_t> used;
     Memo cosHalf, sinHalf, cosYaw, sinYaw;
@@ -639,22 +642,27 @@ void sectorCells(const CSemanticMap::Index& ix, const Geom& g, int& cx0, int& cx
 #endif
 }
 
-/** Finds the objects inside range and FOV (z^k): their sorted indices in sc.hits.
+/** Where scanVisible() writes z^k, compacted: sorted indices and squared ranges and, with
+ *  kFrame, the positions in the sensor frame (lx ahead, ly to the left). Every array must
+ *  have room for the number of objects + 1 (entries are written always, kept if visible). */
+struct VisOut
+{
+    uint32_t* hits;
+    double* d2;
+    double* lx;
+    double* ly;
+};
+
+/** Finds the objects inside range and FOV (z^k) into `out`; returns how many.
  *  The scan is branch-free (compaction by a counter) and takes no square root until an
  *  object is known to be visible: most candidates are not, and mispredicted branches
  *  and sqrt latency were the cost of this loop. */
-void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
+template <bool kFrame>
+size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& vo)
 {
-    auto& vis = sc.vis;
     size_t cnt = 0;
     if (ix.nx > 0)
     {
-        if (vis.size() < ix.x.size())
-        {
-            vis.resize(ix.x.size());
-            sc.hits.resize(ix.x.size());
-            sc.hitD2.resize(ix.x.size());
-        }
         const double R2 = g.R * g.R;
         int cx0 = 0, cx1 = -1, cy0 = 0, cy1 = -1;
         sectorCells(ix, g, cx0, cx1, cy0, cy1);
@@ -667,8 +675,10 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         const double* Y = ix.y.data();
         const uint32_t* cellStart = ix.cellStart.data();
         const auto nx = static_cast<size_t>(ix.nx);
-        uint32_t* out = sc.hits.data();
-        double* outD2 = sc.hitD2.data();
+        uint32_t* out = vo.hits;
+        double* outD2 = vo.d2;
+        double* outLx = vo.lx;
+        double* outLy = vo.ly;
         // One loop per FOV kind (the test inlined, not selected at every candidate).
 #if defined(__SSE2__)
         // Two candidates per step in SSE2 (every x86-64 CPU has it): the same IEEE double
@@ -694,11 +704,24 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
                     const __m128d in = _mm_and_pd(_mm_cmple_pd(d2, vR2), inFov(lx, d2));
                     const auto m =
                         static_cast<unsigned>(_mm_movemask_pd(in)) & (b - k >= 2 ? 3u : 1u);
+                    // ly = (-sn) dx + c dy, as the scalar code writes it.
+                    const __m128d ly =
+                        kFrame ? _mm_sub_pd(_mm_mul_pd(vc, dy), _mm_mul_pd(vsn, dx)) : zero;
                     out[cnt] = k;  // written always, kept only if visible
                     _mm_storel_pd(outD2 + cnt, d2);
+                    if constexpr (kFrame)
+                    {
+                        _mm_storel_pd(outLx + cnt, lx);
+                        _mm_storel_pd(outLy + cnt, ly);
+                    }
                     cnt += m & 1u;
                     out[cnt] = k + 1;
                     _mm_storeh_pd(outD2 + cnt, d2);
+                    if constexpr (kFrame)
+                    {
+                        _mm_storeh_pd(outLx + cnt, lx);
+                        _mm_storeh_pd(outLy + cnt, ly);
+                    }
                     cnt += m >> 1;
                 }
             }
@@ -737,6 +760,11 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
                     const double lx = c * dx + sn * dy;
                     out[cnt] = k;  // written always, kept only if visible
                     outD2[cnt] = d2;
+                    if constexpr (kFrame)
+                    {
+                        outLx[cnt] = lx;
+                        outLy[cnt] = -sn * dx + c * dy;
+                    }
                     cnt += static_cast<size_t>((d2 <= R2) & inFov(lx, d2));
                 }
             }
@@ -752,13 +780,20 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         }
 #endif
     }
-    sc.nVis = cnt;
-    // At most one pair per (detection, visible object): sized once, filled by index.
-    sc.nPairs = 0;
-    if (sc.pairs.size() < sc.dets.size() * cnt)
+    return cnt;
+}
+
+/** z^k of one particle into sc.hits / sc.hitD2 (scorePaperBlock). */
+void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
+{
+    if (sc.hits.size() < ix.x.size())
     {
-        sc.pairs.resize(sc.dets.size() * std::max<size_t>(cnt, 16));
+        sc.hits.resize(ix.x.size());
+        sc.hitD2.resize(ix.x.size());
     }
+    const size_t cnt =
+        scanVisible<false>(ix, g, {sc.hits.data(), sc.hitD2.data(), nullptr, nullptr});
+    sc.nVis = cnt;
     if (sc.used.size() < sc.dets.size() + cnt)
     {
         sc.used.resize(sc.dets.size() + ix.x.size(), 0);
@@ -768,16 +803,6 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
 size_t visibleCount(const Scratch& sc)
 {
     return sc.nVis;
-}
-
-double rangeOf(Vis& v)
-{
-    if (!v.hasR)
-    {
-        v.r = std::sqrt(v.d2);
-        v.hasR = true;
-    }
-    return v.r;
 }
 
 /** Wraps a bearing into [-pi, pi] (detectors may report [0, 2pi)). */
@@ -835,12 +860,6 @@ double assignGreedy(Pair* pairs, size_t np, size_t nd, uint8_t* used)
         used[pairs[i].j] = used[nd + pairs[i].v] = 0;
     }
     return sum;
-}
-
-/** assignGreedy() of the pairs collectPairs() left in sc. */
-double assignGreedy(Scratch& sc)
-{
-    return assignGreedy(sc.pairs.data(), sc.nPairs, sc.dets.size(), sc.used.data());
 }
 
 ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels, double R,
@@ -906,11 +925,64 @@ const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt
     return sc.consts;
 }
 
+/** The range bins of planPairs(): each label's slots by increasing range, and for an object
+ *  of label l in range bin b (width binW, the last bin open-ended) the slots
+ *  [binSpan[2 (l nb + b)], binSpan[2 (l nb + b) + 1]) whose range may be within `reach` of
+ *  its range (bounds widened by a relative 1e-9 for rounding: a superset of the pairs that
+ *  pass the range gate). So an object meets ~2 reach of detections, not all of its label's. */
+void planRangeBins(Scratch& sc, size_t nLabels, double reach)
+{
+    const size_t ns = sc.slotCount;
+    double maxR = 0;
+    for (size_t l = 0; l < nLabels; l++)
+    {
+        Slot* sl = sc.slots.data() + l * ns;
+        const size_t cnt = sc.detStart[l + 1] - sc.detStart[l];
+        std::sort(sl, sl + cnt,
+                  [](const Slot& a, const Slot& b)
+                  { return a.d.r != b.d.r ? a.d.r < b.d.r : a.j < b.j; });
+        maxR = cnt > 0 ? std::max(maxR, sl[cnt - 1].d.r) : maxR;
+    }
+    // Bins of half the window, at most 1024 of them; one bin (no filtering) if the window
+    // is not finite.
+    sc.binCount = 1;
+    sc.binInv = 0;
+    double w = kInf;
+    if (std::isfinite(reach) && std::isfinite(maxR))
+    {
+        w = std::max(reach / 2, (maxR + reach) / 1022);
+        if (w > 0)
+        {
+            sc.binCount = static_cast<size_t>((maxR + reach) / w) + 2;
+            sc.binInv = 1 / w;
+        }
+    }
+    const size_t nb = sc.binCount;
+    sc.binSpan.resize(2 * nLabels * nb);
+    for (size_t l = 0; l < nLabels; l++)
+    {
+        const Slot* sl = sc.slots.data() + l * ns;
+        const Slot* end = sl + (sc.detStart[l + 1] - sc.detStart[l]);
+        for (size_t b = 0; b < nb; b++)
+        {
+            const double lo = nb == 1 ? -kInf : static_cast<double>(b) * w - reach;
+            const double hi = b + 1 == nb ? kInf : static_cast<double>(b + 1) * w + reach;
+            const double margin = 1e-9 * (static_cast<double>(b + 1) * w + reach) + 1e-9;
+            const Slot* first = std::lower_bound(sl, end, lo - margin,
+                                                 [](const Slot& a, double r) { return a.d.r < r; });
+            const Slot* last = std::upper_bound(first, end, hi + margin,
+                                                [](double r, const Slot& a) { return r < a.d.r; });
+            sc.binSpan[2 * (l * nb + b)] = static_cast<uint32_t>(first - sc.slots.data());
+            sc.binSpan[2 * (l * nb + b) + 1] = static_cast<uint32_t>(last - sc.slots.data());
+        }
+    }
+}
+
 /** Which detections may pair with an object of label l (once per call):
  *  detByLabel[detStart[l] .. detStart[l + 1]) holds those of label l, those of any label
  *  (`k.confusable`, or a detection without one), and those naming an object of label l
  *  (they pair with that object only: Det::fixed). Also the range hull of each label: a pair
- *  passes collectPairs' range gate only if |rho^r - rho^k| <= sigma_rho sqrt(budget), so
+ *  passes the range gate (passesGates) only if |rho^r - rho^k| <= sigma_rho sqrt(budget), so
  *  an object of label l whose squared range is outside [gateLo2[l], gateHi2[l]] pairs with
  *  none of them (bounds widened by a relative 1e-9 for rounding: a necessary condition). */
 void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const ModelConsts& k)
@@ -982,173 +1054,39 @@ void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const
             sc.gateHi2[l] = std::max(sc.gateHi2[l], hi * hi * (1 + 1e-9));
         }
     }
+    planRangeBins(sc, nLabels, reach);
 }
 
-/** The range and bearing gates of the pair (detection d = dets[j], visible object v = o,
- *  whose range o.r is set) and, if it passes them, its gain: appended to pairs[np++] when
- *  positive. */
-template <typename GainFn>
-inline void considerPair(const Det& d, uint32_t j, uint32_t v, const Vis& o, const ModelConsts& k,
-                         GainFn& pairGain, Pair* pairs, size_t& np)
+/** The exact gates of the pair (detection d, visible object at (lx, ly) in the sensor frame,
+ *  range r): `k.budget` bounds what the two Gaussian terms may cost for its gain to stay
+ *  positive, so (dr/sigma_r)^2 <= budget and |dtheta| <= sigma_theta sqrt(budget) are
+ *  necessary conditions, checked before any atan2 (most candidates fail them); the bearing
+ *  one as u . v >= cos(max dtheta) |v| with the detection's unit vector u. Branch-free. */
+inline bool passesGates(const Det& d, double r, double lx, double ly, double ir, double budget,
+                        double cosGate)
 {
-    const double dr = d.r - o.r;
-    if ((dr * k.ir) * (dr * k.ir) > k.budget)
-    {
-        return;
-    }
-    const double dot = d.uc * o.lx + d.us * o.ly;
-    if (dot < k.cosGate * o.r)
-    {
-        return;
-    }
-    const double db = detail::fastAtan2(d.uc * o.ly - d.us * o.lx, dot);
-    const double gain = pairGain(d, o, dr, db);
-    if (gain > 0)
-    {
-        pairs[np++] = {gain, j, v};
-    }
+    const double dr = d.r - r;
+    const double dot = d.uc * lx + d.us * ly;
+    return ((dr * ir) * (dr * ir) <= budget) & (dot >= cosGate * r);
 }
 
-/** Sets up sc.vis (the visible objects in the sensor frame, the scan's arithmetic again
- *  for the few it kept) and collects the candidate (detection, object) pairs with a
- *  positive log-gain `pairGain`, as planned by planPairs(). `k.budget` bounds what the
- *  two Gaussian terms may cost for the gain to stay positive: (dr/sigma_r)^2 <= budget
- *  and |dtheta| <= sigma_theta sqrt(budget) are exact necessary conditions, checked
- *  before any atan2 (most same-label candidates fail them); the label's range hull
- *  (planPairs) is checked first, on the squared range. The bearing difference is
- *  atan2(u x v, u . v) of the detection's unit vector u and the object's direction v:
- *  exact, no angle wrapping. The order in which pairs are collected does not matter:
- *  assignGreedy() sorts them by (gain, j, v). */
-template <typename GainFn>
-void collectPairs(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k, Scratch& sc,
-                  GainFn&& pairGain)
+/** The id test of a pair: a detection naming an object (`fixed` >= 0) pairs with it only. */
+inline bool namesOrAny(int32_t fixed, int32_t sorted)
 {
-    const size_t nv = visibleCount(sc);
-    const Det* dets = sc.dets.data();
-    Pair* pairs = sc.pairs.data();
-    size_t np = 0;
-    auto consider = [&](uint32_t j, uint32_t v, Vis& o)
-    {
-        rangeOf(o);
-        considerPair(dets[j], j, v, o, k, pairGain, pairs, np);
-    };
-    const double sx = g.sx, sy = g.sy, c = g.c, sn = g.s;
-    const double* X = ix.x.data();
-    const double* Y = ix.y.data();
-    const int32_t* L = ix.label.data();
-    const uint32_t* hit = sc.hits.data();
-    const uint32_t* detStart = sc.detStart.data();
-    const uint32_t* detByLabel = sc.detByLabel.data();
-    const double* lo2 = sc.gateLo2.data();
-    const double* hi2 = sc.gateHi2.data();
-    Vis* vis = sc.vis.data();
-    auto setUp = [&](uint32_t v, Vis& o)
-    {
-        const uint32_t kk = hit[v];
-        const double dx = X[kk] - sx, dy = Y[kk] - sy;
-        o.lx = c * dx + sn * dy;
-        o.ly = -sn * dx + c * dy;
-        o.d2 = dx * dx + dy * dy;
-        o.sorted = static_cast<int32_t>(kk);
-        o.label = L[kk];
-        o.hasR = false;
-    };
-    auto pairWith = [&](uint32_t v, Vis& o)
-    {
-        const auto l = static_cast<size_t>(o.label);
-        for (uint32_t i = detStart[l]; i < detStart[l + 1]; i++)
-        {
-            const uint32_t j = detByLabel[i];
-            if (dets[j].fixed < 0 || dets[j].fixed == o.sorted)
-            {
-                consider(j, v, o);
-            }
-        }
-    };
-    for (uint32_t v = 0; v < nv; v++)
-    {
-        Vis& o = vis[v];
-        setUp(v, o);
-        const auto l = static_cast<size_t>(o.label);
-        if (o.d2 >= lo2[l] && o.d2 <= hi2[l])
-        {
-            pairWith(v, o);
-        }
-    }
-    sc.nPairs = np;
+    return (fixed < 0) | (fixed == sorted);
 }
 
-/** The detections sorted by range (once per call), for collectPairsByRange(). */
-void planByRange(Scratch& sc)
+/** True if a detection names an object (then the gates need the id test). */
+bool anyNamed(const Scratch& sc)
 {
-    const auto nd = static_cast<uint32_t>(sc.dets.size());
-    sc.byRange.resize(nd);
-    for (uint32_t j = 0; j < nd; j++)
-    {
-        sc.byRange[j] = j;
-    }
-    std::sort(sc.byRange.begin(), sc.byRange.end(),
-              [&](uint32_t a, uint32_t b)
-              { return sc.dets[a].r != sc.dets[b].r ? sc.dets[a].r < sc.dets[b].r : a < b; });
-    sc.rangeByRange.resize(nd);
-    for (uint32_t i = 0; i < nd; i++)
-    {
-        sc.rangeByRange[i] = sc.dets[sc.byRange[i]].r;
-    }
+    return std::any_of(sc.dets.begin(), sc.dets.end(), [](const Det& d) { return d.fixed >= 0; });
 }
 
-/** collectPairs() when any detection may pair with any visible object (class confusion,
- *  unlabelled landmarks): instead of every (detection, object) combination, each object
- *  meets only the detections inside its range window |dr| <= sigma_rho sqrt(budget) (the
- *  range gate as an interval, widened by a relative 1e-9 against rounding; the exact gate
- *  and the bearing gate are then applied as in collectPairs). The same pairs, in another
- *  order (assignGreedy() sorts them). */
-template <typename GainFn>
-void collectPairsByRange(const CSemanticMap::Index& ix, const Geom& g, const ModelConsts& k,
-                         Scratch& sc, GainFn&& pairGain)
+/** The bearing difference of detection d and the object at (lx, ly): atan2(u x v, u . v) of
+ *  the detection's unit vector u and the object's direction v, exact, no angle wrapping. */
+inline double bearingDiff(const Det& d, double lx, double ly)
 {
-    const size_t nv = visibleCount(sc);
-    const double maxBudget = k.budget, ir = k.ir;
-    const double window = std::sqrt(std::max(0.0, maxBudget)) / ir * (1 + 1e-9);
-    const Det* dets = sc.dets.data();
-    const uint32_t* byRange = sc.byRange.data();
-    const double* rs = sc.rangeByRange.data();
-    const size_t nd = sc.dets.size();
-    Pair* pairs = sc.pairs.data();
-    size_t np = 0;
-    const double sx = g.sx, sy = g.sy, c = g.c, sn = g.s;
-    const double* X = ix.x.data();
-    const double* Y = ix.y.data();
-    const int32_t* L = ix.label.data();
-    const uint32_t* hit = sc.hits.data();
-    Vis* vis = sc.vis.data();
-    for (uint32_t v = 0; v < nv; v++)
-    {
-        const uint32_t kk = hit[v];
-        const double dx = X[kk] - sx, dy = Y[kk] - sy;
-        Vis& o = vis[v];
-        o.lx = c * dx + sn * dy;
-        o.ly = -sn * dx + c * dy;
-        o.d2 = dx * dx + dy * dy;
-        o.r = std::sqrt(o.d2);
-        o.hasR = true;
-        o.sorted = static_cast<int32_t>(kk);
-        o.label = L[kk];
-        size_t i = 0;
-        while (i < nd && rs[i] < o.r - window)
-        {
-            i++;
-        }
-        for (; i < nd && rs[i] <= o.r + window; i++)
-        {
-            const uint32_t j = byRange[i];
-            if (dets[j].fixed < 0 || dets[j].fixed == o.sorted)
-            {
-                considerPair(dets[j], j, v, o, k, pairGain, pairs, np);
-            }
-        }
-    }
-    sc.nPairs = np;
+    return detail::fastAtan2(d.uc * ly - d.us * lx, d.uc * lx + d.us * ly);
 }
 
 /** Lowest value returned: keeps MRPT's finite-likelihood assertion true even if an
@@ -1171,12 +1109,13 @@ constexpr uint32_t kNoPose = std::numeric_limits<uint32_t>::max();
 /** The paper likelihood of the m particles of a block (sensor geometry geoms[i] of pose
  *  poses[i]) into out[0..m), in stages that each run over the whole block: z^k of every
  *  particle and its objects that may pair (label's range hull); those objects in the
- *  sensor frame and against the exact gates of collectPairs() for every detection of their
+ *  sensor frame and against the exact gates (passesGates) for every detection of their
  *  label; atan2 and gain of the pairs that pass; the assignments. Most of the time of a
  *  particle was spent waiting on short dependent chains (sqrt, then the gates, atan2, the
  *  gain) and on the branches that test them; one stage at a time, the chains of
- *  successive particles overlap. Per particle the arithmetic is collectPairs()'s and
- *  assignGreedy()'s, so the values do not depend on the block (n = 1 takes this path too).
+ *  successive particles overlap. A particle's value depends on its own arithmetic only, so
+ *  not on the block (n = 1 takes this path too). The order in which pairs are collected does
+ *  not matter: assignGreedy() sorts them by (gain, j, v).
  */
 void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratch& sc,
                      const Geom* geoms, const TPose2D* poses, size_t m, double* out)
@@ -1234,7 +1173,7 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
         }
     }
     // Those objects in the sensor frame, and every (object, detection of its label) against
-    // the exact range and bearing gates of collectPairs(), branch-free: each object tests
+    // the exact range and bearing gates, branch-free: each object tests
     // slotCount detections, the same number for every particle of the call.
     if (sc.cands.size() < ne * ns)
     {
@@ -1245,8 +1184,7 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
     const Slot* slots = sc.slots.data();
     size_t nc = 0;
     // Without detections naming an object (the usual case), no id test.
-    const bool anyFixed =
-        std::any_of(sc.dets.begin(), sc.dets.end(), [](const Det& d) { return d.fixed >= 0; });
+    const bool anyFixed = anyNamed(sc);
     auto gate = [&](auto idTest)
     {
         for (uint32_t e = 0; e < ne; e++)
@@ -1260,26 +1198,23 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
             o.d2 = dx * dx + dy * dy;
             o.label = L[kk];
             o.r = std::sqrt(o.d2);
-            o.hasR = true;
             const Slot* sl = slots + static_cast<size_t>(o.label) * ns;
             for (size_t t = 0; t < ns; t++)
             {
                 const Det& d = sl[t].d;
-                const double dr = d.r - o.r;
-                const double dot = d.uc * o.lx + d.us * o.ly;
                 cands[nc] = {sl[t].j, e};  // written always, kept if it passes
-                nc += static_cast<size_t>(((dr * ir) * (dr * ir) <= maxBudget) &
-                                          (dot >= cosGate * o.r) & idTest(d, o));
+                nc += static_cast<size_t>(passesGates(d, o.r, o.lx, o.ly, ir, maxBudget, cosGate) &
+                                          idTest(d.fixed, o.sorted));
             }
         }
     };
     if (anyFixed)
     {
-        gate([](const Det& d, const Vis& o) { return (d.fixed < 0) | (d.fixed == o.sorted); });
+        gate(namesOrAny);
     }
     else
     {
-        gate([](const Det&, const Vis&) { return true; });
+        gate([](int32_t, int32_t) { return true; });
     }
     // atan2 and gain of the candidates: the pairs, in particle order.
     if (sc.pairs.size() < nc + 1)
@@ -1295,8 +1230,7 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
         const Det& d = dets[cands[t].j];
         const Gated& q = gated[cands[t].e];
         const double dr = d.r - q.o.r;
-        const double dot = d.uc * q.o.lx + d.us * q.o.ly;
-        const double db = detail::fastAtan2(d.uc * q.o.ly - d.us * q.o.lx, dot);
+        const double db = bearingDiff(d, q.o.lx, q.o.ly);
         const double gain = -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu;
         pairs[np] = {gain, cands[t].j, q.v};  // written always, kept if it gains
         pairCount[q.p] += static_cast<uint32_t>(gain > 0);
@@ -1316,61 +1250,236 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
     }
 }
 
-double scoreProbabilistic(const CSemanticMap::Index& ix,
-                          const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k,
-                          const Geom& g, Scratch& sc)
+/** Stage 1 of scoreProbabilisticBlock: z^k of particles [0, m) one after the other
+ *  (entries e of the block: sorted index, particle, squared range, sensor-frame position)
+ *  and per particle its q (kNoPose if its pose is not finite) and first entry. Returns the
+ *  number of entries. */
+size_t scanBlock(const CSemanticMap::Index& ix, Scratch& sc, const Geom* geoms,
+                 const TPose2D* poses, size_t m)
 {
-    auto pd = [&](double r)
+    const size_t nObj = ix.x.size();
+    uint32_t* blockVis = sc.blockVis.data();
+    uint32_t* visStart = sc.visStart.data();
+    size_t ne = 0;
+    for (uint32_t i = 0; i < m; i++)
     {
-        const double p = opt.p_detect_near + (opt.p_detect_far - opt.p_detect_near) * (r / g.R);
-        return std::clamp(p, 1e-6, 1 - 1e-6);
-    };
-    const double ir = k.ir, ib = k.ib;
-    auto gain = [&](const Det& d, const Vis& v, double dr, double db)
-    {
-        const double p = pd(v.r);  // the pair collectors took the range first
-        double logC = 0;           // landmarks without a label: no label term
-        if (d.label >= 0)
+        blockVis[i] = kNoPose;
+        visStart[i] = static_cast<uint32_t>(ne);
+        if (!finitePose(poses[i]))
         {
-            logC = (d.label == v.label) ? k.logSame : k.logOther;
+            continue;
         }
-        // log P_D - log(1 - P_D) in one log (P_D is clamped inside (0, 1)).
-        return std::log(p / (1 - p)) + logC + k.logNorm - 0.5 * (dr * ir) * (dr * ir) -
-               0.5 * (db * ib) * (db * ib) - k.logKappa;
-    };
-    if (k.confusable)
+        if (sc.bHit.size() < ne + nObj + 2)
+        {
+            const size_t cap = 2 * (ne + nObj + 2);
+            sc.bHit.resize(cap);
+            sc.bPart.resize(cap);
+            for (auto* v : {&sc.bD2, &sc.bLx, &sc.bLy, &sc.bR, &sc.bPd})
+            {
+                v->resize(cap);
+            }
+        }
+        const auto nv = static_cast<uint32_t>(scanVisible<true>(
+            ix, geoms[i],
+            {sc.bHit.data() + ne, sc.bD2.data() + ne, sc.bLx.data() + ne, sc.bLy.data() + ne}));
+        blockVis[i] = nv;
+        uint32_t* part = sc.bPart.data() + ne;
+        for (uint32_t v = 0; v < nv; v++)
+        {
+            part[v] = i;
+        }
+        ne += nv;
+    }
+    return ne;
+}
+
+/** Stage 2: the ranges of the ne entries and their P_D(rho), clamped inside (0, 1), two at
+ *  a time (the arrays have room for the pair's second lane). */
+void rangesBlock(Scratch& sc, size_t ne, const CSemanticMap::TLikelihoodOptions& opt, double R)
+{
+    const double* D2 = sc.bD2.data();
+    double* RR = sc.bR.data();
+    double* PD = sc.bPd.data();
+    const double pNear = opt.p_detect_near, slope = opt.p_detect_far - opt.p_detect_near;
+#if defined(__SSE2__)
+    const __m128d vnear = _mm_set1_pd(pNear), vslope = _mm_set1_pd(slope), vR = _mm_set1_pd(R),
+                  lo = _mm_set1_pd(1e-6), hi = _mm_set1_pd(1 - 1e-6);
+    for (size_t e = 0; e < ne; e += 2)
     {
-        collectPairsByRange(ix, g, k, sc, gain);
+        const __m128d r = _mm_sqrt_pd(_mm_loadu_pd(D2 + e));
+        const __m128d p = _mm_add_pd(vnear, _mm_mul_pd(vslope, _mm_div_pd(r, vR)));
+        _mm_storeu_pd(RR + e, r);
+        _mm_storeu_pd(PD + e, _mm_max_pd(_mm_min_pd(p, hi), lo));  // = std::clamp: p is finite
+    }
+#else
+    for (size_t e = 0; e < ne; e++)
+    {
+        RR[e] = std::sqrt(D2[e]);
+        PD[e] = std::clamp(pNear + slope * (RR[e] / R), 1e-6, 1 - 1e-6);
+    }
+#endif
+}
+
+/** Stage 3: every (entry, detection slot of its label in its range bin) against the exact
+ *  gates, branch-free, into sc.cands; returns how many pass. */
+size_t gateBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t ne)
+{
+    if (sc.cands.size() < ne * sc.slotCount)
+    {
+        sc.cands.resize(2 * ne * sc.slotCount);
+    }
+    const uint32_t* hit = sc.bHit.data();
+    const double* RR = sc.bR.data();
+    const double* LX = sc.bLx.data();
+    const double* LY = sc.bLy.data();
+    const int32_t* L = ix.label.data();
+    Cand* cands = sc.cands.data();
+    const Slot* slots = sc.slots.data();
+    const uint32_t* binSpan = sc.binSpan.data();
+    const size_t nb = sc.binCount;
+    const double binInv = sc.binInv, lastBin = static_cast<double>(nb - 1);
+    const double ir = k.ir, budget = k.budget, cosGate = k.cosGate;
+    size_t nc = 0;
+    auto gate = [&](auto idTest)
+    {
+        for (uint32_t e = 0; e < ne; e++)
+        {
+            const double r = RR[e], lx = LX[e], ly = LY[e];
+            const auto kk = static_cast<int32_t>(hit[e]);
+            const auto b = static_cast<size_t>(std::min(r * binInv, lastBin));
+            const uint32_t* span = binSpan + 2 * (static_cast<size_t>(L[kk]) * nb + b);
+            for (uint32_t t = span[0]; t < span[1]; t++)
+            {
+                const Det& d = slots[t].d;
+                cands[nc] = {slots[t].j, e};  // written always, kept if it passes
+                nc += static_cast<size_t>(passesGates(d, r, lx, ly, ir, budget, cosGate) &
+                                          idTest(d.fixed, kk));
+            }
+        }
+    };
+    if (anyNamed(sc))
+    {
+        gate(namesOrAny);
     }
     else
     {
-        collectPairs(ix, g, k, sc, gain);
+        gate([](int32_t, int32_t) { return true; });
     }
-    double base = -k.lambda + static_cast<double>(sc.dets.size()) * k.logKappa;
-    // sum_v log(1 - P_D(rho_v)) as the log of the product: one log per particle instead of
-    // one per visible object. Each factor is >= 1e-6 (P_D is clamped), so the product is
-    // folded into the sum before it could underflow.
-    const size_t nv = visibleCount(sc);
-    double miss = 1;
-    for (size_t v = 0; v < nv; v++)
-    {
-        miss *= 1 - pd(rangeOf(sc.vis[v]));
-        if (miss < 1e-250)
-        {
-            base += std::log(miss);
-            miss = 1;
-        }
-    }
-    return base + std::log(miss) + assignGreedy(sc);
+    return nc;
 }
 
-/** The probabilistic likelihood of one particle. */
-double scoreProbabilisticAt(const CSemanticMap::Index& ix,
-                            const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k,
-                            Scratch& sc, const Geom& g)
+/** Stage 4: atan2 and gain of the nc candidates; those with a positive gain are the pairs,
+ *  in particle order (sc.pairs, sc.pairCount[i] of particle i). */
+void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t nc)
 {
-    predictVisible(ix, g, sc);
-    return finite(scoreProbabilistic(ix, opt, k, g, sc));
+    if (sc.pairs.size() < nc + 1)
+    {
+        sc.pairs.resize(2 * nc + 1);  // at least one: read (not used) when a particle has none
+    }
+    const Cand* cands = sc.cands.data();
+    const uint32_t* hit = sc.bHit.data();
+    const uint32_t* part = sc.bPart.data();
+    const uint32_t* visStart = sc.visStart.data();
+    const double* RR = sc.bR.data();
+    const double* LX = sc.bLx.data();
+    const double* LY = sc.bLy.data();
+    const double* PD = sc.bPd.data();
+    const int32_t* L = ix.label.data();
+    const Det* dets = sc.dets.data();
+    Pair* pairs = sc.pairs.data();
+    uint32_t* pairCount = sc.pairCount.data();
+    const double ir = k.ir, ib = k.ib;
+    size_t np = 0;
+    for (size_t t = 0; t < nc; t++)
+    {
+        const uint32_t j = cands[t].j, e = cands[t].e, i = part[e];
+        const Det& d = dets[j];
+        const double dr = d.r - RR[e];
+        const double db = bearingDiff(d, LX[e], LY[e]);
+        const double p = PD[e];
+        double logC = 0;  // landmarks without a label: no label term
+        if (d.label >= 0)
+        {
+            logC = (d.label == L[hit[e]]) ? k.logSame : k.logOther;
+        }
+        // log P_D - log(1 - P_D) in one log (P_D is clamped inside (0, 1)).
+        const double gain = std::log(p / (1 - p)) + logC + k.logNorm - 0.5 * (dr * ir) * (dr * ir) -
+                            0.5 * (db * ib) * (db * ib) - k.logKappa;
+        pairs[np] = {gain, j, e - visStart[i]};  // written always, kept if it gains
+        pairCount[i] += static_cast<uint32_t>(gain > 0);
+        np += static_cast<size_t>(gain > 0);
+    }
+}
+
+/** Stage 5: per particle, -lambda + l log kappa, sum_v log(1 - P_D(rho_v)) as the log of the
+ *  product (one log instead of one per visible object; each factor is >= 1e-6, so the
+ *  product is folded into the sum before it could underflow), and the assignment. */
+void totalsBlock(Scratch& sc, const ModelConsts& k, size_t m, double* out)
+{
+    const size_t nd = sc.dets.size();
+    const uint32_t* blockVis = sc.blockVis.data();
+    const uint32_t* visStart = sc.visStart.data();
+    const uint32_t* pairCount = sc.pairCount.data();
+    const double* PD = sc.bPd.data();
+    Pair* pairs = sc.pairs.data();
+    uint8_t* used = sc.used.data();
+    size_t t = 0;
+    for (uint32_t i = 0; i < m; i++)
+    {
+        if (blockVis[i] == kNoPose)
+        {
+            out[i] = kMinLogLik;
+            continue;
+        }
+        double base = -k.lambda + static_cast<double>(nd) * k.logKappa;
+        double miss = 1;
+        for (size_t e = visStart[i], end = e + blockVis[i]; e < end; e++)
+        {
+            miss *= 1 - PD[e];
+            if (miss < 1e-250)
+            {
+                base += std::log(miss);
+                miss = 1;
+            }
+        }
+        const uint32_t c = pairCount[i];
+        const double gains =
+            c <= 1 ? (c == 0 ? 0.0 : pairs[t].gain) : assignGreedy(pairs + t, c, nd, used);
+        t += c;
+        out[i] = finite(base + std::log(miss) + gains);
+    }
+}
+
+/** The probabilistic likelihood of the m particles of a block (sensor geometry geoms[i] of
+ *  pose poses[i], range R) into out[0..m), in stages over the whole block as in
+ *  scorePaperBlock (above). With class confusion every detection is a slot of every label
+ *  (planPairs). A particle's value depends on its own arithmetic only, so not on the block
+ *  (n = 1 takes this path too). */
+void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
+                             const CSemanticMap::TLikelihoodOptions& opt, const ModelConsts& k,
+                             Scratch& sc, const Geom* geoms, const TPose2D* poses, size_t m,
+                             double* out)
+{
+    for (auto* v : {&sc.blockVis, &sc.pairCount, &sc.visStart})  // shared with the paper block
+    {
+        if (v->size() < m)
+        {
+            v->resize(m);
+        }
+    }
+    std::fill(sc.pairCount.begin(), sc.pairCount.begin() + static_cast<ptrdiff_t>(m), 0u);
+    if (sc.used.size() < sc.dets.size() + ix.x.size())
+    {
+        sc.used.resize(sc.dets.size() + ix.x.size(), 0);
+    }
+    const size_t ne = scanBlock(ix, sc, geoms, poses, m);
+    if (m > 0)
+    {
+        rangesBlock(sc, ne, opt, geoms[0].R);
+    }
+    const size_t nc = gateBlock(ix, sc, k, ne);
+    gainBlock(ix, sc, k, nc);
+    totalsBlock(sc, k, m, out);
 }
 
 /** What a likelihood call knows of the sensor, fixed for all particles of a step. */
@@ -1489,10 +1598,6 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
                     sameDet))
     {
         planPairs(sc, *m_index, nLabels, k);
-        if (k.confusable)
-        {
-            planByRange(sc);
-        }
         sc.planKey = planKey;
         sc.planConfusable = k.confusable;
         sc.planDets = sc.dets;
@@ -1519,12 +1624,7 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
             scorePaperBlock(*m_index, k, sc, geoms, poses + i0, m, out + i0);
             continue;
         }
-        for (size_t i = 0; i < m; i++)
-        {
-            out[i0 + i] = finitePose(poses[i0 + i])
-                              ? scoreProbabilisticAt(*m_index, likelihoodOptions, k, sc, geoms[i])
-                              : kMinLogLik;
-        }
+        scoreProbabilisticBlock(*m_index, likelihoodOptions, k, sc, geoms, poses + i0, m, out + i0);
     }
 }
 
