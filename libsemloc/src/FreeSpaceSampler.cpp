@@ -44,9 +44,7 @@ FreeSpaceSampler FreeSpaceSampler::FromWorld(const World& world, const TSampling
     }
     s.m_description =
         "free space of world '" + world.name + "'" + (area.hasBox() ? " in a box" : "");
-    s.m_cells = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(
-        world.makeOccupancyGrid(kWorldCell_m));
-    s.m_freeThreshold = 0.5;
+    s.m_raster = FreeRaster(world.makeOccupancyGrid(kWorldCell_m), 0.5);
     return s;
 }
 
@@ -85,8 +83,7 @@ FreeSpaceSampler FreeSpaceSampler::FromGrid(const mrpt::maps::COccupancyGridMap2
                         mrpt::format("%g", freeThreshold) + ")" + (box ? " in the box" : ""));
     }
     s.m_description = mrpt::format("%zu free cells of the occupancy grid", s.m_cellX.size());
-    s.m_cells = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(grid);
-    s.m_freeThreshold = freeThreshold;
+    s.m_raster = FreeRaster(grid, freeThreshold);
     return s;
 }
 
@@ -105,6 +102,25 @@ FreeSpaceSampler FreeSpaceSampler::FromBox(const TSamplingArea& area)
     return s;
 }
 
+FreeSpaceSampler::FreeRaster::FreeRaster(const mrpt::maps::COccupancyGridMap2D& grid,
+                                         double freeThreshold)
+    : sizeX(static_cast<int>(grid.getSizeX())),
+      sizeY(static_cast<int>(grid.getSizeY())),
+      x0(grid.getXMin()),
+      y0(grid.getYMin()),
+      resolution(grid.getResolution())
+{
+    free.resize(static_cast<size_t>(sizeX) * static_cast<size_t>(sizeY));
+    for (int cy = 0; cy < sizeY; cy++)
+    {
+        for (int cx = 0; cx < sizeX; cx++)
+        {
+            free[static_cast<size_t>(cx) + static_cast<size_t>(cy) * static_cast<size_t>(sizeX)] =
+                grid.getCell(cx, cy) >= freeThreshold ? 1 : 0;
+        }
+    }
+}
+
 bool FreeSpaceSampler::contains(double x, double y) const
 {
     switch (m_kind)
@@ -112,28 +128,14 @@ bool FreeSpaceSampler::contains(double x, double y) const
         case Kind::Box:
             return x >= m_area.x_min && x <= m_area.x_max && y >= m_area.y_min && y <= m_area.y_max;
         case Kind::Grid:
-        {
-            const int cx = m_cells->x2idx(x), cy = m_cells->y2idx(y);
-            return x >= m_cells->getXMin() && y >= m_cells->getYMin() && cx >= 0 && cy >= 0 &&
-                   cx < static_cast<int>(m_cells->getSizeX()) &&
-                   cy < static_cast<int>(m_cells->getSizeY()) &&
-                   m_cells->getCell(cx, cy) >= m_freeThreshold;
-        }
+            return x >= m_raster.x0 && y >= m_raster.y0 && m_raster.freeAt(x, y);
         case Kind::World:
-        {
             if (!m_world->bounds.contains(x, y))
             {
                 return false;
             }
-            const int cx = m_cells->x2idx(x), cy = m_cells->y2idx(y);
-            if (cx >= 0 && cy >= 0 && cx < static_cast<int>(m_cells->getSizeX()) &&
-                cy < static_cast<int>(m_cells->getSizeY()) &&
-                m_cells->getCell(cx, cy) >= m_freeThreshold)
-            {
-                return true;  // no outline touches the cell and its centre is free
-            }
-            return m_world->isFree(x, y);
-        }
+            // A free raster cell: no outline touches it and its centre is free.
+            return m_raster.freeAt(x, y) || m_world->isFree(x, y);
     }
     return false;
 }
