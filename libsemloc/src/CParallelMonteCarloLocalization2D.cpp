@@ -46,6 +46,10 @@ constexpr size_t kExpLoopChunk = 4096;
  *  small enough for the threads to finish within a few tens of microseconds of each other. */
 constexpr size_t kParticleGrain = 128;
 
+/** Two doubles operated on together (SSE2 on x86-64, plain code elsewhere): IEEE operations
+ *  lane by lane, so the same bits as scalar code (no contraction into FMA: baseline ISA). */
+using Vec2 = double __attribute__((vector_size(16)));
+
 /** mrpt::math::wrapToPi, bit for bit, without its fmod for angles already in range
  *  (fmod(t, 2 pi) is exactly t for 0 <= t < 2 pi). */
 inline double wrapToPiExact(double a)
@@ -98,33 +102,40 @@ constexpr size_t kResampleBlock = 256;
 class CParallelMonteCarloLocalization2D::GaussianIncrementDrawer
 {
 public:
-    explicit GaussianIncrementDrawer(const mrpt::poses::CPosePDFGaussian& pdf) : m_mean(pdf.mean)
+    explicit GaussianIncrementDrawer(const mrpt::poses::CPosePDFGaussian& pdf)
+        : m_meanXY{pdf.mean.x(), pdf.mean.y()}, m_meanPhi(pdf.mean.phi())
     {
+        mrpt::math::CMatrixDouble33 Z;
         std::vector<double> eigVals;
-        pdf.cov.eig_symmetric(m_Z, eigVals);
+        pdf.cov.eig_symmetric(Z, eigVals);
         mrpt::math::CMatrixDouble33 D;
         D.setDiagonal(eigVals);
         D = D.asEigen().array().sqrt().matrix();
-        m_Z.matProductOf_AB(m_Z, D);
+        Z.matProductOf_AB(Z, D);
+        for (int i = 0; i < 3; i++)
+        {
+            m_zxy[i] = Vec2{Z(0, i), Z(1, i)};
+            m_zphi[i] = Z(2, i);
+        }
     }
 
     TPose2D draw(ParticleNormals& rng) const
     {
-        const double n[3] = {rng(), rng(), rng()};
-        double r[3] = {0, 0, 0};
-        for (int i = 0; i < 3; i++)
-        {
-            for (int d = 0; d < 3; d++)
-            {
-                r[d] += m_Z(d, i) * n[i];
-            }
-        }
-        return {m_mean.x() + r[0], m_mean.y() + r[1], wrapToPiExact(m_mean.phi() + r[2])};
+        const double n0 = rng(), n1 = rng(), n2 = rng();
+        // r = ((0 + Z(:,0) n0) + Z(:,1) n1) + Z(:,2) n2, x and y side by side (the same
+        // operations, in the same order, as one coordinate at a time).
+        const Vec2 rxy = ((Vec2{0, 0} + m_zxy[0] * n0) + m_zxy[1] * n1) + m_zxy[2] * n2;
+        const double rphi = ((0 + m_zphi[0] * n0) + m_zphi[1] * n1) + m_zphi[2] * n2;
+        const Vec2 xy = m_meanXY + rxy;
+        return {xy[0], xy[1], wrapToPiExact(m_meanPhi + rphi)};
     }
 
 private:
-    mrpt::poses::CPose2D m_mean;
-    mrpt::math::CMatrixDouble33 m_Z;
+    Vec2 m_meanXY;
+    double m_meanPhi;
+    /** Columns of Z sqrt(D): rows x, y as pairs, row phi apart. */
+    Vec2 m_zxy[3];
+    double m_zphi[3];
 };
 
 namespace
@@ -147,12 +158,14 @@ const CSemanticMap* semanticMapOf(const mrpt::maps::CMetricMap* map)
     return nullptr;
 }
 
-/** p (+) u for 2D poses. */
+/** p (+) u for 2D poses: (x + c ux - s uy, y + s ux + c uy), x and y side by side. */
 inline TPose2D compose(const TPose2D& p, const TPose2D& u)
 {
     double s = 0, c = 0;
     detail::fastSinCos(p.phi, s, c);
-    return {p.x + c * u.x - s * u.y, p.y + s * u.x + c * u.y, wrapToPiExact(p.phi + u.phi)};
+    // a - b is a + (-b) exactly: the same bits as the formula one coordinate at a time.
+    const Vec2 xy = (Vec2{p.x, p.y} + Vec2{c, s} * u.x) + Vec2{-s, c} * u.y;
+    return {xy[0], xy[1], wrapToPiExact(p.phi + u.phi)};
 }
 }  // namespace
 

@@ -211,10 +211,15 @@ size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, siz
                                              double* out) const
 {
     const size_t m = e - b;
-    // Per-thread scratch: no allocation per chunk once grown.
-    thread_local std::vector<double> obsSum, term;
-    obsSum.resize(m);
-    term.resize(m);
+    // Per-thread scratch, grown only (no allocation or clearing per chunk).
+    thread_local std::vector<double> obsScratch, termScratch;
+    if (termScratch.size() < m)
+    {
+        obsScratch.resize(m);
+        termScratch.resize(m);
+    }
+    double* obsSum = obsScratch.data();
+    double* term = termScratch.data();
     for (size_t i = 0; i < m; i++)
     {
         out[b + i] = 1;  // MRPT's CMonteCarloLocalization2D starts the sum at 1
@@ -222,20 +227,17 @@ size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, siz
     for (size_t k = 0; k < m_terms.size(); k++)
     {
         const Term& t = m_terms[k];
-        if (t.firstOfObservation)
-        {
-            std::fill_n(obsSum.begin(), m, 0.0);
-        }
+        const bool lastOfObservation = k + 1 == m_terms.size() || m_terms[k + 1].firstOfObservation;
         switch (t.path)
         {
             case Path::Semantic:
                 static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
-                    static_cast<const CObservationSemantic&>(*t.obs), poses + b, m, term.data());
+                    static_cast<const CObservationSemantic&>(*t.obs), poses + b, m, term);
                 break;
             case Path::SemanticBearingRange:
                 static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
                     static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs), poses + b, m,
-                    term.data());
+                    term);
                 break;
             case Path::Structure:
             {
@@ -254,18 +256,27 @@ size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, siz
                 }
                 break;
             case Path::GenericSerial:
-                std::copy_n(m_serial[t.serialIndex].begin() + static_cast<ptrdiff_t>(b), m,
-                            term.begin());
+                std::copy_n(m_serial[t.serialIndex].begin() + static_cast<ptrdiff_t>(b), m, term);
                 break;
             case Path::Zero:
-                std::fill_n(term.begin(), m, 0.0);
+                std::fill_n(term, m, 0.0);
                 break;
+        }
+        if (t.firstOfObservation && lastOfObservation)
+        {
+            // The observation's only term: out + (0 + term) is out + term, bit for bit (0 + term
+            // only turns -0 into +0, which adds the same to out, never -0 as a sum from 1).
+            for (size_t i = 0; i < m; i++)
+            {
+                out[b + i] += term[i];
+            }
+            continue;
         }
         for (size_t i = 0; i < m; i++)
         {
-            obsSum[i] += term[i];
+            obsSum[i] = (t.firstOfObservation ? 0.0 : obsSum[i]) + term[i];
         }
-        if (k + 1 == m_terms.size() || m_terms[k + 1].firstOfObservation)
+        if (lastOfObservation)
         {
             for (size_t i = 0; i < m; i++)
             {
