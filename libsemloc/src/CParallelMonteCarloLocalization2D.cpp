@@ -34,12 +34,13 @@ using mrpt::math::TPose2D;
 namespace
 {
 constexpr double kNegInf = -std::numeric_limits<double>::infinity();
-/** Loops of a few nanoseconds per particle are split over threads only from this many
- *  particles on: below, waking the pool costs more than it saves (the results are the same
- *  either way). */
-constexpr size_t kCheapLoopChunk = 16384;
+/** Smallest range a thread claims of a loop of a few nanoseconds per particle (max/min scans,
+ *  weight shifts): the pool's threads poll between the calls of a step, so a call costs a
+ *  microsecond or two, a few thousand particles' worth (the results are the same either
+ *  way). */
+constexpr size_t kCheapLoopGrain = 2048;
 /** Loops that copy a particle or do a little more per particle (~10 ns). */
-constexpr size_t kCopyLoopChunk = 4096;
+constexpr size_t kCopyLoopGrain = 1024;
 /** Loops with an exp() per particle (~20 ns) are worth splitting from this many on. */
 constexpr size_t kExpLoopChunk = 4096;
 /** Smallest range of the prediction + likelihood pass a thread claims (~1 us per particle):
@@ -684,7 +685,7 @@ CParallelMonteCarloLocalization2D::MinMax CParallelMonteCarloLocalization2D::min
             }
             partial[thread].add(r);
         },
-        kCheapLoopChunk / 2);
+        kCheapLoopGrain);
     MinMax r;
     for (const auto& p : partial)
     {
@@ -724,7 +725,7 @@ double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w
                 it->log_w -= maxW;
             }
         },
-        kCheapLoopChunk / 2);
+        kCheapLoopGrain);
     if (out_max_log_w)
     {
         *out_max_log_w = maxW;
@@ -826,7 +827,7 @@ void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<si
                 dst->log_w = 0;  // equal weights after resampling
             }
         },
-        kCopyLoopChunk / 2);
+        kCopyLoopGrain);
     m_particles.swap(m_resampled);
 }
 
