@@ -27,6 +27,7 @@ FreeSpaceSampler FreeSpaceSampler::FromWorld(const World& world, const TSampling
     FreeSpaceSampler s;
     s.m_kind = Kind::World;
     s.m_world = std::make_shared<const World>(world);
+    s.m_bounds = world.bounds;
     s.m_area = area;
     const auto& b = world.bounds;
     if (area.hasBox())
@@ -121,23 +122,9 @@ FreeSpaceSampler::FreeRaster::FreeRaster(const mrpt::maps::COccupancyGridMap2D& 
     }
 }
 
-bool FreeSpaceSampler::contains(double x, double y) const
+bool FreeSpaceSampler::worldIsFree(double x, double y) const
 {
-    switch (m_kind)
-    {
-        case Kind::Box:
-            return x >= m_area.x_min && x <= m_area.x_max && y >= m_area.y_min && y <= m_area.y_max;
-        case Kind::Grid:
-            return x >= m_raster.x0 && y >= m_raster.y0 && m_raster.freeAt(x, y);
-        case Kind::World:
-            if (!m_world->bounds.contains(x, y))
-            {
-                return false;
-            }
-            // A free raster cell: no outline touches it and its centre is free.
-            return m_raster.freeAt(x, y) || m_world->isFree(x, y);
-    }
-    return false;
+    return m_world->isFree(x, y);
 }
 
 mrpt::math::TPose2D FreeSpaceSampler::draw(mrpt::random::CRandomGenerator& rng) const
