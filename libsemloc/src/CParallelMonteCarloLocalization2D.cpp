@@ -24,6 +24,7 @@
 #include <limits>
 #include <optional>
 
+#include "ExpFast.h"
 #include "FastMath.h"
 #include "Ziggurat.h"
 
@@ -780,7 +781,7 @@ double CParallelMonteCarloLocalization2D::weightsAndESS(const MinMax& range,
                 double s = 0, s2 = 0;
                 for (size_t i = blk * ParallelExecutor::kReduceBlock; i < e; i++, ++it)
                 {
-                    const double w = std::exp(it->log_w - maxW);
+                    const double w = detail::expFast(it->log_w - maxW);
                     if (out)
                     {
                         out[i] = w;
