@@ -303,8 +303,10 @@ void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const 
     preEvaluate(poses, n);
     std::atomic<size_t> nonfinite{0};
     executor.forEachRange(
-        n, [&](size_t b, size_t e, size_t)
-        { nonfinite.fetch_add(evaluateChunk(poses, b, e, out), std::memory_order_relaxed); });
+        n,
+        [&](size_t b, size_t e, size_t)
+        { nonfinite.fetch_add(evaluateChunk(poses, b, e, out), std::memory_order_relaxed); },
+        256);  // below a few hundred poses one thread is faster than waking another
     addNonfinite(nonfinite.load());
 }
 
