@@ -46,6 +46,65 @@ TEST(ParallelExecutor, ChunksCoverTheRangeOnceAndRethrow)
     }
 }
 
+TEST(ParallelExecutor, RangesCoverTheRangeOnceOnNamedThreadsAndRethrow)
+{
+    for (size_t threads : {1, 2, 3})
+    {
+        ParallelExecutor ex(threads);
+        for (size_t n : {0, 1, 7, 1000, 10007})
+        {
+            std::vector<int> hits(n, 0);
+            std::vector<size_t> itemsOf(threads, 0);  // one slot per thread: no race
+            ex.forEachRange(
+                n,
+                [&](size_t b, size_t e, size_t thread)
+                {
+                    ASSERT_LT(thread, threads);
+                    ASSERT_LE(b, e);
+                    itemsOf[thread] += e - b;
+                    for (size_t i = b; i < e; i++)
+                    {
+                        hits[i]++;
+                    }
+                },
+                16);
+            for (size_t i = 0; i < n; i++)
+            {
+                ASSERT_EQ(hits[i], 1)
+                    << "item " << i << " of " << n << ", " << threads << " threads";
+            }
+            size_t total = 0;
+            for (const size_t k : itemsOf)
+            {
+                total += k;
+            }
+            EXPECT_EQ(total, n);
+        }
+        EXPECT_THROW(
+            ex.forEachRange(
+                1000, [](size_t b, size_t, size_t) { throw std::runtime_error(std::to_string(b)); },
+                16),
+            std::runtime_error);
+        // Back-to-back calls (the workers may still be in the previous one): every item once.
+        for (int call = 0; call < 200; call++)
+        {
+            std::vector<int> hits(5000, 0);
+            ex.forEachRange(hits.size(),
+                            [&](size_t b, size_t e, size_t)
+                            {
+                                for (size_t i = b; i < e; i++)
+                                {
+                                    hits[i]++;
+                                }
+                            });
+            for (const int h : hits)
+            {
+                ASSERT_EQ(h, 1) << "call " << call;
+            }
+        }
+    }
+}
+
 TEST(ParallelExecutor, BlockSumsDoNotDependOnThreads)
 {
     std::vector<double> v(10007);

@@ -24,6 +24,7 @@
 #include <limits>
 #include <optional>
 
+#include "ExpFast.h"
 #include "FastMath.h"
 #include "Ziggurat.h"
 
@@ -34,14 +35,22 @@ using mrpt::math::TPose2D;
 namespace
 {
 constexpr double kNegInf = -std::numeric_limits<double>::infinity();
-/** Loops of a few nanoseconds per particle are split over threads only from this many
- *  particles on: below, waking the pool costs more than it saves (the results are the same
- *  either way). */
-constexpr size_t kCheapLoopChunk = 16384;
+/** Smallest range a thread claims of a loop of a few nanoseconds per particle (max/min scans,
+ *  weight shifts): the pool's threads poll between the calls of a step, so a call costs a
+ *  microsecond or two, a few thousand particles' worth (the results are the same either
+ *  way). */
+constexpr size_t kCheapLoopGrain = 2048;
 /** Loops that copy a particle or do a little more per particle (~10 ns). */
-constexpr size_t kCopyLoopChunk = 4096;
+constexpr size_t kCopyLoopGrain = 1024;
 /** Loops with an exp() per particle (~20 ns) are worth splitting from this many on. */
 constexpr size_t kExpLoopChunk = 4096;
+/** Smallest range of the prediction + likelihood pass a thread claims (~1 us per particle):
+ *  small enough for the threads to finish within a few tens of microseconds of each other. */
+constexpr size_t kParticleGrain = 128;
+
+/** Two doubles operated on together (SSE2 on x86-64, plain code elsewhere): IEEE operations
+ *  lane by lane, so the same bits as scalar code (no contraction into FMA: baseline ISA). */
+using Vec2 = double __attribute__((vector_size(16)));
 
 /** mrpt::math::wrapToPi, bit for bit, without its fmod for angles already in range
  *  (fmod(t, 2 pi) is exactly t for 0 <= t < 2 pi). */
@@ -84,41 +93,55 @@ private:
     uint64_t m_state;
 };
 
+/** Systematic resampling works on blocks of this many particles (any size gives the same
+ *  indices; small blocks spread the copying evenly over the threads). */
+constexpr size_t kResampleBlock = 256;
+}  // namespace
+
 /** Draws pose increments from a CPosePDFGaussian as MRPT's CPoseRandomSampler does
  *  (setPosePDF, do_sample_2D: mean + Z sqrt(D) n for the eigen-decomposition Z D Z^T of
  *  the covariance), with the normals n of ParticleNormals. */
-class GaussianIncrementDrawer
+class CParallelMonteCarloLocalization2D::GaussianIncrementDrawer
 {
 public:
-    explicit GaussianIncrementDrawer(const mrpt::poses::CPosePDFGaussian& pdf) : m_mean(pdf.mean)
+    explicit GaussianIncrementDrawer(const mrpt::poses::CPosePDFGaussian& pdf)
+        : m_meanXY{pdf.mean.x(), pdf.mean.y()}, m_meanPhi(pdf.mean.phi())
     {
+        mrpt::math::CMatrixDouble33 Z;
         std::vector<double> eigVals;
-        pdf.cov.eig_symmetric(m_Z, eigVals);
+        pdf.cov.eig_symmetric(Z, eigVals);
         mrpt::math::CMatrixDouble33 D;
         D.setDiagonal(eigVals);
         D = D.asEigen().array().sqrt().matrix();
-        m_Z.matProductOf_AB(m_Z, D);
+        Z.matProductOf_AB(Z, D);
+        for (int i = 0; i < 3; i++)
+        {
+            m_zxy[i] = Vec2{Z(0, i), Z(1, i)};
+            m_zphi[i] = Z(2, i);
+        }
     }
 
     TPose2D draw(ParticleNormals& rng) const
     {
-        const double n[3] = {rng(), rng(), rng()};
-        double r[3] = {0, 0, 0};
-        for (int i = 0; i < 3; i++)
-        {
-            for (int d = 0; d < 3; d++)
-            {
-                r[d] += m_Z(d, i) * n[i];
-            }
-        }
-        return {m_mean.x() + r[0], m_mean.y() + r[1], wrapToPiExact(m_mean.phi() + r[2])};
+        const double n0 = rng(), n1 = rng(), n2 = rng();
+        // r = ((0 + Z(:,0) n0) + Z(:,1) n1) + Z(:,2) n2, x and y side by side (the same
+        // operations, in the same order, as one coordinate at a time).
+        const Vec2 rxy = ((Vec2{0, 0} + m_zxy[0] * n0) + m_zxy[1] * n1) + m_zxy[2] * n2;
+        const double rphi = ((0 + m_zphi[0] * n0) + m_zphi[1] * n1) + m_zphi[2] * n2;
+        const Vec2 xy = m_meanXY + rxy;
+        return {xy[0], xy[1], wrapToPiExact(m_meanPhi + rphi)};
     }
 
 private:
-    mrpt::poses::CPose2D m_mean;
-    mrpt::math::CMatrixDouble33 m_Z;
+    Vec2 m_meanXY;
+    double m_meanPhi;
+    /** Columns of Z sqrt(D): rows x, y as pairs, row phi apart. */
+    Vec2 m_zxy[3];
+    double m_zphi[3];
 };
 
+namespace
+{
 /** Draws from the detections before falling back to a uniform pose: a detection near the
  *  map's border or an object leaves most of its circle in the free space. */
 constexpr int kDetectionTries = 10;
@@ -137,12 +160,14 @@ const CSemanticMap* semanticMapOf(const mrpt::maps::CMetricMap* map)
     return nullptr;
 }
 
-/** p (+) u for 2D poses. */
+/** p (+) u for 2D poses: (x + c ux - s uy, y + s ux + c uy), x and y side by side. */
 inline TPose2D compose(const TPose2D& p, const TPose2D& u)
 {
     double s = 0, c = 0;
     detail::fastSinCos(p.phi, s, c);
-    return {p.x + c * u.x - s * u.y, p.y + s * u.x + c * u.y, wrapToPiExact(p.phi + u.phi)};
+    // a - b is a + (-b) exactly: the same bits as the formula one coordinate at a time.
+    const Vec2 xy = (Vec2{p.x, p.y} + Vec2{c, s} * u.x) + Vec2{-s, c} * u.y;
+    return {xy[0], xy[1], wrapToPiExact(p.phi + u.phi)};
 }
 }  // namespace
 
@@ -205,13 +230,14 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options)
 {
     MRPT_START
-    m_posesFresh = false;
     if (sf)
     {
         ASSERTMSG_(options.metricMap,
                    "CParallelMonteCarloLocalization2D needs options.metricMap (one map for "
                    "every particle)");
     }
+    std::optional<GaussianIncrementDrawer> drawer;
+    uint64_t key = 0;
     if (actions)
     {
         if (PF_options.adaptiveSampleSize)
@@ -220,26 +246,35 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
             CMonteCarloLocalization2D::prediction_and_update_pfStandardProposal(actions, nullptr,
                                                                                 PF_options);
         }
+        else if (const auto gauss = gaussianMotion(*actions))
+        {
+            // One key per step from MRPT's generator (the seed decides it); each particle's
+            // numbers from (key, index), drawn and applied on every thread.
+            auto& rng = mrpt::random::getRandomGenerator();
+            key = (static_cast<uint64_t>(rng.drawUniform32bit()) << 32) | rng.drawUniform32bit();
+            drawer.emplace(*gauss);
+        }
         else
         {
-            predictFixedSampleSize(*actions);
+            predictOtherMotion(*actions);
         }
     }
-    if (sf)
+    std::optional<MinMax> weightRange;
+    if (drawer || sf)
     {
-        update(*sf, PF_options);
+        weightRange = predictAndUpdate(drawer ? &*drawer : nullptr, key, sf, PF_options);
     }
     // CParticleFilter::executeOn's resampling test, done here where the weights are at hand:
     // executeOn then finds equal weights (its normalizeWeights() and ESS() are a max/min
     // pass) and does not resample again. Either branch takes the random numbers MRPT's
     // performResampling() would, at the same point of the sequence (the systematic one a
     // single uniform draw, as MRPT's).
-    m_essBeforeResampling = weightsAndESS(&m_linW);
+    m_essBeforeResampling = weightsAndESS(weightRange ? *weightRange : minMaxLogWeights(), &m_linW);
     if (!PF_options.adaptiveSampleSize && m_essBeforeResampling < PF_options.BETA)
     {
         if (PF_options.resamplingMethod == mrpt::bayes::CParticleFilter::prSystematic)
         {
-            systematicResampling(m_linW, m_resampleIdx);
+            systematicResampling();
         }
         else
         {
@@ -249,77 +284,127 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
                 logW[i] = m_particles[i].log_w;
             }
             computeResampling(PF_options.resamplingMethod, logW, m_resampleIdx);
+            performSubstitution(m_resampleIdx);
         }
-        performSubstitution(m_resampleIdx);
     }
     MRPT_END
 }
 
-void CParallelMonteCarloLocalization2D::systematicResampling(const std::vector<double>& w,
-                                                             std::vector<size_t>& out)
+void CParallelMonteCarloLocalization2D::systematicResampling()
 {
-    // Systematic resampling (Kitagawa 1996): M equally spaced pointers (u + i) / M, u one
-    // uniform draw of MRPT's generator, into the cumulative weights. Sorted output.
+    // Systematic resampling (Kitagawa 1996): M equally spaced pointers t_i = (u + i) M / W,
+    // u one uniform draw of MRPT's generator, into the cumulative weights; particle j takes
+    // the pointers in [c_{j-1}, c_j), the last particle of positive weight those beyond.
+    // The running sum c is one sequential chain of additions (its bits are the sequential
+    // loop's); everything else runs per block of particles on the executor's threads: the
+    // pointers of block [s, e) are those with c_{s-1} <= t_i < c_{e-1}, found from the
+    // chain's values at the block borders. Same indices as the sequential walk, bit for bit.
+    const std::vector<double>& w = m_linW;
     const size_t M = w.size();
+    const size_t blocks = (M + kResampleBlock - 1) / kResampleBlock;
+    m_blockCum.resize(blocks + 1);
     double total = 0;
-    size_t last = 0;  // the last particle of positive weight: no pointer goes beyond it
-    for (size_t i = 0; i < M; i++)
+    for (size_t blk = 0; blk < blocks; blk++)
     {
-        total += w[i];
-        last = w[i] > 0 ? i : last;
+        m_blockCum[blk] = total;  // c_{s-1} of the block's first particle s (0 for s = 0)
+        const size_t e = std::min(M, (blk + 1) * kResampleBlock);
+        for (size_t i = blk * kResampleBlock; i < e; i++)
+        {
+            total += w[i];
+        }
     }
+    m_blockCum[blocks] = total;
     ASSERT_(total > 0);
+    size_t last = M - 1;  // the last particle of positive weight: no pointer goes beyond it
+    while (last > 0 && !(w[last] > 0))
+    {
+        last--;
+    }
     const double u = mrpt::random::getRandomGenerator().drawUniform(0.0, 1.0);
     const double step = total / static_cast<double>(M);
-    out.resize(M);
-    size_t j = 0;
-    double cum = w[0];
-    for (size_t i = 0; i < M; i++)
+    const auto pointer = [&](size_t i) { return (u + static_cast<double>(i)) * step; };
+    // firstPointer[blk]: the first pointer of the block; the block of `last` takes every
+    // pointer from its first on, the blocks after it none.
+    const size_t lastBlock = last / kResampleBlock;
+    m_blockFirstPointer.resize(blocks + 1);
+    m_blockFirstPointer[0] = 0;
+    for (size_t blk = 1; blk <= blocks; blk++)
     {
-        const double t = (u + static_cast<double>(i)) * step;
-        while (t >= cum && j < last)
+        if (blk > lastBlock)
         {
-            cum += w[++j];
+            m_blockFirstPointer[blk] = M;
+            continue;
         }
-        out[i] = j;
+        // The first i with t_i >= c (t_i is non-decreasing in i): a guess, then corrected.
+        const double c = m_blockCum[blk];
+        const double guess = std::ceil(c / step - u);
+        size_t i = guess <= 0 ? 0 : std::min<size_t>(M, static_cast<size_t>(guess));
+        while (i > 0 && pointer(i - 1) >= c)
+        {
+            i--;
+        }
+        while (i < M && pointer(i) < c)
+        {
+            i++;
+        }
+        m_blockFirstPointer[blk] = i;
     }
+
+    m_resampled.resize(M);
+    m_executor->forEachRange(
+        blocks,
+        [&](size_t b0, size_t b1, size_t)
+        {
+            for (size_t blk = b0; blk < b1; blk++)
+            {
+                const size_t i0 = m_blockFirstPointer[blk], i1 = m_blockFirstPointer[blk + 1];
+                if (i0 >= i1)
+                {
+                    continue;
+                }
+                size_t j = blk * kResampleBlock;
+                const size_t jEnd = std::min(last, std::min(M, (blk + 1) * kResampleBlock) - 1);
+                double cum = m_blockCum[blk] + w[j];
+                auto src = m_particles.cbegin() + static_cast<ptrdiff_t>(j);
+                auto dst = m_resampled.begin() + static_cast<ptrdiff_t>(i0);
+                for (size_t i = i0; i < i1; i++, ++dst)
+                {
+                    const double t = pointer(i);
+                    while (t >= cum && j < jEnd)
+                    {
+                        cum += w[++j];
+                        ++src;
+                    }
+                    dst->d = src->d;
+                    dst->log_w = 0;  // equal weights after resampling
+                }
+            }
+        },
+        1);
+    m_particles.swap(m_resampled);
 }
 
-void CParallelMonteCarloLocalization2D::predictFixedSampleSize(
+std::optional<mrpt::poses::CPosePDFGaussian> CParallelMonteCarloLocalization2D::gaussianMotion(
     const mrpt::obs::CActionCollection& actions)
 {
-    const size_t M = m_particles.size();
-    auto& rng = mrpt::random::getRandomGenerator();
-    ParallelExecutor& ex = *m_executor;
-
     const auto mov2D = actions.getBestMovementEstimation();
     const auto* gauss =
         mov2D ? dynamic_cast<const mrpt::poses::CPosePDFGaussian*>(mov2D->poseChange.get())
               : nullptr;
     if (gauss)
     {
-        // One key per step from MRPT's generator (the seed decides it); each particle's
-        // numbers from (key, index), drawn and applied on every thread.
-        const uint64_t key =
-            (static_cast<uint64_t>(rng.drawUniform32bit()) << 32) | rng.drawUniform32bit();
-        const GaussianIncrementDrawer drawer(*gauss);
-        m_poses.resize(M);
-        ex.forEachChunk(M,
-                        [&](size_t b, size_t e)
-                        {
-                            for (size_t i = b; i < e; i++)
-                            {
-                                ParticleNormals normals(key, i);
-                                m_particles[i].d = m_poses[i] =
-                                    compose(m_particles[i].d, drawer.draw(normals));
-                            }
-                        });
-        m_posesFresh = true;  // the update reads them from m_poses
-        return;
+        return *gauss;
     }
+    return std::nullopt;
+}
 
+void CParallelMonteCarloLocalization2D::predictOtherMotion(
+    const mrpt::obs::CActionCollection& actions)
+{
     // Any other motion model (MRPT's Thrun particles, 3D actions): MRPT's sampler and its
     // 3D composition, as PF_SLAM_implementation_pfStandardProposal.
+    const size_t M = m_particles.size();
+    const auto mov2D = actions.getBestMovementEstimation();
     if (mov2D)
     {
         ASSERT_(mov2D->poseChange);
@@ -340,15 +425,16 @@ void CParallelMonteCarloLocalization2D::predictFixedSampleSize(
     {
         m_movementDrawer.drawSample(incr[i]);
     }
-    ex.forEachChunk(M,
-                    [&](size_t b, size_t e)
-                    {
-                        for (size_t i = b; i < e; i++)
-                        {
-                            const mrpt::poses::CPose3D p(mrpt::math::TPose3D(m_particles[i].d));
-                            m_particles[i].d = TPose2D((p + incr[i]).asTPose());
-                        }
-                    });
+    m_executor->forEachChunk(
+        M,
+        [&](size_t b, size_t e)
+        {
+            for (size_t i = b; i < e; i++)
+            {
+                const mrpt::poses::CPose3D p(mrpt::math::TPose3D(m_particles[i].d));
+                m_particles[i].d = TPose2D((p + incr[i]).asTPose());
+            }
+        });
 }
 
 double CParallelMonteCarloLocalization2D::logSumExpWeights() const
@@ -377,76 +463,101 @@ double CParallelMonteCarloLocalization2D::logSumExpWeights() const
     return maxW + std::log(sum);
 }
 
-void CParallelMonteCarloLocalization2D::update(
-    const mrpt::obs::CSensoryFrame& sf,
+std::optional<CParallelMonteCarloLocalization2D::MinMax>
+CParallelMonteCarloLocalization2D::predictAndUpdate(
+    const GaussianIncrementDrawer* drawer, uint64_t key, const mrpt::obs::CSensoryFrame* sf,
     const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options)
 {
     const size_t M = m_particles.size();
-    ASSERTMSG_(M > 0, "the particle set is empty");
     ParallelExecutor& ex = *m_executor;
-    prepareLikelihood();
-
-    const bool recovery = m_augmented.options().enabled();
-    const double lsePrior = recovery ? logSumExpWeights() : 0;
-
-    m_logLik.resize(M);
-    if (!m_posesFresh)
+    bool chunkwise = true;
+    double lsePrior = 0;
+    const bool recovery = sf && m_augmented.options().enabled();
+    if (sf)
     {
-        m_poses.resize(M);
-        ex.forEachChunk(
-            M,
-            [&](size_t b, size_t e)
-            {
-                for (size_t i = b; i < e; i++)
-                {
-                    m_poses[i] = m_particles[i].d;
-                }
-            },
-            kCopyLoopChunk);
+        ASSERTMSG_(M > 0, "the particle set is empty");
+        prepareLikelihood();
+        chunkwise = m_likelihood->plan(*sf, ex);
+        lsePrior = recovery ? logSumExpWeights() : 0;
+        m_logLik.resize(M);
     }
-    m_posesFresh = false;
-    m_likelihood->evaluate(sf, m_poses.data(), M, m_logLik.data(), ex);
+    m_poses.resize(M);
 
-    // One pass: the free-space prior, the weight update and the largest weight, per fixed
-    // block (the maximum and the count do not depend on how blocks meet threads).
+    // One pass per particle range: the prediction (or the poses' copy), the likelihood and
+    // the weight update with the free-space prior, reducing the weights' extremes and the
+    // counters per thread (exact whatever the ranges). A likelihood that needs every pose
+    // first (generic MRPT maps) takes a pass of its own after the prediction.
     const bool prior = m_freeSpacePrior && m_sampler;
     const double pow = PF_options.powFactor;
-    const size_t blocks = (M + ParallelExecutor::kReduceBlock - 1) / ParallelExecutor::kReduceBlock;
-    m_blockMax.assign(blocks, kNegInf);
-    m_blockOutside.assign(blocks, 0);
-    ex.forEachChunk(
-        blocks,
-        [&](size_t b0, size_t b1)
-        {
-            for (size_t blk = b0; blk < b1; blk++)
+    struct alignas(64) Partial
+    {
+        MinMax range;
+        size_t outside = 0, nonfinite = 0;
+    };
+    std::vector<Partial> partial(ex.threads());
+    const auto pass = [&](bool poses, bool likelihood)
+    {
+        ex.forEachRange(
+            M,
+            [&](size_t b, size_t e, size_t thread)
             {
-                const size_t e = std::min(M, (blk + 1) * ParallelExecutor::kReduceBlock);
-                double mx = kNegInf;
-                size_t outside = 0;
-                for (size_t i = blk * ParallelExecutor::kReduceBlock; i < e; i++)
+                if (poses)
+                {
+                    auto it = m_particles.begin() + static_cast<ptrdiff_t>(b);
+                    for (size_t i = b; i < e; i++, ++it)
+                    {
+                        if (drawer)
+                        {
+                            ParticleNormals normals(key, i);
+                            it->d = compose(it->d, drawer->draw(normals));
+                        }
+                        m_poses[i] = it->d;
+                    }
+                }
+                if (!likelihood)
+                {
+                    return;
+                }
+                Partial& acc = partial[thread];
+                acc.nonfinite += m_likelihood->evaluateChunk(m_poses.data(), b, e, m_logLik.data());
+                auto it = m_particles.begin() + static_cast<ptrdiff_t>(b);
+                for (size_t i = b; i < e; i++, ++it)
                 {
                     if (prior && m_logLik[i] != kNegInf &&
                         !m_sampler->contains(m_poses[i].x, m_poses[i].y))
                     {
                         m_logLik[i] = kNegInf;
-                        outside++;
+                        acc.outside++;
                     }
-                    auto& w = m_particles[i].log_w;
+                    auto& w = it->log_w;
                     w += m_logLik[i] * pow;
-                    mx = std::max(mx, w);  // NaN never wins a std::max against a number
+                    acc.range.add(w);
                 }
-                m_blockMax[blk] = mx;
-                m_blockOutside[blk] = outside;
-            }
-        },
-        kCopyLoopChunk / ParallelExecutor::kReduceBlock);
-    double maxW = kNegInf;
-    for (size_t blk = 0; blk < blocks; blk++)
+            },
+            kParticleGrain);
+    };
+    if (!sf)
     {
-        maxW = std::max(maxW, m_blockMax[blk]);
-        m_recoveryStats.outside_free_space += m_blockOutside[blk];
+        pass(true, false);
+        return std::nullopt;
     }
-    if (!std::isfinite(maxW))
+    if (!chunkwise)
+    {
+        pass(true, false);
+        m_likelihood->preEvaluate(m_poses.data(), M);
+    }
+    pass(chunkwise, true);
+
+    MinMax range;
+    size_t nonfinite = 0;
+    for (const Partial& p : partial)
+    {
+        range.add(p.range);
+        m_recoveryStats.outside_free_space += p.outside;
+        nonfinite += p.nonfinite;
+    }
+    m_likelihood->addNonfinite(nonfinite);
+    if (!std::isfinite(range.max))
     {
         // Every weight vanished: nothing left to normalize. Start over from the free space.
         m_recoveryStats.reinitializations++;
@@ -457,7 +568,7 @@ void CParallelMonteCarloLocalization2D::update(
         {
             // With recovery on, from the frame's detections too (the frame that killed
             // every particle is the best evidence of where the vehicle is).
-            const auto detections = detectionSampler(sf);
+            const auto detections = detectionSampler(*sf);
             for (auto& p : m_particles)
             {
                 m_recoveryStats.reinitialized_from_detections +=
@@ -474,7 +585,7 @@ void CParallelMonteCarloLocalization2D::update(
         }
         m_augmented.reset();
         m_lastPInject = 0;
-        return;
+        return MinMax{0, 0};
     }
 
     m_lastPInject = 0;
@@ -485,9 +596,11 @@ void CParallelMonteCarloLocalization2D::update(
         m_lastPInject = pInject;
         if (pInject > 0 && m_sampler)
         {
-            injectRandomParticles(pInject, sf, PF_options);
+            injectRandomParticles(pInject, *sf, PF_options);
+            return std::nullopt;  // resampled and partly replaced: scan the weights again
         }
     }
+    return range;
 }
 
 std::optional<DetectionPoseSampler> CParallelMonteCarloLocalization2D::detectionSampler(
@@ -557,18 +670,43 @@ void CParallelMonteCarloLocalization2D::injectRandomParticles(
     }
 }
 
+CParallelMonteCarloLocalization2D::MinMax CParallelMonteCarloLocalization2D::minMaxLogWeights()
+    const
+{
+    std::vector<MinMax> partial(m_executor->threads());
+    m_executor->forEachRange(
+        m_particles.size(),
+        [&](size_t b, size_t e, size_t thread)
+        {
+            MinMax r;
+            auto it = m_particles.cbegin() + static_cast<ptrdiff_t>(b);
+            for (size_t i = b; i < e; i++, ++it)
+            {
+                r.add(it->log_w);
+            }
+            partial[thread].add(r);
+        },
+        kCheapLoopGrain);
+    MinMax r;
+    for (const auto& p : partial)
+    {
+        r.add(p);
+    }
+    return r;
+}
+
 double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w)
 {
     if (m_particles.empty())
     {
         return 0;
     }
-    double maxW = m_particles[0].log_w, minW = maxW;
-    for (const auto& p : m_particles)
-    {
-        maxW = std::max(maxW, p.log_w);
-        minW = std::min(minW, p.log_w);
-    }
+    const MinMax r = minMaxLogWeights();
+    // MRPT's loop starts from the first weight: a NaN there stays (std::max/min never pick
+    // a NaN later on).
+    const double first = m_particles[0].log_w;
+    const double maxW = std::isnan(first) ? first : r.max;
+    const double minW = std::isnan(first) ? first : r.min;
     if (maxW == 0)
     {
         // Already normalized (e.g. just resampled): subtracting 0 changes nothing.
@@ -578,16 +716,17 @@ double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w
         }
         return std::exp(-minW);
     }
-    m_executor->forEachChunk(
+    m_executor->forEachRange(
         m_particles.size(),
-        [&](size_t b, size_t e)
+        [&](size_t b, size_t e, size_t)
         {
-            for (size_t i = b; i < e; i++)
+            auto it = m_particles.begin() + static_cast<ptrdiff_t>(b);
+            for (size_t i = b; i < e; i++, ++it)
             {
-                m_particles[i].log_w -= maxW;
+                it->log_w -= maxW;
             }
         },
-        kCheapLoopChunk);
+        kCheapLoopGrain);
     if (out_max_log_w)
     {
         *out_max_log_w = maxW;
@@ -597,10 +736,11 @@ double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w
 
 double CParallelMonteCarloLocalization2D::ESS() const
 {
-    return weightsAndESS(nullptr);
+    return weightsAndESS(minMaxLogWeights(), nullptr);
 }
 
-double CParallelMonteCarloLocalization2D::weightsAndESS(std::vector<double>* linW) const
+double CParallelMonteCarloLocalization2D::weightsAndESS(const MinMax& range,
+                                                        std::vector<double>* linW) const
 {
     // ESS = (sum w)^2 / (M sum w^2), shift-invariant: computed relative to the largest
     // log-weight, over fixed blocks (same bits for any thread count).
@@ -609,12 +749,7 @@ double CParallelMonteCarloLocalization2D::weightsAndESS(std::vector<double>* lin
     {
         return 0;
     }
-    double maxW = kNegInf, minW = std::numeric_limits<double>::infinity();
-    for (const auto& p : m_particles)
-    {
-        maxW = std::max(maxW, p.log_w);
-        minW = std::min(minW, p.log_w);
-    }
+    const double maxW = range.max, minW = range.min;
     if (!(maxW > kNegInf) || std::isinf(maxW))
     {
         return 0;
@@ -638,13 +773,15 @@ double CParallelMonteCarloLocalization2D::weightsAndESS(std::vector<double>* lin
         blocks,
         [&](size_t b0, size_t b1)
         {
+            auto it =
+                m_particles.cbegin() + static_cast<ptrdiff_t>(b0 * ParallelExecutor::kReduceBlock);
             for (size_t blk = b0; blk < b1; blk++)
             {
                 const size_t e = std::min(M, (blk + 1) * ParallelExecutor::kReduceBlock);
                 double s = 0, s2 = 0;
-                for (size_t i = blk * ParallelExecutor::kReduceBlock; i < e; i++)
+                for (size_t i = blk * ParallelExecutor::kReduceBlock; i < e; i++, ++it)
                 {
-                    const double w = std::exp(m_particles[i].log_w - maxW);
+                    const double w = detail::expFast(it->log_w - maxW);
                     if (out)
                     {
                         out[i] = w;
@@ -680,17 +817,18 @@ void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<si
     }
     const size_t M = idx->size();
     m_resampled.resize(M);
-    m_executor->forEachChunk(
+    m_executor->forEachRange(
         M,
-        [&](size_t b, size_t e)
+        [&](size_t b, size_t e, size_t)
         {
-            for (size_t i = b; i < e; i++)
+            auto dst = m_resampled.begin() + static_cast<ptrdiff_t>(b);
+            for (size_t i = b; i < e; i++, ++dst)
             {
-                m_resampled[i].d = m_particles[(*idx)[i]].d;
-                m_resampled[i].log_w = 0;  // equal weights after resampling
+                dst->d = m_particles[(*idx)[i]].d;
+                dst->log_w = 0;  // equal weights after resampling
             }
         },
-        kCopyLoopChunk);
+        kCopyLoopGrain);
     m_particles.swap(m_resampled);
 }
 

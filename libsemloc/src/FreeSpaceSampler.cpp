@@ -27,6 +27,7 @@ FreeSpaceSampler FreeSpaceSampler::FromWorld(const World& world, const TSampling
     FreeSpaceSampler s;
     s.m_kind = Kind::World;
     s.m_world = std::make_shared<const World>(world);
+    s.m_bounds = world.bounds;
     s.m_area = area;
     const auto& b = world.bounds;
     if (area.hasBox())
@@ -44,9 +45,7 @@ FreeSpaceSampler FreeSpaceSampler::FromWorld(const World& world, const TSampling
     }
     s.m_description =
         "free space of world '" + world.name + "'" + (area.hasBox() ? " in a box" : "");
-    s.m_cells = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(
-        world.makeOccupancyGrid(kWorldCell_m));
-    s.m_freeThreshold = 0.5;
+    s.m_raster = FreeRaster(world.makeOccupancyGrid(kWorldCell_m), 0.5);
     return s;
 }
 
@@ -85,8 +84,7 @@ FreeSpaceSampler FreeSpaceSampler::FromGrid(const mrpt::maps::COccupancyGridMap2
                         mrpt::format("%g", freeThreshold) + ")" + (box ? " in the box" : ""));
     }
     s.m_description = mrpt::format("%zu free cells of the occupancy grid", s.m_cellX.size());
-    s.m_cells = std::make_shared<const mrpt::maps::COccupancyGridMap2D>(grid);
-    s.m_freeThreshold = freeThreshold;
+    s.m_raster = FreeRaster(grid, freeThreshold);
     return s;
 }
 
@@ -105,37 +103,28 @@ FreeSpaceSampler FreeSpaceSampler::FromBox(const TSamplingArea& area)
     return s;
 }
 
-bool FreeSpaceSampler::contains(double x, double y) const
+FreeSpaceSampler::FreeRaster::FreeRaster(const mrpt::maps::COccupancyGridMap2D& grid,
+                                         double freeThreshold)
+    : sizeX(static_cast<int>(grid.getSizeX())),
+      sizeY(static_cast<int>(grid.getSizeY())),
+      x0(grid.getXMin()),
+      y0(grid.getYMin()),
+      resolution(grid.getResolution())
 {
-    switch (m_kind)
+    free.resize(static_cast<size_t>(sizeX) * static_cast<size_t>(sizeY));
+    for (int cy = 0; cy < sizeY; cy++)
     {
-        case Kind::Box:
-            return x >= m_area.x_min && x <= m_area.x_max && y >= m_area.y_min && y <= m_area.y_max;
-        case Kind::Grid:
+        for (int cx = 0; cx < sizeX; cx++)
         {
-            const int cx = m_cells->x2idx(x), cy = m_cells->y2idx(y);
-            return x >= m_cells->getXMin() && y >= m_cells->getYMin() && cx >= 0 && cy >= 0 &&
-                   cx < static_cast<int>(m_cells->getSizeX()) &&
-                   cy < static_cast<int>(m_cells->getSizeY()) &&
-                   m_cells->getCell(cx, cy) >= m_freeThreshold;
-        }
-        case Kind::World:
-        {
-            if (!m_world->bounds.contains(x, y))
-            {
-                return false;
-            }
-            const int cx = m_cells->x2idx(x), cy = m_cells->y2idx(y);
-            if (cx >= 0 && cy >= 0 && cx < static_cast<int>(m_cells->getSizeX()) &&
-                cy < static_cast<int>(m_cells->getSizeY()) &&
-                m_cells->getCell(cx, cy) >= m_freeThreshold)
-            {
-                return true;  // no outline touches the cell and its centre is free
-            }
-            return m_world->isFree(x, y);
+            free[static_cast<size_t>(cx) + static_cast<size_t>(cy) * static_cast<size_t>(sizeX)] =
+                grid.getCell(cx, cy) >= freeThreshold ? 1 : 0;
         }
     }
-    return false;
+}
+
+bool FreeSpaceSampler::worldIsFree(double x, double y) const
+{
+    return m_world->isFree(x, y);
 }
 
 mrpt::math::TPose2D FreeSpaceSampler::draw(mrpt::random::CRandomGenerator& rng) const

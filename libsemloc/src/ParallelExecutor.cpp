@@ -1,4 +1,5 @@
-/* semloc — ParallelExecutor: a persistent pool of worker threads woken once per call. */
+/* semloc — ParallelExecutor: a persistent pool of worker threads that claim the work of each
+ * call as they go. */
 #include <mrpt/core/exceptions.h>
 #include <semloc/ParallelExecutor.h>
 
@@ -7,8 +8,10 @@
 #include <chrono>
 #include <condition_variable>
 #include <exception>
+#include <limits>
 #include <mutex>
 #include <thread>
+#include <utility>
 #include <vector>
 
 namespace semloc
@@ -16,10 +19,10 @@ namespace semloc
 namespace
 {
 /** How long a thread polls for the next job or for the others to finish before sleeping on
- *  the condition variable. The filter calls the pool a few times per step in quick
- *  succession, and waking a sleeping thread costs tens of microseconds on a loaded machine
- *  (more than the per-particle loops it would parallelize); a short poll avoids it without
- *  burning a core between steps. */
+ *  the condition variable (or yielding). The filter calls the pool a few times per step in
+ *  quick succession, and waking a sleeping thread costs tens of microseconds on a loaded
+ *  machine (more than the per-particle loops it would parallelize); a short poll avoids it
+ *  without burning a core between steps. */
 constexpr auto kSpin = std::chrono::microseconds(100);
 
 inline void cpuRelax()
@@ -49,62 +52,156 @@ bool spinUntil(F&& ready)
         }
     }
 }
+
+using RangeFn = std::function<void(size_t, size_t, size_t)>;
+using ChunkFn = std::function<void(size_t, size_t)>;
 }  // namespace
 
+/** The job protocol. The caller publishes job g (fields, then `generation` = g), claims work
+ *  like any worker, then closes it (`closed` = g) and waits until no worker is `active`. A
+ *  worker counts itself active first and only then checks that job g is still open: with
+ *  sequentially consistent operations on `active` and `closed`, either the caller sees it
+ *  active (and waits for it) or it sees the job closed (and leaves the fields alone, which
+ *  the caller may be rewriting for the next job). So the caller never waits for a thread
+ *  that is asleep or descheduled when the work runs out. */
 struct ParallelExecutor::Pool
 {
-    std::mutex mtx;
-    std::condition_variable wake, done;
+    size_t threads = 1;
     std::vector<std::thread> workers;
-    /** The current job: chunk k of `chunks` over [0, n) for worker k (1-based); written
-     *  under `mtx` before `generation` is increased. */
-    const std::function<void(size_t, size_t)>* work = nullptr;
-    size_t n = 0, chunks = 0;
-    std::atomic<uint64_t> generation{0};
-    /** Workers still running the current job (their writes are visible once it is 0). */
-    std::atomic<size_t> pending{0};
-    std::atomic<bool> stop{false};
-    std::vector<std::exception_ptr> errors;
 
-    void workerLoop(size_t k)
+    // The current job; written by the caller only while no worker may read it.
+    const RangeFn* rangeWork = nullptr;
+    const ChunkFn* chunkWork = nullptr;
+    size_t n = 0;
+    /** > 0: the fixed chunks of forEachChunk (claimed by index); 0: guided ranges. */
+    size_t chunks = 0;
+    size_t grain = 1;
+
+    std::atomic<uint64_t> generation{0};
+    std::atomic<uint64_t> closed{0};
+    std::atomic<size_t> active{0};
+    /** Next unclaimed item (guided) or chunk index. */
+    std::atomic<size_t> cursor{0};
+
+    std::mutex errorMtx;
+    std::exception_ptr error;
+    size_t errorAt = 0;
+
+    std::mutex sleepMtx;
+    std::condition_variable wake;
+    std::atomic<size_t> sleepers{0};
+    std::atomic<bool> stop{false};
+
+    void run(size_t begin, size_t end, size_t thread)
+    {
+        try
+        {
+            if (rangeWork)
+            {
+                (*rangeWork)(begin, end, thread);
+            }
+            else
+            {
+                (*chunkWork)(begin, end);
+            }
+        }
+        catch (...)
+        {
+            std::lock_guard lk(errorMtx);
+            if (!error || begin < errorAt)
+            {
+                error = std::current_exception();
+                errorAt = begin;
+            }
+        }
+    }
+
+    /** Claims and runs work of the current job until none is left. */
+    void claimAll(size_t thread)
+    {
+        if (chunks > 0)
+        {
+            for (;;)
+            {
+                const size_t k = cursor.fetch_add(1, std::memory_order_relaxed);
+                if (k >= chunks)
+                {
+                    return;
+                }
+                size_t b = 0, e = 0;
+                chunkRange(n, chunks, k, b, e);
+                run(b, e, thread);
+            }
+        }
+        size_t c = cursor.load(std::memory_order_relaxed);
+        while (c < n)
+        {
+            // Guided: half of an equal share of what is left, so the last claims are small
+            // and the threads finish together.
+            const size_t take = std::max(grain, (n - c) / (2 * threads));
+            const size_t e = std::min(n, c + take);
+            if (cursor.compare_exchange_weak(c, e, std::memory_order_relaxed))
+            {
+                run(c, e, thread);
+                c = cursor.load(std::memory_order_relaxed);
+            }
+        }
+    }
+
+    /** Runs one job on the calling thread (thread 0) and the workers; rethrows. */
+    void execute()
+    {
+        error = nullptr;
+        cursor.store(0, std::memory_order_relaxed);
+        const uint64_t g = generation.load(std::memory_order_relaxed) + 1;
+        generation.store(g);
+        if (sleepers.load() > 0)
+        {
+            std::lock_guard lk(sleepMtx);
+            wake.notify_all();
+        }
+        claimAll(0);
+        closed.store(g);
+        if (!spinUntil([&] { return active.load() == 0; }))
+        {
+            while (active.load() != 0)
+            {
+                std::this_thread::yield();  // a worker descheduled in the middle of a range
+            }
+        }
+        rangeWork = nullptr;
+        chunkWork = nullptr;
+        if (error)
+        {
+            std::rethrow_exception(std::exchange(error, nullptr));
+        }
+    }
+
+    void workerLoop(size_t thread)
     {
         uint64_t seen = 0;
         for (;;)
         {
-            spinUntil([&] { return stop.load() || generation.load() != seen; });
-            std::unique_lock lk(mtx);
-            wake.wait(lk, [&] { return stop.load() || generation.load() != seen; });
-            if (stop)
+            auto news = [&] { return stop.load() || generation.load() != seen; };
+            if (!spinUntil(news))
+            {
+                std::unique_lock lk(sleepMtx);
+                sleepers.fetch_add(1);
+                wake.wait(lk, news);
+                sleepers.fetch_sub(1);
+            }
+            if (stop.load())
             {
                 return;
             }
-            seen = generation.load();
-            if (k >= chunks)
+            const uint64_t g = generation.load();
+            active.fetch_add(1);
+            if (generation.load() == g && closed.load() < g)
             {
-                continue;  // this job has fewer chunks than threads: not counted in `pending`
+                claimAll(thread);
             }
-            const auto* job = work;
-            const size_t jobN = n, jobChunks = chunks;
-            lk.unlock();
-
-            std::exception_ptr err;
-            try
-            {
-                size_t b = 0, e = 0;
-                chunkRange(jobN, jobChunks, k, b, e);
-                (*job)(b, e);
-            }
-            catch (...)
-            {
-                err = std::current_exception();
-            }
-
-            lk.lock();
-            errors[k] = err;
-            if (pending.fetch_sub(1, std::memory_order_acq_rel) == 1)
-            {
-                done.notify_one();
-            }
+            active.fetch_sub(1);
+            seen = g;
         }
     }
 };
@@ -113,7 +210,7 @@ ParallelExecutor::ParallelExecutor(size_t threads)
     : m_threads(threads > 0 ? threads : std::max<size_t>(1, std::thread::hardware_concurrency())),
       m_pool(std::make_unique<Pool>())
 {
-    m_pool->errors.resize(m_threads);
+    m_pool->threads = m_threads;
     for (size_t k = 1; k < m_threads; k++)
     {
         m_pool->workers.emplace_back([p = m_pool.get(), k] { p->workerLoop(k); });
@@ -123,7 +220,7 @@ ParallelExecutor::ParallelExecutor(size_t threads)
 ParallelExecutor::~ParallelExecutor()
 {
     {
-        std::lock_guard lk(m_pool->mtx);
+        std::lock_guard lk(m_pool->sleepMtx);
         m_pool->stop.store(true);
     }
     m_pool->wake.notify_all();
@@ -139,8 +236,7 @@ void ParallelExecutor::chunkRange(size_t n, size_t chunks, size_t k, size_t& beg
     end = (k + 1) * n / chunks;
 }
 
-void ParallelExecutor::forEachChunk(size_t n, const std::function<void(size_t, size_t)>& work,
-                                    size_t minChunk)
+void ParallelExecutor::forEachChunk(size_t n, const ChunkFn& work, size_t minChunk)
 {
     if (n == 0)
     {
@@ -153,42 +249,30 @@ void ParallelExecutor::forEachChunk(size_t n, const std::function<void(size_t, s
         return;
     }
     Pool& p = *m_pool;
-    {
-        std::lock_guard lk(p.mtx);
-        p.work = &work;
-        p.n = n;
-        p.chunks = chunks;
-        p.pending.store(chunks - 1);
-        std::fill(p.errors.begin(), p.errors.end(), nullptr);
-        p.generation.fetch_add(1);
-    }
-    p.wake.notify_all();
+    p.chunkWork = &work;
+    p.n = n;
+    p.chunks = chunks;
+    p.execute();
+}
 
-    std::exception_ptr first;
-    try
+void ParallelExecutor::forEachRange(size_t n, const RangeFn& work, size_t grain)
+{
+    if (n == 0)
     {
-        size_t b = 0, e = 0;
-        chunkRange(n, chunks, 0, b, e);
-        work(b, e);
+        return;
     }
-    catch (...)
+    grain = std::max<size_t>(1, grain);
+    if (m_threads == 1 || n <= grain)
     {
-        first = std::current_exception();
+        work(0, n, 0);
+        return;
     }
-
-    spinUntil([&] { return p.pending.load(std::memory_order_acquire) == 0; });
-    std::unique_lock lk(p.mtx);
-    p.done.wait(lk, [&] { return p.pending.load() == 0; });
-    p.work = nullptr;
-    for (size_t k = 1; k < chunks && !first; k++)
-    {
-        first = p.errors[k];
-    }
-    lk.unlock();
-    if (first)
-    {
-        std::rethrow_exception(first);
-    }
+    Pool& p = *m_pool;
+    p.rangeWork = &work;
+    p.n = n;
+    p.chunks = 0;
+    p.grain = grain;
+    p.execute();
 }
 
 double ParallelExecutor::reduceBlocks(size_t n,

@@ -12,6 +12,7 @@
 #include <semloc/SensoryFrameLikelihood.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <typeinfo>
@@ -128,12 +129,11 @@ void SensoryFrameLikelihood::prepare(const ParallelExecutor& executor)
     }
 }
 
-void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const TPose2D* poses,
-                                      size_t n, double* out, ParallelExecutor& executor)
+bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelExecutor& executor)
 {
-    // Plan: one term per (observation, map) pair that can contribute, in MRPT's order.
+    // One term per (observation, map) pair that can contribute, in MRPT's order.
     m_terms.clear();
-    size_t nSerial = 0;
+    m_nSerial = 0;
     bool anyParallelGeneric = false;
     for (const auto& o : sf)
     {
@@ -163,7 +163,7 @@ void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const 
             first = false;
             if (path == Path::GenericSerial)
             {
-                t.serialIndex = nSerial++;
+                t.serialIndex = m_nSerial++;
             }
             anyParallelGeneric = anyParallelGeneric || path == Path::GenericParallel;
             m_terms.push_back(t);
@@ -181,9 +181,13 @@ void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const 
     {
         prepare(executor);
     }
+    return m_nSerial == 0 && !anyParallelGeneric;
+}
 
+void SensoryFrameLikelihood::preEvaluate(const TPose2D* poses, size_t n)
+{
     // Terms no thread may share: every pose, here, before the parallel section.
-    m_serial.resize(std::max(m_serial.size(), nSerial));
+    m_serial.resize(std::max(m_serial.size(), m_nSerial));
     for (const auto& t : m_terms)
     {
         if (t.path == Path::GenericSerial)
@@ -201,84 +205,109 @@ void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const 
             (void)t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[0]));
         }
     }
+}
 
-    executor.forEachChunk(
-        n,
-        [&](size_t b, size_t e)
+size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, size_t e,
+                                             double* out) const
+{
+    const size_t m = e - b;
+    // Per-thread scratch, grown only (no allocation or clearing per chunk).
+    thread_local std::vector<double> obsScratch, termScratch;
+    if (termScratch.size() < m)
+    {
+        obsScratch.resize(m);
+        termScratch.resize(m);
+    }
+    double* obsSum = obsScratch.data();
+    double* term = termScratch.data();
+    for (size_t i = 0; i < m; i++)
+    {
+        out[b + i] = 1;  // MRPT's CMonteCarloLocalization2D starts the sum at 1
+    }
+    for (size_t k = 0; k < m_terms.size(); k++)
+    {
+        const Term& t = m_terms[k];
+        const bool lastOfObservation = k + 1 == m_terms.size() || m_terms[k + 1].firstOfObservation;
+        switch (t.path)
         {
-            const size_t m = e - b;
-            std::vector<double> obsSum(m), term(m);
-            for (size_t i = 0; i < m; i++)
+            case Path::Semantic:
+                static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
+                    static_cast<const CObservationSemantic&>(*t.obs), poses + b, m, term);
+                break;
+            case Path::SemanticBearingRange:
+                static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
+                    static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs), poses + b, m,
+                    term);
+                break;
+            case Path::Structure:
             {
-                out[b + i] = 1;  // MRPT's CMonteCarloLocalization2D starts the sum at 1
-            }
-            for (size_t k = 0; k < m_terms.size(); k++)
-            {
-                const Term& t = m_terms[k];
-                if (t.firstOfObservation)
-                {
-                    std::fill(obsSum.begin(), obsSum.end(), 0.0);
-                }
-                switch (t.path)
-                {
-                    case Path::Semantic:
-                        static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
-                            static_cast<const CObservationSemantic&>(*t.obs), poses + b, m,
-                            term.data());
-                        break;
-                    case Path::SemanticBearingRange:
-                        static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
-                            static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs),
-                            poses + b, m, term.data());
-                        break;
-                    case Path::Structure:
-                    {
-                        const auto& st = static_cast<const CStructureMap&>(*t.map);
-                        const auto& scan =
-                            static_cast<const mrpt::obs::CObservation2DRangeScan&>(*t.obs);
-                        for (size_t i = 0; i < m; i++)
-                        {
-                            term[i] = st.computeLogLikelihood(scan, poses[b + i]);
-                        }
-                        break;
-                    }
-                    case Path::GenericParallel:
-                        for (size_t i = 0; i < m; i++)
-                        {
-                            term[i] =
-                                t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[b + i]));
-                        }
-                        break;
-                    case Path::GenericSerial:
-                        std::copy_n(m_serial[t.serialIndex].begin() + static_cast<ptrdiff_t>(b), m,
-                                    term.begin());
-                        break;
-                    case Path::Zero:
-                        std::fill(term.begin(), term.end(), 0.0);
-                        break;
-                }
+                const auto& st = static_cast<const CStructureMap&>(*t.map);
+                const auto& scan = static_cast<const mrpt::obs::CObservation2DRangeScan&>(*t.obs);
                 for (size_t i = 0; i < m; i++)
                 {
-                    obsSum[i] += term[i];
+                    term[i] = st.computeLogLikelihood(scan, poses[b + i]);
                 }
-                if (k + 1 == m_terms.size() || m_terms[k + 1].firstOfObservation)
-                {
-                    for (size_t i = 0; i < m; i++)
-                    {
-                        out[b + i] += obsSum[i];
-                    }
-                }
+                break;
             }
-        });
-
-    for (size_t i = 0; i < n; i++)
+            case Path::GenericParallel:
+                for (size_t i = 0; i < m; i++)
+                {
+                    term[i] = t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[b + i]));
+                }
+                break;
+            case Path::GenericSerial:
+                std::copy_n(m_serial[t.serialIndex].begin() + static_cast<ptrdiff_t>(b), m, term);
+                break;
+            case Path::Zero:
+                std::fill_n(term, m, 0.0);
+                break;
+        }
+        if (t.firstOfObservation && lastOfObservation)
+        {
+            // The observation's only term: out + (0 + term) is out + term, bit for bit (0 + term
+            // only turns -0 into +0, which adds the same to out, never -0 as a sum from 1).
+            for (size_t i = 0; i < m; i++)
+            {
+                out[b + i] += term[i];
+            }
+            continue;
+        }
+        for (size_t i = 0; i < m; i++)
+        {
+            obsSum[i] = (t.firstOfObservation ? 0.0 : obsSum[i]) + term[i];
+        }
+        if (lastOfObservation)
+        {
+            for (size_t i = 0; i < m; i++)
+            {
+                out[b + i] += obsSum[i];
+            }
+        }
+    }
+    size_t nonfinite = 0;
+    for (size_t i = b; i < e; i++)
     {
         if (!std::isfinite(out[i]))
         {
             out[i] = -std::numeric_limits<double>::infinity();
-            m_stats.nonfinite_likelihoods++;
+            nonfinite++;
         }
     }
+    return nonfinite;
+}
+
+void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const TPose2D* poses,
+                                      size_t n, double* out, ParallelExecutor& executor)
+{
+    plan(sf, executor);
+    preEvaluate(poses, n);
+    std::atomic<size_t> nonfinite{0};
+    executor.forEachRange(
+        n,
+        [&](size_t b, size_t e, size_t)
+        { nonfinite.fetch_add(evaluateChunk(poses, b, e, out), std::memory_order_relaxed); },
+        256);  // below a few hundred poses one thread is faster than waking another
+    addNonfinite(nonfinite.load());
 }
 
 }  // namespace semloc

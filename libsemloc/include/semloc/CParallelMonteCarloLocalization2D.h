@@ -3,13 +3,17 @@
 #pragma once
 
 #include <mrpt/math/TPose2D.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/slam/CMonteCarloLocalization2D.h>
 #include <semloc/AugmentedMCL.h>
 #include <semloc/DetectionPoseSampler.h>
 #include <semloc/FreeSpaceSampler.h>
 #include <semloc/SensoryFrameLikelihood.h>
 
+#include <algorithm>
 #include <cstddef>
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -161,14 +165,43 @@ public:
     size_t particlesCount() const override { return m_particles.size(); }
 
 private:
-    void predictFixedSampleSize(const mrpt::obs::CActionCollection& actions);
-    void update(const mrpt::obs::CSensoryFrame& sf,
-                const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options);
+    class GaussianIncrementDrawer;
+    /** Smallest and largest log-weight (NaN ignored). */
+    struct MinMax
+    {
+        double min = std::numeric_limits<double>::infinity();
+        double max = -std::numeric_limits<double>::infinity();
+        void add(double w)
+        {
+            max = std::max(max, w);
+            min = std::min(min, w);
+        }
+        void add(const MinMax& o)
+        {
+            max = std::max(max, o.max);
+            min = std::min(min, o.min);
+        }
+    };
+
+    /** The odometry of `actions` when it is a CPosePDFGaussian, else none. */
+    static std::optional<mrpt::poses::CPosePDFGaussian> gaussianMotion(
+        const mrpt::obs::CActionCollection& actions);
+    /** Prediction by MRPT's sampler (motion models other than the Gaussian). */
+    void predictOtherMotion(const mrpt::obs::CActionCollection& actions);
+    /** The per-particle pass: prediction by `drawer` (if any) with the step's `key`, then
+     *  (with a frame) likelihood, free-space prior and weight update. The log-weights'
+     *  extremes when known at the end (no injection), else none. */
+    std::optional<MinMax> predictAndUpdate(
+        const GaussianIncrementDrawer* drawer, uint64_t key, const mrpt::obs::CSensoryFrame* sf,
+        const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options);
+    /** Extremes of the log-weights, on the executor's threads. */
+    MinMax minMaxLogWeights() const;
     double logSumExpWeights() const;
-    /** ESS(); with `linW`, also each particle's weight relative to the largest. */
-    double weightsAndESS(std::vector<double>* linW) const;
-    /** Sorted indices of a systematic resampling of the (unnormalized) weights `w`. */
-    static void systematicResampling(const std::vector<double>& w, std::vector<size_t>& out);
+    /** ESS() from the log-weights' extremes `range`; with `linW`, also each particle's weight
+     *  relative to the largest. */
+    double weightsAndESS(const MinMax& range, std::vector<double>* linW) const;
+    /** Systematic resampling of the weights m_linW, substituted in place. */
+    void systematicResampling();
     void injectRandomParticles(double pInject, const mrpt::obs::CSensoryFrame& sf,
                                const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o);
     /** The frame's detections to draw recovery poses from (recovery on, from_detections > 0,
@@ -193,10 +226,9 @@ private:
     std::vector<double> m_logLik;
     CParticleList m_resampled;
     std::vector<size_t> m_resampleIdx;
-    std::vector<double> m_blockMax;
-    std::vector<size_t> m_blockOutside;
-    /** m_poses holds the particles' poses already (the prediction wrote both). */
-    bool m_posesFresh = false;
+    /** Systematic resampling: cumulative weight before each block, first pointer of each. */
+    std::vector<double> m_blockCum;
+    std::vector<size_t> m_blockFirstPointer;
     std::vector<double> m_linW;
     double m_essBeforeResampling = 1;
 };

@@ -4,6 +4,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <semloc/World.h>
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -63,8 +64,23 @@ public:
     mrpt::math::TPose2D draw(mrpt::random::CRandomGenerator& rng) const;
     /** True if a vehicle may be at (x, y): World::isFree (exact; a rasterization answers
      *  first for the cells no outline touches), a free grid cell, or inside the box. The
-     *  box of FromWorld()/FromGrid() restricts draw() only. Safe from many threads. */
-    bool contains(double x, double y) const;
+     *  box of FromWorld()/FromGrid() restricts draw() only. Safe from many threads. Inline:
+     *  the filter asks once per particle and step. */
+    bool contains(double x, double y) const
+    {
+        switch (m_kind)
+        {
+            case Kind::Box:
+                return x >= m_area.x_min && x <= m_area.x_max && y >= m_area.y_min &&
+                       y <= m_area.y_max;
+            case Kind::Grid:
+                return x >= m_raster.x0 && y >= m_raster.y0 && m_raster.freeAt(x, y);
+            case Kind::World:
+                // A free raster cell: no outline touches it and its centre is free.
+                return m_bounds.contains(x, y) && (m_raster.freeAt(x, y) || worldIsFree(x, y));
+        }
+        return false;
+    }
     /** A short description for logs ("free space of world 'paper_50x50'", ...). */
     const std::string& description() const { return m_description; }
 
@@ -75,13 +91,41 @@ private:
         Grid,
         Box
     };
+    /** World::isFree of m_world (out of line: the exact test, rarely reached). */
+    bool worldIsFree(double x, double y) const;
+
     Kind m_kind = Kind::Box;
     TSamplingArea m_area;
     std::shared_ptr<const World> m_world;
-    /** World: cells no outline touches and whose centre is free are free (makeOccupancyGrid);
-     *  Grid: the grid itself. */
-    std::shared_ptr<const mrpt::maps::COccupancyGridMap2D> m_cells;
-    double m_freeThreshold = 0;
+    /** m_world's bounds (World: contains() reads them without the indirection). */
+    WorldBounds m_bounds;
+    /** Free cells of a grid as a byte raster (1 = free), row-major from (x0, y0): what
+     *  COccupancyGridMap2D::getCell(x2idx(x), y2idx(y)) >= threshold answers, without the
+     *  log-odds lookup. World: the cells no outline touches and whose centre is free
+     *  (World::makeOccupancyGrid); Grid: the grid's cells. */
+    struct FreeRaster
+    {
+        std::vector<uint8_t> free;
+        int sizeX = 0, sizeY = 0;
+        /** The grid's float origin and resolution, widened as x2idx(double) does. */
+        double x0 = 0, y0 = 0, resolution = 1;
+        FreeRaster() = default;
+        FreeRaster(const mrpt::maps::COccupancyGridMap2D& grid, double freeThreshold);
+        /** The cell of (x, y) lies in the raster and is free. */
+        bool freeAt(double x, double y) const
+        {
+            // int(q) is in [0, size) exactly when q is in (-1, size): no out-of-range cast.
+            const double qx = (x - x0) / resolution, qy = (y - y0) / resolution;
+            if (!(qx > -1 && qy > -1 && qx < sizeX && qy < sizeY))
+            {
+                return false;
+            }
+            return free[static_cast<size_t>(static_cast<int>(qx)) +
+                        static_cast<size_t>(static_cast<int>(qy)) * static_cast<size_t>(sizeX)] !=
+                   0;
+        }
+    };
+    FreeRaster m_raster;
     std::vector<double> m_cellX, m_cellY;
     double m_resolution = 0;
     std::string m_description;

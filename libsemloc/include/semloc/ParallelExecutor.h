@@ -1,5 +1,5 @@
 /* semloc — the execution policy of the particle filter: per-particle work on a small
- * persistent thread pool, over a static contiguous partition of the index range. */
+ * persistent thread pool, over ranges the threads claim as they go. */
 #pragma once
 
 #include <cstddef>
@@ -10,12 +10,14 @@ namespace semloc
 {
 /** Runs per-item work (one item = one particle) on a fixed set of threads.
  *
- *  The range [0, n) is cut into contiguous chunks, one per thread, always the same for a
- *  given n and thread count; the calling thread runs the first chunk and the pool's threads
- *  the others. Every item's result is written by the work function to the item's own slot,
- *  so the results do not depend on the thread count (no shared accumulator, no atomics).
- *  Reductions that must not depend on the thread count use reduceBlocks(), whose blocks
- *  are fixed by n alone.
+ *  The calling thread and the pool's threads claim the work as they go: a thread that
+ *  starts late (woken from sleep, descheduled by another process) takes less, and the
+ *  call returns as soon as every item is done, without waiting for threads that found
+ *  nothing left. Every item's result is written by the work function to the item's own
+ *  slot, so the results do not depend on the thread count (no shared accumulator, no
+ *  atomics). Reductions that must not depend on the thread count use reduceBlocks(), whose
+ *  blocks are fixed by n alone; forEachRange() serves partition-free reductions (maximum,
+ *  integer counts) through per-thread partial results.
  *
  *  One executor serves one caller at a time (the filter that owns it); it is not
  *  re-entrant: the work function must not call back into the same executor. */
@@ -31,11 +33,22 @@ public:
     /** Number of threads, the caller's included (>= 1). */
     size_t threads() const { return m_threads; }
 
-    /** Calls `work(begin, end)` once per chunk of [0, n) (at most threads() chunks, none
-     *  smaller than `minChunk` items unless n is) and returns when all are done. An
-     *  exception thrown by any chunk is rethrown here (the lowest chunk's first). */
+    /** Calls `work(begin, end)` once per chunk of [0, n): at most threads() chunks, fixed
+     *  by n and threads() (chunkRange()), none smaller than `minChunk` items unless n is;
+     *  returns when all are done. An exception thrown by any chunk is rethrown here (the
+     *  lowest chunk's). */
     void forEachChunk(size_t n, const std::function<void(size_t begin, size_t end)>& work,
                       size_t minChunk = 256);
+
+    /** Calls `work(begin, end, thread)` over disjoint ranges covering [0, n), claimed by the
+     *  threads as they go (guided: large ranges first, then smaller ones, none smaller than
+     *  `grain` items unless at the end), `thread` in [0, threads()) naming the thread that
+     *  runs it (for per-thread partial results). The ranges, and which thread runs which,
+     *  change from call to call: only for work whose result does not depend on them. An
+     *  exception is rethrown here (the one of the lowest range). */
+    void forEachRange(size_t n,
+                      const std::function<void(size_t begin, size_t end, size_t thread)>& work,
+                      size_t grain = 64);
 
     /** Size of the blocks of reduceBlocks(): fixed, so block sums never depend on threads. */
     static constexpr size_t kReduceBlock = 1024;

@@ -66,6 +66,23 @@ public:
     void evaluate(const mrpt::obs::CSensoryFrame& sf, const mrpt::math::TPose2D* poses, size_t n,
                   double* out, ParallelExecutor& executor);
 
+    /** @name evaluate() in steps, for a caller that computes the poses in its own parallel
+     *  section: plan(sf), preEvaluate(all poses) unless plan() returned true, then
+     *  evaluateChunk() on any partition of the poses, from any threads, and addNonfinite()
+     *  with the sum of what the chunks returned.
+     *  @{ */
+    /** Plans the frame's terms and counts its statistics. True when every term is evaluated
+     *  chunk by chunk (no generic MRPT map): preEvaluate() is then not needed. */
+    bool plan(const mrpt::obs::CSensoryFrame& sf, ParallelExecutor& executor);
+    /** The terms that need every pose before any chunk (generic maps). */
+    void preEvaluate(const mrpt::math::TPose2D* poses, size_t n);
+    /** out[i] = log p(sf | poses[i]) for i in [b, e) (a non-finite value becomes -inf); the
+     *  number of non-finite values. Safe from several threads on disjoint chunks. */
+    size_t evaluateChunk(const mrpt::math::TPose2D* poses, size_t b, size_t e, double* out) const;
+    /** Counts non-finite evaluations (TStats::nonfinite_likelihoods). */
+    void addNonfinite(size_t count) { m_stats.nonfinite_likelihoods += count; }
+    /** @} */
+
     /** Counters accumulated over every evaluate() call. */
     const TStats& stats() const { return m_stats; }
 
@@ -97,6 +114,8 @@ private:
     bool m_enabled = true;
     bool m_gridCachesReady = false;
     std::vector<Term> m_terms;
+    /** Terms of the GenericSerial path in m_terms. */
+    size_t m_nSerial = 0;
     std::vector<std::vector<double>> m_serial;
     TStats m_stats;
 };
