@@ -521,32 +521,57 @@ struct Geom
     double R, fov, cosHalf, sinHalf;
 };
 
-Geom makeGeom(Scratch& sc, const TPose2D& pose, double ox, double oy, double oyaw, double R,
-              double fov)
+/** What makeGeom needs that is the same for every particle of a call: the sensor's place
+ *  on the vehicle, cos/sin of its yaw there, and range, FOV and cos/sin of the half FOV. */
+struct GeomConsts
+{
+    double ox = 0, oy = 0, cosYaw = 1, sinYaw = 0;
+    bool yawed = false;
+    double R = 0, fov = 0, cosHalf = -1, sinHalf = 0;
+};
+
+GeomConsts geomConsts(Scratch& sc, double ox, double oy, double oyaw, double R, double fov)
+{
+    GeomConsts gc;
+    gc.ox = ox;
+    gc.oy = oy;
+    gc.yawed = oyaw != 0;
+    if (gc.yawed)
+    {
+        gc.cosYaw = sc.cosYaw.get(oyaw, [](double a) { return std::cos(a); });
+        gc.sinYaw = sc.sinYaw.get(oyaw, [](double a) { return std::sin(a); });
+    }
+    gc.R = R;
+    gc.fov = fov;
+    if (fov < 2 * M_PI)
+    {
+        gc.cosHalf = sc.cosHalf.get(0.5 * fov, [](double a) { return std::cos(a); });
+        gc.sinHalf = sc.sinHalf.get(0.5 * fov, [](double a) { return std::sin(a); });
+    }
+    return gc;
+}
+
+Geom makeGeom(const GeomConsts& gc, const TPose2D& pose)
 {
     Geom g;
     double sp, cp;
     detail::fastSinCos(pose.phi, sp, cp);
-    g.sx = pose.x + cp * ox - sp * oy;
-    g.sy = pose.y + sp * ox + cp * oy;
-    if (oyaw == 0)
+    g.sx = pose.x + cp * gc.ox - sp * gc.oy;
+    g.sy = pose.y + sp * gc.ox + cp * gc.oy;
+    if (gc.yawed)
+    {
+        g.c = cp * gc.cosYaw - sp * gc.sinYaw;
+        g.s = sp * gc.cosYaw + cp * gc.sinYaw;
+    }
+    else
     {
         g.c = cp;
         g.s = sp;
     }
-    else
-    {
-        const double cy = sc.cosYaw.get(oyaw, [](double a) { return std::cos(a); });
-        const double sy = sc.sinYaw.get(oyaw, [](double a) { return std::sin(a); });
-        g.c = cp * cy - sp * sy;
-        g.s = sp * cy + cp * sy;
-    }
-    g.R = R;
-    g.fov = fov;
-    g.cosHalf =
-        fov >= 2 * M_PI ? -1.0 : sc.cosHalf.get(0.5 * fov, [](double a) { return std::cos(a); });
-    g.sinHalf =
-        fov >= 2 * M_PI ? 0.0 : sc.sinHalf.get(0.5 * fov, [](double a) { return std::sin(a); });
+    g.R = gc.R;
+    g.fov = gc.fov;
+    g.cosHalf = gc.cosHalf;
+    g.sinHalf = gc.sinHalf;
     return g;
 }
 
@@ -1612,12 +1637,13 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     // CPU overlaps across particles), then the matching, which reads it.
     constexpr size_t kBlock = 256;
     Geom geoms[kBlock];
+    const GeomConsts gc = geomConsts(sc, s.ox, s.oy, s.oyaw, s.R, s.fov);
     for (size_t i0 = 0; i0 < n; i0 += kBlock)
     {
         const size_t m = std::min(kBlock, n - i0);
         for (size_t i = 0; i < m; i++)
         {
-            geoms[i] = makeGeom(sc, poses[i0 + i], s.ox, s.oy, s.oyaw, s.R, s.fov);
+            geoms[i] = makeGeom(gc, poses[i0 + i]);
         }
         if (likelihoodOptions.model == Model::Paper)
         {
