@@ -405,6 +405,7 @@ struct Pair
 {
     double gain;
     uint32_t j, v;
+    double q = 0;  // probabilistic: P_D / (1 - P_D) of the pair's object (totalsBlock)
 };
 
 /** A detection as one of a label's slots (planPairs). */
@@ -458,6 +459,8 @@ struct ModelConsts
     double logPu = 0;  // paper: log p_u
     // probabilistic
     double sb = 0, logNorm = 0, logKappa = 0, logSame = 0, logOther = 0, lambda = 0;
+    /** log(P_D / (1 - P_D)) at P_D's smallest and largest, widened by 1e-9 (gainBlock). */
+    double logQLo = 0, logQHi = 0;
     bool confusable = false;
 };
 
@@ -521,32 +524,57 @@ struct Geom
     double R, fov, cosHalf, sinHalf;
 };
 
-Geom makeGeom(Scratch& sc, const TPose2D& pose, double ox, double oy, double oyaw, double R,
-              double fov)
+/** What makeGeom needs that is the same for every particle of a call: the sensor's place
+ *  on the vehicle, cos/sin of its yaw there, and range, FOV and cos/sin of the half FOV. */
+struct GeomConsts
+{
+    double ox = 0, oy = 0, cosYaw = 1, sinYaw = 0;
+    bool yawed = false;
+    double R = 0, fov = 0, cosHalf = -1, sinHalf = 0;
+};
+
+GeomConsts geomConsts(Scratch& sc, double ox, double oy, double oyaw, double R, double fov)
+{
+    GeomConsts gc;
+    gc.ox = ox;
+    gc.oy = oy;
+    gc.yawed = oyaw != 0;
+    if (gc.yawed)
+    {
+        gc.cosYaw = sc.cosYaw.get(oyaw, [](double a) { return std::cos(a); });
+        gc.sinYaw = sc.sinYaw.get(oyaw, [](double a) { return std::sin(a); });
+    }
+    gc.R = R;
+    gc.fov = fov;
+    if (fov < 2 * M_PI)
+    {
+        gc.cosHalf = sc.cosHalf.get(0.5 * fov, [](double a) { return std::cos(a); });
+        gc.sinHalf = sc.sinHalf.get(0.5 * fov, [](double a) { return std::sin(a); });
+    }
+    return gc;
+}
+
+Geom makeGeom(const GeomConsts& gc, const TPose2D& pose)
 {
     Geom g;
     double sp, cp;
     detail::fastSinCos(pose.phi, sp, cp);
-    g.sx = pose.x + cp * ox - sp * oy;
-    g.sy = pose.y + sp * ox + cp * oy;
-    if (oyaw == 0)
+    g.sx = pose.x + cp * gc.ox - sp * gc.oy;
+    g.sy = pose.y + sp * gc.ox + cp * gc.oy;
+    if (gc.yawed)
+    {
+        g.c = cp * gc.cosYaw - sp * gc.sinYaw;
+        g.s = sp * gc.cosYaw + cp * gc.sinYaw;
+    }
+    else
     {
         g.c = cp;
         g.s = sp;
     }
-    else
-    {
-        const double cy = sc.cosYaw.get(oyaw, [](double a) { return std::cos(a); });
-        const double sy = sc.sinYaw.get(oyaw, [](double a) { return std::sin(a); });
-        g.c = cp * cy - sp * sy;
-        g.s = sp * cy + cp * sy;
-    }
-    g.R = R;
-    g.fov = fov;
-    g.cosHalf =
-        fov >= 2 * M_PI ? -1.0 : sc.cosHalf.get(0.5 * fov, [](double a) { return std::cos(a); });
-    g.sinHalf =
-        fov >= 2 * M_PI ? 0.0 : sc.sinHalf.get(0.5 * fov, [](double a) { return std::sin(a); });
+    g.R = gc.R;
+    g.fov = gc.fov;
+    g.cosHalf = gc.cosHalf;
+    g.sinHalf = gc.sinHalf;
     return g;
 }
 
@@ -895,6 +923,10 @@ ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLab
         const double pmax =
             std::clamp(std::max(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
         k.budget = 2 * (std::log(pmax) - std::log1p(-pmax) + k.logNorm - k.logKappa);
+        const double pmin =
+            std::clamp(std::min(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
+        k.logQLo = std::log(pmin / (1 - pmin)) - 1e-9;
+        k.logQHi = std::log(pmax / (1 - pmax)) + 1e-9;
         sigmaB = sb;
     }
     const double maxAbsDb = sigmaB * std::sqrt(std::max(0.0, k.budget));
@@ -1368,8 +1400,41 @@ size_t gateBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& 
     return nc;
 }
 
-/** Stage 4: atan2 and gain of the nc candidates; those with a positive gain are the pairs,
- *  in particle order (sc.pairs, sc.pairCount[i] of particle i). */
+/** The gain of matching detection j with entry e, less log(P_D / (1 - P_D)): the label term,
+ *  the Gaussians' normalisation and costs, and the clutter density the detection no longer
+ *  needs. */
+struct GainParts
+{
+    const Det* dets;
+    const uint32_t* hit;
+    const double *RR, *LX, *LY;
+    const int32_t* L;
+    double rest(const ModelConsts& k, uint32_t j, uint32_t e) const
+    {
+        const Det& d = dets[j];
+        const double dr = d.r - RR[e];
+        const double db = bearingDiff(d, LX[e], LY[e]);
+        double logC = 0;  // landmarks without a label: no label term
+        if (d.label >= 0)
+        {
+            logC = (d.label == L[hit[e]]) ? k.logSame : k.logOther;
+        }
+        return logC + k.logNorm - 0.5 * (dr * k.ir) * (dr * k.ir) -
+               0.5 * (db * k.ib) * (db * k.ib) - k.logKappa;
+    }
+};
+
+GainParts gainParts(const CSemanticMap::Index& ix, const Scratch& sc)
+{
+    return {sc.dets.data(), sc.bHit.data(), sc.bR.data(),
+            sc.bLx.data(),  sc.bLy.data(),  ix.label.data()};
+}
+
+/** Stage 4: the gains of the nc candidates; those with a positive gain are the pairs, in
+ *  particle order (sc.pairs, sc.pairCount[i] of particle i), each with its gain less
+ *  log q, q = P_D / (1 - P_D). Whether the gain is positive is decided without log q when
+ *  log q's range over the FOV decides it by more than 1e-9 (rounding: ~1e-14), else with
+ *  log q: the same pairs as gain = log q + rest > 0. */
 void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t nc)
 {
     if (sc.pairs.size() < nc + 1)
@@ -1377,43 +1442,34 @@ void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k,
         sc.pairs.resize(2 * nc + 1);  // at least one: read (not used) when a particle has none
     }
     const Cand* cands = sc.cands.data();
-    const uint32_t* hit = sc.bHit.data();
     const uint32_t* part = sc.bPart.data();
     const uint32_t* visStart = sc.visStart.data();
-    const double* RR = sc.bR.data();
-    const double* LX = sc.bLx.data();
-    const double* LY = sc.bLy.data();
     const double* PD = sc.bPd.data();
-    const int32_t* L = ix.label.data();
-    const Det* dets = sc.dets.data();
+    const GainParts gp = gainParts(ix, sc);
     Pair* pairs = sc.pairs.data();
     uint32_t* pairCount = sc.pairCount.data();
-    const double ir = k.ir, ib = k.ib;
     size_t np = 0;
     for (size_t t = 0; t < nc; t++)
     {
         const uint32_t j = cands[t].j, e = cands[t].e, i = part[e];
-        const Det& d = dets[j];
-        const double dr = d.r - RR[e];
-        const double db = bearingDiff(d, LX[e], LY[e]);
-        const double p = PD[e];
-        double logC = 0;  // landmarks without a label: no label term
-        if (d.label >= 0)
+        const double rest = gp.rest(k, j, e);
+        const double q = PD[e] / (1 - PD[e]);  // P_D is clamped inside (0, 1)
+        bool gains = rest + k.logQLo > 0;
+        if (!gains && rest + k.logQHi >= 0)
         {
-            logC = (d.label == L[hit[e]]) ? k.logSame : k.logOther;
+            gains = std::log(q) + rest > 0;
         }
-        // log P_D - log(1 - P_D) in one log (P_D is clamped inside (0, 1)).
-        const double gain = std::log(p / (1 - p)) + logC + k.logNorm - 0.5 * (dr * ir) * (dr * ir) -
-                            0.5 * (db * ib) * (db * ib) - k.logKappa;
-        pairs[np] = {gain, j, e - visStart[i]};  // written always, kept if it gains
-        pairCount[i] += static_cast<uint32_t>(gain > 0);
-        np += static_cast<size_t>(gain > 0);
+        pairs[np] = {rest, j, e - visStart[i], q};  // written always, kept if it gains
+        pairCount[i] += static_cast<uint32_t>(gains);
+        np += static_cast<size_t>(gains);
     }
 }
 
 /** Stage 5: per particle, -lambda + l log kappa, sum_v log(1 - P_D(rho_v)) as the log of the
  *  product (one log instead of one per visible object; each factor is >= 1e-6, so the
- *  product is folded into the sum before it could underflow), and the assignment. */
+ *  product is folded into the sum before it could underflow), and the assignment. One pair:
+ *  its q joins the product (one log for the particle); more: each pair's gain log q + rest
+ *  for the assignment. */
 void totalsBlock(Scratch& sc, const ModelConsts& k, size_t m, double* out)
 {
     const size_t nd = sc.dets.size();
@@ -1443,8 +1499,20 @@ void totalsBlock(Scratch& sc, const ModelConsts& k, size_t m, double* out)
             }
         }
         const uint32_t c = pairCount[i];
-        const double gains =
-            c <= 1 ? (c == 0 ? 0.0 : pairs[t].gain) : assignGreedy(pairs + t, c, nd, used);
+        double gains = 0;
+        if (c == 1)
+        {
+            miss *= pairs[t].q;  // <= 1e6 times a product >= 1e-250
+            gains = pairs[t].gain;
+        }
+        else if (c > 1)
+        {
+            for (size_t u = t; u < t + c; u++)
+            {
+                pairs[u].gain += std::log(pairs[u].q);
+            }
+            gains = assignGreedy(pairs + t, c, nd, used);
+        }
         t += c;
         out[i] = finite(base + std::log(miss) + gains);
     }
@@ -1612,12 +1680,13 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     // CPU overlaps across particles), then the matching, which reads it.
     constexpr size_t kBlock = 256;
     Geom geoms[kBlock];
+    const GeomConsts gc = geomConsts(sc, s.ox, s.oy, s.oyaw, s.R, s.fov);
     for (size_t i0 = 0; i0 < n; i0 += kBlock)
     {
         const size_t m = std::min(kBlock, n - i0);
         for (size_t i = 0; i < m; i++)
         {
-            geoms[i] = makeGeom(sc, poses[i0 + i], s.ox, s.oy, s.oyaw, s.R, s.fov);
+            geoms[i] = makeGeom(gc, poses[i0 + i]);
         }
         if (likelihoodOptions.model == Model::Paper)
         {
