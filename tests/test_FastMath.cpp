@@ -3,8 +3,6 @@
 #include <mrpt/random/RandomGenerators.h>
 
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 
 #include "FastMath.h"
 
@@ -64,105 +62,4 @@ TEST(FastMath, SinCosMatchesLibm)
     EXPECT_EQ(s, std::sin(1e300));
     semloc::detail::fastSinCos(std::nan(""), s, c);
     EXPECT_TRUE(std::isnan(s) && std::isnan(c));
-}
-
-namespace
-{
-/** |a - b| in units in the last place of b (b finite, non-zero). */
-double ulpDiff(long double a, double b)
-{
-    const double ulp = std::nextafter(std::abs(b), INFINITY) - std::abs(b);
-    return static_cast<double>(std::abs(a - static_cast<long double>(b)) / ulp);
-}
-
-/** Worst error of logFast in ulps, against libm's log and against logl (exact to ~2^-63). */
-struct LogErr
-{
-    double vsLibm = 0, vsExact = 0;
-    void check(double x)
-    {
-        const double y = semloc::detail::logFast(x), ref = std::log(x);
-        if (ref == 0)
-        {
-            vsLibm = std::max(vsLibm, y == 0 ? 0.0 : INFINITY);
-            return;
-        }
-        vsLibm = std::max(vsLibm, ulpDiff(y, ref));
-        vsExact = std::max(vsExact, ulpDiff(std::log(static_cast<long double>(x)), y));
-    }
-};
-}  // namespace
-
-TEST(FastMath, LogWithinOneUlpOfLibm)
-{
-    mrpt::random::CRandomGenerator rng(44);
-    LogErr err;
-    for (int i = 0; i < 1000000; i++)
-    {
-        // Every binade of the normal range, log-uniform.
-        err.check(std::exp(rng.drawUniform(-708.0, 709.0)));
-        // The likelihood's arguments: P_D / (1 - P_D) in [1e-6, 1e6], products of 1 - P_D.
-        err.check(std::exp(rng.drawUniform(-14.0, 14.0)));
-        err.check(rng.drawUniform(1e-6, 1.0));
-        // Around 1, where log x is small and the table's subintervals meet.
-        err.check(1.0 + rng.drawUniform(-0.1, 0.1));
-        err.check(1.0 + std::ldexp(rng.drawUniform(-1.0, 1.0), -static_cast<int>(i % 60)));
-    }
-    // Every subinterval's edges and centre, in a few binades.
-    for (int e = -3; e <= 3; e++)
-    {
-        for (double z = 0.68; z < 1.38; z += 1.0 / 1024)
-        {
-            for (double v : {z, std::nextafter(z, 0.0), std::nextafter(z, 2.0)})
-            {
-                err.check(std::ldexp(v, e));
-            }
-        }
-    }
-    for (double x : {1.0, 2.0, 0.5, M_E, 1e-300, 2.2250738585072014e-308, 1.7976931348623157e308})
-    {
-        err.check(x);
-    }
-    EXPECT_LE(err.vsLibm, 1.0);
-    EXPECT_LT(err.vsExact, 0.51);  // the final rounding plus < 0.01 ulp (FastMath.h)
-    EXPECT_EQ(semloc::detail::logFast(1.0), 0.0);
-}
-
-TEST(FastMath, LogSpecialValuesAsLibm)
-{
-    using semloc::detail::logFast;
-    for (double x : {4.9e-324, 1e-310, 2.225073858507201e-308})  // subnormals: libm's values
-    {
-        EXPECT_EQ(logFast(x), std::log(x)) << x;
-    }
-    EXPECT_EQ(logFast(0.0), -INFINITY);
-    EXPECT_EQ(logFast(-0.0), -INFINITY);
-    EXPECT_EQ(logFast(INFINITY), INFINITY);
-    EXPECT_TRUE(std::isnan(logFast(-1.0)));
-    EXPECT_TRUE(std::isnan(logFast(-INFINITY)));
-    EXPECT_TRUE(std::isnan(logFast(std::nan(""))));
-}
-
-TEST(FastMath, LogTableAsGenerated)
-{
-    // The generator of kLogTable (FastMath.h), in long double.
-    using semloc::detail::kLogTable;
-    for (int i = 0; i < 128; i++)
-    {
-        const uint64_t mid = semloc::detail::kLogOff + (static_cast<uint64_t>(2 * i + 1) << 44);
-        double c = 0;
-        std::memcpy(&c, &mid, sizeof c);
-        int e = 0;
-        const double m = std::frexp(1.0 / c, &e);
-        const double invc = std::ldexp(std::nearbyint(std::ldexp(m, 9)), e - 9);
-        const long double logc = -std::log(static_cast<long double>(invc));
-        const auto hi = static_cast<double>(std::nearbyint(logc * 0x1p32L) * 0x1p-32L);
-        const auto lo = static_cast<double>(logc - static_cast<long double>(hi));
-        EXPECT_EQ(kLogTable[i].invc, invc) << i;
-        EXPECT_EQ(kLogTable[i].logcHi, hi) << i;
-        EXPECT_EQ(kLogTable[i].logcLo, lo) << i;
-        EXPECT_EQ(kLogTable[i].zMask,
-                  invc == 1.0 ? semloc::detail::kLogZ53 : semloc::detail::kLogZ44)
-            << i;
-    }
 }
