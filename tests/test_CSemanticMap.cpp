@@ -15,6 +15,7 @@
 #include <utility>
 
 #include "TestHelpers.h"
+#include "VisibilityTable.h"
 
 using mrpt::math::TPose2D;
 using semloc::CObservationSemantic;
@@ -380,6 +381,84 @@ TEST(CSemanticMap, GridIndexEqualsBruteForceOnLargeMaps)
         const TPose2D probe(truth.x + rng.drawUniform(-2.0, 2.0),
                             truth.y + rng.drawUniform(-2.0, 2.0), truth.phi);
         EXPECT_EQ(indexed.computeLogLikelihood(obs, probe), brute.computeLogLikelihood(obs, probe));
+    }
+}
+
+TEST(CSemanticMap, VisibilityTableKeepsEveryVisibleObject)
+{
+    // The likelihoods with the visibility candidate table must equal, to the bit, those of
+    // the grid scan (table off): a dropped visible object changes q and the pairs. Objects
+    // and poses on the table's cell edges (R / 10 = 2 m) and headings on its bin edges.
+    mrpt::random::CRandomGenerator rng(29);
+    const char* labels[] = {"a", "b", "c"};
+    std::vector<CSemanticMap::TObject> objs;
+    for (int i = 1; i <= 120; i++)
+    {
+        const bool onEdge = i % 3 == 0;
+        const double x =
+            onEdge ? 2 * std::floor(rng.drawUniform(0.0, 30.0)) : rng.drawUniform(0.0, 60.0);
+        const double y = onEdge ? 2.0 * (i % 31) : rng.drawUniform(0.0, 60.0);
+        objs.push_back({i, labels[i % 3], x, y, 0, 0.5, 1});
+    }
+    std::vector<TPose2D> poses;
+    for (int k = 0; k < 2000; k++)
+    {
+        TPose2D p(rng.drawUniform(-25.0, 85.0), rng.drawUniform(-25.0, 85.0),
+                  rng.drawUniform(-4.0, 4.0));
+        if (k % 4 == 1)
+        {
+            p.x = 2.0 * std::floor(p.x / 2);  // a cell edge
+        }
+        if (k % 3 == 2)
+        {
+            // A bin edge: bins are uniform in s / (|c| + |s|), 8 per quadrant.
+            const double a = (k % 32) / 8.0 - 1;
+            p.phi = a <= 1 ? std::atan2(a, 1 - std::abs(a))
+                           : M_PI - std::atan2(2 - a, 1 - std::abs(2 - a));
+        }
+        poses.push_back(p);
+    }
+    for (const auto model : {CSemanticMap::Model::Paper, CSemanticMap::Model::Probabilistic})
+    {
+        CSemanticMap m;
+        m.likelihoodOptions.model = model;
+        for (const auto& o : objs)
+        {
+            m.addObject(o);
+        }
+        for (const double fovDeg : {120.0, 30.0, 200.0, 360.0})
+        {
+            CObservationSemantic obs;
+            obs.maxRange_m = 20;
+            obs.fov_rad = fovDeg * M_PI / 180;
+            obs.sensorPose = mrpt::poses::CPose3D(0.5, -0.2, 0, 0.3, 0, 0);
+            for (int j = 0; j < 4; j++)
+            {
+                TSemanticDetection d;
+                d.label = labels[j % 3];
+                d.range_m = 3 + 4 * j;
+                d.bearing_rad = 0.1 * (j - 2);
+                obs.detections.push_back(d);
+            }
+            std::vector<double> withTable(poses.size()), gridScan(poses.size());
+            semloc::detail::setVisibilityTableEnabled(true);
+            m.computeLogLikelihoods(obs, poses.data(), poses.size(), withTable.data());
+            EXPECT_GT(semloc::detail::lastVisibilityTableBytes(), 0u);
+            semloc::detail::setVisibilityTableEnabled(false);
+            m.computeLogLikelihoods(obs, poses.data(), poses.size(), gridScan.data());
+            semloc::detail::setVisibilityTableEnabled(true);
+            size_t differ = 0;
+            for (size_t k = 0; k < poses.size(); k++)
+            {
+                differ += withTable[k] != gridScan[k];
+            }
+            EXPECT_EQ(differ, 0u) << "fov " << fovDeg << " deg";
+            // The one-particle path uses the table too.
+            for (size_t k = 0; k < poses.size(); k += 37)
+            {
+                EXPECT_EQ(m.computeLogLikelihood(obs, poses[k]), gridScan[k]);
+            }
+        }
     }
 }
 

@@ -15,6 +15,9 @@
 #include <atomic>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
+#include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
 #if defined(__SSE2__)
@@ -25,6 +28,7 @@
 #include "ExactConfigWrite.h"
 #include "FastMath.h"
 #include "LabelIndex.h"
+#include "VisibilityTable.h"
 
 using mrpt::math::TPose2D;
 
@@ -166,6 +170,61 @@ void CSemanticMap::TInsertionOptions::saveToConfigFile(mrpt::config::CConfigFile
 
 // ------------------------------------------------------------------ index
 
+namespace detail
+{
+/** The visibility candidate table of one (index build, range R, FOV): for a square cell of
+ *  sensor positions and a heading bin, the objects that may be inside range and FOV from
+ *  some position of the cell with some heading of the bin (a superset), in increasing
+ *  sorted index, i.e. in the order the grid scan visits them. */
+struct VisTable
+{
+    double x0 = 0, y0 = 0, inv = 0;  // origin and 1 / cell side of the table's grid
+    double ox = 0, oy = 0;           // the origin less one cell (visRange)
+    uint32_t nx = 0, ny = 0, bins = 1;
+    /** bins / 4 (0 with one bin): bins are uniform in the "diamond angle" [0, 4). */
+    double binScale = 0, lastBin = 0;
+    /** cells * bins + 1: the candidates of list i are [start[i], start[i + 1]). */
+    std::vector<uint32_t> start;
+    std::vector<uint16_t> c16;  // the candidates (sorted indices) when there are < 65536
+    std::vector<uint32_t> c32;  // objects, else here; either has one padding element
+    size_t bytes = 0;
+};
+
+/** The tables of one index build, per (R, FOV); filled lazily under the mutex. A null
+ *  table: one would be too large, the grid scan serves those calls. */
+struct VisCache
+{
+    std::mutex mu;
+    struct Entry
+    {
+        double R, fov;
+        std::shared_ptr<const VisTable> table;
+    };
+    std::vector<Entry> entries;
+};
+
+namespace
+{
+std::atomic<bool> g_visEnabled{true};
+std::atomic<size_t> g_visLastBytes{0};
+}  // namespace
+
+void setVisibilityTableEnabled(bool enabled)
+{
+    g_visEnabled.store(enabled);
+}
+
+bool visibilityTableEnabled()
+{
+    return g_visEnabled.load();
+}
+
+size_t lastVisibilityTableBytes()
+{
+    return g_visLastBytes.load();
+}
+}  // namespace detail
+
 /** Objects sorted by grid cell (row-major), structure-of-arrays, so the cells of one
  *  grid row that overlap the detector's disc are one contiguous range. */
 struct CSemanticMap::Index
@@ -179,6 +238,8 @@ struct CSemanticMap::Index
     std::unordered_map<int32_t, int32_t> idToSorted;
     /** Unique per build of an index (any map, any thread): keys what callers cache. */
     uint64_t stamp = 0;
+    /** Visibility candidate tables of this build (null: no objects). */
+    std::shared_ptr<detail::VisCache> vis;
 };
 
 CSemanticMap::CSemanticMap()
@@ -228,6 +289,7 @@ void CSemanticMap::rebuildIndex()
     {
         return;
     }
+    ix.vis = std::make_shared<detail::VisCache>();
     double xmin = m_objects[0].x, xmax = xmin, ymin = m_objects[0].y, ymax = ymin;
     for (const auto& o : m_objects)
     {
@@ -506,6 +568,12 @@ struct Scratch
     ModelConsts consts;
     bool constsValid = false;
     std::vector<Pair> pairs;
+    /** The visibility table of this call (null: grid scan) and the last one looked up,
+     *  kept (with its key) so calls with the same index build, R and FOV lock nothing. */
+    const detail::VisTable* vis = nullptr;
+    std::shared_ptr<const detail::VisTable> visHold;
+    uint64_t visStamp = 0;
+    double visR = 0, visFov = 0;
     /** assignGreedy's marks: all zero between calls (it clears what it set). */
     std::vector<uint8_t> used;
     Memo cosHalf, sinHalf, cosYaw, sinYaw;
@@ -670,6 +738,286 @@ void sectorCells(const CSemanticMap::Index& ix, const Geom& g, int& cx0, int& cx
 #endif
 }
 
+/** The angle [rad] of the direction with "diamond angle" a in [-1, 3] (the table's bins):
+ *  a = s / (|c| + |s|) for c >= 0, 2 - s / (|c| + |s|) for c < 0; monotonic in the angle,
+ *  [-pi/2, 3 pi/2]. */
+double diamondToAngle(double a)
+{
+    if (a <= 1)
+    {
+        return std::atan2(a, 1 - std::abs(a));
+    }
+    const double t = 2 - a;
+    return M_PI - std::atan2(t, 1 - std::abs(t));
+}
+
+/** Builds the visibility table of index ix for range R and FOV fov, or null when it would
+ *  take more than kVisMaxBytes even with coarse cells. Cells start at R / 10 (32 heading
+ *  bins; one with a full FOV) and double while the table is too large. */
+std::shared_ptr<const detail::VisTable> buildVisTable(const CSemanticMap::Index& ix, double R,
+                                                      double fov)
+{
+    constexpr size_t kVisMaxBytes = size_t{8} << 20;
+    constexpr size_t kVisMaxPairs = size_t{64} << 20;  // (cell, object) pairs looked at
+    const size_t n = ix.objIdx.size();
+    if (n == 0 || !(R > 0) || !std::isfinite(R))
+    {
+        return nullptr;
+    }
+    const double* X = ix.x.data();
+    const double* Y = ix.y.data();
+    double xmin = X[0], xmax = X[0], ymin = Y[0], ymax = Y[0], maxAbs = 0;
+    for (size_t k = 0; k < n; k++)
+    {
+        xmin = std::min(xmin, X[k]);
+        xmax = std::max(xmax, X[k]);
+        ymin = std::min(ymin, Y[k]);
+        ymax = std::max(ymax, Y[k]);
+        maxAbs = std::max({maxAbs, std::abs(X[k]), std::abs(Y[k])});
+    }
+    const uint32_t bins = fov >= 2 * M_PI ? 1 : 32;
+    // Heading bins: bin b is the headings of angles [edges[b], edges[b + 1]], increasing
+    // from -pi/2 to 3 pi/2.
+    std::vector<double> edges(bins + 1);
+    for (uint32_t b = 0; b <= bins; b++)
+    {
+        edges[b] = diamondToAngle(4.0 * b / bins - 1);
+    }
+    auto binOf = [&](double ang)  // ang in [-pi/2, 3 pi/2)
+    {
+        // Bins are within ~4 degrees of uniform in angle: guess, then step to the bin.
+        auto b = static_cast<uint32_t>(
+            std::min(bins - 1.0, std::max(0.0, (ang + 0.5 * M_PI) * (bins / (2 * M_PI)))));
+        while (b > 0 && edges[b] > ang)
+        {
+            b--;
+        }
+        while (b + 1 < bins && edges[b + 1] <= ang)
+        {
+            b++;
+        }
+        return b;
+    };
+    const uint64_t allBins = bins == 64 ? ~uint64_t{0} : (uint64_t{1} << bins) - 1;
+    auto bitsOf = [](uint32_t b0, uint32_t b1)  // bins b0..b1, b0 <= b1 < 64
+    { return (uint64_t{2} << b1) - (uint64_t{1} << b0); };
+    const bool small = n < 65536;
+    const double halfFov = std::min(0.5 * fov, M_PI);
+    // Margins, far above the rounding of the lookup and of the exact test.
+    const double eps = 1e-9 * (1 + maxAbs + R), angMargin = 1e-5;
+    const double Rm = R * (1 + 1e-9) + eps;
+    for (double side = R / 10;; side *= 2)
+    {
+        const double nxD = std::floor((xmax - xmin + 2 * R) / side) + 3;
+        const double nyD = std::floor((ymax - ymin + 2 * R) / side) + 3;
+        const double lists = nxD * nyD * bins;
+        if (!(side < 1e300))
+        {
+            detail::g_visLastBytes.store(0);
+            return nullptr;  // a degenerate extent: the grid scan serves
+        }
+        if (!(lists * 4 <= 0.5 * static_cast<double>(kVisMaxBytes)))
+        {
+            continue;  // the list offsets alone too large: coarser cells
+        }
+        auto t = std::make_shared<detail::VisTable>();
+        t->x0 = xmin - R - side;
+        t->y0 = ymin - R - side;
+        t->inv = 1 / side;
+        t->ox = t->x0 - side;
+        t->oy = t->y0 - side;
+        t->nx = static_cast<uint32_t>(nxD);
+        t->ny = static_cast<uint32_t>(nyD);
+        t->bins = bins;
+        t->binScale = bins > 1 ? bins / 4.0 : 0.0;
+        t->lastBin = bins - 1.0;
+        const auto nl = static_cast<size_t>(lists);
+        t->start.assign(nl + 1, 0);
+        const size_t maxEntries = (kVisMaxBytes - 4 * (nl + 1)) / (small ? 2 : 4);
+        std::vector<uint32_t> cand;
+        // Per cell, the lists of its bins, each in increasing sorted index (the objects are
+        // visited in that order).
+        std::vector<std::vector<uint32_t>> perBin(bins);
+        const double h = 0.5 * side + eps;  // half side of a cell, widened
+        const double rc = h * std::sqrt(2.0);
+        bool tooLarge = false;
+        size_t pairs = 0;
+        for (size_t cy = 0; cy < t->ny && !tooLarge; cy++)
+        {
+            for (size_t cx = 0; cx < t->nx && !tooLarge; cx++)
+            {
+                const double mx = t->x0 + (static_cast<double>(cx) + 0.5) * side;
+                const double my = t->y0 + (static_cast<double>(cy) + 0.5) * side;
+                // The index cells of the objects within h + Rm of the centre, per axis.
+                auto cells =
+                    [](double lo, double hi, double o, double inv, int nc, int& c0, int& c1)
+                {
+                    const double l = std::max(0.0, (lo - o) * inv);
+                    const double u = std::min(nc - 1.0, (hi - o) * inv);
+                    c0 = static_cast<int>(std::min(l, nc - 1.0));
+                    c1 = u < 0 ? -1 : static_cast<int>(u);
+                };
+                int ix0, ix1, iy0, iy1;
+                cells(mx - h - Rm, mx + h + Rm, ix.x0, ix.inv_cell, ix.nx, ix0, ix1);
+                cells(my - h - Rm, my + h + Rm, ix.y0, ix.inv_cell, ix.ny, iy0, iy1);
+                for (auto& l : perBin)
+                {
+                    l.clear();
+                }
+                for (int icy = iy0; icy <= iy1 && ix0 <= ix1; icy++)
+                {
+                    const size_t row = static_cast<size_t>(icy) * static_cast<size_t>(ix.nx);
+                    for (uint32_t k = ix.cellStart[row + static_cast<size_t>(ix0)];
+                         k < ix.cellStart[row + static_cast<size_t>(ix1) + 1]; k++)
+                    {
+                        const double dx = X[k] - mx, dy = Y[k] - my;
+                        tooLarge |= ++pairs > kVisMaxPairs;  // the build's work, bounded
+                        const double ex = std::max(std::abs(dx) - h, 0.0);
+                        const double ey = std::max(std::abs(dy) - h, 0.0);
+                        if (ex * ex + ey * ey > Rm * Rm)
+                        {
+                            continue;  // out of range from the whole cell
+                        }
+                        uint64_t mask = 0;
+                        const double d = std::sqrt(dx * dx + dy * dy);
+                        if (bins == 1 || d <= rc * (1 + 1e-6))
+                        {
+                            mask = allBins;  // any direction
+                        }
+                        else
+                        {
+                            // Directions from the cell: within asin(rc / d) of the centre's.
+                            const double phi = detail::fastAtan2(dy, dx);  // |error| < 1e-7
+                            // Headings that see it: within spread of that direction.
+                            const double spread =
+                                std::asin(std::min(1.0, rc / d)) + halfFov + angMargin;
+                            if (spread >= M_PI)
+                            {
+                                mask = allBins;
+                            }
+                            else
+                            {
+                                double lo = phi - spread;  // (-2 pi, pi) -> [-pi/2, 3 pi/2)
+                                lo += lo < -0.5 * M_PI ? 2 * M_PI : 0;
+                                const double hi = lo + 2 * spread;
+                                const uint32_t b0 = binOf(lo);
+                                mask = hi < 1.5 * M_PI
+                                           ? bitsOf(b0, binOf(hi))
+                                           : bitsOf(b0, bins - 1) | bitsOf(0, binOf(hi - 2 * M_PI));
+                            }
+                        }
+                        for (; mask != 0; mask &= mask - 1)  // k goes to its bins' lists
+                        {
+                            perBin[static_cast<size_t>(__builtin_ctzll(mask))].push_back(k);
+                        }
+                    }
+                }
+                const size_t list0 = (cy * t->nx + cx) * bins;  // < 2^31: the byte cap
+                for (uint32_t b = 0; b < bins; b++)
+                {
+                    cand.insert(cand.end(), perBin[b].begin(), perBin[b].end());
+                    t->start[list0 + b + 1] = static_cast<uint32_t>(cand.size());
+                }
+                tooLarge |= cand.size() > maxEntries;
+            }
+        }
+        if (tooLarge)
+        {
+            if (nxD <= 3 && nyD <= 3)
+            {
+                detail::g_visLastBytes.store(0);
+                return nullptr;  // too large even at the coarsest: the grid scan serves
+            }
+            continue;
+        }
+        cand.push_back(0);  // padding: the scan reads candidates in pairs
+        if (small)
+        {
+            t->c16.assign(cand.begin(), cand.end());
+        }
+        else
+        {
+            t->c32 = std::move(cand);
+        }
+        t->bytes = 4 * t->start.size() + 2 * t->c16.size() + 4 * t->c32.size();
+        detail::g_visLastBytes.store(t->bytes);
+        return t;
+    }
+}
+
+/** The table's candidates [a, b) for the particle's sensor position and heading; false if
+ *  the position is outside the table (then the grid scan serves it). g.c and g.s are finite
+ *  with c^2 + s^2 ~ 1 (a finite pose), so the heading's bin is too. */
+inline bool visRange(const detail::VisTable& t, const Geom& g, uint32_t& a, uint32_t& b)
+{
+    // Cell + 1 (truncation toward 0 maps (-1, 1) to 0: outside, as are NaN and huge values).
+#if defined(__SSE2__)
+    // cvttpd gives INT_MIN for NaN and out-of-range values: no undefined conversion.
+    const __m128i ci = _mm_cvttpd_epi32(
+        _mm_mul_pd(_mm_sub_pd(_mm_set_pd(g.sy, g.sx), _mm_set_pd(t.oy, t.ox)), _mm_set1_pd(t.inv)));
+    const uint32_t cx = static_cast<uint32_t>(_mm_cvtsi128_si32(ci)) - 1u;
+    const uint32_t cy = static_cast<uint32_t>(_mm_cvtsi128_si32(_mm_srli_si128(ci, 4))) - 1u;
+#else
+    const double fx = (g.sx - t.ox) * t.inv, fy = (g.sy - t.oy) * t.inv;
+    if (!(std::abs(fx) < 1e9 && std::abs(fy) < 1e9))
+    {
+        return false;
+    }
+    const uint32_t cx = static_cast<uint32_t>(static_cast<int32_t>(fx)) - 1u;
+    const uint32_t cy = static_cast<uint32_t>(static_cast<int32_t>(fy)) - 1u;
+#endif
+    if (cx >= t.nx || cy >= t.ny)
+    {
+        return false;
+    }
+    const double q = g.s / (std::abs(g.c) + std::abs(g.s));
+    const double ad = (g.c >= 0 ? q : 2 - q) + 1;  // diamond angle + 1, in [0, 4]
+    const auto bin = static_cast<uint32_t>(std::min(ad * t.binScale, t.lastBin));
+    const uint32_t list = (cy * t.nx + cx) * t.bins + bin;
+    a = t.start[list];
+    b = t.start[list + 1];
+    return true;
+}
+
+/** The table of (R, fov) for index ix (built on first use), or null: grid scan. */
+const detail::VisTable* visTableFor(const CSemanticMap::Index& ix, double R, double fov,
+                                    Scratch& sc)
+{
+    if (!ix.vis || !detail::visibilityTableEnabled())
+    {
+        return nullptr;
+    }
+    if (sc.visStamp != ix.stamp || sc.visR != R || sc.visFov != fov)
+    {
+        std::shared_ptr<const detail::VisTable> t;
+        {
+            std::lock_guard<std::mutex> lock(ix.vis->mu);
+            auto& es = ix.vis->entries;
+            const auto it = std::find_if(es.begin(), es.end(),
+                                         [&](const detail::VisCache::Entry& e)
+                                         { return e.R == R && e.fov == fov; });
+            if (it != es.end())
+            {
+                t = it->table;
+            }
+            else
+            {
+                t = buildVisTable(ix, R, fov);
+                if (es.size() >= 4)
+                {
+                    es.erase(es.begin());  // a few (R, FOV) at most: the oldest goes
+                }
+                es.push_back({R, fov, t});
+            }
+        }
+        sc.visHold = std::move(t);
+        sc.visStamp = ix.stamp;
+        sc.visR = R;
+        sc.visFov = fov;
+    }
+    return sc.visHold.get();
+}
+
 /** Where scanVisible() writes z^k, compacted: sorted indices and squared ranges and, with
  *  kFrame, the positions in the sensor frame (lx ahead, ly to the left). Every array must
  *  have room for the number of objects + 1 (entries are written always, kept if visible). */
@@ -681,19 +1029,21 @@ struct VisOut
     double* ly;
 };
 
-/** Finds the objects inside range and FOV (z^k) into `out`; returns how many.
- *  The scan is branch-free (compaction by a counter) and takes no square root until an
+/** Finds the objects inside range and FOV (z^k) into `out`; returns how many. The
+ *  candidates are the visibility table's list of the particle's cell and heading bin (vt,
+ *  if any and the particle is inside it), else the grid cells the FOV sector overlaps;
+ *  both in increasing sorted index, so the same z^k in the same order.
+ *  The test is branch-free (compaction by a counter) and takes no square root until an
  *  object is known to be visible: most candidates are not, and mispredicted branches
  *  and sqrt latency were the cost of this loop. */
 template <bool kFrame>
-size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& vo)
+size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& vo,
+                   const detail::VisTable* vt)
 {
     size_t cnt = 0;
     if (ix.nx > 0)
     {
         const double R2 = g.R * g.R;
-        int cx0 = 0, cx1 = -1, cy0 = 0, cy1 = -1;
-        sectorCells(ix, g, cx0, cx1, cy0, cy1);
         const double ch2 = g.cosHalf * g.cosHalf;
         const bool narrow = g.cosHalf >= 0;  // FOV <= 180 deg
         // Locals, not members: the stores to `out` could alias them, which made the compiler
@@ -707,17 +1057,35 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
         double* outD2 = vo.d2;
         double* outLx = vo.lx;
         double* outLy = vo.ly;
-        // One loop per FOV kind (the test inlined, not selected at every candidate).
-#if defined(__SSE2__)
-        // Two candidates per step in SSE2 (every x86-64 CPU has it): the same IEEE double
-        // operations in the same order as the scalar test below, so the same decisions.
-        // Rows hold ~2-3 candidates, so a 2-wide step (the arrays have one padding element;
-        // the lane past the row's end is masked) suits them better than wider vectors.
-        const __m128d vsx = _mm_set1_pd(sx), vsy = _mm_set1_pd(sy), vc = _mm_set1_pd(c),
-                      vsn = _mm_set1_pd(sn), vR2 = _mm_set1_pd(R2), vch2 = _mm_set1_pd(ch2),
-                      zero = _mm_setzero_pd();
-        auto scanRows = [&](auto inFov)
+        // The candidates: a table list, or grid rows (each a contiguous range of indices).
+        // visit(step2) calls step2(k0, k1, lanes, adjacent) for candidates k0, k1 (lanes: 3
+        // both, 1 the first only; the arrays have one padding element for the second lane;
+        // adjacent: std::true_type when k1 = k0 + 1, loaded as one pair).
+        uint32_t ta = 0, tb = 0;
+        const bool fromTable = vt != nullptr && visRange(*vt, g, ta, tb);
+        auto visit = [&](auto step2)
         {
+            if (fromTable)
+            {
+                auto list = [&](const auto* C)
+                {
+                    for (uint32_t j = ta; j < tb; j += 2)
+                    {
+                        step2(C[j], C[j + 1], tb - j >= 2 ? 3u : 1u, std::false_type());
+                    }
+                };
+                if (vt->c16.empty())
+                {
+                    list(vt->c32.data());
+                }
+                else
+                {
+                    list(vt->c16.data());
+                }
+                return;
+            }
+            int cx0 = 0, cx1 = -1, cy0 = 0, cy1 = -1;
+            sectorCells(ix, g, cx0, cx1, cy0, cy1);
             for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
             {
                 const size_t row = static_cast<size_t>(cy) * nx;
@@ -725,17 +1093,45 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
                 const uint32_t b = cellStart[row + static_cast<size_t>(cx1) + 1];
                 for (uint32_t k = a; k < b; k += 2)
                 {
-                    const __m128d dx = _mm_sub_pd(_mm_loadu_pd(X + k), vsx);
-                    const __m128d dy = _mm_sub_pd(_mm_loadu_pd(Y + k), vsy);
+                    step2(k, k + 1, b - k >= 2 ? 3u : 1u, std::true_type());
+                }
+            }
+        };
+        // One loop per FOV kind (the test inlined, not selected at every candidate).
+#if defined(__SSE2__)
+        // Two candidates per step in SSE2 (every x86-64 CPU has it): the same IEEE double
+        // operations in the same order as the scalar test below, so the same decisions.
+        // Rows hold ~2-3 candidates, so a 2-wide step (the lane past the end is masked)
+        // suits them better than wider vectors.
+        const __m128d vsx = _mm_set1_pd(sx), vsy = _mm_set1_pd(sy), vc = _mm_set1_pd(c),
+                      vsn = _mm_set1_pd(sn), vR2 = _mm_set1_pd(R2), vch2 = _mm_set1_pd(ch2),
+                      zero = _mm_setzero_pd();
+        auto scanAll = [&](auto inFov)
+        {
+            visit(
+                [&](uint32_t k0, uint32_t k1, unsigned lanes, auto adjacent)
+                {
+                    __m128d x, y;
+                    if constexpr (decltype(adjacent)::value)
+                    {
+                        x = _mm_loadu_pd(X + k0);
+                        y = _mm_loadu_pd(Y + k0);
+                    }
+                    else
+                    {
+                        x = _mm_set_pd(X[k1], X[k0]);
+                        y = _mm_set_pd(Y[k1], Y[k0]);
+                    }
+                    const __m128d dx = _mm_sub_pd(x, vsx);
+                    const __m128d dy = _mm_sub_pd(y, vsy);
                     const __m128d d2 = _mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy));
                     const __m128d lx = _mm_add_pd(_mm_mul_pd(vc, dx), _mm_mul_pd(vsn, dy));
                     const __m128d in = _mm_and_pd(_mm_cmple_pd(d2, vR2), inFov(lx, d2));
-                    const auto m =
-                        static_cast<unsigned>(_mm_movemask_pd(in)) & (b - k >= 2 ? 3u : 1u);
+                    const auto m = static_cast<unsigned>(_mm_movemask_pd(in)) & lanes;
                     // ly = (-sn) dx + c dy, as the scalar code writes it.
                     const __m128d ly =
                         kFrame ? _mm_sub_pd(_mm_mul_pd(vc, dy), _mm_mul_pd(vsn, dx)) : zero;
-                    out[cnt] = k;  // written always, kept only if visible
+                    out[cnt] = k0;  // written always, kept only if visible
                     _mm_storel_pd(outD2 + cnt, d2);
                     if constexpr (kFrame)
                     {
@@ -743,7 +1139,7 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
                         _mm_storel_pd(outLy + cnt, ly);
                     }
                     cnt += m & 1u;
-                    out[cnt] = k + 1;
+                    out[cnt] = k1;
                     _mm_storeh_pd(outD2 + cnt, d2);
                     if constexpr (kFrame)
                     {
@@ -751,13 +1147,12 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
                         _mm_storeh_pd(outLy + cnt, ly);
                     }
                     cnt += m >> 1;
-                }
-            }
+                });
         };
         // lx >= cos(fov/2) * d, squared without the sqrt, per sign of cos(fov/2).
         if (narrow)
         {
-            scanRows(
+            scanAll(
                 [&](__m128d lx, __m128d d2)
                 {
                     return _mm_and_pd(_mm_cmpge_pd(lx, zero),
@@ -766,7 +1161,7 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
         }
         else
         {
-            scanRows(
+            scanAll(
                 [&](__m128d lx, __m128d d2)
                 {
                     return _mm_or_pd(_mm_cmpge_pd(lx, zero),
@@ -774,37 +1169,40 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
                 });
         }
 #else
-        auto scanRows = [&](auto inFov)
+        auto scanAll = [&](auto inFov)
         {
-            for (int cy = cy0; cy <= cy1 && cx0 <= cx1; cy++)
+            auto one = [&](uint32_t k)
             {
-                const size_t row = static_cast<size_t>(cy) * nx;
-                const uint32_t a = cellStart[row + static_cast<size_t>(cx0)];
-                const uint32_t b = cellStart[row + static_cast<size_t>(cx1) + 1];
-                for (uint32_t k = a; k < b; k++)
+                const double dx = X[k] - sx, dy = Y[k] - sy;
+                const double d2 = dx * dx + dy * dy;
+                const double lx = c * dx + sn * dy;
+                out[cnt] = k;  // written always, kept only if visible
+                outD2[cnt] = d2;
+                if constexpr (kFrame)
                 {
-                    const double dx = X[k] - sx, dy = Y[k] - sy;
-                    const double d2 = dx * dx + dy * dy;
-                    const double lx = c * dx + sn * dy;
-                    out[cnt] = k;  // written always, kept only if visible
-                    outD2[cnt] = d2;
-                    if constexpr (kFrame)
-                    {
-                        outLx[cnt] = lx;
-                        outLy[cnt] = -sn * dx + c * dy;
-                    }
-                    cnt += static_cast<size_t>((d2 <= R2) & inFov(lx, d2));
+                    outLx[cnt] = lx;
+                    outLy[cnt] = -sn * dx + c * dy;
                 }
-            }
+                cnt += static_cast<size_t>((d2 <= R2) & inFov(lx, d2));
+            };
+            visit(
+                [&](uint32_t k0, uint32_t k1, unsigned lanes, auto)
+                {
+                    one(k0);
+                    if (lanes == 3u)
+                    {
+                        one(k1);
+                    }
+                });
         };
         // lx >= cos(fov/2) * d, squared without the sqrt, per sign of cos(fov/2).
         if (narrow)
         {
-            scanRows([ch2](double lx, double d2) { return (lx >= 0) & (lx * lx >= ch2 * d2); });
+            scanAll([ch2](double lx, double d2) { return (lx >= 0) & (lx * lx >= ch2 * d2); });
         }
         else
         {
-            scanRows([ch2](double lx, double d2) { return (lx >= 0) | (lx * lx <= ch2 * d2); });
+            scanAll([ch2](double lx, double d2) { return (lx >= 0) | (lx * lx <= ch2 * d2); });
         }
 #endif
     }
@@ -820,7 +1218,7 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         sc.hitD2.resize(ix.x.size());
     }
     const size_t cnt =
-        scanVisible<false>(ix, g, {sc.hits.data(), sc.hitD2.data(), nullptr, nullptr});
+        scanVisible<false>(ix, g, {sc.hits.data(), sc.hitD2.data(), nullptr, nullptr}, sc.vis);
     sc.nVis = cnt;
     if (sc.used.size() < sc.dets.size() + cnt)
     {
@@ -1313,7 +1711,8 @@ size_t scanBlock(const CSemanticMap::Index& ix, Scratch& sc, const Geom* geoms,
         }
         const auto nv = static_cast<uint32_t>(scanVisible<true>(
             ix, geoms[i],
-            {sc.bHit.data() + ne, sc.bD2.data() + ne, sc.bLx.data() + ne, sc.bLy.data() + ne}));
+            {sc.bHit.data() + ne, sc.bD2.data() + ne, sc.bLx.data() + ne, sc.bLy.data() + ne},
+            sc.vis));
         blockVis[i] = nv;
         uint32_t* part = sc.bPart.data() + ne;
         for (uint32_t v = 0; v < nv; v++)
@@ -1678,6 +2077,7 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     }
     // The sensor geometry of every particle of a block first (independent short chains the
     // CPU overlaps across particles), then the matching, which reads it.
+    sc.vis = visTableFor(*m_index, s.R, s.fov, sc);
     constexpr size_t kBlock = 256;
     Geom geoms[kBlock];
     const GeomConsts gc = geomConsts(sc, s.ox, s.oy, s.oyaw, s.R, s.fov);
