@@ -946,8 +946,9 @@ std::shared_ptr<const detail::VisTable> buildVisTable(const CSemanticMap::Index&
 }
 
 /** The table's candidates [a, b) for the particle's sensor position and heading; false if
- *  the position is outside the table (then the grid scan serves it). g.c and g.s are finite
- *  with c^2 + s^2 ~ 1 (a finite pose), so the heading's bin is too. */
+ *  the position is outside the table or (c, s) is not a unit vector to 1e-12 (the table's
+ *  angle margin assumes it: fastSinCos is exact to ~1e-15 for |phi| <= 1e6): then the grid
+ *  scan serves it. */
 inline bool visRange(const detail::VisTable& t, const Geom& g, uint32_t& a, uint32_t& b)
 {
     // Cell + 1 (truncation toward 0 maps (-1, 1) to 0: outside, as are NaN and huge values).
@@ -967,6 +968,10 @@ inline bool visRange(const detail::VisTable& t, const Geom& g, uint32_t& a, uint
     const uint32_t cy = static_cast<uint32_t>(static_cast<int32_t>(fy)) - 1u;
 #endif
     if (cx >= t.nx || cy >= t.ny)
+    {
+        return false;
+    }
+    if (!(std::abs(g.c * g.c + g.s * g.s - 1) < 1e-12))
     {
         return false;
     }
