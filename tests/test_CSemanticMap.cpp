@@ -392,18 +392,18 @@ TEST(CSemanticMap, VisibilityTableKeepsEveryVisibleObject)
     mrpt::random::CRandomGenerator rng(29);
     const char* labels[] = {"a", "b", "c"};
     std::vector<CSemanticMap::TObject> objs;
-    for (int i = 1; i <= 120; i++)
+    for (int i = 1; i <= 40; i++)  // a table of < 1 MB (larger maps keep the grid scan)
     {
         const bool onEdge = i % 3 == 0;
         const double x =
-            onEdge ? 2 * std::floor(rng.drawUniform(0.0, 30.0)) : rng.drawUniform(0.0, 60.0);
-        const double y = onEdge ? 2.0 * (i % 31) : rng.drawUniform(0.0, 60.0);
+            onEdge ? 2 * std::floor(rng.drawUniform(0.0, 20.0)) : rng.drawUniform(0.0, 40.0);
+        const double y = onEdge ? 2.0 * (i % 21) : rng.drawUniform(0.0, 40.0);
         objs.push_back({i, labels[i % 3], x, y, 0, 0.5, 1});
     }
     std::vector<TPose2D> poses;
     for (int k = 0; k < 2000; k++)
     {
-        TPose2D p(rng.drawUniform(-25.0, 85.0), rng.drawUniform(-25.0, 85.0),
+        TPose2D p(rng.drawUniform(-25.0, 65.0), rng.drawUniform(-25.0, 65.0),
                   rng.drawUniform(-4.0, 4.0));
         if (k % 4 == 1)
         {
