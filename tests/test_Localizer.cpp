@@ -21,6 +21,18 @@ namespace
 {
 const std::string kPaperWorld = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
 
+/** A filter started near the simulated dataset's first pose: Gaussian at (4, 5), 1.5 m. */
+Localizer::TOptions gaussianStart(int particles)
+{
+    Localizer::TOptions o;
+    o.particles_count = particles;
+    o.init_PDF_mode = Localizer::InitMode::Gaussian;
+    o.init_PDF_mean_x = 4;
+    o.init_PDF_mean_y = 5;
+    o.init_PDF_std_xy = 1.5;
+    return o;
+}
+
 mrpt::config::CConfigFileMemory ini(const std::string& text)
 {
     mrpt::config::CConfigFileMemory c;
@@ -136,12 +148,7 @@ TEST(Localizer, StepApiLocalizesInBothRawlogFormats)
 {
     const auto world = semloc::World::FromFile(kPaperWorld);
     const auto sim = simulate(40);
-    Localizer::TOptions o;
-    o.particles_count = 1500;
-    o.init_PDF_mode = Localizer::InitMode::Gaussian;
-    o.init_PDF_mean_x = 4;
-    o.init_PDF_mean_y = 5;
-    o.init_PDF_std_xy = 1.5;
+    Localizer::TOptions o = gaussianStart(1500);
     o.threads = 2;
 
     // Action / sensory-frame pairs.
@@ -239,12 +246,7 @@ TEST(Localizer, EssBeforeResamplingIsReportedForEveryAlgorithm)
     for (const auto alg : {mrpt::bayes::CParticleFilter::pfStandardProposal,
                            mrpt::bayes::CParticleFilter::pfAuxiliaryPFStandard})
     {
-        Localizer::TOptions o;
-        o.particles_count = 500;
-        o.init_PDF_mode = Localizer::InitMode::Gaussian;
-        o.init_PDF_mean_x = 4;
-        o.init_PDF_mean_y = 5;
-        o.init_PDF_std_xy = 1.5;
+        Localizer::TOptions o = gaussianStart(500);
         o.pf.PF_algorithm = alg;
         o.free_space_prior = false;
         Localizer loc(o, semanticMap(world), &world);

@@ -10,6 +10,19 @@
 
 using semloc::ParallelExecutor;
 
+namespace
+{
+/** Every item was visited exactly once. */
+void expectEachOnce(const std::vector<int>& hits, size_t threads)
+{
+    for (size_t i = 0; i < hits.size(); i++)
+    {
+        ASSERT_EQ(hits[i], 1) << "item " << i << " of " << hits.size() << ", " << threads
+                              << " threads";
+    }
+}
+}  // namespace
+
 TEST(ParallelExecutor, ChunksCoverTheRangeOnceAndRethrow)
 {
     for (size_t threads : {1, 2, 3})
@@ -29,11 +42,7 @@ TEST(ParallelExecutor, ChunksCoverTheRangeOnceAndRethrow)
                     }
                 },
                 1);
-            for (size_t i = 0; i < n; i++)
-            {
-                ASSERT_EQ(hits[i], 1)
-                    << "item " << i << " of " << n << ", " << threads << " threads";
-            }
+            expectEachOnce(hits, threads);
         }
         EXPECT_THROW(
             ex.forEachChunk(
@@ -68,11 +77,7 @@ TEST(ParallelExecutor, RangesCoverTheRangeOnceOnNamedThreadsAndRethrow)
                     }
                 },
                 16);
-            for (size_t i = 0; i < n; i++)
-            {
-                ASSERT_EQ(hits[i], 1)
-                    << "item " << i << " of " << n << ", " << threads << " threads";
-            }
+            expectEachOnce(hits, threads);
             size_t total = 0;
             for (const size_t k : itemsOf)
             {
