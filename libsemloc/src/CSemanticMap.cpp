@@ -1024,14 +1024,17 @@ const detail::VisTable* visTableFor(const CSemanticMap::Index& ix, double R, dou
 }
 
 /** Where scanVisible() writes z^k, compacted: sorted indices and squared ranges and, with
- *  kFrame, the positions in the sensor frame (lx ahead, ly to the left). Every array must
- *  have room for the number of objects + 1 (entries are written always, kept if visible). */
+ *  kFrame, the positions in the sensor frame (lx ahead, ly to the left) and `partId` (the
+ *  particle's index in its block) in `part`. Every array must have room for the number of
+ *  objects + 1 (entries are written always, kept if visible). */
 struct VisOut
 {
     uint32_t* hits;
     double* d2;
     double* lx;
     double* ly;
+    uint32_t* part = nullptr;
+    uint32_t partId = 0;
 };
 
 /** Finds the objects inside range and FOV (z^k) into `out`; returns how many. The
@@ -1062,6 +1065,8 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
         double* outD2 = vo.d2;
         double* outLx = vo.lx;
         double* outLy = vo.ly;
+        uint32_t* outPart = vo.part;
+        const uint32_t partId = vo.partId;
         // The candidates: a table list, or grid rows (each a contiguous range of indices).
         // visit(step2) calls step2(k0, k1, lanes, adjacent) for candidates k0, k1 (lanes: 3
         // both, 1 the first only; the arrays have one padding element for the second lane;
@@ -1142,6 +1147,7 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
                     {
                         _mm_storel_pd(outLx + cnt, lx);
                         _mm_storel_pd(outLy + cnt, ly);
+                        outPart[cnt] = partId;
                     }
                     cnt += m & 1u;
                     out[cnt] = k1;
@@ -1150,6 +1156,7 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
                     {
                         _mm_storeh_pd(outLx + cnt, lx);
                         _mm_storeh_pd(outLy + cnt, ly);
+                        outPart[cnt] = partId;
                     }
                     cnt += m >> 1;
                 });
@@ -1187,6 +1194,7 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
                 {
                     outLx[cnt] = lx;
                     outLy[cnt] = -sn * dx + c * dy;
+                    outPart[cnt] = partId;
                 }
                 cnt += static_cast<size_t>((d2 <= R2) & inFov(lx, d2));
             };
@@ -1714,16 +1722,12 @@ size_t scanBlock(const CSemanticMap::Index& ix, Scratch& sc, const Geom* geoms,
                 v->resize(cap);
             }
         }
-        const auto nv = static_cast<uint32_t>(scanVisible<true>(
-            ix, geoms[i],
-            {sc.bHit.data() + ne, sc.bD2.data() + ne, sc.bLx.data() + ne, sc.bLy.data() + ne},
-            sc.vis));
+        const auto nv = static_cast<uint32_t>(
+            scanVisible<true>(ix, geoms[i],
+                              {sc.bHit.data() + ne, sc.bD2.data() + ne, sc.bLx.data() + ne,
+                               sc.bLy.data() + ne, sc.bPart.data() + ne, i},
+                              sc.vis));
         blockVis[i] = nv;
-        uint32_t* part = sc.bPart.data() + ne;
-        for (uint32_t v = 0; v < nv; v++)
-        {
-            part[v] = i;
-        }
         ne += nv;
     }
     return ne;
