@@ -470,6 +470,18 @@ struct Pair
     double q = 0;  // probabilistic: P_D / (1 - P_D) of the pair's object (totalsBlock)
 };
 
+/** A particle's pairs as gainBlock finds them: the sum of their gains less log q, the
+ *  product of their q, the detections they use (bit j) and the last object one used; a
+ *  conflict is two pairs sharing a detection or an object (or more than 64 detections). */
+struct PairAcc
+{
+    double restSum;
+    double qProd;
+    uint64_t dets;
+    uint32_t lastE;
+    uint32_t conflict;
+};
+
 /** A detection as one of a label's slots (planPairs). */
 struct Slot
 {
@@ -568,6 +580,7 @@ struct Scratch
     ModelConsts consts;
     bool constsValid = false;
     std::vector<Pair> pairs;
+    std::vector<PairAcc> pairAcc;
     /** The visibility table of this call (null: grid scan) and the last one looked up,
      *  kept (with its key) so calls with the same index build, R and FOV lock nothing. */
     const detail::VisTable* vis = nullptr;
@@ -1546,6 +1559,12 @@ bool finitePose(const TPose2D& p)
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
 }
 
+/** PairAcc::lastE before a particle's first pair. */
+constexpr uint32_t kNoEntry = std::numeric_limits<uint32_t>::max();
+
+/** Most pairs of a particle whose q totalsBlock folds into the product: q^8 >= 1e-48. */
+constexpr uint32_t kFoldPairs = 8;
+
 /** scorePaperBlock's q of a particle whose pose is not finite. */
 constexpr uint32_t kNoPose = std::numeric_limits<uint32_t>::max();
 
@@ -1840,10 +1859,12 @@ GainParts gainParts(const CSemanticMap::Index& ix, const Scratch& sc)
 
 /** Stage 4: the gains of the nc candidates; those with a positive gain are the pairs, in
  *  particle order (sc.pairs, sc.pairCount[i] of particle i), each with its gain less
- *  log q, q = P_D / (1 - P_D). Whether the gain is positive is decided without log q when
- *  log q's range over the FOV decides it by more than 1e-9 (rounding: ~1e-14), else with
- *  log q: the same pairs as gain = log q + rest > 0. */
-void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t nc)
+ *  log q, q = P_D / (1 - P_D), and summed per particle in sc.pairAcc. Whether the gain is
+ *  positive is decided without log q when log q's range over the FOV decides it by more
+ *  than 1e-9 (rounding: ~1e-14), else with log q: the same pairs as gain = log q + rest > 0.
+ *  Branch-free but for that rare log. */
+void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t m,
+               size_t nc)
 {
     if (sc.pairs.size() < nc + 1)
     {
@@ -1856,6 +1877,15 @@ void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k,
     const GainParts gp = gainParts(ix, sc);
     Pair* pairs = sc.pairs.data();
     uint32_t* pairCount = sc.pairCount.data();
+    if (sc.pairAcc.size() < m)
+    {
+        sc.pairAcc.resize(m);
+    }
+    PairAcc* acc = sc.pairAcc.data();
+    // More than 64 detections: the detection bits do not fit, every particle takes the
+    // assignment (totalsBlock).
+    const uint32_t manyDets = sc.dets.size() > 64 ? 1u : 0u;
+    std::fill(acc, acc + m, PairAcc{0.0, 1.0, 0, kNoEntry, manyDets});
     size_t np = 0;
     for (size_t t = 0; t < nc; t++)
     {
@@ -1870,14 +1900,25 @@ void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k,
         pairs[np] = {rest, j, e - visStart[i], q};  // written always, kept if it gains
         pairCount[i] += static_cast<uint32_t>(gains);
         np += static_cast<size_t>(gains);
+        // The candidates of an object are consecutive: a second pair of the same object is
+        // one with the last object's index.
+        PairAcc& a = acc[i];
+        const uint64_t bit = static_cast<uint64_t>(gains) << (j & 63u);
+        a.conflict |= static_cast<uint32_t>((a.dets & bit) != 0) |
+                      static_cast<uint32_t>(gains & (a.lastE == e));
+        a.dets |= bit;
+        a.lastE = gains ? e : a.lastE;
+        a.restSum += detail::selectIf(gains, rest, 0.0);
+        a.qProd *= detail::selectIf(gains, q, 1.0);
     }
 }
 
 /** Stage 5: per particle, -lambda + l log kappa, sum_v log(1 - P_D(rho_v)) as the log of the
  *  product (one log instead of one per visible object; each factor is >= 1e-6, so the
- *  product is folded into the sum before it could underflow), and the assignment. One pair:
- *  its q joins the product (one log for the particle); more: each pair's gain log q + rest
- *  for the assignment. */
+ *  product is folded into the sum before it could underflow), and the assignment. Pairs
+ *  that share no detection and no object are all taken by the greedy assignment: up to
+ *  kFoldPairs of them, their q join the product (one log for the particle) and their gains
+ *  less log q are summed; otherwise each pair's gain log q + rest goes to the assignment. */
 void totalsBlock(Scratch& sc, const ModelConsts& k, size_t m, double* out)
 {
     const size_t nd = sc.dets.size();
@@ -1886,6 +1927,7 @@ void totalsBlock(Scratch& sc, const ModelConsts& k, size_t m, double* out)
     const uint32_t* pairCount = sc.pairCount.data();
     const double* PD = sc.bPd.data();
     Pair* pairs = sc.pairs.data();
+    const PairAcc* acc = sc.pairAcc.data();
     uint8_t* used = sc.used.data();
     size_t t = 0;
     for (uint32_t i = 0; i < m; i++)
@@ -1907,8 +1949,15 @@ void totalsBlock(Scratch& sc, const ModelConsts& k, size_t m, double* out)
             }
         }
         const uint32_t c = pairCount[i];
+        const PairAcc& a = acc[i];
         double gains = 0;
-        if (c == 1)
+        if (a.conflict == 0 && c <= kFoldPairs)
+        {
+            // q in [1e-6, 1e6]: a product >= 1e-250 times q^c stays a normal number.
+            miss *= a.qProd;
+            gains = a.restSum;
+        }
+        else if (c == 1)
         {
             miss *= pairs[t].q;  // <= 1e6 times a product >= 1e-250
             gains = pairs[t].gain;
@@ -1954,7 +2003,7 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
         rangesBlock(sc, ne, opt, geoms[0].R);
     }
     const size_t nc = gateBlock(ix, sc, k, ne);
-    gainBlock(ix, sc, k, nc);
+    gainBlock(ix, sc, k, m, nc);
     totalsBlock(sc, k, m, out);
 }
 

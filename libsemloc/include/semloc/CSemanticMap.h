@@ -61,7 +61,8 @@ class LabelIndex;
  *  labelled correctly with 1 - p_c or as any other of the K map labels with
  *  p_c / (K - 1), and false positives are Poisson with mean lambda (`clutter_per_scan`),
  *  uniform over the field of view and the K labels (density kappa = lambda / (R fov K)).
- *  With the one-to-one association A of highest likelihood:
+ *  With a one-to-one association A chosen greedily, best pair first (the most likely one
+ *  whenever no two pairs that gain compete for a detection or an object):
  *
  *      log p(z | x) = -lambda + sum_{(j,v) in A} [log P_D(rho_v) + log C(L_j | L_v)
  *                                 + log N(d_rho; sigma_rho) + log N(d_theta; sigma_theta)]
