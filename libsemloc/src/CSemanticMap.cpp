@@ -560,12 +560,19 @@ struct Scratch
     size_t binCount = 1;
     double binInv = 0;
     std::vector<uint32_t> binSpan;
+    /** The most slots of any bin (planRangeBins). */
+    size_t maxSpan = 0;
     /** The block stages: per particle of the block, its q, its number of pairs and
      *  (probabilistic) where its objects start; the objects that may pair (paper) and the
      *  gated candidate pairs of the whole block. */
     std::vector<uint32_t> blockVis, pairCount, visStart;
     std::vector<Gated> gated;
     std::vector<Cand> cands;
+    /** gateBlock's (slot, entry) pairs to test, when bins hold few slots. */
+    std::vector<Cand> tasks;
+    /** Per particle of the block: the product of 1 - P_D of its visible objects, and the
+     *  terms of its log-likelihood that do not depend on the association (missBlock). */
+    std::vector<double> bMiss, bBase;
     /** planPairs() of the last call is kept while these stay the same. */
     std::vector<Det> planDets;
     std::array<double, 4> planKey{};
@@ -1415,6 +1422,7 @@ void planRangeBins(Scratch& sc, size_t nLabels, double reach)
     }
     const size_t nb = sc.binCount;
     sc.binSpan.resize(2 * nLabels * nb);
+    sc.maxSpan = 0;
     for (size_t l = 0; l < nLabels; l++)
     {
         const Slot* sl = sc.slots.data() + l * ns;
@@ -1430,6 +1438,7 @@ void planRangeBins(Scratch& sc, size_t nLabels, double reach)
                                                 [](double r, const Slot& a) { return r < a.d.r; });
             sc.binSpan[2 * (l * nb + b)] = static_cast<uint32_t>(first - sc.slots.data());
             sc.binSpan[2 * (l * nb + b) + 1] = static_cast<uint32_t>(last - sc.slots.data());
+            sc.maxSpan = std::max(sc.maxSpan, static_cast<size_t>(last - first));
         }
     }
 }
@@ -1779,13 +1788,51 @@ void rangesBlock(Scratch& sc, size_t ne, const CSemanticMap::TLikelihoodOptions&
 #endif
 }
 
+/** Stage 2b: per particle, the product of 1 - P_D over its visible objects in sc.bMiss and
+ *  -lambda + l log kappa in sc.bBase, one flat loop over the entries (no loop per particle
+ *  whose length changes at random). Each factor is >= 1e-6: a product below 1e-250 is
+ *  folded into bBase as its log before it could underflow. */
+void missBlock(Scratch& sc, const ModelConsts& k, size_t m, size_t ne)
+{
+    for (auto* v : {&sc.bMiss, &sc.bBase})
+    {
+        if (v->size() < m)
+        {
+            v->resize(m);
+        }
+    }
+    double* miss = sc.bMiss.data();
+    double* base = sc.bBase.data();
+    std::fill(miss, miss + m, 1.0);
+    std::fill(base, base + m, -k.lambda + static_cast<double>(sc.dets.size()) * k.logKappa);
+    const uint32_t* part = sc.bPart.data();
+    const double* PD = sc.bPd.data();
+    for (size_t e = 0; e < ne; e++)
+    {
+        const uint32_t i = part[e];
+        double v = miss[i] * (1 - PD[e]);
+        if (v < 1e-250)
+        {
+            base[i] += std::log(v);
+            v = 1;
+        }
+        miss[i] = v;
+    }
+}
+
 /** Stage 3: every (entry, detection slot of its label in its range bin) against the exact
- *  gates, branch-free, into sc.cands; returns how many pass. */
+ *  gates, branch-free, into sc.cands; returns how many pass. When no bin holds more than
+ *  kMaxTaskSpan slots, the pairs to test are listed first (each entry writes that many,
+ *  keeps those inside its bin) and tested in one flat loop: no inner loop whose length
+ *  (0, 1, 2... slots) changes at random from one object to the next. Same pairs, same order. */
+constexpr size_t kMaxTaskSpan = 4;
+
 size_t gateBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t ne)
 {
-    if (sc.cands.size() < ne * sc.slotCount)
+    const size_t span = std::max<size_t>(1, sc.maxSpan);
+    if (sc.cands.size() < ne * span + 1)
     {
-        sc.cands.resize(2 * ne * sc.slotCount);
+        sc.cands.resize(2 * ne * span + 1);
     }
     const uint32_t* hit = sc.bHit.data();
     const double* RR = sc.bR.data();
@@ -1798,21 +1845,67 @@ size_t gateBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& 
     const size_t nb = sc.binCount;
     const double binInv = sc.binInv, lastBin = static_cast<double>(nb - 1);
     const double ir = k.ir, budget = k.budget, cosGate = k.cosGate;
-    size_t nc = 0;
-    auto gate = [&](auto idTest)
+    auto spanOf = [&](uint32_t e)
     {
+        const auto b = static_cast<size_t>(std::min(RR[e] * binInv, lastBin));
+        return binSpan + 2 * (static_cast<size_t>(L[hit[e]]) * nb + b);
+    };
+    size_t nc = 0;
+    // The pair (slot t, entry e) into cands, kept if it passes.
+    auto test = [&](auto idTest, uint32_t t, uint32_t e)
+    {
+        const Det& d = slots[t].d;
+        cands[nc] = {slots[t].j, e};  // written always, kept if it passes
+        nc += static_cast<size_t>(passesGates(d, RR[e], LX[e], LY[e], ir, budget, cosGate) &
+                                  idTest(d.fixed, static_cast<int32_t>(hit[e])));
+    };
+    auto listed = [&](auto idTest, auto spanC)
+    {
+        constexpr uint32_t S = decltype(spanC)::value;
+        if (sc.tasks.size() < ne * S + S)
+        {
+            sc.tasks.resize(2 * (ne * S + S));
+        }
+        Cand* tasks = sc.tasks.data();
+        size_t nt = 0;
         for (uint32_t e = 0; e < ne; e++)
         {
-            const double r = RR[e], lx = LX[e], ly = LY[e];
-            const auto kk = static_cast<int32_t>(hit[e]);
-            const auto b = static_cast<size_t>(std::min(r * binInv, lastBin));
-            const uint32_t* span = binSpan + 2 * (static_cast<size_t>(L[kk]) * nb + b);
-            for (uint32_t t = span[0]; t < span[1]; t++)
+            const uint32_t* sp = spanOf(e);
+            const uint32_t a = sp[0], cnt = sp[1] - sp[0];
+            for (uint32_t u = 0; u < S; u++)
             {
-                const Det& d = slots[t].d;
-                cands[nc] = {slots[t].j, e};  // written always, kept if it passes
-                nc += static_cast<size_t>(passesGates(d, r, lx, ly, ir, budget, cosGate) &
-                                          idTest(d.fixed, kk));
+                tasks[nt] = {a + u, e};  // written always, kept if inside the bin
+                nt += static_cast<size_t>(u < cnt);
+            }
+        }
+        for (size_t t = 0; t < nt; t++)
+        {
+            test(idTest, tasks[t].j, tasks[t].e);
+        }
+    };
+    auto gate = [&](auto idTest)
+    {
+        switch (sc.maxSpan)
+        {
+            case 0:
+                return;  // no slot in any bin: no pair
+            case 1:
+                return listed(idTest, std::integral_constant<uint32_t, 1>());
+            case 2:
+                return listed(idTest, std::integral_constant<uint32_t, 2>());
+            case 3:
+                return listed(idTest, std::integral_constant<uint32_t, 3>());
+            case kMaxTaskSpan:
+                return listed(idTest, std::integral_constant<uint32_t, kMaxTaskSpan>());
+            default:
+                break;
+        }
+        for (uint32_t e = 0; e < ne; e++)
+        {
+            const uint32_t* sp = spanOf(e);
+            for (uint32_t t = sp[0]; t < sp[1]; t++)
+            {
+                test(idTest, t, e);
             }
         }
     };
@@ -1913,19 +2006,18 @@ void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k,
     }
 }
 
-/** Stage 5: per particle, -lambda + l log kappa, sum_v log(1 - P_D(rho_v)) as the log of the
- *  product (one log instead of one per visible object; each factor is >= 1e-6, so the
- *  product is folded into the sum before it could underflow), and the assignment. Pairs
+/** Stage 5: per particle, missBlock's terms (sum_v log(1 - P_D(rho_v)) as the log of the
+ *  product: one log instead of one per visible object) and the assignment. Pairs
  *  that share no detection and no object are all taken by the greedy assignment: up to
  *  kFoldPairs of them, their q join the product (one log for the particle) and their gains
  *  less log q are summed; otherwise each pair's gain log q + rest goes to the assignment. */
-void totalsBlock(Scratch& sc, const ModelConsts& k, size_t m, double* out)
+void totalsBlock(Scratch& sc, size_t m, double* out)
 {
     const size_t nd = sc.dets.size();
     const uint32_t* blockVis = sc.blockVis.data();
-    const uint32_t* visStart = sc.visStart.data();
     const uint32_t* pairCount = sc.pairCount.data();
-    const double* PD = sc.bPd.data();
+    const double* bMiss = sc.bMiss.data();
+    const double* bBase = sc.bBase.data();
     Pair* pairs = sc.pairs.data();
     const PairAcc* acc = sc.pairAcc.data();
     uint8_t* used = sc.used.data();
@@ -1937,17 +2029,8 @@ void totalsBlock(Scratch& sc, const ModelConsts& k, size_t m, double* out)
             out[i] = kMinLogLik;
             continue;
         }
-        double base = -k.lambda + static_cast<double>(nd) * k.logKappa;
-        double miss = 1;
-        for (size_t e = visStart[i], end = e + blockVis[i]; e < end; e++)
-        {
-            miss *= 1 - PD[e];
-            if (miss < 1e-250)
-            {
-                base += std::log(miss);
-                miss = 1;
-            }
-        }
+        const double base = bBase[i];
+        double miss = bMiss[i];
         const uint32_t c = pairCount[i];
         const PairAcc& a = acc[i];
         double gains = 0;
@@ -2002,9 +2085,10 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
     {
         rangesBlock(sc, ne, opt, geoms[0].R);
     }
+    missBlock(sc, k, m, ne);
     const size_t nc = gateBlock(ix, sc, k, ne);
     gainBlock(ix, sc, k, m, nc);
-    totalsBlock(sc, k, m, out);
+    totalsBlock(sc, m, out);
 }
 
 /** What a likelihood call knows of the sensor, fixed for all particles of a step. */
