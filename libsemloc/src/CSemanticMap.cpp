@@ -471,8 +471,9 @@ struct Pair
 };
 
 /** A particle's pairs as gainBlock finds them: the sum of their gains less log q, the
- *  product of their q, the detections they use (bit j) and the last object one used; a
- *  conflict is two pairs sharing a detection or an object (or more than 64 detections). */
+ *  product of their q, the detections they use (bit j), the last object one used, how many
+ *  and where the particle's candidates start; a conflict is two pairs sharing a detection
+ *  or an object (or more than 64 detections). */
 struct PairAcc
 {
     double restSum;
@@ -480,6 +481,8 @@ struct PairAcc
     uint64_t dets;
     uint32_t lastE;
     uint32_t conflict;
+    uint32_t count;
+    uint32_t firstCand;
 };
 
 /** A detection as one of a label's slots (planPairs). */
@@ -562,9 +565,10 @@ struct Scratch
     std::vector<uint32_t> binSpan;
     /** The most slots of any bin (planRangeBins). */
     size_t maxSpan = 0;
-    /** The block stages: per particle of the block, its q, its number of pairs and
-     *  (probabilistic) where its objects start; the objects that may pair (paper) and the
-     *  gated candidate pairs of the whole block. */
+    /** The block stages: per particle of the block, its q (paper) or number of visible
+     *  objects (probabilistic), its number of pairs (paper) and where its objects start
+     *  (probabilistic); the objects that may pair (paper) and the gated candidate pairs of
+     *  the whole block. */
     std::vector<uint32_t> blockVis, pairCount, visStart;
     std::vector<Gated> gated;
     std::vector<Cand> cands;
@@ -1950,26 +1954,38 @@ GainParts gainParts(const CSemanticMap::Index& ix, const Scratch& sc)
             sc.bLx.data(),  sc.bLy.data(),  ix.label.data()};
 }
 
-/** Stage 4: the gains of the nc candidates; those with a positive gain are the pairs, in
- *  particle order (sc.pairs, sc.pairCount[i] of particle i), each with its gain less
- *  log q, q = P_D / (1 - P_D), and summed per particle in sc.pairAcc. Whether the gain is
- *  positive is decided without log q when log q's range over the FOV decides it by more
- *  than 1e-9 (rounding: ~1e-14), else with log q: the same pairs as gain = log q + rest > 0.
- *  Branch-free but for that rare log. */
+/** A candidate pair's gain less log q, q = P_D / (1 - P_D), and whether its gain is
+ *  positive: decided without log q when log q's range over the FOV decides it by more than
+ *  1e-9 (rounding: ~1e-14), else with log q: the same pairs as gain = log q + rest > 0. */
+struct PairGain
+{
+    double rest, q;
+    bool gains;
+};
+
+PairGain pairGain(const GainParts& gp, const ModelConsts& k, const double* PD, uint32_t j,
+                  uint32_t e)
+{
+    PairGain g;
+    g.rest = gp.rest(k, j, e);
+    g.q = PD[e] / (1 - PD[e]);  // P_D is clamped inside (0, 1)
+    g.gains = g.rest + k.logQLo > 0;
+    if (!g.gains && g.rest + k.logQHi >= 0)
+    {
+        g.gains = std::log(g.q) + g.rest > 0;
+    }
+    return g;
+}
+
+/** Stage 4: the gains of the nc candidates (in particle order), summed per particle in
+ *  sc.pairAcc. Branch-free but for pairGain's rare log. */
 void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t m,
                size_t nc)
 {
-    if (sc.pairs.size() < nc + 1)
-    {
-        sc.pairs.resize(2 * nc + 1);  // at least one: read (not used) when a particle has none
-    }
     const Cand* cands = sc.cands.data();
     const uint32_t* part = sc.bPart.data();
-    const uint32_t* visStart = sc.visStart.data();
     const double* PD = sc.bPd.data();
     const GainParts gp = gainParts(ix, sc);
-    Pair* pairs = sc.pairs.data();
-    uint32_t* pairCount = sc.pairCount.data();
     if (sc.pairAcc.size() < m)
     {
         sc.pairAcc.resize(m);
@@ -1978,50 +1994,45 @@ void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k,
     // More than 64 detections: the detection bits do not fit, every particle takes the
     // assignment (totalsBlock).
     const uint32_t manyDets = sc.dets.size() > 64 ? 1u : 0u;
-    std::fill(acc, acc + m, PairAcc{0.0, 1.0, 0, kNoEntry, manyDets});
-    size_t np = 0;
+    std::fill(acc, acc + m, PairAcc{0.0, 1.0, 0, kNoEntry, manyDets, 0, kNoEntry});
     for (size_t t = 0; t < nc; t++)
     {
-        const uint32_t j = cands[t].j, e = cands[t].e, i = part[e];
-        const double rest = gp.rest(k, j, e);
-        const double q = PD[e] / (1 - PD[e]);  // P_D is clamped inside (0, 1)
-        bool gains = rest + k.logQLo > 0;
-        if (!gains && rest + k.logQHi >= 0)
-        {
-            gains = std::log(q) + rest > 0;
-        }
-        pairs[np] = {rest, j, e - visStart[i], q};  // written always, kept if it gains
-        pairCount[i] += static_cast<uint32_t>(gains);
-        np += static_cast<size_t>(gains);
+        const uint32_t j = cands[t].j, e = cands[t].e;
+        const PairGain g = pairGain(gp, k, PD, j, e);
         // The candidates of an object are consecutive: a second pair of the same object is
         // one with the last object's index.
-        PairAcc& a = acc[i];
-        const uint64_t bit = static_cast<uint64_t>(gains) << (j & 63u);
+        PairAcc& a = acc[part[e]];
+        const uint64_t bit = static_cast<uint64_t>(g.gains) << (j & 63u);
         a.conflict |= static_cast<uint32_t>((a.dets & bit) != 0) |
-                      static_cast<uint32_t>(gains & (a.lastE == e));
+                      static_cast<uint32_t>(g.gains & (a.lastE == e));
         a.dets |= bit;
-        a.lastE = gains ? e : a.lastE;
-        a.restSum += detail::selectIf(gains, rest, 0.0);
-        a.qProd *= detail::selectIf(gains, q, 1.0);
+        a.lastE = g.gains ? e : a.lastE;
+        a.restSum += detail::selectIf(g.gains, g.rest, 0.0);
+        a.qProd *= detail::selectIf(g.gains, g.q, 1.0);
+        a.count += static_cast<uint32_t>(g.gains);
+        a.firstCand = std::min(a.firstCand, static_cast<uint32_t>(t));
     }
 }
 
 /** Stage 5: per particle, missBlock's terms (sum_v log(1 - P_D(rho_v)) as the log of the
- *  product: one log instead of one per visible object) and the assignment. Pairs
- *  that share no detection and no object are all taken by the greedy assignment: up to
+ *  product: one log instead of one per visible object) and the association. Pairs that
+ *  share no detection and no object are all taken by the greedy assignment: up to
  *  kFoldPairs of them, their q join the product (one log for the particle) and their gains
- *  less log q are summed; otherwise each pair's gain log q + rest goes to the assignment. */
-void totalsBlock(Scratch& sc, size_t m, double* out)
+ *  less log q are summed. Otherwise (rare) the particle's pairs are evaluated again, each
+ *  with its gain log q + rest, for the assignment. */
+void totalsBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t m,
+                 size_t nc, double* out)
 {
     const size_t nd = sc.dets.size();
     const uint32_t* blockVis = sc.blockVis.data();
-    const uint32_t* pairCount = sc.pairCount.data();
+    const uint32_t* visStart = sc.visStart.data();
+    const uint32_t* part = sc.bPart.data();
+    const double* PD = sc.bPd.data();
     const double* bMiss = sc.bMiss.data();
     const double* bBase = sc.bBase.data();
-    Pair* pairs = sc.pairs.data();
+    const Cand* cands = sc.cands.data();
     const PairAcc* acc = sc.pairAcc.data();
-    uint8_t* used = sc.used.data();
-    size_t t = 0;
+    const GainParts gp = gainParts(ix, sc);
     for (uint32_t i = 0; i < m; i++)
     {
         if (blockVis[i] == kNoPose)
@@ -2029,32 +2040,47 @@ void totalsBlock(Scratch& sc, size_t m, double* out)
             out[i] = kMinLogLik;
             continue;
         }
-        const double base = bBase[i];
-        double miss = bMiss[i];
-        const uint32_t c = pairCount[i];
         const PairAcc& a = acc[i];
+        double miss = bMiss[i];
         double gains = 0;
-        if (a.conflict == 0 && c <= kFoldPairs)
+        if (a.conflict == 0 && a.count <= kFoldPairs)
         {
             // q in [1e-6, 1e6]: a product >= 1e-250 times q^c stays a normal number.
             miss *= a.qProd;
             gains = a.restSum;
         }
-        else if (c == 1)
+        else
         {
-            miss *= pairs[t].q;  // <= 1e6 times a product >= 1e-250
-            gains = pairs[t].gain;
-        }
-        else if (c > 1)
-        {
-            for (size_t u = t; u < t + c; u++)
+            if (sc.pairs.size() < nc + 1)
             {
-                pairs[u].gain += std::log(pairs[u].q);
+                sc.pairs.resize(2 * nc + 1);
             }
-            gains = assignGreedy(pairs + t, c, nd, used);
+            Pair* pairs = sc.pairs.data();
+            size_t np = 0;
+            for (size_t t = a.firstCand; t < nc && part[cands[t].e] == i; t++)
+            {
+                const uint32_t j = cands[t].j, e = cands[t].e;
+                const PairGain g = pairGain(gp, k, PD, j, e);
+                if (g.gains)
+                {
+                    pairs[np++] = {g.rest, j, e - visStart[i], g.q};
+                }
+            }
+            if (np == 1)
+            {
+                miss *= pairs[0].q;  // <= 1e6 times a product >= 1e-250
+                gains = pairs[0].gain;
+            }
+            else if (np > 1)
+            {
+                for (size_t u = 0; u < np; u++)
+                {
+                    pairs[u].gain += std::log(pairs[u].q);
+                }
+                gains = assignGreedy(pairs, np, nd, sc.used.data());
+            }
         }
-        t += c;
-        out[i] = finite(base + std::log(miss) + gains);
+        out[i] = finite(bBase[i] + std::log(miss) + gains);
     }
 }
 
@@ -2068,14 +2094,13 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
                              Scratch& sc, const Geom* geoms, const TPose2D* poses, size_t m,
                              double* out)
 {
-    for (auto* v : {&sc.blockVis, &sc.pairCount, &sc.visStart})  // shared with the paper block
+    for (auto* v : {&sc.blockVis, &sc.visStart})  // shared with the paper block
     {
         if (v->size() < m)
         {
             v->resize(m);
         }
     }
-    std::fill(sc.pairCount.begin(), sc.pairCount.begin() + static_cast<ptrdiff_t>(m), 0u);
     if (sc.used.size() < sc.dets.size() + ix.x.size())
     {
         sc.used.resize(sc.dets.size() + ix.x.size(), 0);
@@ -2088,7 +2113,7 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
     missBlock(sc, k, m, ne);
     const size_t nc = gateBlock(ix, sc, k, ne);
     gainBlock(ix, sc, k, m, nc);
-    totalsBlock(sc, m, out);
+    totalsBlock(ix, sc, k, m, nc, out);
 }
 
 /** What a likelihood call knows of the sensor, fixed for all particles of a step. */
