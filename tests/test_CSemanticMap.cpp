@@ -761,6 +761,44 @@ TEST(CSemanticMap, WorldFileIsFoundNextToTheIni)
     EXPECT_EQ(sm->objects().size(), 12u);
 }
 
+TEST(CSemanticMap, ModelsTakeTurnsOnOneThread)
+{
+    // The models share a thread's scratch buffers: the probabilistic model first, on a new
+    // thread, then the paper model, each with a full block, then again (each sizes what it
+    // uses, whatever the other sized before).
+    std::vector<double> batch[4], single[4];
+    std::thread worker(
+        [&]
+        {
+            mrpt::random::CRandomGenerator rng(8);
+            const auto obs = observe(smallWorld(), kTrue, DetectorSim{}, &rng);
+            std::vector<TPose2D> poses(600);
+            for (auto& p : poses)
+            {
+                p = TPose2D(rng.drawUniform(0.0, 30.0), rng.drawUniform(0.0, 30.0),
+                            rng.drawUniform(-M_PI, M_PI));
+            }
+            for (int run = 0; run < 4; run++)
+            {
+                const CSemanticMap m = smallMap(run % 2 == 0 ? CSemanticMap::Model::Probabilistic
+                                                             : CSemanticMap::Model::Paper);
+                batch[run].resize(poses.size());
+                m.computeLogLikelihoods(obs, poses.data(), poses.size(), batch[run].data());
+                for (const auto& p : poses)
+                {
+                    single[run].push_back(m.computeLogLikelihood(obs, p));
+                }
+            }
+        });
+    worker.join();
+    for (int run = 0; run < 4; run++)
+    {
+        EXPECT_EQ(batch[run], single[run]) << "run " << run;
+        EXPECT_EQ(batch[run], batch[run % 2]) << "run " << run;
+    }
+    EXPECT_NE(batch[0], batch[1]);  // two models
+}
+
 TEST(CSemanticMap, BatchEqualsSingleCalls)
 {
     // Both models, detections with and without object ids (the paper model's gates differ).

@@ -1551,11 +1551,12 @@ bool anyNamed(const Scratch& sc)
     return std::any_of(sc.dets.begin(), sc.dets.end(), [](const Det& d) { return d.fixed >= 0; });
 }
 
-/** The bearing difference of detection d and the object at (lx, ly): atan2(u x v, u . v) of
- *  the detection's unit vector u and the object's direction v, exact, no angle wrapping. */
-inline double bearingDiff(const Det& d, double lx, double ly)
+/** |bearing difference| of detection d and the object at (lx, ly): |atan2(u x v, u . v)| of
+ *  the detection's unit vector u and the object's direction v, exact, no angle wrapping
+ *  (the models use its square only; gated pairs are within 45 degrees: the short path). */
+inline double absBearingDiff(const Det& d, double lx, double ly)
 {
-    return detail::fastAtan2(d.uc * ly - d.us * lx, d.uc * lx + d.us * ly);
+    return detail::fastAbsAtan2(d.uc * ly - d.us * lx, d.uc * lx + d.us * ly);
 }
 
 /** Lowest value returned: keeps MRPT's finite-likelihood assertion true even if an
@@ -1602,10 +1603,12 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
     const int32_t* L = ix.label.data();
     const double* lo2 = sc.gateLo2.data();
     const double* hi2 = sc.gateHi2.data();
-    if (sc.blockVis.size() < m)
+    for (auto* v : {&sc.blockVis, &sc.pairCount})  // each: the probabilistic block sizes one
     {
-        sc.blockVis.resize(m);
-        sc.pairCount.resize(m);
+        if (v->size() < m)
+        {
+            v->resize(m);
+        }
     }
     uint32_t* blockVis = sc.blockVis.data();
     uint32_t* pairCount = sc.pairCount.data();
@@ -1705,7 +1708,7 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
         const Det& d = dets[cands[t].j];
         const Gated& q = gated[cands[t].e];
         const double dr = d.r - q.o.r;
-        const double db = bearingDiff(d, q.o.lx, q.o.ly);
+        const double db = absBearingDiff(d, q.o.lx, q.o.ly);
         const double gain = -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu;
         pairs[np] = {gain, cands[t].j, q.v};  // written always, kept if it gains
         pairCount[q.p] += static_cast<uint32_t>(gain > 0);
@@ -1937,7 +1940,7 @@ struct GainParts
     {
         const Det& d = dets[j];
         const double dr = d.r - RR[e];
-        const double db = bearingDiff(d, LX[e], LY[e]);
+        const double db = absBearingDiff(d, LX[e], LY[e]);
         double logC = 0;  // landmarks without a label: no label term
         if (d.label >= 0)
         {
