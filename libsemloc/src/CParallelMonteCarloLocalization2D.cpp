@@ -535,13 +535,18 @@ CParallelMonteCarloLocalization2D::predictAndUpdate(
                                [&](auto* p, size_t i0, size_t n)
                                {
                                    TPose2D* out = m_poses.data() + i0;
-                                   for (size_t k = 0; k < n; k++)
+                                   if (drawer)
                                    {
-                                       if (drawer)
+                                       for (size_t k = 0; k < n; k++)
                                        {
                                            ParticleNormals normals(key, i0 + k);
                                            p[k].d = compose(p[k].d, drawer->draw(normals));
+                                           out[k] = p[k].d;
                                        }
+                                       return;
+                                   }
+                                   for (size_t k = 0; k < n; k++)
+                                   {
                                        out[k] = p[k].d;
                                    }
                                });
@@ -557,19 +562,28 @@ CParallelMonteCarloLocalization2D::predictAndUpdate(
                     acc.outside +=
                         m_sampler->excludeOutside(m_poses.data() + b, e - b, m_logLik.data() + b);
                 }
-                MinMax range = acc.range;
+                // Even and odd particles' extremes apart: two dependency chains.
+                MinMax even = acc.range, odd;
                 forEachRun(m_particles, b, e,
                            [&](auto* p, size_t i0, size_t n)
                            {
                                const double* logLik = m_logLik.data() + i0;
-                               for (size_t k = 0; k < n; k++)
+                               size_t k = 0;
+                               for (; k + 1 < n; k += 2)
                                {
-                                   double& w = p[k].log_w;
-                                   w += logLik[k] * pow;
-                                   range.add(w);
+                                   p[k].log_w += logLik[k] * pow;
+                                   p[k + 1].log_w += logLik[k + 1] * pow;
+                                   even.add(p[k].log_w);
+                                   odd.add(p[k + 1].log_w);
+                               }
+                               if (k < n)
+                               {
+                                   p[k].log_w += logLik[k] * pow;
+                                   even.add(p[k].log_w);
                                }
                            });
-                acc.range = range;
+                even.add(odd);
+                acc.range = even;
             },
             kParticleGrain);
     };
@@ -715,16 +729,24 @@ CParallelMonteCarloLocalization2D::MinMax CParallelMonteCarloLocalization2D::min
         m_particles.size(),
         [&](size_t b, size_t e, size_t thread)
         {
-            MinMax r;
+            // Even and odd particles apart: two dependency chains, the same extremes.
+            MinMax even, odd;
             forEachRun(m_particles, b, e,
                        [&](const auto* p, size_t, size_t n)
                        {
-                           for (size_t k = 0; k < n; k++)
+                           size_t k = 0;
+                           for (; k + 1 < n; k += 2)
                            {
-                               r.add(p[k].log_w);
+                               even.add(p[k].log_w);
+                               odd.add(p[k + 1].log_w);
+                           }
+                           if (k < n)
+                           {
+                               even.add(p[k].log_w);
                            }
                        });
-            partial[thread].add(r);
+            partial[thread].add(even);
+            partial[thread].add(odd);
         },
         kCheapLoopGrain);
     MinMax r;
