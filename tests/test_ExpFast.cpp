@@ -52,3 +52,28 @@ TEST(ExpFast, SpecialValues)
     EXPECT_EQ(expFast(std::numeric_limits<double>::infinity()),
               std::numeric_limits<double>::infinity());
 }
+
+TEST(ExpFast, TwoLanesEqualOneAtATime)
+{
+    std::mt19937_64 gen(12);
+    // Pairs over the weights' range, with one lane or both beyond expFast's range (libm).
+    std::uniform_real_distribution<double> weights(-745, 0), wide(-800, 800);
+    const double specials[] = {0.0,
+                               -0.0,
+                               -700.0,
+                               700.0,
+                               -std::numeric_limits<double>::infinity(),
+                               std::numeric_limits<double>::quiet_NaN()};
+    for (int i = 0; i < 200000; i++)
+    {
+        double a = weights(gen), b = i % 3 == 0 ? wide(gen) : weights(gen);
+        if (i % 1000 == 0)
+        {
+            b = specials[(i / 1000) % 6];
+        }
+        double y0 = 0, y1 = 0;
+        semloc::detail::expFast2(a, b, y0, y1);
+        ASSERT_EQ(bitsOf(y0), bitsOf(semloc::detail::expFast(a))) << a;
+        ASSERT_EQ(bitsOf(y1), bitsOf(semloc::detail::expFast(b))) << b;
+    }
+}

@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <type_traits>
 
 #include "ExpFast.h"
 #include "FastMath.h"
@@ -48,9 +49,7 @@ constexpr size_t kExpLoopChunk = 4096;
  *  small enough for the threads to finish within a few tens of microseconds of each other. */
 constexpr size_t kParticleGrain = 128;
 
-/** Two doubles operated on together (SSE2 on x86-64, plain code elsewhere): IEEE operations
- *  lane by lane, so the same bits as scalar code (no contraction into FMA: baseline ISA). */
-using Vec2 = double __attribute__((vector_size(16)));
+using detail::Vec2;
 
 /** mrpt::math::wrapToPi, bit for bit, without its fmod for angles already in range
  *  (fmod(t, 2 pi) is exactly t for 0 <= t < 2 pi). */
@@ -92,6 +91,30 @@ private:
     }
     uint64_t m_state;
 };
+
+/** Calls `run(first, i, n)` for the runs of particles [b, e) of `particles` (a std::deque)
+ *  that lie contiguously in memory: first points at particle i, the run holds n. The loops
+ *  over a run are plain pointer loops, without the deque iterator's end-of-node check (and
+ *  its branch) per particle. libstdc++ exposes its node bounds; elsewhere runs of one. */
+template <typename Particles, typename Run>
+void forEachRun(Particles& particles, size_t b, size_t e, Run&& run)
+{
+    auto it = particles.begin() + static_cast<ptrdiff_t>(b);
+    while (b < e)
+    {
+#if defined(__GLIBCXX__)
+        const size_t n = std::min(e - b, static_cast<size_t>(it._M_last - it._M_cur));
+#else
+        const size_t n = 1;
+#endif
+        run(&*it, b, n);
+        b += n;
+        if (b < e)
+        {
+            it += static_cast<ptrdiff_t>(n);
+        }
+    }
+}
 
 /** Systematic resampling works on blocks of this many particles (any size gives the same
  *  indices; small blocks spread the copying evenly over the threads). */
@@ -366,18 +389,23 @@ void CParallelMonteCarloLocalization2D::systematicResampling()
                 const size_t jEnd = std::min(last, std::min(M, (blk + 1) * kResampleBlock) - 1);
                 double cum = m_blockCum[blk] + w[j];
                 auto src = m_particles.cbegin() + static_cast<ptrdiff_t>(j);
-                auto dst = m_resampled.begin() + static_cast<ptrdiff_t>(i0);
-                for (size_t i = i0; i < i1; i++, ++dst)
-                {
-                    const double t = pointer(i);
-                    while (t >= cum && j < jEnd)
-                    {
-                        cum += w[++j];
-                        ++src;
-                    }
-                    dst->d = src->d;
-                    dst->log_w = 0;  // equal weights after resampling
-                }
+                forEachRun(m_resampled, i0, i1,
+                           [&](auto* dst, size_t d0, size_t n)
+                           {
+                               // pointer(i) with i counted as a double (exact below 2^53).
+                               double di = static_cast<double>(d0);
+                               for (size_t k = 0; k < n; k++, di += 1)
+                               {
+                                   const double t = (u + di) * step;
+                                   while (t >= cum && j < jEnd)
+                                   {
+                                       cum += w[++j];
+                                       ++src;
+                                   }
+                                   dst[k].d = src->d;
+                                   dst[k].log_w = 0;  // equal weights after resampling
+                               }
+                           });
             }
         },
         1);
@@ -503,16 +531,25 @@ CParallelMonteCarloLocalization2D::predictAndUpdate(
             {
                 if (poses)
                 {
-                    auto it = m_particles.begin() + static_cast<ptrdiff_t>(b);
-                    for (size_t i = b; i < e; i++, ++it)
-                    {
-                        if (drawer)
-                        {
-                            ParticleNormals normals(key, i);
-                            it->d = compose(it->d, drawer->draw(normals));
-                        }
-                        m_poses[i] = it->d;
-                    }
+                    forEachRun(m_particles, b, e,
+                               [&](auto* p, size_t i0, size_t n)
+                               {
+                                   TPose2D* out = m_poses.data() + i0;
+                                   if (drawer)
+                                   {
+                                       for (size_t k = 0; k < n; k++)
+                                       {
+                                           ParticleNormals normals(key, i0 + k);
+                                           p[k].d = compose(p[k].d, drawer->draw(normals));
+                                           out[k] = p[k].d;
+                                       }
+                                       return;
+                                   }
+                                   for (size_t k = 0; k < n; k++)
+                                   {
+                                       out[k] = p[k].d;
+                                   }
+                               });
                 }
                 if (!likelihood)
                 {
@@ -520,19 +557,33 @@ CParallelMonteCarloLocalization2D::predictAndUpdate(
                 }
                 Partial& acc = partial[thread];
                 acc.nonfinite += m_likelihood->evaluateChunk(m_poses.data(), b, e, m_logLik.data());
-                auto it = m_particles.begin() + static_cast<ptrdiff_t>(b);
-                for (size_t i = b; i < e; i++, ++it)
+                if (prior)
                 {
-                    if (prior && m_logLik[i] != kNegInf &&
-                        !m_sampler->contains(m_poses[i].x, m_poses[i].y))
-                    {
-                        m_logLik[i] = kNegInf;
-                        acc.outside++;
-                    }
-                    auto& w = it->log_w;
-                    w += m_logLik[i] * pow;
-                    acc.range.add(w);
+                    acc.outside +=
+                        m_sampler->excludeOutside(m_poses.data() + b, e - b, m_logLik.data() + b);
                 }
+                // Even and odd particles' extremes apart: two dependency chains.
+                MinMax even = acc.range, odd;
+                forEachRun(m_particles, b, e,
+                           [&](auto* p, size_t i0, size_t n)
+                           {
+                               const double* logLik = m_logLik.data() + i0;
+                               size_t k = 0;
+                               for (; k + 1 < n; k += 2)
+                               {
+                                   p[k].log_w += logLik[k] * pow;
+                                   p[k + 1].log_w += logLik[k + 1] * pow;
+                                   even.add(p[k].log_w);
+                                   odd.add(p[k + 1].log_w);
+                               }
+                               if (k < n)
+                               {
+                                   p[k].log_w += logLik[k] * pow;
+                                   even.add(p[k].log_w);
+                               }
+                           });
+                even.add(odd);
+                acc.range = even;
             },
             kParticleGrain);
     };
@@ -678,13 +729,24 @@ CParallelMonteCarloLocalization2D::MinMax CParallelMonteCarloLocalization2D::min
         m_particles.size(),
         [&](size_t b, size_t e, size_t thread)
         {
-            MinMax r;
-            auto it = m_particles.cbegin() + static_cast<ptrdiff_t>(b);
-            for (size_t i = b; i < e; i++, ++it)
-            {
-                r.add(it->log_w);
-            }
-            partial[thread].add(r);
+            // Even and odd particles apart: two dependency chains, the same extremes.
+            MinMax even, odd;
+            forEachRun(m_particles, b, e,
+                       [&](const auto* p, size_t, size_t n)
+                       {
+                           size_t k = 0;
+                           for (; k + 1 < n; k += 2)
+                           {
+                               even.add(p[k].log_w);
+                               odd.add(p[k + 1].log_w);
+                           }
+                           if (k < n)
+                           {
+                               even.add(p[k].log_w);
+                           }
+                       });
+            partial[thread].add(even);
+            partial[thread].add(odd);
         },
         kCheapLoopGrain);
     MinMax r;
@@ -720,11 +782,14 @@ double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w
         m_particles.size(),
         [&](size_t b, size_t e, size_t)
         {
-            auto it = m_particles.begin() + static_cast<ptrdiff_t>(b);
-            for (size_t i = b; i < e; i++, ++it)
-            {
-                it->log_w -= maxW;
-            }
+            forEachRun(m_particles, b, e,
+                       [&](auto* p, size_t, size_t n)
+                       {
+                           for (size_t k = 0; k < n; k++)
+                           {
+                               p[k].log_w -= maxW;
+                           }
+                       });
         },
         kCheapLoopGrain);
     if (out_max_log_w)
@@ -769,28 +834,56 @@ double CParallelMonteCarloLocalization2D::weightsAndESS(const MinMax& range,
     double* out = linW ? linW->data() : nullptr;
     const size_t blocks = (M + ParallelExecutor::kReduceBlock - 1) / ParallelExecutor::kReduceBlock;
     std::vector<double> sumW(blocks), sumW2(blocks);
+    // The weights of block blk (written out if writeOut) and their sums.
+    const auto blockSums = [&](size_t blk, auto writeOut)
+    {
+        double s = 0, s2 = 0;
+        const size_t b = blk * ParallelExecutor::kReduceBlock;
+        forEachRun(m_particles, b, std::min(M, b + ParallelExecutor::kReduceBlock),
+                   [&](const auto* p, size_t i0, size_t n)
+                   {
+                       // Two at a time (expFast2), the sums in particle order.
+                       size_t k = 0;
+                       for (; k + 1 < n; k += 2)
+                       {
+                           double w0 = 0, w1 = 0;
+                           detail::expFast2(p[k].log_w - maxW, p[k + 1].log_w - maxW, w0, w1);
+                           if constexpr (decltype(writeOut)::value)
+                           {
+                               out[i0 + k] = w0;
+                               out[i0 + k + 1] = w1;
+                           }
+                           s = (s + w0) + w1;
+                           s2 = (s2 + w0 * w0) + w1 * w1;
+                       }
+                       if (k < n)
+                       {
+                           const double w = detail::expFast(p[k].log_w - maxW);
+                           if constexpr (decltype(writeOut)::value)
+                           {
+                               out[i0 + k] = w;
+                           }
+                           s += w;
+                           s2 += w * w;
+                       }
+                   });
+        sumW[blk] = s;
+        sumW2[blk] = s2;
+    };
     m_executor->forEachChunk(
         blocks,
         [&](size_t b0, size_t b1)
         {
-            auto it =
-                m_particles.cbegin() + static_cast<ptrdiff_t>(b0 * ParallelExecutor::kReduceBlock);
             for (size_t blk = b0; blk < b1; blk++)
             {
-                const size_t e = std::min(M, (blk + 1) * ParallelExecutor::kReduceBlock);
-                double s = 0, s2 = 0;
-                for (size_t i = blk * ParallelExecutor::kReduceBlock; i < e; i++, ++it)
+                if (out)
                 {
-                    const double w = detail::expFast(it->log_w - maxW);
-                    if (out)
-                    {
-                        out[i] = w;
-                    }
-                    s += w;
-                    s2 += w * w;
+                    blockSums(blk, std::true_type{});
                 }
-                sumW[blk] = s;
-                sumW2[blk] = s2;
+                else
+                {
+                    blockSums(blk, std::false_type{});
+                }
             }
         },
         kExpLoopChunk / ParallelExecutor::kReduceBlock);

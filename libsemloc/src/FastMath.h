@@ -9,6 +9,32 @@
 
 namespace semloc::detail
 {
+/** Two doubles operated on together (SSE2 on x86-64, plain code elsewhere): IEEE operations
+ *  lane by lane, so the same bits as scalar code (no contraction into FMA: baseline ISA). */
+using Vec2 = double __attribute__((vector_size(16)));
+/** Lane-wise a <= b as bits (bit k for lane k; false for NaN, as the scalar comparison). */
+inline int lessEqualBits(Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_movemask_pd(_mm_cmple_pd(a, b));
+#else
+    return (a[0] <= b[0] ? 1 : 0) | (a[1] <= b[1] ? 2 : 0);
+#endif
+}
+
+/** Lane-wise a < b as bits (bit k for lane k; false for NaN, as the scalar comparison). */
+inline int lessBits(Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_movemask_pd(_mm_cmplt_pd(a, b));
+#else
+    return (a[0] < b[0] ? 1 : 0) | (a[1] < b[1] ? 2 : 0);
+#endif
+}
+
+/** Both lanes' bits. */
+constexpr int kBothLanes = 3;
+
 /** Branch-free selections for the per-particle kernels: branches on data that is random
  *  per particle (a quadrant, a pair that gains or not) were mispredicted about every other
  *  time. The values are those of the plain expressions, bit for bit. */

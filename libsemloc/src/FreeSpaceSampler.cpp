@@ -6,7 +6,11 @@
 #include <semloc/FreeSpaceSampler.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
+
+#include "FastMath.h"
 
 namespace semloc
 {
@@ -122,9 +126,175 @@ FreeSpaceSampler::FreeRaster::FreeRaster(const mrpt::maps::COccupancyGridMap2D& 
     }
 }
 
-bool FreeSpaceSampler::worldIsFree(double x, double y) const
+/** contains() of one sampler with its fields in a value of its own: the loops of
+ *  excludeOutside() keep them in registers (stores to the likelihoods cannot alias them).
+ *  Coordinates go in pairs (x, y) through packed compares and one packed division, the
+ *  same IEEE operations as one coordinate at a time: the same decisions, bit for bit. */
+struct FreeSpaceSampler::Region
 {
-    return m_world->isFree(x, y);
+    /** The box (Box) or the world's bounds (World). */
+    detail::Vec2 lo{}, hi{};
+    /** The raster's origin, resolution and size in cells. */
+    detail::Vec2 origin{}, size{};
+    double resolution = 1;
+    const uint8_t* free = nullptr;
+    size_t stride = 0;
+    const World* world = nullptr;
+
+    /** What the box and the raster say of a point. */
+    enum class Verdict
+    {
+        Inside,
+        Outside,
+        /** World: inside the bounds, in a cell an outline touches: World::isFree decides. */
+        Exact
+    };
+
+    /** Lanes of xy inside [lo, hi]. */
+    int inBox(const detail::Vec2& xy) const
+    {
+        return detail::lessEqualBits(lo, xy) & detail::lessEqualBits(xy, hi);
+    }
+
+    /** A free raster cell, if the lanes `also` are both set too. int(q) is in [0, size)
+     *  exactly when q is in (-1, size): no out-of-range cast. */
+    bool rasterFree(const detail::Vec2& xy, int also) const
+    {
+        const detail::Vec2 q = (xy - origin) / resolution;
+        const int inRaster = detail::lessBits(detail::Vec2{-1, -1}, q) & detail::lessBits(q, size);
+        return (also & inRaster) == detail::kBothLanes &&
+               free[static_cast<size_t>(static_cast<int>(q[0])) +
+                    static_cast<size_t>(static_cast<int>(q[1])) * stride] != 0;
+    }
+
+    template <Kind K>
+    Verdict verdict(double x, double y) const
+    {
+        const detail::Vec2 xy{x, y};
+        bool inside = false;
+        if constexpr (K == Kind::Box)
+        {
+            inside = inBox(xy) == detail::kBothLanes;
+        }
+        else if constexpr (K == Kind::Grid)
+        {
+            inside = rasterFree(xy, detail::lessEqualBits(origin, xy));
+        }
+        else
+        {
+            // A free raster cell: no outline touches it and its centre is free.
+            const int inBounds = inBox(xy);
+            if (!rasterFree(xy, inBounds))
+            {
+                return inBounds == detail::kBothLanes ? Verdict::Exact : Verdict::Outside;
+            }
+            inside = true;
+        }
+        return inside ? Verdict::Inside : Verdict::Outside;
+    }
+
+    template <Kind K>
+    bool contains(double x, double y) const
+    {
+        const Verdict v = verdict<K>(x, y);
+        return v == Verdict::Inside || (v == Verdict::Exact && world->isFree(x, y));
+    }
+
+    template <Kind K>
+    size_t excludeOutside(const mrpt::math::TPose2D* poses, size_t n, double* logLik) const
+    {
+        constexpr double kNegInf = -std::numeric_limits<double>::infinity();
+        // Blocks: the exact tests (calls) after each block's loop, so that the loop keeps
+        // the region in registers.
+        constexpr size_t kBlock = 64;
+        size_t outside = 0;
+        for (size_t b = 0; b < n; b += kBlock)
+        {
+            const size_t e = std::min(n, b + kBlock);
+            std::array<uint32_t, kBlock> exact;
+            size_t nExact = 0;
+            for (size_t i = b; i < e; i++)
+            {
+                if (logLik[i] == kNegInf)
+                {
+                    continue;
+                }
+                const Verdict v = verdict<K>(poses[i].x, poses[i].y);
+                if (v == Verdict::Outside)
+                {
+                    logLik[i] = kNegInf;
+                    outside++;
+                }
+                else if (v == Verdict::Exact)
+                {
+                    exact[nExact++] = static_cast<uint32_t>(i - b);
+                }
+            }
+            for (size_t k = 0; k < nExact; k++)
+            {
+                const size_t i = b + exact[k];
+                if (!world->isFree(poses[i].x, poses[i].y))
+                {
+                    logLik[i] = kNegInf;
+                    outside++;
+                }
+            }
+        }
+        return outside;
+    }
+};
+
+FreeSpaceSampler::Region FreeSpaceSampler::region() const
+{
+    Region r;
+    if (m_kind == Kind::Box)
+    {
+        r.lo = detail::Vec2{m_area.x_min, m_area.y_min};
+        r.hi = detail::Vec2{m_area.x_max, m_area.y_max};
+    }
+    else if (m_kind == Kind::World)
+    {
+        r.lo = detail::Vec2{m_bounds.x_min, m_bounds.y_min};
+        r.hi = detail::Vec2{m_bounds.x_max, m_bounds.y_max};
+        r.world = m_world.get();
+    }
+    r.origin = detail::Vec2{m_raster.x0, m_raster.y0};
+    r.size = detail::Vec2{static_cast<double>(m_raster.sizeX), static_cast<double>(m_raster.sizeY)};
+    r.resolution = m_raster.resolution;
+    r.free = m_raster.free.data();
+    r.stride = static_cast<size_t>(m_raster.sizeX);
+    return r;
+}
+
+bool FreeSpaceSampler::contains(double x, double y) const
+{
+    const Region r = region();
+    switch (m_kind)
+    {
+        case Kind::Box:
+            return r.contains<Kind::Box>(x, y);
+        case Kind::Grid:
+            return r.contains<Kind::Grid>(x, y);
+        case Kind::World:
+            return r.contains<Kind::World>(x, y);
+    }
+    return false;
+}
+
+size_t FreeSpaceSampler::excludeOutside(const mrpt::math::TPose2D* poses, size_t n,
+                                        double* logLik) const
+{
+    const Region r = region();
+    switch (m_kind)
+    {
+        case Kind::Box:
+            return r.excludeOutside<Kind::Box>(poses, n, logLik);
+        case Kind::Grid:
+            return r.excludeOutside<Kind::Grid>(poses, n, logLik);
+        case Kind::World:
+            return r.excludeOutside<Kind::World>(poses, n, logLik);
+    }
+    return 0;
 }
 
 mrpt::math::TPose2D FreeSpaceSampler::draw(mrpt::random::CRandomGenerator& rng) const

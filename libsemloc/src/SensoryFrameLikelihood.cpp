@@ -30,6 +30,40 @@ mrpt::poses::CPose3D mrptPose(const TPose2D& p)
     return mrpt::poses::CPose3D(mrpt::math::TPose3D(p));
 }
 
+/** out[i] += v[i] for one observation's log-likelihoods; the first observation's sum starts
+ *  from 1 as MRPT's CMonteCarloLocalization2D does (1 + v is 1, then += v, bit for bit), the
+ *  last one's maps non-finite sums to -inf and counts them. */
+template <bool First, bool Last>
+size_t addObservationAs(double* out, const double* v, size_t m)
+{
+    size_t nonfinite = 0;
+    for (size_t i = 0; i < m; i++)
+    {
+        double o = (First ? 1.0 : out[i]) + v[i];
+        if constexpr (Last)
+        {
+            if (!std::isfinite(o))
+            {
+                o = -std::numeric_limits<double>::infinity();
+                nonfinite++;
+            }
+        }
+        out[i] = o;
+    }
+    return nonfinite;
+}
+
+size_t addObservation(double* out, const double* v, size_t m, bool first, bool last)
+{
+    if (first)
+    {
+        return last ? addObservationAs<true, true>(out, v, m)
+                    : addObservationAs<true, false>(out, v, m);
+    }
+    return last ? addObservationAs<false, true>(out, v, m)
+                : addObservationAs<false, false>(out, v, m);
+}
+
 bool isThreadSafeGrid(const COccupancyGridMap2D& g)
 {
     // These two methods only read the grid (the likelihood field through its cache, filled
@@ -220,10 +254,13 @@ size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, siz
     }
     double* obsSum = obsScratch.data();
     double* term = termScratch.data();
-    for (size_t i = 0; i < m; i++)
+    if (m_terms.empty())
     {
-        out[b + i] = 1;  // MRPT's CMonteCarloLocalization2D starts the sum at 1
+        std::fill_n(out + b, m, 1.0);  // MRPT's CMonteCarloLocalization2D starts the sum at 1
+        return 0;
     }
+    bool firstSum = true;
+    size_t nonfinite = 0;
     for (size_t k = 0; k < m_terms.size(); k++)
     {
         const Term& t = m_terms[k];
@@ -266,10 +303,8 @@ size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, siz
         {
             // The observation's only term: out + (0 + term) is out + term, bit for bit (0 + term
             // only turns -0 into +0, which adds the same to out, never -0 as a sum from 1).
-            for (size_t i = 0; i < m; i++)
-            {
-                out[b + i] += term[i];
-            }
+            nonfinite += addObservation(out + b, term, m, firstSum, k + 1 == m_terms.size());
+            firstSum = false;
             continue;
         }
         for (size_t i = 0; i < m; i++)
@@ -278,19 +313,8 @@ size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, siz
         }
         if (lastOfObservation)
         {
-            for (size_t i = 0; i < m; i++)
-            {
-                out[b + i] += obsSum[i];
-            }
-        }
-    }
-    size_t nonfinite = 0;
-    for (size_t i = b; i < e; i++)
-    {
-        if (!std::isfinite(out[i]))
-        {
-            out[i] = -std::numeric_limits<double>::infinity();
-            nonfinite++;
+            nonfinite += addObservation(out + b, obsSum, m, firstSum, k + 1 == m_terms.size());
+            firstSum = false;
         }
     }
     return nonfinite;

@@ -19,22 +19,39 @@ namespace semloc::detail
 class Ziggurat
 {
 public:
-    /** One N(0, 1) draw; `next` returns uniformly distributed 64-bit words. */
+    /** One N(0, 1) draw; `next` returns uniformly distributed 64-bit words. Inline: the
+     *  ~99 % of draws inside their layer's rectangle; the others out of line. */
     template <typename Next>
     static double draw(Next&& next)
+    {
+        const uint64_t z = next();
+        const Tables& t = tables();
+        const auto i = static_cast<unsigned>(z & 127u);
+        const double u = uniformOf(z);
+        if (u < t.ratio[i])
+        {
+            return withSign(u * t.x[i], signOf(z));  // inside the rectangle under f
+        }
+        return outsideRectangle(next, z);
+    }
+
+private:
+    /** Bit 7 of z as a sign bit. */
+    static uint64_t signOf(uint64_t z) { return (z & 128u) << 56; }
+    /** The 53-bit uniform in [0, 1) of z's top bits. */
+    static double uniformOf(uint64_t z) { return static_cast<double>(z >> 11) * 0x1p-53; }
+
+    /** draw() from a word z whose value fell outside its layer's rectangle: the tail or the
+     *  wedge test, then new words until one is accepted. */
+    template <typename Next>
+    [[gnu::noinline]] static double outsideRectangle(Next& next, uint64_t z)
     {
         const Tables& t = tables();
         for (;;)
         {
-            const uint64_t z = next();
             const auto i = static_cast<unsigned>(z & 127u);
-            const uint64_t sign = (z & 128u) << 56;                   // bit 7 of z as the sign bit
-            const double u = static_cast<double>(z >> 11) * 0x1p-53;  // [0, 1)
-            const double x = u * t.x[i];
-            if (u < t.ratio[i])
-            {
-                return withSign(x, sign);  // inside the layer's rectangle that lies under f
-            }
+            const uint64_t sign = signOf(z);
+            const double x = uniformOf(z) * t.x[i];
             if (i == 0)
             {
                 return withSign(tail(next), sign);
@@ -45,10 +62,15 @@ public:
             {
                 return withSign(x, sign);
             }
+            z = next();
+            const auto j = static_cast<unsigned>(z & 127u);
+            const double u = uniformOf(z);
+            if (u < t.ratio[j])
+            {
+                return withSign(u * t.x[j], signOf(z));
+            }
         }
     }
-
-private:
     static constexpr int kLayers = 128;
     static constexpr double kR = 3.442619855899;       // start of the tail
     static constexpr double kV = 9.91256303526217e-3;  // area of each layer

@@ -64,23 +64,13 @@ public:
     mrpt::math::TPose2D draw(mrpt::random::CRandomGenerator& rng) const;
     /** True if a vehicle may be at (x, y): World::isFree (exact; a rasterization answers
      *  first for the cells no outline touches), a free grid cell, or inside the box. The
-     *  box of FromWorld()/FromGrid() restricts draw() only. Safe from many threads. Inline:
-     *  the filter asks once per particle and step. */
-    bool contains(double x, double y) const
-    {
-        switch (m_kind)
-        {
-            case Kind::Box:
-                return x >= m_area.x_min && x <= m_area.x_max && y >= m_area.y_min &&
-                       y <= m_area.y_max;
-            case Kind::Grid:
-                return x >= m_raster.x0 && y >= m_raster.y0 && m_raster.freeAt(x, y);
-            case Kind::World:
-                // A free raster cell: no outline touches it and its centre is free.
-                return m_bounds.contains(x, y) && (m_raster.freeAt(x, y) || worldIsFree(x, y));
-        }
-        return false;
-    }
+     *  box of FromWorld()/FromGrid() restricts draw() only. Safe from many threads. */
+    bool contains(double x, double y) const;
+    /** The free-space prior of n poses: each logLik[i] that is not -inf already becomes -inf
+     *  if poses[i] is outside (not contains()); returns how many did. The filter calls it
+     *  once per range of particles: one dispatch on the kind per call, not per pose. Safe
+     *  from many threads. */
+    size_t excludeOutside(const mrpt::math::TPose2D* poses, size_t n, double* logLik) const;
     /** A short description for logs ("free space of world 'paper_50x50'", ...). */
     const std::string& description() const { return m_description; }
 
@@ -91,8 +81,9 @@ private:
         Grid,
         Box
     };
-    /** World::isFree of m_world (out of line: the exact test, rarely reached). */
-    bool worldIsFree(double x, double y) const;
+    /** The fields contains() reads, copied into one value (FreeSpaceSampler.cpp). */
+    struct Region;
+    Region region() const;
 
     Kind m_kind = Kind::Box;
     TSamplingArea m_area;
@@ -111,19 +102,6 @@ private:
         double x0 = 0, y0 = 0, resolution = 1;
         FreeRaster() = default;
         FreeRaster(const mrpt::maps::COccupancyGridMap2D& grid, double freeThreshold);
-        /** The cell of (x, y) lies in the raster and is free. */
-        bool freeAt(double x, double y) const
-        {
-            // int(q) is in [0, size) exactly when q is in (-1, size): no out-of-range cast.
-            const double qx = (x - x0) / resolution, qy = (y - y0) / resolution;
-            if (!(qx > -1 && qy > -1 && qx < sizeX && qy < sizeY))
-            {
-                return false;
-            }
-            return free[static_cast<size_t>(static_cast<int>(qx)) +
-                        static_cast<size_t>(static_cast<int>(qy)) * static_cast<size_t>(sizeX)] !=
-                   0;
-        }
     };
     FreeRaster m_raster;
     std::vector<double> m_cellX, m_cellY;
