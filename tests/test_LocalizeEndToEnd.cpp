@@ -7,6 +7,7 @@
 #include <mrpt/containers/yaml.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <semloc/ErrorMessage.h>
+#include <semloc/Interrupt.h>
 #include <semloc/LocalizationExperiment.h>
 #include <semloc/Simulator.h>
 
@@ -384,6 +385,41 @@ TEST_F(LocalizeEndToEnd, ObservationsOnlyRawlogWorks)
         EXPECT_DOUBLE_EQ(r.records.front().t, first.t) << file;
         EXPECT_LT(r.records.front().errXY(), 0.5) << file;
         EXPECT_LT(r.metrics.rmse_m, 0.5) << file;
+    }
+}
+
+TEST_F(LocalizeEndToEnd, InterruptWritesNoOutputAndKeepsAPreviousOne)
+{
+    // Ctrl-C in semloc-localize (a request, as its handler makes): Interrupted at the next
+    // rawlog entry, or before the staged outputs replace a previous run's; nothing of the
+    // interrupted run is left, a previous output directory stays as it was.
+    const std::string ini = kConfig + "semantic.ini";
+    const auto first = localize(ini, rawlog, "interrupted_run", 300, 1);
+    const std::string steps = readText(first.outputDir + "/steps.csv");
+    size_t seen = 0;
+    LocalizationExperiment::TOverrides ov;
+    ov.rawlog_file = rawlog;
+    ov.logOutput_dir = (kOut / "interrupted_run").string();
+    ov.particles_count = 300;
+    ov.threads = 1;
+    const auto experiment = LocalizationExperiment::FromConfigFile(ini, ov);
+    EXPECT_THROW(experiment.run(
+                     [&](size_t done, size_t)
+                     {
+                         seen = done;
+                         if (done == 20)
+                         {
+                             semloc::requestInterrupt();
+                         }
+                     }),
+                 semloc::Interrupted);
+    semloc::clearInterrupt();
+    EXPECT_EQ(seen, 20u) << "the run went on after the request";
+    EXPECT_EQ(readText(first.outputDir + "/steps.csv"), steps);
+    for (const auto& e : fs::directory_iterator(kOut))
+    {
+        EXPECT_EQ(e.path().filename().string().rfind(".interrupted_run", 0), std::string::npos)
+            << e.path();
     }
 }
 

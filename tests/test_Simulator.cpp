@@ -13,8 +13,11 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/CStructureMap.h>
 #include <semloc/ConfigHelpers.h>
+#include <semloc/Interrupt.h>
 #include <semloc/Simulator.h>
 #include <semloc/TrajectoryFollower.h>
+
+#include <unistd.h>
 
 #include <Eigen/Dense>
 #include <cmath>
@@ -679,6 +682,46 @@ TEST(Simulator, WrittenDatasetReadsBack)
     const Simulator sim2(again);
     sim2.writeDataset(sim2.run(), path2);
     EXPECT_EQ(fileBytes(path), fileBytes(path2));
+}
+
+TEST(Simulator, InterruptWritesNothingAndKeepsAPreviousDataset)
+{
+    // A request (Ctrl-C in semloc-simulate) stops run() and writeDataset(): Interrupted, and
+    // no output, temporary file or half-written dataset; a previous dataset stays as it was.
+    TSimulatorOptions o;
+    o.simulation.world_file = kPaper;
+    o.simulation.max_steps = 30;
+    const Simulator sim(o);
+    const auto res = sim.run();
+    const std::string path = kOut + "/sim_interrupt_" + std::to_string(::getpid()) + ".rawlog";
+    const std::string fresh = kOut + "/sim_interrupt_new_" + std::to_string(::getpid()) + ".rawlog";
+    sim.writeDataset(res, path);
+    const std::string before = fileBytes(path),
+                      gtBefore = fileBytes(Simulator::groundTruthPath(path));
+
+    TSimulatorOptions o9 = o;
+    o9.simulation.seed = 9;  // other data: a rename would show
+    const Simulator other(o9);
+    const auto res9 = other.run();
+
+    semloc::requestInterrupt();
+    EXPECT_THROW(sim.run(), semloc::Interrupted);
+    EXPECT_THROW(sim.writeDataset(res, fresh), semloc::Interrupted);
+    EXPECT_THROW(other.writeDataset(res9, path), semloc::Interrupted);
+    semloc::clearInterrupt();
+
+    for (const auto& f : {fresh, Simulator::groundTruthPath(fresh), Simulator::configPath(fresh)})
+    {
+        EXPECT_FALSE(std::filesystem::exists(f)) << f;
+        EXPECT_FALSE(std::filesystem::exists(f + ".tmp")) << f;
+    }
+    EXPECT_EQ(fileBytes(path), before);
+    EXPECT_EQ(fileBytes(Simulator::groundTruthPath(path)), gtBefore);
+    for (const auto& f : {path, Simulator::groundTruthPath(path), Simulator::configPath(path)})
+    {
+        EXPECT_FALSE(std::filesystem::exists(f + ".tmp")) << f;
+    }
+    EXPECT_EQ(sim.run().steps, res.steps);  // cleared: runs again
 }
 
 // ------------------------------------------------------------------ kidnapping

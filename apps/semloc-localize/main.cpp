@@ -3,6 +3,7 @@
  *                   [--allow-truncated] */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/ErrorMessage.h>
+#include <semloc/Interrupt.h>
 #include <semloc/LocalizationExperiment.h>
 
 #include <unistd.h>
@@ -75,7 +76,20 @@ void run()
         std::cerr << "semloc-localize: warning: " << experiment.rawlogWarning() << "\n";
     }
     const bool bar = !argQuiet.isSet() && ::isatty(::fileno(stderr));
-    const auto result = experiment.run(bar ? showProgress : std::function<void(size_t, size_t)>());
+    semloc::installInterruptHandlers();  // Ctrl-C: exit 130, no output directory
+    semloc::LocalizationExperiment::TResult result;
+    try
+    {
+        result = experiment.run(bar ? showProgress : std::function<void(size_t, size_t)>());
+    }
+    catch (const semloc::Interrupted&)
+    {
+        if (bar)
+        {
+            std::cerr << "\n";  // end the progress bar's line before the message
+        }
+        throw;
+    }
     if (!argQuiet.isSet())
     {
         std::cout << result.summaryParagraph() << "\n";

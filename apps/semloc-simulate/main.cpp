@@ -2,6 +2,7 @@
  *   semloc-simulate config/simulate.ini -o dataset.rawlog --seed 7 */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/ErrorMessage.h>
+#include <semloc/Interrupt.h>
 #include <semloc/Simulator.h>
 
 #include <climits>
@@ -36,6 +37,7 @@ void run()
     {
         options.simulation.output_rawlog = argOut.getValue();
     }
+    semloc::installInterruptHandlers();  // Ctrl-C: exit 130, no file written or half-written
     const semloc::Simulator simulator(options);
     const auto result = simulator.run();
     simulator.writeDataset(result, options.simulation.output_rawlog);

@@ -10,6 +10,7 @@
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/ConfigHelpers.h>
+#include <semloc/Interrupt.h>
 #include <semloc/LocalizationExperiment.h>
 #include <semloc/RawlogReader.h>
 #include <semloc/StagedDirectory.h>
@@ -530,6 +531,10 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
     const size_t n = rawlog.size();
     for (size_t i = 0; i < n; i++)
     {
+        if (interruptRequested())
+        {
+            throw Interrupted();  // Ctrl-C (installInterruptHandlers): no output directory
+        }
         switch (rawlog.getType(i))
         {
             case mrpt::obs::CRawlog::etActionCollection:
@@ -651,6 +656,10 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
                   "sections,\n# defaults included). Rerun: semloc-localize config.ini -o "
                   "<another directory>\n" +
                       eff.getContent() + "\n" + m_maps.effectiveConfig(*m_ini));
+    }
+    if (interruptRequested())
+    {
+        throw Interrupted();  // the staging directory goes, a previous output stays
     }
     out.commit();
     return res;

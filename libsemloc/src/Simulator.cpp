@@ -14,6 +14,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/ConfigHelpers.h>
+#include <semloc/Interrupt.h>
 #include <semloc/Simulator.h>
 #include <semloc/TrajectoryFollower.h>
 
@@ -248,6 +249,10 @@ SimulationResult Simulator::run() const
     mrpt::poses::CPose2D previous(vehicle.pose());
     for (size_t k = 0;; k++)
     {
+        if (interruptRequested())
+        {
+            throw Interrupted();  // Ctrl-C (installInterruptHandlers): nothing simulated
+        }
         if (k > 0)
         {
             vehicle.step();
@@ -345,6 +350,10 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
             for (const auto& obj : result.rawlog)
             {
                 ar << *obj;
+                if (interruptRequested())
+                {
+                    throw Interrupted();  // the catch below removes what was written
+                }
             }
             out.close();
         }
@@ -365,6 +374,10 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
                       "// semloc-simulate: the effective configuration of " + rawlogPath +
                           " (every key; rerunning it reproduces the dataset)\n" + ini.getContent());
 
+        if (interruptRequested())
+        {
+            throw Interrupted();  // before the first rename: the outputs as they were
+        }
         for (; renamed < files.size(); renamed++)
         {
             std::filesystem::rename(files[renamed].first, files[renamed].second);
