@@ -470,21 +470,6 @@ struct Pair
     double q = 0;  // probabilistic: P_D / (1 - P_D) of the pair's object (totalsBlock)
 };
 
-/** A particle's pairs as gainBlock finds them: the sum of their gains less log q, the
- *  product of their q, the detections they use (bit j), the last object one used, how many
- *  and where the particle's candidates start; a conflict is two pairs sharing a detection
- *  or an object (or more than 64 detections). */
-struct PairAcc
-{
-    double restSum;
-    double qProd;
-    uint64_t dets;
-    uint32_t lastE;
-    uint32_t conflict;
-    uint32_t count;
-    uint32_t firstCand;
-};
-
 /** A detection as one of a label's slots (planPairs). */
 struct Slot
 {
@@ -591,7 +576,6 @@ struct Scratch
     ModelConsts consts;
     bool constsValid = false;
     std::vector<Pair> pairs;
-    std::vector<PairAcc> pairAcc;
     /** The visibility table of this call (null: grid scan) and the last one looked up,
      *  kept (with its key) so calls with the same index build, R and FOV lock nothing. */
     const detail::VisTable* vis = nullptr;
@@ -1573,9 +1557,6 @@ bool finitePose(const TPose2D& p)
     return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
 }
 
-/** PairAcc::lastE before a particle's first pair. */
-constexpr uint32_t kNoEntry = std::numeric_limits<uint32_t>::max();
-
 /** Most pairs of a particle whose q totalsBlock folds into the product: q^8 >= 1e-48. */
 constexpr uint32_t kFoldPairs = 8;
 
@@ -1980,62 +1961,71 @@ PairGain pairGain(const GainParts& gp, const ModelConsts& k, const double* PD, u
     return g;
 }
 
-/** Stage 4: the gains of the nc candidates (in particle order), summed per particle in
- *  sc.pairAcc. Branch-free but for pairGain's rare log. */
+/** Stage 4: the gains of the nc candidates; those with a positive gain are the pairs, in
+ *  particle order (sc.pairs, sc.pairCount[i] of particle i), each with its gain less log q
+ *  and its q. Branch-free but for pairGain's rare log. */
 void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t m,
                size_t nc)
 {
+    if (sc.pairs.size() < nc + 1)
+    {
+        sc.pairs.resize(2 * nc + 1);  // at least one: read (not used) when a particle has none
+    }
     const Cand* cands = sc.cands.data();
     const uint32_t* part = sc.bPart.data();
+    const uint32_t* visStart = sc.visStart.data();
     const double* PD = sc.bPd.data();
     const GainParts gp = gainParts(ix, sc);
-    if (sc.pairAcc.size() < m)
-    {
-        sc.pairAcc.resize(m);
-    }
-    PairAcc* acc = sc.pairAcc.data();
-    // More than 64 detections: the detection bits do not fit, every particle takes the
-    // assignment (totalsBlock).
-    const uint32_t manyDets = sc.dets.size() > 64 ? 1u : 0u;
-    std::fill(acc, acc + m, PairAcc{0.0, 1.0, 0, kNoEntry, manyDets, 0, kNoEntry});
+    Pair* pairs = sc.pairs.data();
+    uint32_t* pairCount = sc.pairCount.data();
+    std::fill(pairCount, pairCount + m, 0u);
+    size_t np = 0;
     for (size_t t = 0; t < nc; t++)
     {
-        const uint32_t j = cands[t].j, e = cands[t].e;
+        const uint32_t j = cands[t].j, e = cands[t].e, i = part[e];
         const PairGain g = pairGain(gp, k, PD, j, e);
-        // The candidates of an object are consecutive: a second pair of the same object is
-        // one with the last object's index.
-        PairAcc& a = acc[part[e]];
-        const uint64_t bit = static_cast<uint64_t>(g.gains) << (j & 63u);
-        a.conflict |= static_cast<uint32_t>((a.dets & bit) != 0) |
-                      static_cast<uint32_t>(g.gains & (a.lastE == e));
-        a.dets |= bit;
-        a.lastE = g.gains ? e : a.lastE;
-        a.restSum += detail::selectIf(g.gains, g.rest, 0.0);
-        a.qProd *= detail::selectIf(g.gains, g.q, 1.0);
-        a.count += static_cast<uint32_t>(g.gains);
-        a.firstCand = std::min(a.firstCand, static_cast<uint32_t>(t));
+        pairs[np] = {g.rest, j, e - visStart[i], g.q};  // written always, kept if it gains
+        pairCount[i] += static_cast<uint32_t>(g.gains);
+        np += static_cast<size_t>(g.gains);
     }
+}
+
+/** True if the c pairs (of one particle, in candidate order: an object's pairs are
+ *  consecutive) share no detection and no object, so the greedy assignment takes them all;
+ *  false also for more than kFoldPairs pairs or detections beyond 64. */
+bool disjointPairs(const Pair* pairs, size_t c)
+{
+    if (c > kFoldPairs)
+    {
+        return false;
+    }
+    uint64_t dets = 0;
+    bool ok = true;
+    for (size_t u = 0; u < c; u++)
+    {
+        const uint64_t bit = uint64_t{1} << (pairs[u].j & 63u);
+        ok &= pairs[u].j < 64 && (dets & bit) == 0 && (u == 0 || pairs[u].v != pairs[u - 1].v);
+        dets |= bit;
+    }
+    return ok;
 }
 
 /** Stage 5: per particle, missBlock's terms (sum_v log(1 - P_D(rho_v)) as the log of the
  *  product: one log instead of one per visible object) and the association. Pairs that
  *  share no detection and no object are all taken by the greedy assignment: up to
  *  kFoldPairs of them, their q join the product (one log for the particle) and their gains
- *  less log q are summed. Otherwise (rare) the particle's pairs are evaluated again, each
- *  with its gain log q + rest, for the assignment. */
-void totalsBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t m,
-                 size_t nc, double* out)
+ *  less log q are summed in pair order; otherwise each pair's gain log q + rest goes to the
+ *  assignment. */
+void totalsBlock(Scratch& sc, size_t m, double* out)
 {
     const size_t nd = sc.dets.size();
     const uint32_t* blockVis = sc.blockVis.data();
-    const uint32_t* visStart = sc.visStart.data();
-    const uint32_t* part = sc.bPart.data();
-    const double* PD = sc.bPd.data();
+    const uint32_t* pairCount = sc.pairCount.data();
     const double* bMiss = sc.bMiss.data();
     const double* bBase = sc.bBase.data();
-    const Cand* cands = sc.cands.data();
-    const PairAcc* acc = sc.pairAcc.data();
-    const GainParts gp = gainParts(ix, sc);
+    Pair* pairs = sc.pairs.data();
+    uint8_t* used = sc.used.data();
+    size_t t = 0;
     for (uint32_t i = 0; i < m; i++)
     {
         if (blockVis[i] == kNoPose)
@@ -2043,46 +2033,29 @@ void totalsBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& 
             out[i] = kMinLogLik;
             continue;
         }
-        const PairAcc& a = acc[i];
+        const uint32_t c = pairCount[i];
         double miss = bMiss[i];
         double gains = 0;
-        if (a.conflict == 0 && a.count <= kFoldPairs)
+        if (disjointPairs(pairs + t, c))
         {
-            // q in [1e-6, 1e6]: a product >= 1e-250 times q^c stays a normal number.
-            miss *= a.qProd;
-            gains = a.restSum;
+            // q in [1e-6, 1e6]: a product >= 1e-250 times q^c (c <= 8) stays a normal number.
+            double qProd = 1;
+            for (size_t u = t; u < t + c; u++)
+            {
+                gains += pairs[u].gain;
+                qProd *= pairs[u].q;
+            }
+            miss *= qProd;
         }
         else
         {
-            if (sc.pairs.size() < nc + 1)
+            for (size_t u = t; u < t + c; u++)
             {
-                sc.pairs.resize(2 * nc + 1);
+                pairs[u].gain += std::log(pairs[u].q);
             }
-            Pair* pairs = sc.pairs.data();
-            size_t np = 0;
-            for (size_t t = a.firstCand; t < nc && part[cands[t].e] == i; t++)
-            {
-                const uint32_t j = cands[t].j, e = cands[t].e;
-                const PairGain g = pairGain(gp, k, PD, j, e);
-                if (g.gains)
-                {
-                    pairs[np++] = {g.rest, j, e - visStart[i], g.q};
-                }
-            }
-            if (np == 1)
-            {
-                miss *= pairs[0].q;  // <= 1e6 times a product >= 1e-250
-                gains = pairs[0].gain;
-            }
-            else if (np > 1)
-            {
-                for (size_t u = 0; u < np; u++)
-                {
-                    pairs[u].gain += std::log(pairs[u].q);
-                }
-                gains = assignGreedy(pairs, np, nd, sc.used.data());
-            }
+            gains = assignGreedy(pairs + t, c, nd, used);
         }
+        t += c;
         out[i] = finite(bBase[i] + std::log(miss) + gains);
     }
 }
@@ -2097,7 +2070,7 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
                              Scratch& sc, const Geom* geoms, const TPose2D* poses, size_t m,
                              double* out)
 {
-    for (auto* v : {&sc.blockVis, &sc.visStart})  // shared with the paper block
+    for (auto* v : {&sc.blockVis, &sc.pairCount, &sc.visStart})  // shared with the paper block
     {
         if (v->size() < m)
         {
@@ -2116,7 +2089,7 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
     missBlock(sc, k, m, ne);
     const size_t nc = gateBlock(ix, sc, k, ne);
     gainBlock(ix, sc, k, m, nc);
-    totalsBlock(ix, sc, k, m, nc, out);
+    totalsBlock(sc, m, out);
 }
 
 /** What a likelihood call knows of the sensor, fixed for all particles of a step. */
