@@ -7,9 +7,11 @@
 #include <semloc/CObservationSemantic.h>
 #include <semloc/CSemanticMap.h>
 #include <semloc/ErrorMessage.h>
+#include <semloc/Interrupt.h>
 #include <semloc/World.h>
 
 #include <cmath>
+#include <functional>
 #include <string>
 
 namespace semloc::test
@@ -107,6 +109,21 @@ std::string errorOf(F&& f)
         return semloc::errorMessage(e);
     }
     return "";
+}
+
+/** A progress callback (done, total) for a long job that records the last `done` in `seen`
+ *  and asks the job to stop (semloc::requestInterrupt) when it reaches `at`: Ctrl-C at a
+ *  known point. */
+inline std::function<void(size_t, size_t)> interruptAt(size_t at, size_t& seen)
+{
+    return [at, &seen](size_t done, size_t)
+    {
+        seen = done;
+        if (done == at)
+        {
+            semloc::requestInterrupt();
+        }
+    };
 }
 
 }  // namespace semloc::test

@@ -11,6 +11,8 @@
 #include <fstream>
 #include <string>
 
+#include "TestHelpers.h"
+
 namespace
 {
 const std::string kConfig = std::string(SEMLOC_SOURCE_DIR) + "/config/";
@@ -104,16 +106,7 @@ TEST(Benchmark, InterruptStopsTheRunsAndWritesNothing)
         writeIni("bench_interrupt.ini", "runs = 4\njobs = 2\nmax_steps = 15\nparticles = 200\n"),
         out);
     size_t seen = 0;
-    EXPECT_THROW(b.run(
-                     [&](size_t done, size_t)
-                     {
-                         seen = done;
-                         if (done == 1)
-                         {
-                             semloc::requestInterrupt();
-                         }
-                     }),
-                 semloc::Interrupted);
+    EXPECT_THROW(b.run(semloc::test::interruptAt(1, seen)), semloc::Interrupted);
     semloc::clearInterrupt();
     EXPECT_GE(seen, 1u);
     EXPECT_LT(seen, 4u) << "runs went on after the request";

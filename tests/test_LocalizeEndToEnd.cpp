@@ -23,6 +23,7 @@
 #include "TestHelpers.h"
 
 using semloc::test::errorOf;
+using semloc::test::interruptAt;
 
 namespace fs = std::filesystem;
 using semloc::LocalizationExperiment;
@@ -403,16 +404,7 @@ TEST_F(LocalizeEndToEnd, InterruptWritesNoOutputAndKeepsAPreviousOne)
     ov.particles_count = 300;
     ov.threads = 1;
     const auto experiment = LocalizationExperiment::FromConfigFile(ini, ov);
-    EXPECT_THROW(experiment.run(
-                     [&](size_t done, size_t)
-                     {
-                         seen = done;
-                         if (done == 20)
-                         {
-                             semloc::requestInterrupt();
-                         }
-                     }),
-                 semloc::Interrupted);
+    EXPECT_THROW(experiment.run(interruptAt(20, seen)), semloc::Interrupted);
     semloc::clearInterrupt();
     EXPECT_EQ(seen, 20u) << "the run went on after the request";
     EXPECT_EQ(readText(first.outputDir + "/steps.csv"), steps);

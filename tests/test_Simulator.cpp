@@ -55,6 +55,15 @@ const World& paperWorld()
     return w;
 }
 
+/** The paper world with the default noise, for `steps` steps. */
+TSimulatorOptions paperRun(int steps)
+{
+    TSimulatorOptions o;
+    o.simulation.world_file = kPaper;
+    o.simulation.max_steps = steps;
+    return o;
+}
+
 /** Every noise and error source off; detections carry object ids. */
 TSimulatorOptions noiseFree()
 {
@@ -599,9 +608,7 @@ TEST(OdometryModel, NoiseIsDrawnFromTheStoredMotionModel)
 
 TEST(Simulator, SameSeedSameBytesOtherSeedOtherData)
 {
-    TSimulatorOptions o;
-    o.simulation.world_file = kPaper;
-    o.simulation.max_steps = 120;
+    TSimulatorOptions o = paperRun(120);
     const Simulator a(o);
     const std::string p1 = kOut + "/sim_det_1.rawlog", p2 = kOut + "/sim_det_2.rawlog";
     const std::string p3 = kOut + "/sim_det_3.rawlog";
@@ -643,9 +650,7 @@ TEST(Simulator, SameSeedSameBytesOtherSeedOtherData)
 
 TEST(Simulator, WrittenDatasetReadsBack)
 {
-    TSimulatorOptions o;
-    o.simulation.world_file = kPaper;
-    o.simulation.max_steps = 40;
+    TSimulatorOptions o = paperRun(40);
     o.simulation.time_step_s = 0.1;  // timestamps that are not whole seconds
     const Simulator sim(o);
     const auto res = sim.run();
@@ -688,9 +693,7 @@ TEST(Simulator, InterruptWritesNothingAndKeepsAPreviousDataset)
 {
     // A request (Ctrl-C in semloc-simulate) stops run() and writeDataset(): Interrupted, and
     // no output, temporary file or half-written dataset; a previous dataset stays as it was.
-    TSimulatorOptions o;
-    o.simulation.world_file = kPaper;
-    o.simulation.max_steps = 30;
+    TSimulatorOptions o = paperRun(30);
     const Simulator sim(o);
     const auto res = sim.run();
     const std::string path = kOut + "/sim_interrupt_" + std::to_string(::getpid()) + ".rawlog";
@@ -886,9 +889,7 @@ TEST(TSimulatorOptions, ExampleIniLoadsWithTheDocumentedDefaults)
 
 TEST(Simulator, FailedWriteLeavesNoFileBehind)
 {
-    TSimulatorOptions o;
-    o.simulation.world_file = kPaper;
-    o.simulation.max_steps = 5;
+    TSimulatorOptions o = paperRun(5);
     const Simulator sim(o);
     const auto res = sim.run();
     EXPECT_THROW(sim.writeDataset(res, kOut + "/no_such_dir/x.rawlog"), std::exception);
