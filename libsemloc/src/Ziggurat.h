@@ -25,14 +25,8 @@ public:
     static double draw(Next&& next)
     {
         const uint64_t z = next();
-        const Tables& t = tables();
-        const auto i = static_cast<unsigned>(z & 127u);
-        const double u = uniformOf(z);
-        if (u < t.ratio[i])
-        {
-            return withSign(u * t.x[i], signOf(z));  // inside the rectangle under f
-        }
-        return outsideRectangle(next, z);
+        double v = 0;
+        return inRectangle(tables(), z, v) ? v : outsideRectangle(next, z);
     }
 
 private:
@@ -63,11 +57,10 @@ private:
                 return withSign(x, sign);
             }
             z = next();
-            const auto j = static_cast<unsigned>(z & 127u);
-            const double u = uniformOf(z);
-            if (u < t.ratio[j])
+            double v = 0;
+            if (inRectangle(t, z, v))
             {
-                return withSign(u * t.x[j], signOf(z));
+                return v;
             }
         }
     }
@@ -118,6 +111,16 @@ private:
         b ^= sign;
         std::memcpy(&v, &b, sizeof v);
         return v;
+    }
+
+    /** True if word z's value lies inside its layer's rectangle, under f (~99 % of words):
+     *  then it is the draw, v. */
+    static bool inRectangle(const Tables& t, uint64_t z, double& v)
+    {
+        const auto i = static_cast<unsigned>(z & 127u);
+        const double u = uniformOf(z);
+        v = withSign(u * t.x[i], signOf(z));
+        return u < t.ratio[i];
     }
 
     /** Uniform in (0, 1]: its log is finite. */
