@@ -3,6 +3,8 @@
 #include <mrpt/random/RandomGenerators.h>
 
 #include <cmath>
+#include <cstring>
+#include <vector>
 
 #include "FastMath.h"
 
@@ -62,4 +64,37 @@ TEST(FastMath, SinCosMatchesLibm)
     EXPECT_EQ(s, std::sin(1e300));
     semloc::detail::fastSinCos(std::nan(""), s, c);
     EXPECT_TRUE(std::isnan(s) && std::isnan(c));
+}
+
+TEST(FastMath, SinCosTwoAtATimeIsBitForBitOneAtATime)
+{
+    mrpt::random::CRandomGenerator rng(44);
+    std::vector<double> xs;
+    for (int i = 0; i < 100000; i++)
+    {
+        xs.push_back(rng.drawUniform(-4.0, 4.0));
+        xs.push_back(rng.drawUniform(-1e6, 1e6));
+    }
+    for (int k = -9; k <= 9; k++)  // quadrant edges, both signs, signed zeros
+    {
+        for (const double d : {0.0, 1e-12, -1e-12})
+        {
+            xs.push_back(k * M_PI / 4 + d);
+        }
+    }
+    xs.insert(xs.end(), {0.0, -0.0, 1e6, -1e6, 1e6 + 1, 1e300, -1e300, std::nan(""), INFINITY});
+    size_t differ = 0;
+    for (size_t i = 0; i + 1 < xs.size(); i++)  // each value in both lanes, beside others
+    {
+        semloc::detail::Vec2 s2, c2;
+        semloc::detail::fastSinCos2(semloc::detail::Vec2{xs[i], xs[i + 1]}, s2, c2);
+        for (int lane = 0; lane < 2; lane++)
+        {
+            double s = 0, c = 0;
+            semloc::detail::fastSinCos(xs[i + lane], s, c);
+            const double got[2] = {s2[lane], c2[lane]}, want[2] = {s, c};
+            differ += std::memcmp(got, want, sizeof got) != 0 ? 1 : 0;
+        }
+    }
+    EXPECT_EQ(differ, 0u);
 }

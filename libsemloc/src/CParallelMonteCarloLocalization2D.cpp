@@ -183,14 +183,41 @@ const CSemanticMap* semanticMapOf(const mrpt::maps::CMetricMap* map)
     return nullptr;
 }
 
-/** p (+) u for 2D poses: (x + c ux - s uy, y + s ux + c uy), x and y side by side. */
-inline TPose2D compose(const TPose2D& p, const TPose2D& u)
+/** p (+) u for 2D poses, (s, c) = sin, cos of p.phi: (x + c ux - s uy, y + s ux + c uy), x
+ *  and y side by side. */
+inline TPose2D compose(const TPose2D& p, double s, double c, const TPose2D& u)
 {
-    double s = 0, c = 0;
-    detail::fastSinCos(p.phi, s, c);
     // a - b is a + (-b) exactly: the same bits as the formula one coordinate at a time.
     const Vec2 xy = (Vec2{p.x, p.y} + Vec2{c, s} * u.x) + Vec2{-s, c} * u.y;
     return {xy[0], xy[1], wrapToPiExact(p.phi + u.phi)};
+}
+
+/** Moves the n particles p[0..n) (indices i0...) by their increments drawn from `drawer`
+ *  with step key `key`, and copies the new poses to out. The headings' sin and cos two
+ *  particles at a time (fastSinCos2: the same bits as one at a time). */
+template <typename Drawer, typename Particle>
+void movePoses(const Drawer& drawer, uint64_t key, Particle* p, size_t i0, size_t n, TPose2D* out)
+{
+    auto move = [&](size_t k, double s, double c)
+    {
+        ParticleNormals normals(key, i0 + k);
+        p[k].d = compose(p[k].d, s, c, drawer.draw(normals));
+        out[k] = p[k].d;
+    };
+    size_t k = 0;
+    for (; k + 1 < n; k += 2)
+    {
+        Vec2 s, c;
+        detail::fastSinCos2(Vec2{p[k].d.phi, p[k + 1].d.phi}, s, c);
+        move(k, s[0], c[0]);
+        move(k + 1, s[1], c[1]);
+    }
+    if (k < n)
+    {
+        double s = 0, c = 0;
+        detail::fastSinCos(p[k].d.phi, s, c);
+        move(k, s, c);
+    }
 }
 }  // namespace
 
@@ -537,12 +564,7 @@ CParallelMonteCarloLocalization2D::predictAndUpdate(
                                    TPose2D* out = m_poses.data() + i0;
                                    if (drawer)
                                    {
-                                       for (size_t k = 0; k < n; k++)
-                                       {
-                                           ParticleNormals normals(key, i0 + k);
-                                           p[k].d = compose(p[k].d, drawer->draw(normals));
-                                           out[k] = p[k].d;
-                                       }
+                                       movePoses(*drawer, key, p, i0, n, out);
                                        return;
                                    }
                                    for (size_t k = 0; k < n; k++)

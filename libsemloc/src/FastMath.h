@@ -167,6 +167,69 @@ inline void fastSinCos(double x, double& s, double& c) noexcept
     c = negateIf(((q ^ (q >> 1)) & 1u) != 0, selectIf(swap, sr, cr));
 }
 
+/** fastSinCos of two angles at once, lane by lane, bit for bit: the same IEEE operations in
+ *  the same order on both lanes (half the instructions, and the two polynomial chains, whose
+ *  latency bound the per-particle loops, side by side). A lane outside |x| <= 1e6 (or NaN)
+ *  sends both to the scalar function. */
+inline void fastSinCos2(Vec2 x, Vec2& s, Vec2& c) noexcept
+{
+    auto scalarLanes = [](Vec2 a, Vec2& sa, Vec2& ca)
+    {
+        double s0 = 0, c0 = 0, s1 = 0, c1 = 0;
+        fastSinCos(a[0], s0, c0);
+        fastSinCos(a[1], s1, c1);
+        sa = Vec2{s0, s1};
+        ca = Vec2{c0, c1};
+    };
+#if defined(SEMLOC_FASTMATH_SSE2)
+    const __m128d signBit = _mm_set1_pd(-0.0);
+    if (lessEqualBits(_mm_andnot_pd(signBit, x), Vec2{1e6, 1e6}) != kBothLanes)
+    {
+        scalarLanes(x, s, c);
+        return;
+    }
+    const Vec2 kd = x * M_2_PI;
+    // copysign(0.5, kd), then truncation toward zero as the scalar cast (|k| < 2^20).
+    const Vec2 half = _mm_or_pd(_mm_and_pd(signBit, kd), _mm_set1_pd(0.5));
+    const __m128i k = _mm_cvttpd_epi32(kd + half);  // k0, k1 in the low two 32-bit lanes
+    const Vec2 kf = _mm_cvtepi32_pd(k);
+    constexpr double kPio2Hi = 1.57079632673412561417e+00;
+    constexpr double kPio2Lo = 6.07710050650619224932e-11;
+    const Vec2 r = (x - kf * kPio2Hi) - kf * kPio2Lo;
+    const Vec2 r2 = r * r;
+    const Vec2 sr =
+        r + r * r2 *
+                (-1.0 / 6 +
+                 r2 * (1.0 / 120 +
+                       r2 * (-1.0 / 5040 +
+                             r2 * (1.0 / 362880 +
+                                   r2 * (-1.0 / 39916800 +
+                                         r2 * (1.0 / 6227020800 + r2 * (-1.0 / 1307674368000)))))));
+    const Vec2 cr =
+        1.0 +
+        r2 * (-0.5 +
+              r2 * (1.0 / 24 +
+                    r2 * (-1.0 / 720 +
+                          r2 * (1.0 / 40320 + r2 * (-1.0 / 3628800 +
+                                                    r2 * (1.0 / 479001600 +
+                                                          r2 * (-1.0 / 87178291200 +
+                                                                r2 * (1.0 / 20922789888000))))))));
+    // Quadrant bits per 64-bit lane: k0 k0 k1 k1 as 32-bit lanes, then masks of bit 0 (swap)
+    // and bit 1 (negate sin); cos is negated when bit 0 xor bit 1 (q = 1, 2).
+    const __m128i kk = _mm_shuffle_epi32(k, _MM_SHUFFLE(1, 1, 0, 0));
+    const __m128i one = _mm_set1_epi32(1), two = _mm_set1_epi32(2);
+    const __m128d swap = _mm_castsi128_pd(_mm_cmpeq_epi32(_mm_and_si128(kk, one), one));
+    const __m128d negS = _mm_castsi128_pd(_mm_cmpeq_epi32(_mm_and_si128(kk, two), two));
+    const __m128d negC = _mm_xor_pd(swap, negS);
+    const __m128d sv = _mm_or_pd(_mm_and_pd(swap, cr), _mm_andnot_pd(swap, sr));
+    const __m128d cv = _mm_or_pd(_mm_and_pd(swap, sr), _mm_andnot_pd(swap, cr));
+    s = _mm_xor_pd(sv, _mm_and_pd(negS, signBit));
+    c = _mm_xor_pd(cv, _mm_and_pd(negC, signBit));
+#else
+    scalarLanes(x, s, c);
+#endif
+}
+
 /** Wraps an angle difference of two angles in [-pi, pi] into [-pi, pi]. */
 inline double wrapDiff(double d) noexcept
 {
