@@ -991,6 +991,22 @@ inline bool visRange(const detail::VisTable& t, const Geom& g, uint32_t& a, uint
     return true;
 }
 
+/** A particle's candidate list in the visibility table: [a, b) if `table`, else none (the
+ *  grid scan serves it). */
+struct ListRange
+{
+    uint32_t a = 0, b = 0;
+    bool table = false;
+};
+
+/** visRange() of geometry g in table vt (null: none). */
+inline ListRange listOf(const detail::VisTable* vt, const Geom& g)
+{
+    ListRange r;
+    r.table = vt != nullptr && visRange(*vt, g, r.a, r.b);
+    return r;
+}
+
 /** The table of (R, fov) for index ix (built on first use), or null: grid scan. */
 const detail::VisTable* visTableFor(const CSemanticMap::Index& ix, double R, double fov,
                                     Scratch& sc)
@@ -1046,14 +1062,15 @@ struct VisOut
 
 /** Finds the objects inside range and FOV (z^k) into `out`; returns how many. The
  *  candidates are the visibility table's list of the particle's cell and heading bin (vt,
- *  if any and the particle is inside it), else the grid cells the FOV sector overlaps;
+ *  if any and the particle is inside it: lr = listOf(vt, g)), else the grid cells the FOV
+ *  sector overlaps;
  *  both in increasing sorted index, so the same z^k in the same order.
  *  The test is branch-free (compaction by a counter) and takes no square root until an
  *  object is known to be visible: most candidates are not, and mispredicted branches
  *  and sqrt latency were the cost of this loop. */
 template <bool kFrame>
 size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& vo,
-                   const detail::VisTable* vt)
+                   const detail::VisTable* vt, const ListRange& lr)
 {
     size_t cnt = 0;
     if (ix.nx > 0)
@@ -1078,8 +1095,8 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
         // visit(step2) calls step2(k0, k1, lanes, adjacent) for candidates k0, k1 (lanes: 3
         // both, 1 the first only; the arrays have one padding element for the second lane;
         // adjacent: std::true_type when k1 = k0 + 1, loaded as one pair).
-        uint32_t ta = 0, tb = 0;
-        const bool fromTable = vt != nullptr && visRange(*vt, g, ta, tb);
+        const uint32_t ta = lr.a, tb = lr.b;
+        const bool fromTable = lr.table;
         auto visit = [&](auto step2)
         {
             if (fromTable)
@@ -1237,8 +1254,8 @@ void predictVisible(const CSemanticMap::Index& ix, const Geom& g, Scratch& sc)
         sc.hits.resize(ix.x.size());
         sc.hitD2.resize(ix.x.size());
     }
-    const size_t cnt =
-        scanVisible<false>(ix, g, {sc.hits.data(), sc.hitD2.data(), nullptr, nullptr}, sc.vis);
+    const size_t cnt = scanVisible<false>(
+        ix, g, {sc.hits.data(), sc.hitD2.data(), nullptr, nullptr}, sc.vis, listOf(sc.vis, g));
     sc.nVis = cnt;
     if (sc.used.size() < sc.dets.size() + cnt)
     {
@@ -1719,8 +1736,19 @@ size_t scanBlock(const CSemanticMap::Index& ix, Scratch& sc, const Geom* geoms,
     uint32_t* blockVis = sc.blockVis.data();
     uint32_t* visStart = sc.visStart.data();
     size_t ne = 0;
+    // The table lists of kSub particles first (independent chains of conversions, a
+    // division and loads the CPU overlaps across particles), then their scans.
+    constexpr uint32_t kSub = 64;
+    ListRange lists[kSub];
     for (uint32_t i = 0; i < m; i++)
     {
+        if (i % kSub == 0)
+        {
+            for (uint32_t u = i; u < std::min<uint32_t>(m, i + kSub); u++)
+            {
+                lists[u - i] = listOf(sc.vis, geoms[u]);
+            }
+        }
         blockVis[i] = kNoPose;
         visStart[i] = static_cast<uint32_t>(ne);
         if (!finitePose(poses[i]))
@@ -1741,7 +1769,7 @@ size_t scanBlock(const CSemanticMap::Index& ix, Scratch& sc, const Geom* geoms,
             scanVisible<true>(ix, geoms[i],
                               {sc.bHit.data() + ne, sc.bD2.data() + ne, sc.bLx.data() + ne,
                                sc.bLy.data() + ne, sc.bPart.data() + ne, i},
-                              sc.vis));
+                              sc.vis, lists[i % kSub]));
         blockVis[i] = nv;
         ne += nv;
     }
