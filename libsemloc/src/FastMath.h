@@ -124,6 +124,37 @@ inline double fastAbsAtan2(double y, double x) noexcept
     return x > 0 && ay <= x ? atanUnit(ay / x) : std::abs(fastAtan2(y, x));
 }
 
+/** pi/2 split so that kf * kPio2Hi is exact for |k| < 2^20 (fastSinCos' reduction). */
+constexpr double kPio2Hi = 1.57079632673412561417e+00;
+constexpr double kPio2Lo = 6.07710050650619224932e-11;
+
+/** sin(r) and cos(r) on [-pi/4, pi/4] (r2 = r * r): Taylor polynomials, truncation < 5e-17,
+ *  for a double or two (Vec2, lane by lane): the same operations in the same order. */
+template <typename T>
+inline T sinReduced(T r, T r2) noexcept
+{
+    return r + r * r2 *
+                   (-1.0 / 6 +
+                    r2 * (1.0 / 120 +
+                          r2 * (-1.0 / 5040 +
+                                r2 * (1.0 / 362880 + r2 * (-1.0 / 39916800 +
+                                                           r2 * (1.0 / 6227020800 +
+                                                                 r2 * (-1.0 / 1307674368000)))))));
+}
+
+template <typename T>
+inline T cosReduced(T r2) noexcept
+{
+    return 1.0 +
+           r2 * (-0.5 +
+                 r2 * (1.0 / 24 + r2 * (-1.0 / 720 +
+                                        r2 * (1.0 / 40320 +
+                                              r2 * (-1.0 / 3628800 +
+                                                    r2 * (1.0 / 479001600 +
+                                                          r2 * (-1.0 / 87178291200 +
+                                                                r2 * (1.0 / 20922789888000))))))));
+}
+
 /** sin and cos of x together, |error| < 1e-15 for |x| <= 1e6 (checked against libm in
  *  test_FastMath), several times cheaper than libm's sincos: one per particle. Cody-Waite
  *  reduction by pi/2, then Taylor polynomials on [-pi/4, pi/4] (truncation < 5e-17). */
@@ -139,27 +170,10 @@ inline void fastSinCos(double x, double& s, double& c) noexcept
     // Rounded half away from zero (kd + 0.5 or kd - 0.5 by the sign bit: no branch).
     const long long k = static_cast<long long>(kd + std::copysign(0.5, kd));
     const double kf = static_cast<double>(k);
-    // pi/2 split so that kf * kPio2Hi is exact for |k| < 2^20.
-    constexpr double kPio2Hi = 1.57079632673412561417e+00;
-    constexpr double kPio2Lo = 6.07710050650619224932e-11;
     const double r = (x - kf * kPio2Hi) - kf * kPio2Lo;
     const double r2 = r * r;
-    const double sr =
-        r + r * r2 *
-                (-1.0 / 6 +
-                 r2 * (1.0 / 120 +
-                       r2 * (-1.0 / 5040 +
-                             r2 * (1.0 / 362880 +
-                                   r2 * (-1.0 / 39916800 +
-                                         r2 * (1.0 / 6227020800 + r2 * (-1.0 / 1307674368000)))))));
-    const double cr =
-        1 + r2 * (-0.5 +
-                  r2 * (1.0 / 24 + r2 * (-1.0 / 720 +
-                                         r2 * (1.0 / 40320 +
-                                               r2 * (-1.0 / 3628800 +
-                                                     r2 * (1.0 / 479001600 +
-                                                           r2 * (-1.0 / 87178291200 +
-                                                                 r2 * (1.0 / 20922789888000))))))));
+    const double sr = sinReduced(r, r2);
+    const double cr = cosReduced(r2);
     // Quadrant q = k mod 4: (s, c) = (sr, cr), (cr, -sr), (-sr, -cr), (-cr, sr).
     const auto q = static_cast<unsigned>(k & 3);
     const bool swap = (q & 1u) != 0;
@@ -193,27 +207,10 @@ inline void fastSinCos2(Vec2 x, Vec2& s, Vec2& c) noexcept
     const Vec2 half = _mm_or_pd(_mm_and_pd(signBit, kd), _mm_set1_pd(0.5));
     const __m128i k = _mm_cvttpd_epi32(kd + half);  // k0, k1 in the low two 32-bit lanes
     const Vec2 kf = _mm_cvtepi32_pd(k);
-    constexpr double kPio2Hi = 1.57079632673412561417e+00;
-    constexpr double kPio2Lo = 6.07710050650619224932e-11;
     const Vec2 r = (x - kf * kPio2Hi) - kf * kPio2Lo;
     const Vec2 r2 = r * r;
-    const Vec2 sr =
-        r + r * r2 *
-                (-1.0 / 6 +
-                 r2 * (1.0 / 120 +
-                       r2 * (-1.0 / 5040 +
-                             r2 * (1.0 / 362880 +
-                                   r2 * (-1.0 / 39916800 +
-                                         r2 * (1.0 / 6227020800 + r2 * (-1.0 / 1307674368000)))))));
-    const Vec2 cr =
-        1.0 +
-        r2 * (-0.5 +
-              r2 * (1.0 / 24 +
-                    r2 * (-1.0 / 720 +
-                          r2 * (1.0 / 40320 + r2 * (-1.0 / 3628800 +
-                                                    r2 * (1.0 / 479001600 +
-                                                          r2 * (-1.0 / 87178291200 +
-                                                                r2 * (1.0 / 20922789888000))))))));
+    const Vec2 sr = sinReduced(r, r2);
+    const Vec2 cr = cosReduced(r2);
     // Quadrant bits per 64-bit lane: k0 k0 k1 k1 as 32-bit lanes, then masks of bit 0 (swap)
     // and bit 1 (negate sin); cos is negated when bit 0 xor bit 1 (q = 1, 2).
     const __m128i kk = _mm_shuffle_epi32(k, _MM_SHUFFLE(1, 1, 0, 0));
