@@ -116,6 +116,23 @@ void forEachRun(Particles& particles, size_t b, size_t e, Run&& run)
     }
 }
 
+/** Adds logW(k) for k in [0, n) to `even` (k even) or `odd` (k odd): two dependency chains
+ *  of max and min instead of one, the same extremes. */
+template <typename Range, typename LogW>
+void addExtremes(size_t n, Range& even, Range& odd, LogW&& logW)
+{
+    size_t k = 0;
+    for (; k + 1 < n; k += 2)
+    {
+        even.add(logW(k));
+        odd.add(logW(k + 1));
+    }
+    if (k < n)
+    {
+        even.add(logW(k));
+    }
+}
+
 /** Systematic resampling works on blocks of this many particles (any size gives the same
  *  indices; small blocks spread the copying evenly over the threads). */
 constexpr size_t kResampleBlock = 256;
@@ -198,26 +215,14 @@ inline TPose2D compose(const TPose2D& p, double s, double c, const TPose2D& u)
 template <typename Drawer, typename Particle>
 void movePoses(const Drawer& drawer, uint64_t key, Particle* p, size_t i0, size_t n, TPose2D* out)
 {
-    auto move = [&](size_t k, double s, double c)
-    {
-        ParticleNormals normals(key, i0 + k);
-        p[k].d = compose(p[k].d, s, c, drawer.draw(normals));
-        out[k] = p[k].d;
-    };
-    size_t k = 0;
-    for (; k + 1 < n; k += 2)
-    {
-        Vec2 s, c;
-        detail::fastSinCos2(Vec2{p[k].d.phi, p[k + 1].d.phi}, s, c);
-        move(k, s[0], c[0]);
-        move(k + 1, s[1], c[1]);
-    }
-    if (k < n)
-    {
-        double s = 0, c = 0;
-        detail::fastSinCos(p[k].d.phi, s, c);
-        move(k, s, c);
-    }
+    detail::forEachSinCos(
+        n, [&](size_t k) { return p[k].d.phi; },
+        [&](size_t k, double s, double c)
+        {
+            ParticleNormals normals(key, i0 + k);
+            p[k].d = compose(p[k].d, s, c, drawer.draw(normals));
+            out[k] = p[k].d;
+        });
 }
 }  // namespace
 
@@ -590,19 +595,8 @@ CParallelMonteCarloLocalization2D::predictAndUpdate(
                            [&](auto* p, size_t i0, size_t n)
                            {
                                const double* logLik = m_logLik.data() + i0;
-                               size_t k = 0;
-                               for (; k + 1 < n; k += 2)
-                               {
-                                   p[k].log_w += logLik[k] * pow;
-                                   p[k + 1].log_w += logLik[k + 1] * pow;
-                                   even.add(p[k].log_w);
-                                   odd.add(p[k + 1].log_w);
-                               }
-                               if (k < n)
-                               {
-                                   p[k].log_w += logLik[k] * pow;
-                                   even.add(p[k].log_w);
-                               }
+                               addExtremes(n, even, odd,
+                                           [&](size_t k) { return p[k].log_w += logLik[k] * pow; });
                            });
                 even.add(odd);
                 acc.range = even;
@@ -755,18 +749,7 @@ CParallelMonteCarloLocalization2D::MinMax CParallelMonteCarloLocalization2D::min
             MinMax even, odd;
             forEachRun(m_particles, b, e,
                        [&](const auto* p, size_t, size_t n)
-                       {
-                           size_t k = 0;
-                           for (; k + 1 < n; k += 2)
-                           {
-                               even.add(p[k].log_w);
-                               odd.add(p[k + 1].log_w);
-                           }
-                           if (k < n)
-                           {
-                               even.add(p[k].log_w);
-                           }
-                       });
+                       { addExtremes(n, even, odd, [&](size_t k) { return p[k].log_w; }); });
             partial[thread].add(even);
             partial[thread].add(odd);
         },

@@ -2255,22 +2255,10 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     {
         const size_t m = std::min(kBlock, n - i0);
         // The headings' sin and cos two at a time (the same bits as one at a time).
-        size_t i = 0;
-        for (; i + 1 < m; i += 2)
-        {
-            const TPose2D& p0 = poses[i0 + i];
-            const TPose2D& p1 = poses[i0 + i + 1];
-            detail::Vec2 sp, cp;
-            detail::fastSinCos2(detail::Vec2{p0.phi, p1.phi}, sp, cp);
-            geoms[i] = makeGeom(gc, p0, sp[0], cp[0]);
-            geoms[i + 1] = makeGeom(gc, p1, sp[1], cp[1]);
-        }
-        if (i < m)
-        {
-            double sp = 0, cp = 0;
-            detail::fastSinCos(poses[i0 + i].phi, sp, cp);
-            geoms[i] = makeGeom(gc, poses[i0 + i], sp, cp);
-        }
+        detail::forEachSinCos(
+            m, [&](size_t i) { return poses[i0 + i].phi; },
+            [&](size_t i, double sp, double cp)
+            { geoms[i] = makeGeom(gc, poses[i0 + i], sp, cp); });
         if (likelihoodOptions.model == Model::Paper)
         {
             scorePaperBlock(*m_index, k, sc, geoms, poses + i0, m, out + i0);

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstddef>
 #if defined(__SSE2__) && defined(__x86_64__)
 #include <emmintrin.h>
 #define SEMLOC_FASTMATH_SSE2 1
@@ -225,6 +226,28 @@ inline void fastSinCos2(Vec2 x, Vec2& s, Vec2& c) noexcept
 #else
     scalarLanes(x, s, c);
 #endif
+}
+
+/** Calls f(i, sin, cos) for i in [0, n) with the sin and cos of angle(i), computed two at a
+ *  time (fastSinCos2), the last one alone when n is odd: the same bits as one at a time.
+ *  angle(i + 1) is read before f(i) runs. */
+template <typename Angle, typename F>
+inline void forEachSinCos(size_t n, Angle&& angle, F&& f)
+{
+    size_t i = 0;
+    for (; i + 1 < n; i += 2)
+    {
+        Vec2 s, c;
+        fastSinCos2(Vec2{angle(i), angle(i + 1)}, s, c);
+        f(i, s[0], c[0]);
+        f(i + 1, s[1], c[1]);
+    }
+    if (i < n)
+    {
+        double s = 0, c = 0;
+        fastSinCos(angle(i), s, c);
+        f(i, s, c);
+    }
 }
 
 /** Wraps an angle difference of two angles in [-pi, pi] into [-pi, pi]. */
