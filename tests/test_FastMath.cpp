@@ -98,3 +98,41 @@ TEST(FastMath, SinCosTwoAtATimeIsBitForBitOneAtATime)
     }
     EXPECT_EQ(differ, 0u);
 }
+
+TEST(FastMath, AbsAtan2TwoAtATimeIsBitForBitOneAtATime)
+{
+    mrpt::random::CRandomGenerator rng(45);
+    std::vector<double> ys, xs;
+    for (int i = 0; i < 100000; i++)
+    {
+        // Mostly within 45 degrees of +x (the short path, as gated pairs are), the rest
+        // anywhere: lanes mix the two paths.
+        const double a = i % 4 == 0 ? rng.drawUniform(-M_PI, M_PI) : rng.drawUniform(-0.8, 0.8);
+        const double r = rng.drawUniform(1e-3, 60.0);
+        ys.push_back(r * std::sin(a));
+        xs.push_back(r * std::cos(a));
+    }
+    // Edges: the diagonal, the axes, signed zeros, huge, tiny, non-finite.
+    const double edges[] = {0.0, -0.0, 1.0, -1.0, 1e-300, 1e300, HUGE_VAL, std::nan("")};
+    for (const double y : edges)
+    {
+        for (const double x : edges)
+        {
+            ys.push_back(y);
+            xs.push_back(x);
+        }
+    }
+    size_t differ = 0;
+    for (size_t i = 0; i + 1 < xs.size(); i++)  // each pair in both lanes, beside others
+    {
+        const semloc::detail::Vec2 got2 = semloc::detail::fastAbsAtan2x2(
+            semloc::detail::Vec2{ys[i], ys[i + 1]}, semloc::detail::Vec2{xs[i], xs[i + 1]});
+        for (int lane = 0; lane < 2; lane++)
+        {
+            const double got = got2[lane];
+            const double want = semloc::detail::fastAbsAtan2(ys[i + lane], xs[i + lane]);
+            differ += std::memcmp(&got, &want, sizeof got) != 0 ? 1 : 0;
+        }
+    }
+    EXPECT_EQ(differ, 0u);
+}

@@ -31,6 +31,7 @@
 #include "VisibilityTable.h"
 
 using mrpt::math::TPose2D;
+using semloc::detail::Vec2;
 
 //  =========== Map definition (CMultiMetricMap factory) ============
 MAP_DEFINITION_REGISTER("semanticMap,semloc::CSemanticMap", semloc::CSemanticMap)
@@ -1559,6 +1560,15 @@ inline double absBearingDiff(const Det& d, double lx, double ly)
     return detail::fastAbsAtan2(d.uc * ly - d.us * lx, d.uc * lx + d.us * ly);
 }
 
+/** absBearingDiff of two pairs at once (d0 with the object at (lx0, ly0), d1 with
+ *  (lx1, ly1)): the same operations lane by lane, so the same bits. */
+inline Vec2 absBearingDiff2(const Det& d0, double lx0, double ly0, const Det& d1, double lx1,
+                            double ly1)
+{
+    const Vec2 uc{d0.uc, d1.uc}, us{d0.us, d1.us}, lx{lx0, lx1}, ly{ly0, ly1};
+    return detail::fastAbsAtan2x2(uc * ly - us * lx, uc * lx + us * ly);
+}
+
 /** Lowest value returned: keeps MRPT's finite-likelihood assertion true even if an
  *  extreme option set ever made the sum overflow. */
 constexpr double kMinLogLik = -1e300;
@@ -1944,11 +1954,11 @@ struct GainParts
     const uint32_t* hit;
     const double *RR, *LX, *LY;
     const int32_t* L;
-    double rest(const ModelConsts& k, uint32_t j, uint32_t e) const
+    /** With db = absBearingDiff(dets[j], LX[e], LY[e]). */
+    double rest(const ModelConsts& k, uint32_t j, uint32_t e, double db) const
     {
         const Det& d = dets[j];
         const double dr = d.r - RR[e];
-        const double db = absBearingDiff(d, LX[e], LY[e]);
         double logC = 0;  // landmarks without a label: no label term
         if (d.label >= 0)
         {
@@ -1974,12 +1984,11 @@ struct PairGain
     bool gains;
 };
 
-PairGain pairGain(const GainParts& gp, const ModelConsts& k, const double* PD, uint32_t j,
-                  uint32_t e)
+PairGain pairGain(const ModelConsts& k, double rest, double q)
 {
     PairGain g;
-    g.rest = gp.rest(k, j, e);
-    g.q = PD[e] / (1 - PD[e]);  // P_D is clamped inside (0, 1)
+    g.rest = rest;
+    g.q = q;
     g.gains = g.rest + k.logQLo > 0;
     if (!g.gains && g.rest + k.logQHi >= 0)
     {
@@ -1990,7 +1999,10 @@ PairGain pairGain(const GainParts& gp, const ModelConsts& k, const double* PD, u
 
 /** Stage 4: the gains of the nc candidates; those with a positive gain are the pairs, in
  *  particle order (sc.pairs, sc.pairCount[i] of particle i), each with its gain less log q
- *  and its q. Branch-free but for pairGain's rare log. */
+ *  and its q. Branch-free but for pairGain's rare log. The bearing differences and the q of
+ *  two candidates at a time (one division and one atan polynomial chain for both, the same
+ *  bits as one at a time): their latency was much of this loop's time at steps with several
+ *  pairs per particle. */
 void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k, size_t m,
                size_t nc)
 {
@@ -2007,13 +2019,32 @@ void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k,
     uint32_t* pairCount = sc.pairCount.data();
     std::fill(pairCount, pairCount + m, 0u);
     size_t np = 0;
-    for (size_t t = 0; t < nc; t++)
+    auto emit = [&](const Cand& c, double db, double q)
     {
-        const uint32_t j = cands[t].j, e = cands[t].e, i = part[e];
-        const PairGain g = pairGain(gp, k, PD, j, e);
-        pairs[np] = {g.rest, j, e - visStart[i], g.q};  // written always, kept if it gains
+        const uint32_t i = part[c.e];
+        const PairGain g = pairGain(k, gp.rest(k, c.j, c.e, db), q);
+        pairs[np] = {g.rest, c.j, c.e - visStart[i], g.q};  // written always, kept if it gains
         pairCount[i] += static_cast<uint32_t>(g.gains);
         np += static_cast<size_t>(g.gains);
+    };
+    const double* LX = gp.LX;
+    const double* LY = gp.LY;
+    size_t t = 0;
+    for (; t + 1 < nc; t += 2)
+    {
+        const Cand c0 = cands[t], c1 = cands[t + 1];
+        const Det& d0 = gp.dets[c0.j];
+        const Det& d1 = gp.dets[c1.j];
+        const Vec2 db = absBearingDiff2(d0, LX[c0.e], LY[c0.e], d1, LX[c1.e], LY[c1.e]);
+        const Vec2 pd{PD[c0.e], PD[c1.e]};
+        const Vec2 q = pd / (1.0 - pd);  // P_D is clamped inside (0, 1)
+        emit(c0, db[0], q[0]);
+        emit(c1, db[1], q[1]);
+    }
+    if (t < nc)
+    {
+        const Cand c = cands[t];
+        emit(c, absBearingDiff(gp.dets[c.j], LX[c.e], LY[c.e]), PD[c.e] / (1 - PD[c.e]));
     }
 }
 

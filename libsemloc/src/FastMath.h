@@ -75,13 +75,14 @@ inline double negateIf(bool c, double v) noexcept
 }
 #endif
 
-/** atan(z) for z in [0, 1]: fastAtan2's polynomial. */
-inline double atanUnit(double z) noexcept
+/** atan(z) for z in [0, 1]: fastAtan2's polynomial, for a double or two (Vec2, lane by
+ *  lane): the same operations in the same order. */
+template <typename T>
+inline T atanUnit(T z) noexcept
 {
-    const double z2 = z * z;
+    const T z2 = z * z;
     // Minimax coefficients for atan(z) on [0, 1] (odd, degree 15).
-    double r = -0.0040540580;
-    r = r * z2 + 0.0218612288;
+    T r = z2 * -0.0040540580 + 0.0218612288;
     r = r * z2 - 0.0559098861;
     r = r * z2 + 0.0964200441;
     r = r * z2 - 0.1390853351;
@@ -123,6 +124,22 @@ inline double fastAbsAtan2(double y, double x) noexcept
 {
     const double ay = std::abs(y);
     return x > 0 && ay <= x ? atanUnit(ay / x) : std::abs(fastAtan2(y, x));
+}
+
+/** fastAbsAtan2 of two (y, x) at once, bit for bit: both lanes' short paths in the two
+ *  lanes of a Vec2 (one division, one polynomial chain for both), else lane by lane. */
+inline Vec2 fastAbsAtan2x2(Vec2 y, Vec2 x) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    const Vec2 ay = _mm_andnot_pd(_mm_set1_pd(-0.0), y);
+#else
+    const Vec2 ay{std::abs(y[0]), std::abs(y[1])};
+#endif
+    if ((lessBits(Vec2{0, 0}, x) & lessEqualBits(ay, x)) == kBothLanes)
+    {
+        return atanUnit(ay / x);
+    }
+    return Vec2{fastAbsAtan2(y[0], x[0]), fastAbsAtan2(y[1], x[1])};
 }
 
 /** pi/2 split so that kf * kPio2Hi is exact for |k| < 2^20 (fastSinCos' reduction). */
