@@ -1997,6 +1997,13 @@ PairGain pairGain(const ModelConsts& k, double rest, double q)
     return g;
 }
 
+/** q = P_D / (1 - P_D) of a P_D (or two) clamped inside (0, 1). */
+template <typename T>
+inline T detectionOdds(T pd)
+{
+    return pd / (1.0 - pd);
+}
+
 /** Stage 4: the gains of the nc candidates; those with a positive gain are the pairs, in
  *  particle order (sc.pairs, sc.pairCount[i] of particle i), each with its gain less log q
  *  and its q. Branch-free but for pairGain's rare log. The bearing differences and the q of
@@ -2037,14 +2044,14 @@ void gainBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& k,
         const Det& d1 = gp.dets[c1.j];
         const Vec2 db = absBearingDiff2(d0, LX[c0.e], LY[c0.e], d1, LX[c1.e], LY[c1.e]);
         const Vec2 pd{PD[c0.e], PD[c1.e]};
-        const Vec2 q = pd / (1.0 - pd);  // P_D is clamped inside (0, 1)
+        const Vec2 q = detectionOdds(pd);
         emit(c0, db[0], q[0]);
         emit(c1, db[1], q[1]);
     }
     if (t < nc)
     {
         const Cand c = cands[t];
-        emit(c, absBearingDiff(gp.dets[c.j], LX[c.e], LY[c.e]), PD[c.e] / (1 - PD[c.e]));
+        emit(c, absBearingDiff(gp.dets[c.j], LX[c.e], LY[c.e]), detectionOdds(PD[c.e]));
     }
 }
 

@@ -36,6 +36,16 @@ inline int lessBits(Vec2 a, Vec2 b) noexcept
 /** Both lanes' bits. */
 constexpr int kBothLanes = 3;
 
+/** |v| lane by lane (the sign bits cleared). */
+inline Vec2 absLanes(Vec2 v) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_andnot_pd(_mm_set1_pd(-0.0), v);
+#else
+    return Vec2{std::abs(v[0]), std::abs(v[1])};
+#endif
+}
+
 /** Branch-free selections for the per-particle kernels: branches on data that is random
  *  per particle (a quadrant, a pair that gains or not) were mispredicted about every other
  *  time. The values are those of the plain expressions, bit for bit. */
@@ -130,11 +140,7 @@ inline double fastAbsAtan2(double y, double x) noexcept
  *  lanes of a Vec2 (one division, one polynomial chain for both), else lane by lane. */
 inline Vec2 fastAbsAtan2x2(Vec2 y, Vec2 x) noexcept
 {
-#if defined(SEMLOC_FASTMATH_SSE2)
-    const Vec2 ay = _mm_andnot_pd(_mm_set1_pd(-0.0), y);
-#else
-    const Vec2 ay{std::abs(y[0]), std::abs(y[1])};
-#endif
+    const Vec2 ay = absLanes(y);
     if ((lessBits(Vec2{0, 0}, x) & lessEqualBits(ay, x)) == kBothLanes)
     {
         return atanUnit(ay / x);
@@ -215,7 +221,7 @@ inline void fastSinCos2(Vec2 x, Vec2& s, Vec2& c) noexcept
     };
 #if defined(SEMLOC_FASTMATH_SSE2)
     const __m128d signBit = _mm_set1_pd(-0.0);
-    if (lessEqualBits(_mm_andnot_pd(signBit, x), Vec2{1e6, 1e6}) != kBothLanes)
+    if (lessEqualBits(absLanes(x), Vec2{1e6, 1e6}) != kBothLanes)
     {
         scalarLanes(x, s, c);
         return;
