@@ -25,6 +25,9 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -180,10 +183,10 @@ std::vector<std::string> localize(const fs::path& dir, const fs::path& ini, cons
 
 /** A good dataset (gz rawlog) and the ini (see writeIni). */
 std::vector<std::string> localizeGood(const fs::path& dir, const std::string& extra = "",
-                                      const Keys& keys = {})
+                                      const Keys& keys = {}, std::vector<std::string> args = {})
 {
     saveGz(simulate().rawlog, dir / "data.rawlog");
-    return localize(dir, writeIni(dir, extra, keys), dir / "data.rawlog");
+    return localize(dir, writeIni(dir, extra, keys), dir / "data.rawlog", std::move(args));
 }
 
 /** The uncompressed bytes of the simulated rawlog. */
@@ -245,6 +248,17 @@ using Builder = std::function<std::vector<std::string>(const fs::path&)>;
 const std::map<std::string, Builder>& cases()
 {
     static const std::map<std::string, Builder> c = {
+        // ---- command line
+        {"cli-unknown-option",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {}, {"--particle", "500"});
+         }},
+        {"cli-missing-argument",
+         [](const fs::path&) { return std::vector<std::string>{"semloc-simulate"}; }},
+        {"cli-extra-argument",
+         [](const fs::path&) {
+             return std::vector<std::string>{"semloc-ini-reference", "semantic.ini"};
+         }},
         // ---- ini
         {"ini-missing",
          [](const fs::path& d) { return localize(d, d / "nope.ini", d / "data.rawlog"); }},

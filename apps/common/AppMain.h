@@ -9,17 +9,33 @@
 
 namespace semloc::apps
 {
+/** TCLAP's standard output that remembers a parse error: MRPT's TCLAP prints it and returns
+ *  false from CmdLine::parse(), as after --help, instead of exiting with status 1. */
+class ParseErrorFlag : public TCLAP::StdOutput
+{
+public:
+    bool failed = false;
+    void failure(TCLAP::CmdLineInterface& c, TCLAP::ArgException& e) override
+    {
+        failed = true;
+        TCLAP::StdOutput::failure(c, e);
+    }
+};
+
 /** Parses the command line and calls `run()`: exit 0 on success and after --help/--version,
- *  1 on any error, printed as "<tool>: <message>" (SEMLOC_DEBUG=1 adds MRPT's details), 130
- *  when a job that installed semloc::installInterruptHandlers() stopped at Ctrl-C. */
+ *  1 on any error (a bad command line included), printed as "<tool>: <message>"
+ *  (SEMLOC_DEBUG=1 adds MRPT's details; TCLAP's own format for the command line), 130 when
+ *  a job that installed semloc::installInterruptHandlers() stopped at Ctrl-C. */
 template <typename RUN>
 int runMain(TCLAP::CmdLine& cmd, int argc, char** argv, const char* tool, RUN&& run)
 {
+    static ParseErrorFlag output;  // outlives `cmd`, which keeps a pointer to it
+    cmd.setOutput(&output);
     try
     {
         if (!cmd.parse(argc, argv))
         {
-            return 0;  // --help or --version was printed
+            return output.failed ? 1 : 0;  // a parse error, or --help / --version printed
         }
         run();
         return 0;

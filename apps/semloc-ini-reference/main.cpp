@@ -1,20 +1,17 @@
 /* semloc-ini-reference: prints every ini section semloc reads, each key at its default
- * with a comment (the README's "ini reference" is this output). */
-#include <semloc/ErrorMessage.h>
+ * with a comment (the README's "ini reference" is this output). Takes no arguments. */
+#include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/IniReference.h>
 
 #include <iostream>
 
-int main()
+#include "common/AppMain.h"
+
+int main(int argc, char** argv)
 {
-    try
-    {
-        std::cout << semloc::iniReference();
-        return 0;
-    }
-    catch (const std::exception& e)
-    {
-        std::cerr << "semloc-ini-reference: " << semloc::errorMessage(e) << "\n";
-        return 1;
-    }
+    TCLAP::CmdLine cmd(
+        "Prints every ini section semloc reads, each key at its default with a comment", ' ',
+        "0.1");
+    return semloc::apps::runMain(cmd, argc, argv, "semloc-ini-reference",
+                                 [] { std::cout << semloc::iniReference(); });
 }
