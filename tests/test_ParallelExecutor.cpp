@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 #include <semloc/ParallelExecutor.h>
 
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 using semloc::ParallelExecutor;
@@ -134,4 +136,73 @@ TEST(ParallelExecutor, BlockSumsDoNotDependOnThreads)
     const double s1 = sum(one);
     EXPECT_EQ(s1, sum(two));
     EXPECT_EQ(s1, sum(three));
+}
+
+TEST(ParallelExecutor, CallsMadeWhileAnotherRunsRunAloneWithTheSameResults)
+{
+    // A work function that calls the executor again (each of its items sums a block through
+    // reduceBlocks), and two threads calling it at once: every call covers its items once
+    // and sums the same bits as a one-thread executor, and none waits for the other.
+    ParallelExecutor one(1);
+    const size_t n = 5000;
+    const auto blockSum = [](size_t b, size_t e)
+    {
+        double s = 0;
+        for (size_t i = b; i < e; i++)
+        {
+            s += std::sin(static_cast<double>(i));
+        }
+        return s;
+    };
+    const double expected = one.reduceBlocks(n, blockSum);
+    for (size_t threads : {2, 3})
+    {
+        ParallelExecutor ex(threads);
+        std::vector<double> inner(64, 0.0);
+        std::vector<int> hits(inner.size(), 0);
+        ex.forEachRange(
+            inner.size(),
+            [&](size_t b, size_t e, size_t)
+            {
+                for (size_t i = b; i < e; i++)
+                {
+                    hits[i]++;
+                    inner[i] = ex.reduceBlocks(n, blockSum);
+                }
+            },
+            1);
+        expectEachOnce(hits, threads);
+        for (double v : inner)
+        {
+            ASSERT_EQ(v, expected);
+        }
+
+        std::atomic<int> wrong{0};
+        auto caller = [&]
+        {
+            for (int rep = 0; rep < 200; rep++)
+            {
+                std::vector<int> h(1000, 0);
+                ex.forEachRange(
+                    h.size(),
+                    [&](size_t b, size_t e, size_t)
+                    {
+                        for (size_t i = b; i < e; i++)
+                        {
+                            h[i]++;
+                        }
+                    },
+                    16);
+                for (int x : h)
+                {
+                    wrong += x != 1;
+                }
+                wrong += ex.reduceBlocks(n, blockSum) != expected;
+            }
+        };
+        std::thread other(caller);
+        caller();
+        other.join();
+        EXPECT_EQ(wrong.load(), 0) << threads << " threads";
+    }
 }

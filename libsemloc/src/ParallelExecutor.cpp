@@ -91,6 +91,17 @@ struct ParallelExecutor::Pool
     std::condition_variable wake;
     std::atomic<size_t> sleepers{0};
     std::atomic<bool> stop{false};
+    /** A job is running: another call (another thread's, or a work function's) runs alone. */
+    std::atomic<bool> busy{false};
+
+    /** Claims the pool for a job; false if it is running one. */
+    bool acquire() { return !busy.exchange(true, std::memory_order_acquire); }
+    /** Releases an acquire()d pool at the end of the job, returned or thrown. */
+    struct Claim
+    {
+        Pool& pool;
+        ~Claim() { pool.busy.store(false, std::memory_order_release); }
+    };
 
     void run(size_t begin, size_t end, size_t thread)
     {
@@ -249,6 +260,19 @@ void ParallelExecutor::forEachChunk(size_t n, const ChunkFn& work, size_t minChu
         return;
     }
     Pool& p = *m_pool;
+    if (!p.acquire())
+    {
+        // The pool is busy (a concurrent caller, or a call from a work function): the same
+        // chunks, one after the other on this thread.
+        for (size_t k = 0; k < chunks; k++)
+        {
+            size_t b = 0, e = 0;
+            chunkRange(n, chunks, k, b, e);
+            work(b, e);
+        }
+        return;
+    }
+    const Pool::Claim claim{p};
     p.chunkWork = &work;
     p.n = n;
     p.chunks = chunks;
@@ -268,6 +292,12 @@ void ParallelExecutor::forEachRange(size_t n, const RangeFn& work, size_t grain)
         return;
     }
     Pool& p = *m_pool;
+    if (!p.acquire())
+    {
+        work(0, n, 0);  // the pool is busy (see forEachChunk): all on this thread
+        return;
+    }
+    const Pool::Claim claim{p};
     p.rangeWork = &work;
     p.n = n;
     p.chunks = 0;

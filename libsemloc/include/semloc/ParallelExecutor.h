@@ -19,8 +19,10 @@ namespace semloc
  *  blocks are fixed by n alone; forEachRange() serves partition-free reductions (maximum,
  *  integer counts) through per-thread partial results.
  *
- *  One executor serves one caller at a time (the filter that owns it); it is not
- *  re-entrant: the work function must not call back into the same executor. */
+ *  One executor serves one call at a time on its threads: a call made while another runs
+ *  (from another thread, or from a work function) runs its work on its calling thread
+ *  alone, with the same results (forEachRange: one range; forEachChunk: the same chunks in
+ *  order). */
 class ParallelExecutor
 {
 public:
