@@ -1,9 +1,12 @@
 /* semloc benchmarks — one particle-filter step (prediction + likelihood + resampling) of
- * semloc-localize on the paper scenario, 10 000 particles, per variant, on 1 and 2 threads.
+ * semloc-localize on the paper scenario, 10 000 particles, per variant, on 1 and 2 threads;
+ * and the per-step estimate (mean and covariance) semloc-localize writes after each step,
+ * MRPT's implementation beside ours.
  * Run: build/bench/bench_FilterStep [--benchmark_filter=semantic] */
 #include <benchmark/benchmark.h>
 #include <mrpt/bayes/CParticleFilter.h>
 #include <mrpt/config/CConfigFile.h>
+#include <mrpt/poses/CPosePDFParticles.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/CObservationSemantic.h>
 #include <semloc/CParallelMonteCarloLocalization2D.h>
@@ -131,5 +134,59 @@ SEMLOC_FILTER_STEP(grid_lf);
 SEMLOC_FILTER_STEP(grid_rt);
 SEMLOC_FILTER_STEP(fused);
 SEMLOC_FILTER_STEP_AT(semantic_busy, semantic, kBusyStep);
+
+/** getCovarianceAndMean() of 10 000 particles around the true pose of step kStep (as
+ *  BM_FilterStep's cloud), by MRPT's CPosePDFParticles or by CParallelMonteCarloLocalization2D
+ *  (the same bits, tested); weights equal (log-weights 0, as after a resampling: every step
+ *  of BM_FilterStep) or not (random log-weights, as after an update without resampling). */
+template <typename Pdf>
+void BM_Estimate(benchmark::State& state, bool equalWeights, Pdf& pdf)
+{
+    const auto truth = dataset().groundTruth[kStep - 1].pose();
+    auto& rng = mrpt::random::getRandomGenerator();
+    rng.randomize(1);
+    pdf.m_particles.resize(10000);
+    for (auto& p : pdf.m_particles)
+    {
+        p.d = mrpt::math::TPose2D(truth.x + rng.drawGaussian1D(0, 1.0),
+                                  truth.y + rng.drawGaussian1D(0, 1.0),
+                                  truth.phi + rng.drawGaussian1D(0, 0.1));
+        p.log_w = equalWeights ? 0 : rng.drawGaussian1D(0, 2);
+    }
+    double sink = 0;
+    for (auto _ : state)
+    {
+        const auto [cov, mean] = pdf.getCovarianceAndMean();
+        sink += cov(0, 0) + mean.x();
+        benchmark::DoNotOptimize(sink);
+    }
+    state.counters["particles"] = static_cast<double>(pdf.m_particles.size());
+}
+
+void BM_EstimateMrpt(benchmark::State& state, bool equalWeights)
+{
+    mrpt::poses::CPosePDFParticles pdf;
+    BM_Estimate(state, equalWeights, pdf);
+}
+/** Ours on `threads` threads (the executor of the filter). */
+void BM_EstimateSemloc(benchmark::State& state, bool equalWeights)
+{
+    semloc::CParallelMonteCarloLocalization2D pdf;
+    pdf.setExecutor(
+        std::make_shared<semloc::ParallelExecutor>(static_cast<size_t>(state.range(0))));
+    BM_Estimate(state, equalWeights, pdf);
+}
+BENCHMARK_CAPTURE(BM_EstimateMrpt, equal_weights, true)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_EstimateSemloc, equal_weights, true)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_EstimateMrpt, weighted, false)->Unit(benchmark::kMicrosecond);
+BENCHMARK_CAPTURE(BM_EstimateSemloc, weighted, false)
+    ->ArgName("threads")
+    ->Arg(1)
+    ->Arg(2)
+    ->Unit(benchmark::kMicrosecond);
 
 }  // namespace

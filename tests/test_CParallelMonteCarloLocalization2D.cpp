@@ -8,6 +8,7 @@
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
+#include <mrpt/poses/CPosePDFParticles.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <mrpt/slam/CMonteCarloLocalization2D.h>
 #include <semloc/CParallelMonteCarloLocalization2D.h>
@@ -15,6 +16,8 @@
 #include <semloc/ParallelExecutor.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "ScanSimulation.h"
@@ -86,6 +89,14 @@ void runSteps(CParallelMonteCarloLocalization2D& pdf, const Maps& maps, int step
         const auto sf = maps.frame(truth);
         pf.executeOn(pdf, &acts, &sf);
     }
+}
+
+/** The bits of v (a comparison that tells -0 from 0). */
+uint64_t bitsOf(double v)
+{
+    uint64_t b = 0;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
 }
 
 /** A map whose likelihood is NaN for every pose: the filter must survive it. */
@@ -435,4 +446,74 @@ TEST(CParallelMonteCarloLocalization2D, SensorResettingInjectsTheSameOnOneAndTwo
               a->recoveryStats().injected_particles);  // the rest uniform
     const auto [u, errU] = run(1, 0.0);
     EXPECT_EQ(u->recoveryStats().injected_from_detections, 0u);
+}
+
+TEST(CParallelMonteCarloLocalization2D, MeanAndCovarianceAreMrptsBitForBit)
+{
+    // The same particles in MRPT's CPosePDFParticles and in ours: getMean and
+    // getCovarianceAndMean must give the same bits. Kinds: 0 equal weights (as after a
+    // resampling), 1 random log-weights, 2 some zero weights (-inf), 3 headings at and
+    // around +-pi and far outside [-pi, pi], 4 every weight zero (both throw).
+    auto& rng = mrpt::random::getRandomGenerator();
+    rng.randomize(7);
+    size_t values = 0, throwing = 0;
+    for (int trial = 0; trial < 500; trial++)
+    {
+        const int kind = trial % 5;
+        const size_t n = trial < 15 ? static_cast<size_t>(trial / 5)  // 0, 1, 2 particles
+                                    : 1 + rng.drawUniform32bit() % 3000;
+        CParallelMonteCarloLocalization2D ours(n);
+        for (auto& p : ours.m_particles)
+        {
+            p.d = TPose2D(rng.drawGaussian1D(25, 5), rng.drawGaussian1D(25, 5),
+                          rng.drawUniform(-M_PI, M_PI));
+            p.log_w = 0;
+            if (kind == 1 || kind == 2)
+            {
+                p.log_w = rng.drawGaussian1D(0, 3) - 2;
+            }
+            if (kind == 2 && rng.drawUniform(0.0, 1.0) < 0.3)
+            {
+                p.log_w = -std::numeric_limits<double>::infinity();
+            }
+            if (kind == 3)
+            {
+                const double u = rng.drawUniform(0.0, 1.0);
+                p.d.phi = u < 0.2   ? M_PI
+                          : u < 0.4 ? -M_PI
+                          : u < 0.7 ? M_PI - rng.drawUniform(0.0, 1e-6)
+                                    : rng.drawUniform(-1e5, 1e5);
+            }
+            if (kind == 4)
+            {
+                p.log_w = -std::numeric_limits<double>::infinity();
+            }
+        }
+        mrpt::poses::CPosePDFParticles mrpts(n);
+        mrpts.m_particles = ours.m_particles;
+        if (kind == 4 && n > 0)
+        {
+            EXPECT_ANY_THROW(mrpts.getCovarianceAndMean());
+            EXPECT_ANY_THROW(ours.getCovarianceAndMean());
+            EXPECT_ANY_THROW(ours.getMeanVal());
+            throwing++;
+            continue;
+        }
+        const auto [covOurs, meanOurs] = ours.getCovarianceAndMean();
+        const auto [covMrpt, meanMrpt] = mrpts.getCovarianceAndMean();
+        const mrpt::poses::CPose2D meanOnly = ours.getMeanVal();
+        for (int k = 0; k < 3; k++)
+        {
+            ASSERT_EQ(bitsOf(meanOurs[k]), bitsOf(meanMrpt[k])) << "trial " << trial << " k " << k;
+            ASSERT_EQ(bitsOf(meanOnly[k]), bitsOf(meanMrpt[k])) << "trial " << trial << " k " << k;
+            for (int l = 0; l < 3; l++)
+            {
+                ASSERT_EQ(bitsOf(covOurs(k, l)), bitsOf(covMrpt(k, l)))
+                    << "trial " << trial << " (" << k << ", " << l << ")";
+                values++;
+            }
+        }
+    }
+    EXPECT_EQ(values, 9u * 401u);  // kinds 0-3, and kind 4 with no particle (trial 4)
+    EXPECT_EQ(throwing, 99u);      // kind 4 with particles
 }

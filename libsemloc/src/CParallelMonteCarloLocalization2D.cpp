@@ -19,6 +19,7 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -43,6 +44,8 @@ constexpr double kNegInf = -std::numeric_limits<double>::infinity();
 constexpr size_t kCheapLoopGrain = 2048;
 /** Loops that copy a particle or do a little more per particle (~10 ns). */
 constexpr size_t kCopyLoopGrain = 1024;
+/** Loops with a sin and a cos per particle (~25 ns): the estimate's. */
+constexpr size_t kTrigLoopGrain = 512;
 /** Loops with an exp() per particle (~20 ns) are worth splitting from this many on. */
 constexpr size_t kExpLoopChunk = 4096;
 /** Smallest range of the prediction + likelihood pass a thread claims (~1 us per particle):
@@ -51,14 +54,21 @@ constexpr size_t kParticleGrain = 128;
 
 using detail::Vec2;
 
-/** mrpt::math::wrapToPi, bit for bit, without its fmod for angles already in range
- *  (fmod(t, 2 pi) is exactly t for 0 <= t < 2 pi). */
+/** mrpt::math::wrapToPi, bit for bit, without its fmod for angles within a turn of the
+ *  range: fmod(t, 2 pi) is exactly t for 0 <= t < 2 pi, and exactly t - 2 pi for
+ *  2 pi <= t < 4 pi (fmod is exact, and so is that subtraction: Sterbenz). The second case
+ *  is MRPT's getCovarianceAndMean's, whose heading errors |phi - mean| are taken against a
+ *  mean moved to [0, 2 pi). */
 inline double wrapToPiExact(double a)
 {
     const double t = a + M_PI;
     if (t >= 0 && t < 2 * M_PI)
     {
         return t - M_PI;
+    }
+    if (t >= 2 * M_PI && t < 4 * M_PI)
+    {
+        return (t - 2 * M_PI) - M_PI;
     }
     return mrpt::math::wrapToPi(a);
 }
@@ -802,6 +812,133 @@ double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w
         *out_max_log_w = maxW;
     }
     return std::exp(maxW - minW);
+}
+
+mrpt::poses::CPose2D CParallelMonteCarloLocalization2D::meanAndWeights(std::vector<double>& w) const
+{
+    // MRPT 2.5.8's CPosePDFParticles::getMean: SE_average<2> over the particles in order,
+    // weights exp(log_w). Here each particle's exp (only where log_w != 0: glibc's exp(+-0)
+    // is 1 exactly) and cos and sin of its heading (glibc's) are computed on the executor's
+    // threads first, then summed in particle order on this thread: the same values. The two
+    // counts of SE_average and SO_average add the same weights in the same order: one here.
+    const size_t n = m_particles.size();
+    w.resize(n);
+    if (n == 0)
+    {
+        return {};
+    }
+    thread_local std::vector<double> cosPhi, sinPhi;  // this thread's calls' buffers
+    cosPhi.resize(n);
+    sinPhi.resize(n);
+    double* W = w.data();
+    double* C = cosPhi.data();
+    double* S = sinPhi.data();
+    m_executor->forEachRange(
+        n,
+        [&](size_t b, size_t e, size_t)
+        {
+            forEachRun(m_particles, b, e,
+                       [&](const auto* p, size_t i0, size_t len)
+                       {
+                           for (size_t k = 0; k < len; k++)
+                           {
+                               const double logW = p[k].log_w;
+                               W[i0 + k] = logW == 0 ? 1.0 : std::exp(logW);
+                               C[i0 + k] = std::cos(p[k].d.phi);
+                               S[i0 + k] = std::sin(p[k].d.phi);
+                           }
+                       });
+        },
+        kTrigLoopGrain);
+    double count = 0, sumX = 0, sumY = 0, sumCos = 0, sumSin = 0;
+    forEachRun(m_particles, 0, n,
+               [&](const auto* p, size_t i0, size_t len)
+               {
+                   for (size_t k = 0; k < len; k++)
+                   {
+                       const double wk = W[i0 + k];
+                       count += wk;
+                       sumX += wk * p[k].d.x;
+                       sumY += wk * p[k].d.y;
+                       sumCos += C[i0 + k] * wk;
+                       sumSin += S[i0 + k] * wk;
+                   }
+               });
+    ASSERT_GT_(count, 0);
+    mrpt::poses::CPose2D mean;
+    mean.x(sumX / count);
+    mean.y(sumY / count);
+    // SO_average<2>::get_average (an undetermined angle is 0, MRPT's default).
+    errno = 0;
+    double ang = std::atan2(sumSin / count, sumCos / count);
+    if (errno == EDOM)
+    {
+        ang = 0;
+    }
+    mean.phi(ang);
+    return mean;
+}
+
+void CParallelMonteCarloLocalization2D::getMean(mrpt::poses::CPose2D& mean) const
+{
+    thread_local std::vector<double> w;
+    mean = meanAndWeights(w);
+}
+
+std::tuple<CParallelMonteCarloLocalization2D::cov_mat_t,
+           CParallelMonteCarloLocalization2D::type_value>
+CParallelMonteCarloLocalization2D::getCovarianceAndMean() const
+{
+    // MRPT 2.5.8's CPosePDFParticles::getCovarianceAndMean, the same operations in the same
+    // order (its sum of exp(log_w): the weights of meanAndWeights, summed in order).
+    thread_local std::vector<double> w;
+    const mrpt::poses::CPose2D mean = meanAndWeights(w);
+    const size_t n = m_particles.size();
+    double linWSum = 0;
+    for (double wi : w)
+    {
+        linWSum += wi;
+    }
+    if (linWSum == 0)
+    {
+        linWSum = 1;
+    }
+    double meanPhi = mean.phi();
+    if (meanPhi < 0)
+    {
+        meanPhi = M_2PI + meanPhi;
+    }
+    const double mx = mean.x(), my = mean.y();
+    double varX = 0, varY = 0, varP = 0, varXY = 0, varXP = 0, varYP = 0;
+    forEachRun(m_particles, 0, n,
+               [&](const auto* p, size_t i0, size_t len)
+               {
+                   for (size_t k = 0; k < len; k++)
+                   {
+                       const double wk = w[i0 + k] / linWSum;
+                       const double errX = p[k].d.x - mx;
+                       const double errY = p[k].d.y - my;
+                       const double errPhi = wrapToPiExact(std::abs(p[k].d.phi - meanPhi));
+                       varX += (errX * errX) * wk;
+                       varY += (errY * errY) * wk;
+                       varP += (errPhi * errPhi) * wk;
+                       varXY += (errX * errY) * wk;
+                       varXP += (errX * errPhi) * wk;
+                       varYP += (errY * errPhi) * wk;
+                   }
+               });
+    cov_mat_t cov;
+    cov.setZero();
+    if (n >= 2)
+    {
+        cov(0, 0) = varX;
+        cov(1, 1) = varY;
+        cov(2, 2) = varP;
+        cov(1, 0) = cov(0, 1) = varXY;
+        cov(2, 0) = cov(0, 2) = varXP;
+        cov(1, 2) = cov(2, 1) = varYP;
+    }
+    return {cov, mean};
 }
 
 double CParallelMonteCarloLocalization2D::ESS() const
