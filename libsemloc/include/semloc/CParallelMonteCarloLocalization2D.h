@@ -170,8 +170,9 @@ public:
      *  libm calls, the sums in the same order), faster: the headings' cos and sin and the
      *  weights' exp on the executor's threads, no exp() for a log-weight of 0 (every weight
      *  after a resampling; exp(0) is 1 exactly), no deque indexing per particle. Throws as
-     *  MRPT's when every weight is zero. Safe to call from any thread (a call while the
-     *  executor runs another computes on its own thread); buffers kept per calling thread. */
+     *  MRPT's when every weight is zero. Another thread may call it between steps (while
+     *  the executor runs another call, it computes on its own thread); its buffers are kept
+     *  per calling thread. */
     void getMean(mrpt::poses::CPose2D& mean) const override;
     /** Covariance and mean, MRPT's CPosePDFParticles::getCovarianceAndMean bit for bit
      *  (with getMean() above): one exp() per particle at most instead of three, no fmod()
