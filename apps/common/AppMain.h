@@ -22,15 +22,22 @@ public:
     }
 };
 
-/** Parses the command line and calls `run()`: exit 0 on success and after --help/--version,
- *  1 on any error (a bad command line included), printed as "<tool>: <message>"
- *  (SEMLOC_DEBUG=1 adds MRPT's details; TCLAP's own format for the command line), 130 when
- *  a job that installed semloc::installInterruptHandlers() stopped at Ctrl-C. */
+/** Parses the command line (taking over its TCLAP output) and calls `run()`: exit 0 on
+ *  success and after --help/--version, 1 on any error (a bad command line included), printed
+ *  as "<tool>: <message>" (SEMLOC_DEBUG=1 adds MRPT's details; TCLAP's own format for the
+ *  command line), 130 when a job that installed semloc::installInterruptHandlers() stopped at
+ *  Ctrl-C. */
 template <typename RUN>
 int runMain(TCLAP::CmdLine& cmd, int argc, char** argv, const char* tool, RUN&& run)
 {
-    static ParseErrorFlag output;  // outlives `cmd`, which keeps a pointer to it
-    cmd.setOutput(&output);
+    // Ours replaces TCLAP's own output, which `cmd` then no longer frees; `output` outlives
+    // `cmd`, which keeps a pointer to it.
+    static ParseErrorFlag output;
+    if (cmd.getOutput() != &output)
+    {
+        delete cmd.getOutput();
+        cmd.setOutput(&output);
+    }
     try
     {
         if (!cmd.parse(argc, argv))
