@@ -253,6 +253,14 @@ const std::map<std::string, Builder>& cases()
          [](const fs::path& d) {
              return localizeGood(d, "", {}, {"--particle", "500"});
          }},
+        {"cli-threads-out-of-range",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {}, {"-t", "5000"});
+         }},
+        {"cli-seed-negative",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {}, {"-s", "-1"});
+         }},
         {"cli-missing-argument",
          [](const fs::path&) { return std::vector<std::string>{"semloc-simulate"}; }},
         {"cli-extra-argument",

@@ -33,9 +33,9 @@ std::string clock(double s)
 
 void run()
 {
-    if (argRuns.isSet() && argRuns.getValue() < 1)
+    if (argRuns.isSet() && (argRuns.getValue() < 1 || argRuns.getValue() > 1000000))
     {
-        THROW_EXCEPTION("--runs: must be >= 1");
+        THROW_EXCEPTION("--runs: must be in [1, 1000000]");  // as [Benchmark] runs
     }
     const auto bench =
         semloc::Benchmark::FromConfigFile(argIni.getValue(), argOut.getValue(), argRuns.getValue());

@@ -2,11 +2,13 @@
  *   semloc-localize config/semantic.ini [dataset.rawlog] [--threads N] [--seed S] [-o DIR]
  *                   [--allow-truncated] */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/core/exceptions.h>
 #include <semloc/ErrorMessage.h>
 #include <semloc/Interrupt.h>
 #include <semloc/LocalizationExperiment.h>
 
 #include <unistd.h>
+#include <climits>
 #include <cstdio>
 #include <iostream>
 
@@ -26,7 +28,7 @@ TCLAP::ValueArg<int> argThreads("t", "threads", "Overrides [PF_options] threads 
                                 false, 0, "N", cmd);
 TCLAP::ValueArg<int> argParticles("n", "particles", "Overrides particles_count", false, 0, "N",
                                   cmd);
-TCLAP::ValueArg<uint32_t> argSeed("s", "seed", "Overrides seed", false, 1, "S", cmd);
+TCLAP::ValueArg<long long> argSeed("s", "seed", "Overrides seed", false, 1, "S", cmd);
 TCLAP::SwitchArg argQuiet("q", "quiet", "No progress bar and no summary", cmd);
 TCLAP::SwitchArg argAllowTruncated(
     "", "allow-truncated",
@@ -67,7 +69,12 @@ void run()
     }
     if (argSeed.isSet())
     {
-        ov.seed = argSeed.getValue();
+        // As the ini key: "-1" must not wrap to 4294967295.
+        if (argSeed.getValue() < 0 || argSeed.getValue() > INT_MAX)
+        {
+            THROW_EXCEPTION("--seed must be in [0, 2147483647]");
+        }
+        ov.seed = static_cast<uint32_t>(argSeed.getValue());
     }
     ov.allow_truncated = argAllowTruncated.isSet();
     const auto experiment = semloc::LocalizationExperiment::FromConfigFile(argIni.getValue(), ov);

@@ -469,7 +469,7 @@ double Benchmark::TScenarioSummary::successRate() const
 Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::string& outputDir,
                                     int runs)
 {
-    ASSERTMSG_(runs >= 0, "runs must be >= 0");
+    ASSERTMSG_(runs >= 0 && runs <= 1000000, "runs must be in [0, 1000000] (0: the ini's)");
     config::checkIniFile(iniPath);
     mrpt::config::CConfigFile ini(iniPath);
     if (!ini.sectionExists(kSection))

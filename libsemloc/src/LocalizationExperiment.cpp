@@ -399,16 +399,23 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     }
     if (ov.threads)
     {
-        ASSERTMSG_(*ov.threads >= 0, "threads must be >= 0");
+        ASSERTMSG_(
+            *ov.threads >= 0 && *ov.threads <= Localizer::TOptions::kMaxThreads,
+            "threads must be in [0, " + std::to_string(Localizer::TOptions::kMaxThreads) + "]");
         o.filter.threads = *ov.threads;
     }
     if (ov.particles_count)
     {
-        ASSERTMSG_(*ov.particles_count >= 1, "the number of particles must be >= 1");
+        ASSERTMSG_(
+            *ov.particles_count >= 1 && *ov.particles_count <= Localizer::TOptions::kMaxParticles,
+            "the number of particles must be in [1, " +
+                std::to_string(Localizer::TOptions::kMaxParticles) + "]");
         o.filter.particles_count = *ov.particles_count;
     }
     if (ov.seed)
     {
+        ASSERTMSG_(*ov.seed <= static_cast<uint32_t>(std::numeric_limits<int>::max()),
+                   "seed must be in [0, 2147483647]");
         o.filter.seed = *ov.seed;
     }
 

@@ -195,7 +195,7 @@ void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
                 "': one number of particles (pf-localization's list of runs is not "
                 "supported)");
     }
-    readInt(c, s, "particles_count", particles_count, 1, 100000000);
+    readInt(c, s, "particles_count", particles_count, 1, kMaxParticles);
     {
         int mode = static_cast<int>(init_PDF_mode);
         if (c.keyExists(s, "init_PDF_mode"))
@@ -270,7 +270,7 @@ void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     readBool(c, kPF, "pfAuxFilterStandard_FirstStageWeightsMonteCarlo",
              pf.pfAuxFilterStandard_FirstStageWeightsMonteCarlo);
     readBool(c, kPF, "pfAuxFilterOptimal_MLE", pf.pfAuxFilterOptimal_MLE);
-    readInt(c, kPF, "threads", threads, 0, 1024);
+    readInt(c, kPF, "threads", threads, 0, kMaxThreads);
     readDouble(c, kPF, "recovery_alpha_slow", recovery.alpha_slow, 0, 1);
     readDouble(c, kPF, "recovery_alpha_fast", recovery.alpha_fast, 0, 1);
     readDouble(c, kPF, "recovery_from_detections", recovery.from_detections, 0, 1);

@@ -61,7 +61,10 @@ public:
     {
         /** @name [LocalizationExperiment]: the initial cloud and the seed
          *  @{ */
-        /** Number of particles (the initial number with KLD). */
+        /** Largest particles_count and threads accepted (the ini keys and the tools'
+         *  overrides alike). */
+        static constexpr int kMaxParticles = 100000000, kMaxThreads = 1024;
+        /** Number of particles (the initial number with KLD), 1..kMaxParticles. */
         int particles_count = 10000;
         /** init_PDF_mode: 0 free space, 1 box, 2 Gaussian. */
         InitMode init_PDF_mode = InitMode::FreeSpace;
@@ -96,7 +99,7 @@ public:
          *  @{ */
         /** MRPT's particle-filter options (PF_algorithm, resamplingMethod, BETA, ...). */
         mrpt::bayes::CParticleFilter::TParticleFilterOptions pf;
-        /** Threads of the per-particle work; 0 = every hardware thread. */
+        /** Threads of the per-particle work, 0..kMaxThreads; 0 = every hardware thread. */
         int threads = 0;
         /** Augmented MCL (recovery_alpha_slow, recovery_alpha_fast; off by default) and the
          *  fraction of injected particles drawn from the detections
