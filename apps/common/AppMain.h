@@ -5,7 +5,11 @@
 #include <semloc/ErrorMessage.h>
 #include <semloc/Interrupt.h>
 
+#include <cstdint>
 #include <iostream>
+#include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace semloc::apps
 {
@@ -21,6 +25,18 @@ public:
         TCLAP::StdOutput::failure(c, e);
     }
 };
+
+/** A --seed option's value as the ini keys `seed` take it, 0..2^31-1 (a negative one must
+ *  not wrap around); throws naming the option otherwise. */
+inline uint32_t seedOption(long long v)
+{
+    if (v < 0 || v > std::numeric_limits<int>::max())
+    {
+        throw std::invalid_argument("--seed must be in [0, " +
+                                    std::to_string(std::numeric_limits<int>::max()) + "]");
+    }
+    return static_cast<uint32_t>(v);
+}
 
 /** Parses the command line (taking over its TCLAP output) and calls `run()`: exit 0 on
  *  success and after --help/--version, 1 on any error (a bad command line included), printed

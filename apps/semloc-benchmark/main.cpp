@@ -33,9 +33,10 @@ std::string clock(double s)
 
 void run()
 {
-    if (argRuns.isSet() && (argRuns.getValue() < 1 || argRuns.getValue() > 1000000))
+    constexpr int kMaxRuns = semloc::Benchmark::TOptions::kMaxRuns;  // as [Benchmark] runs
+    if (argRuns.isSet() && (argRuns.getValue() < 1 || argRuns.getValue() > kMaxRuns))
     {
-        THROW_EXCEPTION("--runs: must be in [1, 1000000]");  // as [Benchmark] runs
+        THROW_EXCEPTION("--runs: must be in [1, " + std::to_string(kMaxRuns) + "]");
     }
     const auto bench =
         semloc::Benchmark::FromConfigFile(argIni.getValue(), argOut.getValue(), argRuns.getValue());

@@ -2,13 +2,11 @@
  *   semloc-localize config/semantic.ini [dataset.rawlog] [--threads N] [--seed S] [-o DIR]
  *                   [--allow-truncated] */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/core/exceptions.h>
 #include <semloc/ErrorMessage.h>
 #include <semloc/Interrupt.h>
 #include <semloc/LocalizationExperiment.h>
 
 #include <unistd.h>
-#include <climits>
 #include <cstdio>
 #include <iostream>
 
@@ -69,12 +67,7 @@ void run()
     }
     if (argSeed.isSet())
     {
-        // As the ini key: "-1" must not wrap to 4294967295.
-        if (argSeed.getValue() < 0 || argSeed.getValue() > INT_MAX)
-        {
-            THROW_EXCEPTION("--seed must be in [0, 2147483647]");
-        }
-        ov.seed = static_cast<uint32_t>(argSeed.getValue());
+        ov.seed = semloc::apps::seedOption(argSeed.getValue());
     }
     ov.allow_truncated = argAllowTruncated.isSet();
     const auto experiment = semloc::LocalizationExperiment::FromConfigFile(argIni.getValue(), ov);

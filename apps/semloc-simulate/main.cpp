@@ -5,7 +5,6 @@
 #include <semloc/Interrupt.h>
 #include <semloc/Simulator.h>
 
-#include <climits>
 #include <iostream>
 
 #include "common/AppMain.h"
@@ -27,11 +26,7 @@ void run()
     auto options = semloc::TSimulatorOptions::FromConfigFile(argIni.getValue());
     if (argSeed.isSet())
     {
-        if (argSeed.getValue() < 0 || argSeed.getValue() > INT_MAX)
-        {
-            THROW_EXCEPTION("--seed must be in [0, 2147483647]");
-        }
-        options.simulation.seed = static_cast<uint32_t>(argSeed.getValue());
+        options.simulation.seed = semloc::apps::seedOption(argSeed.getValue());
     }
     if (argOut.isSet())
     {

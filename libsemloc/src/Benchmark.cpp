@@ -377,7 +377,7 @@ void Benchmark::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
 {
     using namespace semloc::config;
     rejectUnknownKeys(c, s, kKeys);
-    readInt(c, s, "runs", runs, 1, 1000000);
+    readInt(c, s, "runs", runs, 1, kMaxRuns);
     if (c.keyExists(s, "variants"))
     {
         variants = readList(c, s, "variants");
@@ -469,7 +469,8 @@ double Benchmark::TScenarioSummary::successRate() const
 Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::string& outputDir,
                                     int runs)
 {
-    ASSERTMSG_(runs >= 0 && runs <= 1000000, "runs must be in [0, 1000000] (0: the ini's)");
+    ASSERTMSG_(runs >= 0 && runs <= TOptions::kMaxRuns,
+               "runs must be in [0, " + std::to_string(TOptions::kMaxRuns) + "] (0: the ini's)");
     config::checkIniFile(iniPath);
     mrpt::config::CConfigFile ini(iniPath);
     if (!ini.sectionExists(kSection))

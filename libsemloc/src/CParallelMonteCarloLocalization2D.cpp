@@ -814,7 +814,8 @@ double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w
     return std::exp(maxW - minW);
 }
 
-mrpt::poses::CPose2D CParallelMonteCarloLocalization2D::meanAndWeights(std::vector<double>& w) const
+mrpt::poses::CPose2D CParallelMonteCarloLocalization2D::meanAndWeights(std::vector<double>& w,
+                                                                       double& weightSum) const
 {
     // MRPT 2.5.8's CPosePDFParticles::getMean: SE_average<2> over the particles in order,
     // weights exp(log_w). Here each particle's exp (only where log_w != 0: glibc's exp(+-0)
@@ -823,6 +824,7 @@ mrpt::poses::CPose2D CParallelMonteCarloLocalization2D::meanAndWeights(std::vect
     // counts of SE_average and SO_average add the same weights in the same order: one here.
     const size_t n = m_particles.size();
     w.resize(n);
+    weightSum = 0;
     if (n == 0)
     {
         return {};
@@ -864,6 +866,7 @@ mrpt::poses::CPose2D CParallelMonteCarloLocalization2D::meanAndWeights(std::vect
                        sumSin += S[i0 + k] * wk;
                    }
                });
+    weightSum = count;
     ASSERT_GT_(count, 0);
     mrpt::poses::CPose2D mean;
     mean.x(sumX / count);
@@ -882,7 +885,8 @@ mrpt::poses::CPose2D CParallelMonteCarloLocalization2D::meanAndWeights(std::vect
 void CParallelMonteCarloLocalization2D::getMean(mrpt::poses::CPose2D& mean) const
 {
     thread_local std::vector<double> w;
-    mean = meanAndWeights(w);
+    double weightSum = 0;
+    mean = meanAndWeights(w, weightSum);
 }
 
 std::tuple<CParallelMonteCarloLocalization2D::cov_mat_t,
@@ -890,15 +894,12 @@ std::tuple<CParallelMonteCarloLocalization2D::cov_mat_t,
 CParallelMonteCarloLocalization2D::getCovarianceAndMean() const
 {
     // MRPT 2.5.8's CPosePDFParticles::getCovarianceAndMean, the same operations in the same
-    // order (its sum of exp(log_w): the weights of meanAndWeights, summed in order).
+    // order. Its sum of exp(log_w) adds the same weights in the same order as getMean's
+    // count: meanAndWeights' weightSum.
     thread_local std::vector<double> w;
-    const mrpt::poses::CPose2D mean = meanAndWeights(w);
-    const size_t n = m_particles.size();
     double linWSum = 0;
-    for (double wi : w)
-    {
-        linWSum += wi;
-    }
+    const mrpt::poses::CPose2D mean = meanAndWeights(w, linWSum);
+    const size_t n = m_particles.size();
     if (linWSum == 0)
     {
         linWSum = 1;

@@ -45,7 +45,9 @@ public:
     /** Section [Benchmark] of benchmark.ini. */
     struct TOptions : public mrpt::config::CLoadableOptions
     {
-        /** Number of runs (seeds 1..runs). */
+        /** Largest `runs` (the ini key and the tool's -r alike). */
+        static constexpr int kMaxRuns = 1000000;
+        /** Number of runs (seeds 1..runs), 1..kMaxRuns. */
         int runs = 100;
         /** Variant names (`<name>.ini` next to benchmark.ini) or ini paths (resolved next to
          *  benchmark.ini). */

@@ -215,8 +215,9 @@ private:
     /** ESS() from the log-weights' extremes `range`; with `linW`, also each particle's weight
      *  relative to the largest. */
     double weightsAndESS(const MinMax& range, std::vector<double>* linW) const;
-    /** getMean(), and each particle's exp(log_w) into `w`. */
-    mrpt::poses::CPose2D meanAndWeights(std::vector<double>& w) const;
+    /** getMean(), each particle's exp(log_w) into `w` and their sum (in particle order)
+     *  into `weightSum`. */
+    mrpt::poses::CPose2D meanAndWeights(std::vector<double>& w, double& weightSum) const;
     /** Systematic resampling of the weights m_linW, substituted in place. */
     void systematicResampling();
     void injectRandomParticles(double pInject, const mrpt::obs::CSensoryFrame& sf,
