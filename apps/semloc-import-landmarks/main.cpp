@@ -4,14 +4,12 @@
  * writes landmarks.rawlog (CObservationBearingRange -> CObservationSemantic),
  * landmarks_world.yaml (the landmarks as point objects) and landmarks_gt.txt (t x y phi). */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/core/exceptions.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/ErrorMessage.h>
 #include <semloc/LandmarkImport.h>
 #include <semloc/RawlogReader.h>
 
-#include <cmath>
 #include <iostream>
 
 #include "common/AppMain.h"
@@ -37,10 +35,6 @@ TCLAP::ValueArg<double> argMargin("", "margin", "World bounds margin around land
 void run()
 {
     using semloc::LandmarkImport;
-    if (!(std::isfinite(argMargin.getValue()) && argMargin.getValue() >= 0))
-    {
-        THROW_EXCEPTION("--margin must be a finite number >= 0 [m]");
-    }
     const std::string in = argIn.getValue(), out = argOut.getValue();
     const std::string landmarks =
         argLandmarks.isSet() ? argLandmarks.getValue() : in + "_ground_truth.txt";

@@ -151,7 +151,8 @@ World LandmarkImport::makeWorld(const std::vector<WorldObject>& landmarks,
                                 const std::vector<mrpt::math::TPose2D>& path, double margin_m,
                                 const std::string& name)
 {
-    ASSERTMSG_(std::isfinite(margin_m) && margin_m >= 0, "margin must be a finite number >= 0");
+    ASSERTMSG_(std::isfinite(margin_m) && margin_m >= 0,
+               "--margin must be a finite number >= 0 [m]");
     World w;
     w.name = name;
     bool first = true;
