@@ -11,11 +11,23 @@
 #include <semloc/World.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <functional>
+#include <sstream>
 #include <string>
 
 namespace semloc::test
 {
+/** The whole file at `p`, byte for byte (empty when it cannot be read). */
+inline std::string readText(const std::filesystem::path& p)
+{
+    std::ifstream f(p, std::ios::binary);
+    std::stringstream ss;
+    ss << f.rdbuf();
+    return ss.str();
+}
+
 /** A 30 x 30 m world with 12 objects in 4 labels, some labels repeated. */
 inline World smallWorld()
 {

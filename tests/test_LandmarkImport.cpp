@@ -5,8 +5,10 @@
 #include <semloc/CSemanticMap.h>
 #include <semloc/LandmarkImport.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <limits>
 
 using semloc::LandmarkImport;
 
@@ -116,4 +118,114 @@ TEST(LandmarkImport, MalformedFilesNameFileAndLine)
     EXPECT_THROW(LandmarkImport::readPath("/no/such/path.txt"), std::exception);
     EXPECT_THROW(LandmarkImport::writeGroundTruth({1.0, 2.0}, {{0, 0, 0}}, bad + ".gt"),
                  std::exception);
+}
+
+TEST(LandmarkImport, OptionsAreCheckedBeforeAnyWork)
+{
+    auto message = [](const std::string& label, double margin)
+    {
+        try
+        {
+            LandmarkImport::checkOptions(label, margin);
+        }
+        catch (const std::exception& e)
+        {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_EQ(message("buoy", 5), "");
+    EXPECT_EQ(message("buoy", semloc::kMaxWorldCoordinate_m), "");
+    EXPECT_NE(message("oil rig", 5).find("--label: label 'oil rig' holds a blank"),
+              std::string::npos);
+    EXPECT_NE(message("", 5).find("--label: label is empty"), std::string::npos);
+    EXPECT_NE(message(std::string(1000000, 'x'), 5)
+                  .find("--label: label of 1000000 bytes is too long (at most 65536)"),
+              std::string::npos);
+    for (const double bad : {-1.0, 1e300, std::nan(""), std::numeric_limits<double>::infinity()})
+    {
+        EXPECT_NE(message("buoy", bad).find("--margin "), std::string::npos) << bad;
+    }
+    EXPECT_NE(message("buoy", 1e300).find("--margin 1e+300: must be a finite number in [0, "),
+              std::string::npos);
+}
+
+TEST(LandmarkImport, MakeWorldReturnsOnlyWorldsTheLoaderReads)
+{
+    semloc::WorldObject lm;
+    lm.id = 1;
+    lm.label = "buoy";
+    lm.shape = semloc::ShapeType::Point;
+    lm.center = {100, 0};
+    const std::vector<mrpt::math::TPose2D> path = {{0, 0, 0}, {1, 0, 0}};
+    // Within the bound of world coordinates: the world loads back as it is.
+    const auto w = LandmarkImport::makeWorld({lm}, path, semloc::kMaxWorldCoordinate_m - 100, "lm");
+    EXPECT_EQ(semloc::World::FromText(w.toYamlText(), "lm").toYamlText(), w.toYamlText());
+    // Beyond it: the margin is named.
+    try
+    {
+        LandmarkImport::makeWorld({lm}, path, semloc::kMaxWorldCoordinate_m - 50, "lm");
+        FAIL() << "made a world beyond the bound of world coordinates";
+    }
+    catch (const std::exception& e)
+    {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("--margin 9999950: the world's bounds (x -9999950 .. 10000050"),
+                  std::string::npos)
+            << m;
+    }
+    // A landmark beyond the bound: the bounds say so.
+    lm.center = {2e7, 0};
+    try
+    {
+        LandmarkImport::makeWorld({lm}, {}, 0, "lm");
+        FAIL() << "made a world the loader refuses";
+    }
+    catch (const std::exception& e)
+    {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("would reach beyond"), std::string::npos) << m;
+    }
+    // Anything else the world loader refuses, in its words.
+    lm.center = {1, 1};
+    lm.label = "oil rig";
+    try
+    {
+        LandmarkImport::makeWorld({lm}, path, 5, "lm");
+        FAIL() << "made a world the loader refuses";
+    }
+    catch (const std::exception& e)
+    {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("the world of the landmarks and the path would not load: world file "
+                         "'lm': objects[0] (id 1): key 'label': label 'oil rig' holds a blank"),
+                  std::string::npos)
+            << m;
+    }
+}
+
+TEST(LandmarkImport, LabelsAreCheckedByEveryConversion)
+{
+    mrpt::obs::CRawlog log;
+    EXPECT_THROW(LandmarkImport::convertRawlog(log, "oil rig"), std::exception);
+    const std::string file = std::string(SEMLOC_TEST_OUT) + "/labels_landmarks.txt";
+    std::ofstream(file) << "1 2 0 5 0 0 1\n";
+    EXPECT_THROW(LandmarkImport::readLandmarks(file, ""), std::exception);
+    EXPECT_EQ(LandmarkImport::readLandmarks(file, "buoy").size(), 1u);
+}
+
+TEST(LandmarkImport, WriteErrorsNameTheFileAndTheReason)
+{
+    try
+    {
+        LandmarkImport::writeGroundTruth({1.0}, {{0, 0, 0}},
+                                         std::string(SEMLOC_TEST_OUT) + "/no/such/dir/gt.txt");
+        FAIL() << "wrote into a missing directory";
+    }
+    catch (const std::exception& e)
+    {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("/no/such/dir/gt.txt.tmp': No such file or directory"), std::string::npos)
+            << m;
+    }
 }

@@ -5,10 +5,12 @@
  * observations-only rawlogs, and clear errors with no output for bad configurations. */
 #include <gtest/gtest.h>
 #include <mrpt/containers/yaml.h>
+#include <mrpt/core/format.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <semloc/ErrorMessage.h>
 #include <semloc/Interrupt.h>
 #include <semloc/LocalizationExperiment.h>
+#include <semloc/OutputPaths.h>
 #include <semloc/Simulator.h>
 
 #include <algorithm>
@@ -17,6 +19,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <thread>
 
 #include <unistd.h>
 
@@ -33,13 +36,7 @@ namespace
 const fs::path kOut = fs::path(SEMLOC_TEST_OUT) / "localize";
 const std::string kConfig = SEMLOC_SOURCE_DIR "/config/";
 
-std::string readText(const fs::path& p)
-{
-    std::ifstream f(p);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
-}
+using semloc::test::readText;
 
 /** steps.csv without the update_us column (the only one that may differ between runs). */
 std::string stepsWithoutTiming(const fs::path& dir)
@@ -227,7 +224,8 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
             const auto res = localize(path, rawlog, dir, 1000, threads);
             ASSERT_EQ(res.threads, static_cast<size_t>(threads));
             const auto files = outputsWithoutTiming(kOut / dir);
-            EXPECT_EQ(files.size(), 3u) << "steps.csv, summary.yaml, config.ini";
+            EXPECT_EQ(files.size(), 4u) << "steps.csv, summary.yaml, config.ini, the marker";
+            EXPECT_TRUE(files.count(semloc::kOutputMarker));
             if (threads == 1)
             {
                 reference = files;
@@ -288,13 +286,18 @@ TEST_F(LocalizeEndToEnd, EveryWeightVanishingReinitializesAndSaysSo)
             keys.insert(keys.end(), {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}});
         }
         const auto ini = patchedConfig("semantic.ini", keys, name);
-        testing::internal::CaptureStdout();  // MRPT's logger prints warnings there
+        testing::internal::CaptureStdout();
+        testing::internal::CaptureStderr();
         const auto res = localize(ini, rawlog, name, 2000);
-        const std::string err = testing::internal::GetCapturedStdout();
+        const std::string err = testing::internal::GetCapturedStderr();
+        const std::string out = testing::internal::GetCapturedStdout();
 
         EXPECT_GT(res.recovery.reinitializations, 5u) << name;
-        EXPECT_NE(err.find("every particle weight is zero"), std::string::npos)
-            << name << ": a WARN line on the console; got: " << err.substr(0, 300);
+        EXPECT_NE(err.find("[warning|CParallelMonteCarloLocalization2D] every particle weight "
+                           "is zero"),
+                  std::string::npos)
+            << name << ": a warning on stderr; got: " << err.substr(0, 300);
+        EXPECT_EQ(out, "") << name << ": warnings go to stderr, not stdout";
         EXPECT_NE(res.summaryParagraph().find("Re-initialized"), std::string::npos) << name;
         const auto y = mrpt::containers::yaml::FromFile((kOut / name / "summary.yaml").string());
         EXPECT_EQ(y["reinitializations"].as<size_t>(), res.recovery.reinitializations) << name;
@@ -329,6 +332,28 @@ TEST_F(LocalizeEndToEnd, EveryWeightVanishingReinitializesAndSaysSo)
             n++;
         }
         EXPECT_EQ(n, 431u);
+    }
+}
+
+TEST_F(LocalizeEndToEnd, MoreThreadsThanTheMachineHasIsAWarning)
+{
+    const auto ini = patchedConfig("semantic.ini", {}, "threads_warning");
+    LocalizationExperiment::TOverrides ov;
+    ov.rawlog_file = rawlog;
+    ov.logOutput_dir = (kOut / "threads_warning").string();
+    const size_t cores = std::thread::hardware_concurrency();
+    ASSERT_GT(cores, 0u);
+    ov.threads = static_cast<int>(cores) + 1;
+    const auto warnings = LocalizationExperiment::FromConfigFile(ini, ov).warnings();
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_EQ(warnings[0], mrpt::format("--threads %zu exceeds the %zu hardware threads of this "
+                                        "machine: the run is slower, not faster",
+                                        cores + 1, cores));
+    for (const int threads : {0, static_cast<int>(cores)})
+    {
+        ov.threads = threads;
+        EXPECT_TRUE(LocalizationExperiment::FromConfigFile(ini, ov).warnings().empty())
+            << "threads " << threads;
     }
 }
 
@@ -445,7 +470,9 @@ TEST_F(LocalizeEndToEnd, BadConfigurationsFailClearlyWithoutOutput)
          "sigma_rang_m"},
         {"[LocalizationExperiment]\nrawlog_file = /no/such.rawlog\nlogOutput_dir = x\n" + maps,
          "/no/such.rawlog"},
-        {good + "map_file = /no/such_world.yaml\n" + maps, "/no/such_world.yaml"},
+        {"[LocalizationExperiment]\nrawlog_file = " + rawlog +
+             "\nmap_file = /no/such_world.yaml\nlogOutput_dir = x\n" + maps,
+         "/no/such_world.yaml"},
         {good + "ground_truth_path_file = /no/such_gt.txt\n" + maps, "/no/such_gt.txt"},
         {good + "use_3D_poses = true\n" + maps, "use_3D_poses"},
     };

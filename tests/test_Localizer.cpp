@@ -1,14 +1,21 @@
 /* semloc tests — Localizer: its options, the step API in both rawlog formats, the initial
- * clouds. */
+ * clouds, very uncertain odometry, observations that cannot be scored. */
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationOdometry.h>
+#include <semloc/CObservationSemantic.h>
 #include <semloc/CSemanticMap.h>
 #include <semloc/ErrorMessage.h>
 #include <semloc/Localizer.h>
 #include <semloc/Simulator.h>
 
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <memory>
 
 #include "TestHelpers.h"
 
@@ -261,4 +268,149 @@ TEST(Localizer, EssBeforeResamplingIsReportedForEveryAlgorithm)
         }
         EXPECT_LT(minEss, 0.9) << "PF_algorithm " << alg;
     }
+}
+
+TEST(LocalizerOptions, ParticleMemoryCountsTheCloudAndTheKldMaximum)
+{
+    Localizer::TOptions o;
+    o.particles_count = 1000000;
+    EXPECT_EQ(o.particleMemoryBytes(), 1000000 * Localizer::kBytesPerParticle);
+    o.pf.adaptiveSampleSize = true;
+    o.kld.KLD_maxSampleSize = 3000000;
+    EXPECT_EQ(o.particleMemoryBytes(),
+              1000000 * Localizer::kBytesPerParticle + 3000000 * Localizer::kBytesPerKLDParticle);
+    o.particles_count = Localizer::TOptions::kMaxParticles;
+    o.kld.KLD_maxSampleSize = 100000000;
+    EXPECT_GT(o.particleMemoryBytes(), uint64_t{30000000000}) << "no overflow";
+}
+
+TEST(Localizer, VeryUncertainOdometryStillMovesTheParticles)
+{
+    // MRPT's CActionCollection::getBestMovementEstimation() ignores a 2D movement whose
+    // covariance determinant is 1e3 or more: the step must use it all the same.
+    const auto world = semloc::World::FromFile(kPaperWorld);
+    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions model;
+    model.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
+    model.gaussianModel.minStdXY = 5;
+    model.gaussianModel.minStdPHI = mrpt::DEG2RAD(60.0);
+    mrpt::obs::CActionRobotMovement2D move;
+    move.computeFromOdometry(mrpt::poses::CPose2D(10, 0, 0), model);
+    mrpt::obs::CActionCollection acts;
+    acts.insert(move);
+    ASSERT_GT(move.poseChange->getCovariance().det(), 1e3);
+    ASSERT_FALSE(acts.getBestMovementEstimation()) << "MRPT's rule changed: the test is moot";
+
+    for (const bool kld : {false, true})
+    {
+        Localizer::TOptions o = gaussianStart(4000);
+        o.init_PDF_std_xy = 0.1;
+        o.free_space_prior = false;
+        o.pf.adaptiveSampleSize = kld;
+        o.kld.KLD_minSampleSize = 4000;
+        Localizer loc(o, semanticMap(world), &world);
+        const auto before = loc.mean();
+        loc.step(acts, mrpt::obs::CSensoryFrame());
+        EXPECT_NEAR(loc.mean().x() - before.x(), 10, 1) << "KLD " << kld;
+        EXPECT_GT(loc.varianceXY(), 10) << "KLD " << kld << ": the noise is applied";
+    }
+
+    // Observations only: [DummyOdometryParams] noise as large.
+    Localizer::TOptions o = gaussianStart(4000);
+    o.init_PDF_std_xy = 0.1;
+    o.free_space_prior = false;
+    o.odometry_min_std_xy = 5;
+    o.odometry_min_std_phi_deg = 60;
+    Localizer loc(o, semanticMap(world), &world);
+    mrpt::obs::CObservationOdometry odo;
+    loc.setOdometry(odo);
+    odo.odometry = mrpt::poses::CPose2D(10, 0, 0);
+    loc.setOdometry(odo);
+    const auto before = loc.mean();
+    loc.step(mrpt::obs::CSensoryFrame());
+    EXPECT_NEAR(loc.mean().x() - before.x(), 10, 1);
+}
+
+TEST(Localizer, ObservationsThatCannotBeScoredAreLeftOutAndCounted)
+{
+    const auto world = semloc::World::FromFile(kPaperWorld);
+    const auto sim = simulate(3);
+    const auto map = semanticMap(world);
+    auto gridMap = mrpt::maps::CMultiMetricMap::Create();
+    gridMap->maps.push_back(mrpt::maps::COccupancyGridMap2D::Create(world.makeOccupancyGrid(0.5)));
+    const auto frame = sim.rawlog.getAsObservations(1);
+    const auto sem = frame->getObservationByClass<semloc::CObservationSemantic>();
+    const auto scan = frame->getObservationByClass<mrpt::obs::CObservation2DRangeScan>();
+    ASSERT_TRUE(sem && scan);
+    EXPECT_EQ(Localizer::invalidObservation(*sem, *map), "");
+    EXPECT_EQ(Localizer::invalidObservation(*scan, *gridMap), "");
+
+    auto semWith = [&](const std::function<void(semloc::CObservationSemantic&)>& edit)
+    {
+        auto o = std::make_shared<semloc::CObservationSemantic>(*sem);
+        edit(*o);
+        return o;
+    };
+    auto scanWith = [&](const std::function<void(mrpt::obs::CObservation2DRangeScan&)>& edit)
+    {
+        auto o = std::make_shared<mrpt::obs::CObservation2DRangeScan>(*scan);
+        edit(*o);
+        return o;
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const std::vector<std::pair<mrpt::obs::CObservation::Ptr, std::string>> bad = {
+        {semWith([&](auto& o) { o.sensorPose.x(nan); }), "sensorPose is not finite"},
+        {semWith([&](auto& o) { o.sensorPose.setYawPitchRoll(nan, 0, 0); }),
+         "sensorPose is not finite"},
+        {semWith([](auto& o) { o.sensorPose.y(1e300); }), "more than 1000 m from the vehicle"},
+        {semWith([](auto& o) { o.maxRange_m = std::numeric_limits<double>::infinity(); }),
+         "maxRange_m inf is not a finite range"},
+        {semWith([&](auto& o) { o.fov_rad = nan; }), "fov_rad nan is not a finite angle"},
+        {scanWith([&](auto& o) { o.sensorPose.z(nan); }), "sensorPose is not finite"},
+        {scanWith([](auto& o) { o.aperture = std::numeric_limits<float>::quiet_NaN(); }),
+         "aperture nan is not a finite angle"},
+        {scanWith([](auto& o) { o.resizeScan(0); }), "it has no beam"},
+    };
+    for (const auto& [obs, why] : bad)
+    {
+        EXPECT_NE(Localizer::invalidObservation(*obs, *map).find(why), std::string::npos)
+            << why << ": " << Localizer::invalidObservation(*obs, *map);
+    }
+    const auto oneBeam = scanWith([](auto& o) { o.resizeScan(1); });
+    EXPECT_EQ(Localizer::invalidObservation(*oneBeam, *map), "") << "no grid: usable";
+    EXPECT_NE(Localizer::invalidObservation(*oneBeam, *gridMap).find("needs at least 2"),
+              std::string::npos);
+
+    // The same steps with and without the invalid observations: the same particles (one
+    // localizer after the other: each seeds MRPT's global generator).
+    const Localizer::TOptions o = gaussianStart(500);
+    auto run = [&](bool withBad)
+    {
+        auto loc = std::make_unique<Localizer>(o, map, &world);
+        for (size_t i = 0; i + 1 < sim.rawlog.size(); i += 2)
+        {
+            mrpt::obs::CSensoryFrame sf;
+            for (const auto& [obs, why] : bad)
+            {
+                if (withBad)
+                {
+                    sf.insert(obs);
+                }
+            }
+            for (const auto& obs : *sim.rawlog.getAsObservations(i + 1))
+            {
+                sf.insert(obs);
+            }
+            loc->step(*sim.rawlog.getAsAction(i), sf);
+        }
+        return loc;
+    };
+    const auto clean = run(false);
+    const auto dirty = run(true);
+    EXPECT_EQ(dirty->likelihoodStats().observations_invalid, bad.size() * sim.steps);
+    EXPECT_EQ(clean->likelihoodStats().observations_invalid, 0u);
+    EXPECT_EQ(dirty->likelihoodStats().observations_used,
+              clean->likelihoodStats().observations_used);
+    EXPECT_EQ(dirty->mean().x(), clean->mean().x());
+    EXPECT_EQ(dirty->mean().y(), clean->mean().y());
+    EXPECT_EQ(dirty->mean().phi(), clean->mean().phi());
 }

@@ -217,6 +217,104 @@ TEST(World, RejectsEachKindOfBadFileWithFileObjectAndKey)
     }
 }
 
+TEST(World, BoundsEveryCoordinateAndLength)
+{
+    // 1e7 m is accepted, beyond it is refused naming the key and the bound.
+    const std::string big = "bounds: {x_min: -1e7, x_max: 1e7, y_min: -1e7, y_max: 1e7}\n";
+    const World w = World::FromText(
+        big +
+            "objects:\n  - {id: 1, label: a, shape: cylinder, center: [1e7, -1e7], radius: 1e7}\n"
+            "  - {id: 2, label: b, shape: point, center: [0, 0], z: -1e7, extent_m: 1e7}\n",
+        "big.yaml");
+    EXPECT_EQ(w.bounds.x_max, 1e7);
+    EXPECT_EQ(w.objects[0].radius, 1e7);
+    const std::vector<BadCase> cases = {
+        {"x_max",
+         "bounds: {x_min: 0, x_max: 1e300, y_min: 0, y_max: 50}\nobjects: []\n",
+         {"bad.yaml': bounds: key 'x_max': '1e300' is outside [-1e+07, 1e+07] m, the bound of "
+          "world coordinates"}},
+        {"y_min",
+         "bounds: {x_min: 0, x_max: 5, y_min: -10000001, y_max: 50}\nobjects: []\n",
+         {"bad.yaml': bounds: key 'y_min': '-10000001' is outside"}},
+        {"centre",
+         big + "objects:\n  - {id: 1, label: a, shape: point, center: [2e7, 0]}\n",
+         {"bad.yaml': objects[0] (id 1): key 'center': '2e7' is outside"}},
+        {"size",
+         withObject("{id: 1, label: a, shape: box, center: [1, 1], size: [1, 3e7]}"),
+         {"bad.yaml': objects[0] (id 1): key 'size': '3e7' is outside"}},
+        {"radius",
+         withObject("{id: 1, label: a, shape: cylinder, center: [1, 1], radius: 1e8}"),
+         {"bad.yaml': objects[0] (id 1): key 'radius': '1e8' is outside"}},
+        {"polygon point",
+         withObject("{id: 1, label: a, shape: polygon, points: [[0, 0], [1e300, 0], [0, 1]]}"),
+         {"bad.yaml': objects[0] (id 1): key 'points': '1e300' is outside"}},
+        {"z",
+         withObject("{id: 1, label: a, shape: point, center: [1, 1], z: -1e9}"),
+         {"bad.yaml': objects[0] (id 1): key 'z': '-1e9' is outside"}},
+        {"extent",
+         withObject("{id: 1, label: a, shape: point, center: [1, 1], extent_m: 1e9}"),
+         {"bad.yaml': objects[0] (id 1): key 'extent_m': '1e9' is outside"}},
+    };
+    for (const auto& c : cases)
+    {
+        const std::string e = loadError(c.text);
+        ASSERT_FALSE(e.empty()) << c.name << ": accepted";
+        for (const auto& m : c.mustMention)
+        {
+            EXPECT_NE(e.find(m), std::string::npos) << c.name << ": '" << m << "' not in: " << e;
+        }
+    }
+}
+
+TEST(World, RefusesATrajectoryThroughAnObjectOrOfZeroLength)
+{
+    const std::string objects =
+        "bounds: {x_min: 0, x_max: 50, y_min: 0, y_max: 50}\nobjects:\n"
+        "  - {id: 7, label: a, shape: box, center: [10, 10], size: [2, 2], yaw_deg: 45}\n"
+        "  - {id: 8, label: b, shape: cylinder, center: [30, 10], radius: 1}\n"
+        "  - {id: 9, label: c, shape: polygon, points: [[20, 30], [24, 30], [22, 34]]}\n"
+        "  - {id: 10, label: d, shape: point, center: [40, 40]}\n";
+    auto withPath = [&](const std::string& waypoints)
+    { return objects + "trajectory: {speed_mps: 1, waypoints: " + waypoints + "}\n"; };
+    // Around every object, through the point object, grazing nothing: accepted.
+    EXPECT_EQ(loadError(withPath("[[2, 2], [48, 2], [48, 48], [2, 48]]")), "");
+    EXPECT_EQ(loadError(withPath("[[30, 40], [48, 40]]")), "");
+    EXPECT_EQ(loadError(withPath("[[29, 11.001], [31, 11.001]]")), "");  // 1 mm above the top
+    const std::vector<BadCase> cases = {
+        {"through the box's corner",
+         withPath("[[2, 2], [2, 11.4], [20, 11.4]]"),
+         {"trajectory: key 'waypoints': the leg from waypoints[1] [2, 11.4] to waypoints[2] "
+          "[20, 11.4] passes through objects[0] (id 7, box)"}},
+        {"across the cylinder",
+         withPath("[[30, 2], [30, 20]]"),
+         {"the leg from waypoints[0] [30, 2] to waypoints[1] [30, 20] passes through "
+          "objects[1] (id 8, cylinder)"}},
+        {"touching the cylinder's top",
+         withPath("[[29, 11], [31, 11]]"),
+         {"passes through objects[1] (id 8, cylinder)"}},
+        {"through the polygon's tip",
+         withPath("[[2, 33], [48, 33]]"),
+         {"passes through objects[2] (id 9, polygon)"}},
+        {"a waypoint inside",
+         withPath("[[2, 2], [22, 31], [48, 2]]"),
+         {"key 'waypoints': waypoints[1] [22, 31] is inside objects[2] (id 9, polygon)"}},
+        {"zero length",
+         withPath("[[3.5, 4], [3.5, 4], [3.5, 4]]"),
+         {"trajectory: key 'waypoints': the trajectory has zero length (every waypoint is "
+          "[3.5, 4])"}},
+    };
+    for (const auto& c : cases)
+    {
+        const std::string e = loadError(c.text);
+        ASSERT_FALSE(e.empty()) << c.name << ": accepted";
+        EXPECT_NE(e.find("bad.yaml': trajectory: "), std::string::npos) << c.name << ": " << e;
+        for (const auto& m : c.mustMention)
+        {
+            EXPECT_NE(e.find(m), std::string::npos) << c.name << ": '" << m << "' not in: " << e;
+        }
+    }
+}
+
 #include <semloc/ErrorMessage.h>
 
 TEST(ErrorMessage, KeepsMessagesDropsLocationsAndStacks)

@@ -7,7 +7,11 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <random>
 #include <set>
+#include <sstream>
+
+#include "Geometry2D.h"
 
 using mrpt::math::TPoint2D;
 using mrpt::math::TSegment2D;
@@ -392,4 +396,169 @@ TEST(WorldGeometry, HarbourIsMirrorSymmetricButItsLabelsAreNot)
         }
     }
     EXPECT_NE(west, east) << "the labels should break the symmetry";
+}
+
+namespace
+{
+/** A world of random boxes (rotated), cylinders, star-shaped (concave) polygons and points,
+ *  sizes from centimetres to tens of metres, in bounds far larger than the objects' spread. */
+World randomShapesWorld(unsigned seed)
+{
+    std::mt19937_64 gen(seed);
+    auto u = [&gen](double lo, double hi)
+    { return std::uniform_real_distribution<double>(lo, hi)(gen); };
+    std::ostringstream y;
+    y.precision(17);
+    y << "bounds: {x_min: -1000, x_max: 1000, y_min: -1000, y_max: 1000}\nobjects:\n";
+    for (int id = 1; id <= 60; id++)
+    {
+        const double cx = u(-60, 60), cy = u(-60, 60),
+                     s = std::exp(u(std::log(0.05), std::log(25)));
+        y << "  - {id: " << id << ", label: l, ";
+        switch (id % 4)
+        {
+            case 0:
+                y << "shape: box, center: [" << cx << ", " << cy << "], size: [" << s << ", "
+                  << s * u(0.05, 1) << "], yaw_deg: " << u(-180, 180) << "}\n";
+                break;
+            case 1:
+                y << "shape: cylinder, center: [" << cx << ", " << cy << "], radius: " << s / 2
+                  << "}\n";
+                break;
+            case 2:
+            {
+                const int n = 3 + static_cast<int>(gen() % 10);
+                y << "shape: polygon, points: [";
+                for (int k = 0; k < n; k++)
+                {
+                    const double a = 2 * M_PI * (k + u(0.1, 0.9)) / n, r = s * u(0.2, 1);
+                    y << (k ? ", " : "") << "[" << cx + r * std::cos(a) << ", "
+                      << cy + r * std::sin(a) << "]";
+                }
+                y << "]}\n";
+                break;
+            }
+            default:
+                y << "shape: point, center: [" << cx << ", " << cy << "]}\n";
+                break;
+        }
+    }
+    return World::FromText(y.str(), "random");
+}
+
+/** Distance below which a point counts as touching object o's closed shape [m] (tests only:
+ *  o's outline polygon, a cylinder's circle). */
+bool nearShape(const semloc::WorldObject& o, double xmin, double ymin, double xmax, double ymax,
+               double tol)
+{
+    if (o.shape == semloc::ShapeType::Point)
+    {
+        return false;
+    }
+    if (o.shape == semloc::ShapeType::Cylinder)
+    {
+        const double dx = std::max({xmin - o.center.x, 0.0, o.center.x - xmax});
+        const double dy = std::max({ymin - o.center.y, 0.0, o.center.y - ymax});
+        return std::hypot(dx, dy) <= o.radius + tol;
+    }
+    const auto& p = o.points;
+    for (size_t i = 0; i < p.size(); i++)
+    {
+        const auto& a = p[i];
+        const auto& b = p[(i + 1) % p.size()];
+        if (semloc::detail::segmentTouchesBox(a.x, a.y, b.x, b.y, xmin - tol, ymin - tol,
+                                              xmax + tol, ymax + tol))
+        {
+            return true;
+        }
+    }
+    return semloc::detail::pointInPolygon({0.5 * (xmin + xmax), 0.5 * (ymin + ymax)}, p);
+}
+}  // namespace
+
+TEST(WorldGeometry, FreeRasterMarksExactlyTheCellsNoObjectTouches)
+{
+    for (const unsigned seed : {1u, 2u, 3u})
+    {
+        const World w = randomShapesWorld(seed);
+        std::mt19937_64 gen(seed + 100);
+        for (const double cell : {0.1, 0.37, 1.0, 6.4, 40.0})
+        {
+            const double x0 = -80 - cell * 0.5 * static_cast<double>(gen() % 7);
+            const double y0 = -75.3;
+            // 160 m (the objects' spread) or 500 cells, whichever is less.
+            const auto n = std::min(size_t{500}, static_cast<size_t>(std::ceil(160 / cell)));
+            const auto free = w.freeRaster(x0, y0, cell, n, n + 1);
+            ASSERT_EQ(free.size(), n * (n + 1));
+            size_t nFree = 0, nTouched = 0;
+            std::uniform_real_distribution<double> f(0, 1);
+            for (size_t j = 0; j <= n; j++)
+            {
+                for (size_t i = 0; i < n; i++)
+                {
+                    const double xa = x0 + static_cast<double>(i) * cell;
+                    const double ya = y0 + static_cast<double>(j) * cell;
+                    const double xb = x0 + static_cast<double>(i + 1) * cell;
+                    const double yb = y0 + static_cast<double>(j + 1) * cell;
+                    if (free[i + j * n])
+                    {
+                        // The closed cell is free: corners, border midpoints, random points.
+                        nFree++;
+                        for (const auto& [px, py] : {std::pair{xa, ya},
+                                                     {xb, ya},
+                                                     {xa, yb},
+                                                     {xb, yb},
+                                                     {0.5 * (xa + xb), ya},
+                                                     {xa, 0.5 * (ya + yb)},
+                                                     {xa + f(gen) * cell, ya + f(gen) * cell}})
+                        {
+                            ASSERT_TRUE(w.isFree(px, py)) << "cell " << cell << " (" << i << ", "
+                                                          << j << ") at " << px << ", " << py;
+                        }
+                    }
+                    else
+                    {
+                        // Marked only where an object's shape comes within a millimetre.
+                        nTouched++;
+                        bool near = false;
+                        for (const auto& o : w.objects)
+                        {
+                            near = near || nearShape(o, xa, ya, xb, yb, 1e-3);
+                        }
+                        ASSERT_TRUE(near) << "cell " << cell << " (" << i << ", " << j << ")";
+                    }
+                }
+            }
+            EXPECT_GT(nFree, 0u) << cell;
+            EXPECT_GT(nTouched, 0u) << cell;
+        }
+    }
+}
+
+TEST(WorldGeometry, OccupancyGridTooLargeForItsResolutionIsAnErrorNamingBoth)
+{
+    const World w = World::FromText(
+        "name: big\nbounds: {x_min: 0, x_max: 20000, y_min: -5, y_max: 19995}\nobjects:\n"
+        "  - {id: 1, label: a, shape: cylinder, center: [10000, 10000], radius: 3}\n",
+        "big.yaml");
+    try
+    {
+        (void)w.makeOccupancyGrid(0.1);
+        FAIL() << "a 20 x 20 km grid of 0.1 m cells was built";
+    }
+    catch (const std::exception& e)
+    {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("world 'big.yaml': an occupancy grid over its bounds x [0, 20000], y "
+                         "[-5, 19995] at resolution 0.1 m would have 4e+10 cells, more than the "
+                         "33554432 allowed: use a resolution of 3.46 m or coarser"),
+                  std::string::npos)
+            << m;
+    }
+    EXPECT_THROW((void)w.makeOccupancyGrid(3.45), std::exception);
+    const auto grid = w.makeOccupancyGrid(3.46);  // the resolution the message suggests
+    EXPECT_LE(static_cast<size_t>(grid.getSizeX()) * grid.getSizeY(),
+              semloc::kMaxOccupancyGridCells);
+    EXPECT_LT(grid.getPos(10000, 10000), 0.5);
+    EXPECT_GT(grid.getPos(10020, 10000), 0.5);
 }

@@ -4,12 +4,20 @@
  * writes landmarks.rawlog (CObservationBearingRange -> CObservationSemantic),
  * landmarks_world.yaml (the landmarks as point objects) and landmarks_gt.txt (t x y phi). */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/core/format.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/ErrorMessage.h>
+#include <semloc/Interrupt.h>
 #include <semloc/LandmarkImport.h>
+#include <semloc/OutputPaths.h>
 #include <semloc/RawlogReader.h>
+#include <semloc/RawlogWriter.h>
+#include <semloc/Simulator.h>
+#include <semloc/World.h>
 
+#include <cerrno>
+#include <cstring>
 #include <iostream>
 
 #include "common/AppMain.h"
@@ -35,6 +43,7 @@ TCLAP::ValueArg<double> argMargin("", "margin", "World bounds margin around land
 void run()
 {
     using semloc::LandmarkImport;
+    LandmarkImport::checkOptions(argLabel.getValue(), argMargin.getValue());
     const std::string in = argIn.getValue(), out = argOut.getValue();
     const std::string landmarks =
         argLandmarks.isSet() ? argLandmarks.getValue() : in + "_ground_truth.txt";
@@ -45,6 +54,23 @@ void run()
         stem.empty() || stem.back() != '.' ? stem : stem.substr(0, stem.size() - 1);
     const std::string worldOut = base + "_world.yaml", gtOut = base + "_gt.txt";
 
+    // Before any work: the outputs replace neither an input nor a file of the user's.
+    const std::vector<std::string> inputs = {in, landmarks, pathFile};
+    semloc::checkOutputFile(out, inputs);
+    semloc::checkOutputFile(gtOut, inputs, semloc::Simulator::isGroundTruthFile);
+    semloc::checkOutputFile(worldOut, inputs,
+                            [](const std::string& p)
+                            {
+                                try
+                                {
+                                    (void)semloc::World::FromFile(p);
+                                    return true;
+                                }
+                                catch (const std::exception&)
+                                {
+                                    return false;
+                                }
+                            });
     mrpt::obs::CRawlog log = semloc::RawlogReader::Load(in);
     const auto objects = LandmarkImport::readLandmarks(landmarks, argLabel.getValue());
     const auto path = LandmarkImport::readPath(pathFile);
@@ -58,14 +84,21 @@ void run()
     const auto times = LandmarkImport::frameTimes(log);
     // Everything is checked; write the outputs, each to a temporary file renamed at the end
     // (on an error none is left behind).
+    // Ctrl-C: exit 130, the temporary files removed, the outputs as they were.
+    semloc::installInterruptHandlers();
     const std::vector<std::string> outputs = {gtOut, worldOut, out};
+    for (const auto& f : outputs)
+    {
+        semloc::registerTemporaryPath(f + ".tmp");
+    }
     try
     {
         LandmarkImport::writeGroundTruth(times, path, gtOut + ".tmp");
         world.saveToFile(worldOut + ".tmp");
-        if (!log.saveToRawLogFile(out + ".tmp"))
+        semloc::saveRawlog(log, out + ".tmp");  // its errors name the file and the reason
+        if (semloc::interruptRequested())
         {
-            THROW_EXCEPTION("cannot write '" + out + "'");
+            throw semloc::Interrupted();
         }
     }
     catch (...)
@@ -76,9 +109,17 @@ void run()
         }
         throw;
     }
-    for (const auto& f : outputs)
     {
-        std::rename((f + ".tmp").c_str(), f.c_str());
+        const semloc::InterruptExitDeferral whole;  // all three renamed, or none
+        for (const auto& f : outputs)
+        {
+            if (std::rename((f + ".tmp").c_str(), f.c_str()) != 0)
+            {
+                THROW_EXCEPTION(mrpt::format("cannot rename '%s.tmp' to '%s': %s", f.c_str(),
+                                             f.c_str(), std::strerror(errno)));
+            }
+            semloc::unregisterTemporaryPath(f + ".tmp");
+        }
     }
     std::cout << "Converted " << n << " observations of " << world.objects.size()
               << " landmarks: " << out << ", " << worldOut << ", " << gtOut << "\n";

@@ -71,9 +71,9 @@ void run()
     }
     ov.allow_truncated = argAllowTruncated.isSet();
     const auto experiment = semloc::LocalizationExperiment::FromConfigFile(argIni.getValue(), ov);
-    if (!experiment.rawlogWarning().empty())
+    for (const auto& w : experiment.warnings())
     {
-        std::cerr << "semloc-localize: warning: " << experiment.rawlogWarning() << "\n";
+        std::cerr << "semloc-localize: warning: " << w << "\n";
     }
     const bool bar = !argQuiet.isSet() && ::isatty(::fileno(stderr));
     semloc::installInterruptHandlers();  // Ctrl-C: exit 130, no output directory

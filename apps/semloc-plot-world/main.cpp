@@ -3,6 +3,8 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
 #include <semloc/ErrorMessage.h>
+#include <semloc/Interrupt.h>
+#include <semloc/OutputPaths.h>
 #include <semloc/WorldPlot.h>
 
 #include <algorithm>
@@ -27,6 +29,9 @@ void run()
     {
         THROW_EXCEPTION("--size must be in [100, 10000]");
     }
+    semloc::checkOutputFile(argOut.getValue(), {argWorld.getValue()});
+    // Ctrl-C (or SIGTERM): gnuplot ended, exit 130, no PNG and no temporary file left.
+    semloc::installInterruptHandlers("semloc-plot-world");
     const auto world = semloc::World::FromFile(argWorld.getValue());
     const auto& b = world.bounds;
     const int w = argSize.getValue();

@@ -32,6 +32,9 @@ void run()
     {
         options.simulation.output_rawlog = argOut.getValue();
     }
+    // Before any work: the outputs replace neither an input nor a file of the user's.
+    semloc::Simulator::checkDatasetPaths(options.simulation.output_rawlog,
+                                         {argIni.getValue(), options.simulation.world_file});
     semloc::installInterruptHandlers();  // Ctrl-C: exit 130, no file written or half-written
     const semloc::Simulator simulator(options);
     const auto result = simulator.run();

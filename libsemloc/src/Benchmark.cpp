@@ -11,6 +11,7 @@
 #include <semloc/GroundTruth.h>
 #include <semloc/Interrupt.h>
 #include <semloc/Localizer.h>
+#include <semloc/OutputPaths.h>
 #include <semloc/StagedDirectory.h>
 #include <semloc/WorldPlot.h>
 #include <signal.h>
@@ -23,6 +24,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -37,7 +39,6 @@ namespace semloc
 {
 namespace
 {
-using detail::shellQuoted;
 using detail::writeFile;
 const std::string kSection = "Benchmark";
 const std::vector<std::string> kKeys = {
@@ -86,8 +87,9 @@ std::vector<std::string> readList(const mrpt::config::CConfigFileBase& c, const 
     {
         if (v.empty() || v.find_first_of(" \t") != std::string::npos)
         {
-            THROW_EXCEPTION("ini [" + s + "] " + key + ": '" + text +
-                            "' is not a comma-separated list of names or ini files");
+            THROW_EXCEPTION(mrpt::format(
+                "ini [%s] %s: '%s' is not a comma-separated list of names or ini files", s.c_str(),
+                key.c_str(), text.c_str()));
         }
     }
     return out;
@@ -368,6 +370,34 @@ std::string paperTable(const std::vector<Benchmark::TRunResult>& runs)
     return o.str();
 }
 
+/** Why a run failed: its error message, else how its process ended (the signal named) and
+ *  the end of what it printed (its log). */
+std::string runFailure(const std::string& scenario, int run, int status, const std::string& error,
+                       const std::string& logPath)
+{
+    std::string s = (scenario.empty() ? std::string() : "scenario '" + scenario + "', ") +
+                    mrpt::format("run %d (seed %d) failed: ", run, run);
+    if (!error.empty())
+    {
+        return s + error;
+    }
+    s += "its process " + waitStatusText(status);
+    std::ifstream f(logPath);
+    std::stringstream log;
+    log << f.rdbuf();
+    std::string tail = log.str();
+    while (!tail.empty() && (tail.back() == '\n' || tail.back() == ' '))
+    {
+        tail.pop_back();
+    }
+    constexpr size_t kTail = 2000;
+    if (tail.size() > kTail)
+    {
+        tail = "..." + tail.substr(tail.size() - kTail);
+    }
+    return tail.empty() ? s + " (it printed nothing)" : s + "; the end of its output:\n" + tail;
+}
+
 }  // namespace
 
 // ------------------------------------------------------------------ options
@@ -500,6 +530,7 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::strin
     if (o.scenarios.empty())
     {
         b.loadVariants(ini);
+        checkOutputDirectory(o.output_dir, b.inputFiles());  // before any work
         return b;
     }
 
@@ -509,6 +540,7 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::strin
         const std::string path = resolveFile(ini, iniPath, kSection, "scenarios", file);
         try
         {
+            config::checkIniFile(path, "scenario file");
             mrpt::config::CConfigFile sini(path);
             if (!sini.sectionExists(kScenarioSection))
             {
@@ -549,7 +581,25 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::strin
         sc.loadVariants(ini);
         b.m_scenarios.push_back(std::move(sc));
     }
+    checkOutputDirectory(o.output_dir, b.inputFiles());  // before any work
     return b;
+}
+
+std::vector<std::string> Benchmark::inputFiles() const
+{
+    std::vector<std::string> files = {m_iniPath, m_options.simulate_ini,
+                                      m_simulation.simulation.world_file};
+    for (const auto& v : m_variants)
+    {
+        files.push_back(v.iniPath);
+        files.push_back(v.options.map_file);
+    }
+    for (const auto& sc : m_scenarios)
+    {
+        const auto more = sc.inputFiles();
+        files.insert(files.end(), more.begin(), more.end());
+    }
+    return files;
 }
 
 void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
@@ -697,7 +747,7 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
     }
     const auto wall0 = std::chrono::steady_clock::now();
     const auto& o = m_options;
-    StagedDirectory out(o.output_dir);
+    StagedDirectory out(o.output_dir, inputFiles());
     const std::string runsDir = out.path("runs");
     std::filesystem::create_directories(runsDir);
     auto runPath = [&](int run, const char* ext)
@@ -719,7 +769,7 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
             {
                 return;  // a signal: the loop looks at interruptRequested()
             }
-            THROW_EXCEPTION("waitpid failed");
+            THROW_EXCEPTION(std::string("waiting for the runs failed: ") + std::strerror(errno));
         }
         const auto it = children.find(pid);
         if (it == children.end())
@@ -728,6 +778,7 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
         }
         const int run = it->second;
         children.erase(it);
+        unregisterChildProcess(pid);
         if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
         {
             std::ifstream f(runPath(run, "err"));
@@ -735,10 +786,7 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
             msg << f.rdbuf();
             if (failure.empty())
             {
-                failure = mrpt::format("run %d failed: ", run) +
-                          (msg.str().empty() ? std::string("the process died (status ") +
-                                                   std::to_string(status) + ")"
-                                             : msg.str());
+                failure = runFailure(m_scenario.name, run, status, msg.str(), runPath(run, "log"));
             }
         }
         done++;
@@ -771,10 +819,21 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
         if (next <= o.runs && failure.empty() && !interrupted && children.size() < jobs)
         {
             const int run = next++;
-            const pid_t pid = ::fork();
+            pid_t pid = -1;
+            int forkErrno = 0;
+            {
+                const InterruptExitDeferral defer;  // started and registered as one step
+                pid = ::fork();
+                forkErrno = errno;
+                if (pid > 0)
+                {
+                    registerChildProcess(pid);
+                }
+            }
             if (pid < 0)
             {
-                failure = "fork failed";
+                failure = std::string("cannot start run ") + std::to_string(run) +
+                          ": fork failed: " + std::strerror(forkErrno);
                 continue;
             }
             if (pid == 0)
@@ -847,17 +906,27 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
     writeFile(out.path("figures.gp"), figuresScript(names));
     {
         const std::string log = out.path("figures.log");
-        const std::string cmd = "cd " + shellQuoted(out.path("")) + " && gnuplot figures.gp > " +
-                                shellQuoted(log) + " 2>&1";
-        const int rc = std::system(cmd.c_str());
+        int rc = 0;
+        try
+        {
+            rc = runChildProcess({"gnuplot", "figures.gp"}, log, out.path(""));
+        }
+        catch (const Interrupted&)
+        {
+            throw;
+        }
+        catch (const std::exception& e)
+        {
+            THROW_EXCEPTION(errorMessage(e) + " (is the Debian package gnuplot-nox installed?)");
+        }
         std::ifstream f(log);
         std::stringstream msg;
         msg << f.rdbuf();
         if (rc != 0 || !mrpt::system::fileExists(out.path("fig_variance.png")) ||
             !mrpt::system::fileExists(out.path("fig_error.png")))
         {
-            THROW_EXCEPTION("gnuplot failed on figures.gp (is gnuplot-nox installed?): " +
-                            msg.str());
+            THROW_EXCEPTION("gnuplot failed on figures.gp (it " + waitStatusText(rc) +
+                            "): " + msg.str());
         }
         std::filesystem::remove(log);
     }
@@ -1019,7 +1088,7 @@ Benchmark::TResult Benchmark::runScenarios(
     const std::function<void(size_t, size_t)>& progress) const
 {
     const auto wall0 = std::chrono::steady_clock::now();
-    StagedDirectory out(m_options.output_dir);
+    StagedDirectory out(m_options.output_dir, inputFiles());
     const size_t total = m_scenarios.size() * static_cast<size_t>(m_options.runs);
     TResult res;
     std::ostringstream sections;

@@ -4,14 +4,16 @@
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/serialization/CArchive.h>
+#include <semloc/Labels.h>
 
 #include <cstdint>
 #include <string>
 
 namespace semloc::detail
 {
-/** Longest string accepted from an archive (labels, sensor labels, world names). */
-constexpr uint32_t kMaxSerializedString = 1u << 16;
+/** Longest string accepted from an archive (labels, sensor labels, world names): the label
+ *  limit, which the writers check. */
+constexpr uint32_t kMaxSerializedString = static_cast<uint32_t>(kMaxLabelLength);
 
 /** Reads an element count written as uint32 and checks it against `maxCount`; `what` names
  *  the class and the elements in the message. Readers must then grow their containers as

@@ -3,6 +3,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/datetime.h>
 #include <semloc/CObservationSemantic.h>
+#include <semloc/Labels.h>
 
 #include <cmath>
 #include <ostream>
@@ -27,6 +28,28 @@ uint8_t CObservationSemantic::serializeGetVersion() const
 
 void CObservationSemantic::serializeTo(mrpt::serialization::CArchive& out) const
 {
+    // Nothing the readers (serializeFrom) would refuse: checked before the first byte.
+    if (sensorLabel.size() > detail::kMaxSerializedString)
+    {
+        THROW_EXCEPTION_FMT(
+            "CObservationSemantic: cannot write a sensor label of %zu bytes (the readers take "
+            "at most %zu)",
+            sensorLabel.size(), kMaxLabelLength);
+    }
+    if (detections.size() > kMaxSerializedDetections)
+    {
+        THROW_EXCEPTION_FMT(
+            "CObservationSemantic: cannot write %zu detections (the readers take at most %u)",
+            detections.size(), static_cast<unsigned>(kMaxSerializedDetections));
+    }
+    for (size_t i = 0; i < detections.size(); i++)
+    {
+        if (const std::string p = labelLengthProblem(detections[i].label); !p.empty())
+        {
+            THROW_EXCEPTION_FMT("CObservationSemantic: cannot write detection %zu: its %s", i,
+                                p.c_str());
+        }
+    }
     out << sensorLabel << timestamp;
     out << sensorPose.x() << sensorPose.y() << sensorPose.z() << sensorPose.yaw()
         << sensorPose.pitch() << sensorPose.roll();

@@ -2522,6 +2522,14 @@ uint8_t CSemanticMap::serializeGetVersion() const
 
 void CSemanticMap::serializeTo(mrpt::serialization::CArchive& out) const
 {
+    // Nothing serializeFrom would refuse: checked before the first byte.
+    for (const auto& o : m_objects)
+    {
+        if (const std::string p = labelLengthProblem(o.label); !p.empty())
+        {
+            THROW_EXCEPTION_FMT("CSemanticMap: cannot write object id %d: its %s", o.id, p.c_str());
+        }
+    }
     out << genericMapParams;
     out << m_hasBounds << m_bounds.x_min << m_bounds.x_max << m_bounds.y_min << m_bounds.y_max;
     out.WriteAs<uint32_t>(m_objects.size());

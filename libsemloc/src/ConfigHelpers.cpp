@@ -11,11 +11,16 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 
 namespace semloc::config
 {
 namespace
 {
+/** The UTF-8 byte-order mark some editors put at the start of a text file. */
+const char* const kUtf8Bom = "\xEF\xBB\xBF";
+
 std::string trim(const std::string& s)
 {
     const auto b = s.find_first_not_of(" \t\r\n");
@@ -166,14 +171,40 @@ void checkIniFile(const std::string& path, const std::string& kind)
     {
         THROW_EXCEPTION(file + " is a directory, not a file");
     }
-    std::ifstream f(path);
+    std::ifstream f(path, std::ios::binary);
     if (!f)
     {
         THROW_EXCEPTION("cannot read " + file);
     }
-    std::string line;
-    for (size_t n = 1; std::getline(f, line); n++)
+    std::stringstream text;
+    text << f.rdbuf();
+    if (f.bad())
     {
+        THROW_EXCEPTION("cannot read " + file);
+    }
+    checkIniText(text.str(), file);
+}
+
+void checkIniText(const std::string& text, const std::string& file)
+{
+    // MRPT's ini reader (SimpleIni) matches sections and keys regardless of ASCII case.
+    auto lower = [](std::string s)
+    {
+        std::transform(s.begin(), s.end(), s.begin(),
+                       [](unsigned char ch) { return std::tolower(ch); });
+        return s;
+    };
+    // Per section (lower case): its name as first written and the first line of each key.
+    std::map<std::string, std::pair<std::string, std::map<std::string, size_t>>> sections;
+    auto* current = &sections[""];
+    std::istringstream in(text);
+    std::string line;
+    for (size_t n = 1; std::getline(in, line); n++)
+    {
+        if (n == 1 && line.compare(0, 3, kUtf8Bom) == 0)
+        {
+            line.erase(0, 3);  // a byte-order mark: MRPT skips it too
+        }
         const auto b = line.find_first_not_of(" \t\r");
         if (b == std::string::npos || line[b] == ';' || line[b] == '#' || line[b] == '%' ||
             line[b] == '@' || line.compare(b, 2, "//") == 0)
@@ -181,14 +212,33 @@ void checkIniFile(const std::string& path, const std::string& kind)
             continue;
         }
         const auto e = line.find_last_not_of(" \t\r");
-        const std::string text = line.substr(b, e - b + 1);
-        const bool section = text.front() == '[' && text.back() == ']' && text.size() > 2;
-        const auto eq = text.find('=');
-        const bool keyValue = text.front() != '[' && eq != std::string::npos && eq > 0;
+        const std::string content = line.substr(b, e - b + 1);
+        const bool section = content.front() == '[' && content.back() == ']' && content.size() > 2;
+        const auto eq = content.find('=');
+        const bool keyValue = content.front() != '[' && eq != std::string::npos && eq > 0;
         if (!section && !keyValue)
         {
             THROW_EXCEPTION(mrpt::format("%s:%zu: '%s' is neither a [section] nor key = value",
-                                         file.c_str(), n, text.c_str()));
+                                         file.c_str(), n, content.c_str()));
+        }
+        if (section)
+        {
+            const std::string name = trim(content.substr(1, content.size() - 2));
+            current = &sections[lower(name)];
+            if (current->first.empty())
+            {
+                current->first = name;
+            }
+            continue;
+        }
+        const std::string key = trim(content.substr(0, eq));
+        const auto [it, added] = current->second.emplace(lower(key), n);
+        if (!added)
+        {
+            THROW_EXCEPTION(mrpt::format(
+                "%s:%zu: [%s] %s: set twice (also on line %zu; MRPT would silently use the "
+                "last value): keep one",
+                file.c_str(), n, current->first.c_str(), key.c_str(), it->second));
         }
     }
 }
@@ -223,7 +273,7 @@ std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const 
     {
         // MRPT 2.5's extractFileDirectory() drops the trailing separator: join explicitly.
         const std::string dir = mrpt::system::extractFileDirectory(f->getAssociatedFile());
-        const std::string joined = mrpt::system::pathJoin({dir.empty() ? "." : dir, file});
+        std::string joined = mrpt::system::pathJoin({dir.empty() ? "." : dir, file});
         if (mrpt::system::fileExists(joined))
         {
             return joined;

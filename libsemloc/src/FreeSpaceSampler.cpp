@@ -17,7 +17,8 @@ namespace semloc
 namespace
 {
 constexpr int kMaxDraws = 100000;
-/** Cell of the rasterized world that answers contains() before the exact test [m]. */
+/** Finest cell of the rasterized world that answers contains() before the exact test [m];
+ *  doubled until the raster has at most FreeSpaceSampler::kMaxWorldRasterCells cells. */
 constexpr double kWorldCell_m = 0.1;
 
 bool fullCircle(const TSamplingArea& a)
@@ -49,7 +50,23 @@ FreeSpaceSampler FreeSpaceSampler::FromWorld(const World& world, const TSampling
     }
     s.m_description =
         "free space of world '" + world.name + "'" + (area.hasBox() ? " in a box" : "");
-    s.m_raster = FreeRaster(world.makeOccupancyGrid(kWorldCell_m), 0.5);
+    // The raster covers the bounds from (x_min, y_min); points outside it, or in a cell an
+    // object may touch, get the exact test.
+    double cell = kWorldCell_m;
+    const double w = b.x_max - b.x_min, h = b.y_max - b.y_min;
+    auto cellsAlong = [&](double len) { return std::max(1.0, std::ceil(len / cell)); };
+    while (cellsAlong(w) * cellsAlong(h) > static_cast<double>(kMaxWorldRasterCells))
+    {
+        cell *= 2;
+    }
+    FreeRaster& r = s.m_raster;
+    r.sizeX = static_cast<int>(cellsAlong(w));
+    r.sizeY = static_cast<int>(cellsAlong(h));
+    r.x0 = b.x_min;
+    r.y0 = b.y_min;
+    r.resolution = cell;
+    r.free = world.freeRaster(r.x0, r.y0, cell, static_cast<size_t>(r.sizeX),
+                              static_cast<size_t>(r.sizeY));
     return s;
 }
 

@@ -3,9 +3,15 @@
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/system/datetime.h>
+#include <semloc/ErrorMessage.h>
+#include <semloc/Labels.h>
 #include <semloc/LandmarkImport.h>
 
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -56,7 +62,39 @@ std::vector<std::pair<size_t, std::vector<double>>> readRows(const std::string& 
     }
     return rows;
 }
+
+/** The shortest text that reads back as `v`. */
+std::string num(double v)
+{
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+    return std::string(buf, r.ptr);
+}
+
+void checkLabel(const std::string& label)
+{
+    if (const std::string p = labelProblem(label); !p.empty())
+    {
+        THROW_EXCEPTION("--label: " + p);
+    }
+}
+
+void checkMargin(double margin_m)
+{
+    if (!(margin_m >= 0 && margin_m <= kMaxWorldCoordinate_m))
+    {
+        THROW_EXCEPTION("--margin " + num(margin_m) + ": must be a finite number in [0, " +
+                        num(kMaxWorldCoordinate_m) + "] [m] (world coordinates lie within +-" +
+                        num(kMaxWorldCoordinate_m) + " m)");
+    }
+}
 }  // namespace
+
+void LandmarkImport::checkOptions(const std::string& label, double margin_m)
+{
+    checkLabel(label);
+    checkMargin(margin_m);
+}
 
 CObservationSemantic LandmarkImport::toSemantic(const mrpt::obs::CObservationBearingRange& obs,
                                                 const std::string& label)
@@ -82,6 +120,7 @@ CObservationSemantic LandmarkImport::toSemantic(const mrpt::obs::CObservationBea
 
 size_t LandmarkImport::convertRawlog(mrpt::obs::CRawlog& log, const std::string& label)
 {
+    checkLabel(label);
     size_t n = 0;
     for (size_t i = 0; i < log.size(); i++)
     {
@@ -105,6 +144,7 @@ size_t LandmarkImport::convertRawlog(mrpt::obs::CRawlog& log, const std::string&
 std::vector<WorldObject> LandmarkImport::readLandmarks(const std::string& path,
                                                        const std::string& label)
 {
+    checkLabel(label);
     std::vector<WorldObject> out;
     for (const auto& [line, cols] : readRows(path, 4))
     {
@@ -151,8 +191,7 @@ World LandmarkImport::makeWorld(const std::vector<WorldObject>& landmarks,
                                 const std::vector<mrpt::math::TPose2D>& path, double margin_m,
                                 const std::string& name)
 {
-    ASSERTMSG_(std::isfinite(margin_m) && margin_m >= 0,
-               "--margin must be a finite number >= 0 [m]");
+    checkMargin(margin_m);
     World w;
     w.name = name;
     bool first = true;
@@ -184,7 +223,27 @@ World LandmarkImport::makeWorld(const std::vector<WorldObject>& landmarks,
     w.bounds.x_max += margin_m;
     w.bounds.y_min -= margin_m;
     w.bounds.y_max += margin_m;
+    const double reach =
+        std::max({-w.bounds.x_min, w.bounds.x_max, -w.bounds.y_min, w.bounds.y_max});
+    if (reach > kMaxWorldCoordinate_m)
+    {
+        THROW_EXCEPTION("--margin " + num(margin_m) + ": the world's bounds (x " +
+                        num(w.bounds.x_min) + " .. " + num(w.bounds.x_max) + ", y " +
+                        num(w.bounds.y_min) + " .. " + num(w.bounds.y_max) +
+                        ") would reach beyond +-" + num(kMaxWorldCoordinate_m) +
+                        " m, the bound of world coordinates");
+    }
     w.objects = landmarks;
+    // What the world loader would refuse is refused here, before anything is written.
+    try
+    {
+        (void)World::FromText(w.toYamlText(), name);
+    }
+    catch (const std::exception& e)
+    {
+        THROW_EXCEPTION("the world of the landmarks and the path would not load: " +
+                        errorMessage(e));
+    }
     return w;
 }
 
@@ -213,23 +272,30 @@ void LandmarkImport::writeGroundTruth(const std::vector<double>& times,
                                      static_cast<unsigned>(times.size())));
     }
     const std::string tmp = outPath + ".tmp";
+    auto fail = [&](const std::string& file, int errnum)
     {
+        std::remove(tmp.c_str());
+        THROW_EXCEPTION("cannot write '" + file +
+                        "': " + (errnum ? std::strerror(errnum) : "write error"));
+    };
+    {
+        errno = 0;
         std::ofstream f(tmp);
         f.precision(17);
         for (size_t i = 0; i < times.size(); i++)
         {
             f << times[i] << " " << path[i].x << " " << path[i].y << " " << path[i].phi << "\n";
         }
+        f.close();
         if (!f)
         {
-            std::remove(tmp.c_str());
-            THROW_EXCEPTION("cannot write '" + outPath + "'");
+            fail(tmp, errno);
         }
     }
+    errno = 0;
     if (std::rename(tmp.c_str(), outPath.c_str()) != 0)
     {
-        std::remove(tmp.c_str());
-        THROW_EXCEPTION("cannot write '" + outPath + "'");
+        fail(outPath, errno);
     }
 }
 

@@ -12,6 +12,7 @@
 #include <semloc/ConfigHelpers.h>
 #include <semloc/Interrupt.h>
 #include <semloc/LocalizationExperiment.h>
+#include <semloc/OutputPaths.h>
 #include <semloc/RawlogReader.h>
 #include <semloc/StagedDirectory.h>
 
@@ -22,8 +23,13 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
+#include <thread>
+
+#include <sys/resource.h>
+#include <unistd.h>
 
 #include "ExactConfigWrite.h"
 #include "TextFiles.h"
@@ -182,6 +188,9 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "outside_free_space: " << res.recovery.outside_free_space << "\n"
       << "# range-scan beams with a NaN, infinite, negative or beyond-max range (skipped)\n"
       << "beams_invalid: " << res.likelihood.beams_invalid << "\n"
+      << "# observations that cannot be scored (a non-finite sensor pose, aperture or range\n"
+      << "# limit, a scan without beams...), left out whole\n"
+      << "observations_invalid: " << res.likelihood.observations_invalid << "\n"
       << "rawlog_format: " << yamlString(res.rawlogFormat) << "\n"
       << "# --allow-truncated: index of the first unreadable entry (null: rawlog complete)\n"
       << "rawlog_truncated_at_entry: "
@@ -198,23 +207,260 @@ bool finitePose(const mrpt::poses::CPose2D& p)
     return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi());
 }
 
+bool finiteMatrix(const mrpt::math::CMatrixDouble33& m)
+{
+    for (int r = 0; r < 3; r++)
+    {
+        for (int c = 0; c < 3; c++)
+        {
+            if (!std::isfinite(m(r, c)))
+            {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+/** A time as steps.csv writes it. */
+std::string timeText(double t)
+{
+    return mrpt::format("%.6f", t);
+}
+
+/** The steps run() makes of a rawlog, grouped as run() groups them: the entry each starts at
+ *  and its time (its first observation's; NaN without a timestamp). */
+struct StepTime
+{
+    size_t entry = 0;
+    double t = 0;
+};
+
+double timeOf(const mrpt::obs::CObservation& obs)
+{
+    return obs.timestamp != INVALID_TIMESTAMP ? mrpt::Clock::toDouble(obs.timestamp)
+                                              : std::numeric_limits<double>::quiet_NaN();
+}
+
+std::vector<StepTime> stepTimes(const mrpt::obs::CRawlog& rawlog)
+{
+    std::vector<StepTime> steps;
+    std::optional<StepTime> group;  // observations-only: one timestamp, one step
+    mrpt::Clock::time_point groupStamp;
+    auto flush = [&]
+    {
+        if (group)
+        {
+            steps.push_back(*group);
+            group.reset();
+        }
+    };
+    for (size_t i = 0; i < rawlog.size(); i++)
+    {
+        switch (rawlog.getType(i))
+        {
+            case mrpt::obs::CRawlog::etActionCollection:
+                flush();
+                break;
+            case mrpt::obs::CRawlog::etSensoryFrame:
+            {
+                flush();
+                const auto sf = rawlog.getAsObservations(i);
+                steps.push_back({i, sf->size() > 0 ? timeOf(*sf->getObservationByIndex(0))
+                                                   : std::numeric_limits<double>::quiet_NaN()});
+                break;
+            }
+            case mrpt::obs::CRawlog::etObservation:
+            {
+                const auto obs = rawlog.getAsObservation(i);
+                if (obs && IS_CLASS(*obs, mrpt::obs::CObservationOdometry))
+                {
+                    flush();
+                }
+                else if (obs)
+                {
+                    if (group && groupStamp != obs->timestamp)
+                    {
+                        flush();
+                    }
+                    if (!group)
+                    {
+                        group = StepTime{i, timeOf(*obs)};
+                        groupStamp = obs->timestamp;
+                    }
+                }
+                break;
+            }
+            default:
+                break;
+        }
+    }
+    flush();
+    return steps;
+}
+
+/** The ground-truth row of each step time (null: none): the nearest row within half the
+ *  median step period (the rows' median period if the steps have none). */
+std::vector<const GroundTruthRow*> matchGroundTruth(const GroundTruth& gt,
+                                                    const std::vector<double>& times)
+{
+    std::vector<const GroundTruthRow*> rows(times.size(), nullptr);
+    if (gt.empty())
+    {
+        return rows;
+    }
+    std::vector<double> dt;
+    for (size_t k = 1; k < times.size(); k++)
+    {
+        const double d = times[k] - times[k - 1];
+        if (std::isfinite(d) && d > 0)
+        {
+            dt.push_back(d);
+        }
+    }
+    double tol = 0.5 * (dt.empty() ? gt.medianPeriod() : median(dt));
+    if (!(tol > 0))
+    {
+        tol = 1e-6;
+    }
+    for (size_t k = 0; k < times.size(); k++)
+    {
+        rows[k] = gt.nearest(times[k], tol);
+    }
+    return rows;
+}
+
+/** With ground truth matched by time: the times of the steps run (from rawlog_offset on)
+ *  must increase, and at least one must match a row. */
+void checkGroundTruthTimes(const std::vector<StepTime>& steps, const GroundTruth& gt,
+                           const std::string& gtPath, const std::string& rawlogPath)
+{
+    const StepTime* prev = nullptr;
+    std::vector<double> times;
+    double tMin = std::numeric_limits<double>::infinity(), tMax = -tMin;
+    for (const auto& s : steps)
+    {
+        times.push_back(s.t);
+        if (std::isnan(s.t))
+        {
+            continue;  // no timestamp: no ground truth for that step
+        }
+        if (prev && !(s.t > prev->t))
+        {
+            THROW_EXCEPTION(mrpt::format(
+                "rawlog '%s': entry %zu: time %s is not after %s, the time of entry %zu (the "
+                "step before): ground truth ('%s') is matched by time, so step times must "
+                "increase",
+                rawlogPath.c_str(), s.entry, timeText(s.t).c_str(), timeText(prev->t).c_str(),
+                prev->entry, gtPath.c_str()));
+        }
+        prev = &s;
+        tMin = std::min(tMin, s.t);
+        tMax = std::max(tMax, s.t);
+    }
+    const auto rows = matchGroundTruth(gt, times);
+    if (std::none_of(rows.begin(), rows.end(), [](const GroundTruthRow* r) { return r; }))
+    {
+        THROW_EXCEPTION(mrpt::format(
+            "ground truth '%s' (%zu rows, times %s to %s) matches no step of rawlog '%s' (%s): "
+            "are both in seconds of the same clock?",
+            gtPath.c_str(), gt.size(), timeText(gt.rows().front().t).c_str(),
+            timeText(gt.rows().back().t).c_str(), rawlogPath.c_str(),
+            prev ? mrpt::format("%zu steps, times %s to %s", steps.size(), timeText(tMin).c_str(),
+                                timeText(tMax).c_str())
+                       .c_str()
+                 : "no step has a timestamp"));
+    }
+}
+
+/** The memory this process may use [bytes] and what limits it: the physical memory, or less
+ *  under `ulimit -v` (RLIMIT_AS) or `ulimit -m` (RLIMIT_RSS). */
+std::pair<uint64_t, std::string> availableMemory()
+{
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    std::pair<uint64_t, std::string> m = {std::numeric_limits<uint64_t>::max(), ""};
+    if (pages > 0 && page > 0)
+    {
+        m = {static_cast<uint64_t>(pages) * static_cast<uint64_t>(page), "physical memory"};
+    }
+    for (const auto& [resource, name] : {std::pair<int, const char*>{RLIMIT_AS, "ulimit -v"},
+                                         std::pair<int, const char*>{RLIMIT_RSS, "ulimit -m"}})
+    {
+        rlimit r{};
+        if (::getrlimit(resource, &r) == 0 && r.rlim_cur != RLIM_INFINITY &&
+            static_cast<uint64_t>(r.rlim_cur) < m.first)
+        {
+            m = {static_cast<uint64_t>(r.rlim_cur), name};
+        }
+    }
+    return m;
+}
+
+std::string memoryText(uint64_t bytes)
+{
+    const double b = static_cast<double>(bytes);
+    return b < 1e9 ? mrpt::format("%.0f MB", b / 1e6) : mrpt::format("%.1f GB", b / 1e9);
+}
+
+/** Refuses a particle count whose memory (Localizer::TOptions::particleMemoryBytes) exceeds
+ *  what the process may use; `fromCommandLine`: particles_count came from -n. A warning
+ *  (else "") when it takes more than half of it. */
+std::string checkParticleMemory(const Localizer::TOptions& f, bool fromCommandLine)
+{
+    const uint64_t need = f.particleMemoryBytes();
+    const auto [have, limit] = availableMemory();
+    if (need <= have / 2)
+    {
+        return "";
+    }
+    std::string what =
+        (fromCommandLine ? "--particles " : "ini [" + kSection + "] particles_count ") +
+        std::to_string(f.particles_count);
+    std::string each = mrpt::format("%llu bytes each",
+                                    static_cast<unsigned long long>(Localizer::kBytesPerParticle));
+    if (f.pf.adaptiveSampleSize)
+    {
+        what += " and [KLD_options] KLD_maxSampleSize " + std::to_string(f.kld.KLD_maxSampleSize) +
+                " (adaptiveSampleSize = 1)";
+        each += mrpt::format(", %llu per KLD particle",
+                             static_cast<unsigned long long>(Localizer::kBytesPerKLDParticle));
+    }
+    const std::string needs =
+        what + ": the particles need about " + memoryText(need) + " of memory (" + each + "), ";
+    if (need <= have)
+    {
+        return needs + "more than half of the " + memoryText(have) + " available (" + limit + ")";
+    }
+    THROW_EXCEPTION(needs + "more than the " + memoryText(have) + " available (" + limit + ")");
+}
+
 /** What the filter needs of a rawlog, checked before the run: finite odometry somewhere
  *  (or allow_no_odometry), and at least one observation a map can score. */
 void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
                  const mrpt::maps::CMetricMap& maps, const Localizer::TOptions& filter)
 {
     bool odometry = false;
-    size_t observations = 0, usable = 0;
+    size_t observations = 0, usable = 0, invalid = 0;
+    std::string firstInvalid;
     std::set<std::string> classes;
     auto badOdometry = [&](size_t i)
     {
         THROW_EXCEPTION(
             mrpt::format("rawlog '%s': entry %zu: the odometry is not finite", path.c_str(), i));
     };
-    auto observe = [&](const mrpt::obs::CObservation& obs)
+    auto observe = [&](const mrpt::obs::CObservation& obs, size_t entry)
     {
         observations++;
         classes.insert(obs.GetRuntimeClass()->className);
+        if (const std::string why = Localizer::invalidObservation(obs, maps); !why.empty())
+        {
+            if (invalid++ == 0)
+            {
+                firstInvalid = mrpt::format("entry %zu, a %s: %s", entry,
+                                            obs.GetRuntimeClass()->className, why.c_str());
+            }
+            return;
+        }
         usable += maps.canComputeObservationLikelihood(obs) ? 1 : 0;
     };
     for (size_t i = 0; i < rawlog.size(); i++)
@@ -228,7 +474,8 @@ void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
                 if (const auto m2 = std::dynamic_pointer_cast<mrpt::obs::CActionRobotMovement2D>(a))
                 {
                     odometry = true;
-                    if (!m2->poseChange || !finitePose(m2->poseChange->getMeanVal()))
+                    if (!m2->poseChange || !finitePose(m2->poseChange->getMeanVal()) ||
+                        !finiteMatrix(m2->poseChange->getCovariance()))
                     {
                         badOdometry(i);
                     }
@@ -242,7 +489,7 @@ void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
             {
                 if (obs)
                 {
-                    observe(*obs);
+                    observe(*obs, i);
                 }
             }
         }
@@ -256,7 +503,7 @@ void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
         }
         else if (const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj))
         {
-            observe(*obs);
+            observe(*obs, i);
         }
     }
     if (!odometry && !filter.allow_no_odometry)
@@ -275,8 +522,12 @@ void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
         }
         THROW_EXCEPTION(mrpt::format(
             "rawlog '%s': none of its %zu observations (%s) can be used by the maps in "
-            "[MetricMap]",
-            path.c_str(), observations, observations ? list.c_str() : "none"));
+            "[MetricMap]%s",
+            path.c_str(), observations, observations ? list.c_str() : "none",
+            invalid ? mrpt::format("; %zu cannot be scored at all (the first: %s)", invalid,
+                                   firstInvalid.c_str())
+                          .c_str()
+                    : ""));
     }
 }
 
@@ -418,6 +669,18 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
                    "seed must be in [0, 2147483647]");
         o.filter.seed = *ov.seed;
     }
+    if (auto w = checkParticleMemory(o.filter, ov.particles_count.has_value()); !w.empty())
+    {
+        e.m_warnings.push_back(std::move(w));
+    }
+    if (const size_t cores = std::thread::hardware_concurrency();
+        cores > 0 && o.filter.effectiveThreads() > cores)
+    {
+        e.m_warnings.push_back(mrpt::format(
+            "%s %d exceeds the %zu hardware threads of this machine: the run is slower, not "
+            "faster",
+            ov.threads ? "--threads" : "[PF_options] threads", o.filter.threads, cores));
+    }
 
     if (o.rawlog_file.empty())
     {
@@ -439,7 +702,7 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     requireFile("ground_truth_path_file", o.ground_truth_path_file);
     if (!o.ground_truth_path_file.empty())
     {
-        (void)GroundTruth::FromFile(o.ground_truth_path_file);  // a bad file fails here
+        e.m_groundTruth = GroundTruth::FromFile(o.ground_truth_path_file);  // a bad file fails
     }
     // Absolute inputs: the effective configuration runs again from any directory.
     for (std::string* f : {&o.rawlog_file, &o.map_file, &o.ground_truth_path_file})
@@ -449,6 +712,8 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
             *f = std::filesystem::absolute(*f).lexically_normal().string();
         }
     }
+    // Before any work: the output must not replace anything but a previous output.
+    checkOutputDirectory(o.logOutput_dir, e.inputFiles());
 
     e.m_maps = LocalizationMap::FromConfig(*ini, o.map_file);
     if (o.variant.empty())
@@ -457,6 +722,10 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     }
 
     auto read = RawlogReader::Read(o.rawlog_file);
+    if (read.defect && read.defect->entry == 0)
+    {
+        THROW_EXCEPTION(read.defectMessage() + ": nothing to localize");  // with or without
+    }                                                                     // --allow-truncated
     if (read.defect)
     {
         if (!ov.allow_truncated)
@@ -470,14 +739,35 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
                                        ": --allow-truncated: localizing with the %zu intact "
                                        "entries",
                                        read.defect->entry);
+        e.m_warnings.push_back(e.m_rawlogWarning);
     }
     if (read.rawlog.empty())
     {
         THROW_EXCEPTION("rawlog '" + o.rawlog_file + "' holds no entries");
     }
     checkRawlog(read.rawlog, o.rawlog_file, *e.m_maps.map, o.filter);
-    e.m_rawlog = std::move(read.rawlog);
+    auto steps = stepTimes(read.rawlog);
+    if (o.rawlog_offset > 0 && static_cast<size_t>(o.rawlog_offset) >= steps.size())
+    {
+        THROW_EXCEPTION(mrpt::format(
+            "ini [%s] rawlog_offset: %d skips every step: rawlog '%s' holds %zu step%s (%zu "
+            "entries)",
+            kSection.c_str(), o.rawlog_offset, o.rawlog_file.c_str(), steps.size(),
+            steps.size() == 1 ? "" : "s", read.rawlog.size()));
+    }
+    if (!e.m_groundTruth.empty())
+    {
+        steps.erase(steps.begin(), steps.begin() + o.rawlog_offset);
+        checkGroundTruthTimes(steps, e.m_groundTruth, o.ground_truth_path_file, o.rawlog_file);
+    }
+    e.m_rawlog.swap(read.rawlog);
     return e;
+}
+
+std::vector<std::string> LocalizationExperiment::inputFiles() const
+{
+    const auto& o = m_options;
+    return {m_iniPath, o.rawlog_file, o.map_file, o.ground_truth_path_file};
 }
 
 LocalizationExperiment::TResult LocalizationExperiment::run(
@@ -485,11 +775,11 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
 {
     const auto wall0 = std::chrono::steady_clock::now();
     const auto& o = m_options;
+    // Created first: an output location that cannot be written fails before the run.
+    StagedDirectory out(o.logOutput_dir, inputFiles());
 
     const mrpt::obs::CRawlog& rawlog = m_rawlog;
-    const GroundTruth gt = o.ground_truth_path_file.empty()
-                               ? GroundTruth()
-                               : GroundTruth::FromFile(o.ground_truth_path_file);
+    const GroundTruth& gt = m_groundTruth;
 
     Localizer loc(o.filter, m_maps.map, m_maps.world ? &*m_maps.world : nullptr);
     TResult res;
@@ -618,25 +908,17 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
     // Ground truth by timestamp: the nearest row within half a step.
     if (!gt.empty())
     {
-        std::vector<double> dt;
-        for (size_t k = 1; k < res.records.size(); k++)
+        std::vector<double> times;
+        for (const auto& r : res.records)
         {
-            const double d = res.records[k].t - res.records[k - 1].t;
-            if (std::isfinite(d) && d > 0)
-            {
-                dt.push_back(d);
-            }
+            times.push_back(r.t);
         }
-        double tol = 0.5 * (dt.empty() ? gt.medianPeriod() : median(dt));
-        if (!(tol > 0))
+        const auto rows = matchGroundTruth(gt, times);
+        for (size_t k = 0; k < rows.size(); k++)
         {
-            tol = 1e-6;
-        }
-        for (auto& r : res.records)
-        {
-            if (const auto* row = gt.nearest(r.t, tol))
+            if (rows[k])
             {
-                r.gt = row->pose();
+                res.records[k].gt = rows[k]->pose();
             }
         }
     }
@@ -645,7 +927,6 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
     res.likelihood = loc.likelihoodStats();
     res.recovery = loc.recoveryStats();
 
-    StagedDirectory out(o.logOutput_dir);
     res.outputDir = out.target();
     res.wallTime_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();

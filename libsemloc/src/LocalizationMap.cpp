@@ -12,9 +12,12 @@
 #include <semloc/CSemanticMap.h>
 #include <semloc/CStructureMap.h>
 #include <semloc/ConfigHelpers.h>
+#include <semloc/ErrorMessage.h>
 #include <semloc/LocalizationMap.h>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdlib>
 #include <memory>
 #include <regex>
 #include <set>
@@ -171,6 +174,20 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
         {
             continue;
         }
+        // MRPT reads its maps' numbers leniently: NaN and inf would pass.
+        std::vector<std::string> mapKeys;
+        ini.getAllKeys(s, mapKeys);
+        for (const auto& key : mapKeys)
+        {
+            const std::string v = trim(ini.read_string(s, key, ""));
+            char* end = nullptr;
+            const double d = v.empty() ? 0 : std::strtod(v.c_str(), &end);
+            if (!v.empty() && end == v.c_str() + v.size() && !std::isfinite(d))
+            {
+                THROW_EXCEPTION(mrpt::format("ini [%s] %s: '%s' is not a finite number", s.c_str(),
+                                             trim(key).c_str(), v.c_str()));
+            }
+        }
         std::smatch m;
         if (!std::regex_match(s, m, re) || !names.count(m[1].str()))
         {
@@ -301,8 +318,17 @@ LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase&
                      dynamic_cast<const COccupancyGridMap2D::TMapDefinition*>(def.get());
                  dg && fromWorld)
         {
-            replaceGridCells(dynamic_cast<COccupancyGridMap2D&>(*m),
-                             lm.world->makeOccupancyGrid(dg->resolution));
+            COccupancyGridMap2D cells;
+            try
+            {
+                cells = lm.world->makeOccupancyGrid(dg->resolution);
+            }
+            catch (const std::exception& e)
+            {
+                THROW_EXCEPTION("ini [" + creationSection(prefix) +
+                                "] resolution: " + errorMessage(e));
+            }
+            replaceGridCells(dynamic_cast<COccupancyGridMap2D&>(*m), cells);
         }
         k++;
     }

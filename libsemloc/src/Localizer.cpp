@@ -1,19 +1,22 @@
 /* semloc — Localizer: options of pf-localization's sections, the initial cloud, the steps. */
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/random/RandomGenerators.h>
+#include <semloc/CObservationSemantic.h>
 #include <semloc/ConfigHelpers.h>
 #include <semloc/Localizer.h>
-
 #include <semloc/ParallelExecutor.h>
-#include <limits>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iostream>
+#include <limits>
+#include <string_view>
 #include <thread>
 
 #include "ExactConfigWrite.h"
@@ -108,15 +111,33 @@ struct UncachedScan : public mrpt::obs::CObservation2DRangeScan
     }
 };
 
-/** `sf`, or in `copy` the same frame with every valid beam of impossible range made invalid
- *  (true then); adds their number to `count`. */
-bool withValidBeams(const mrpt::obs::CSensoryFrame& sf, mrpt::obs::CSensoryFrame& copy,
-                    size_t& count)
+/** `sf`, or in `copy` (true then) the same frame without the observations
+ *  Localizer::invalidObservation() rejects (their number added to `invalid`) and with every
+ *  valid beam of impossible range made invalid (their number added to `beams`). */
+bool withValidObservations(const mrpt::obs::CSensoryFrame& sf, const mrpt::maps::CMetricMap& map,
+                           mrpt::obs::CSensoryFrame& copy, size_t& invalid, size_t& beams)
 {
     bool replaced = false;
+    auto replace = [&](size_t i)
+    {
+        if (!replaced)
+        {
+            for (size_t j = 0; j < i; j++)
+            {
+                copy.insert(sf.getObservationByIndex(j));
+            }
+            replaced = true;
+        }
+    };
     for (size_t i = 0; i < sf.size(); i++)
     {
         auto obs = sf.getObservationByIndex(i);
+        if (obs && !Localizer::invalidObservation(*obs, map).empty())
+        {
+            invalid++;
+            replace(i);
+            continue;
+        }
         if (const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs))
         {
             const size_t n = scan->getScanSize();
@@ -136,16 +157,9 @@ bool withValidBeams(const mrpt::obs::CSensoryFrame& sf, mrpt::obs::CSensoryFrame
                         fixed->setScanRangeValidity(k, false);
                     }
                 }
-                count += bad;
+                beams += bad;
                 obs = fixed;
-                if (!replaced)
-                {
-                    for (size_t j = 0; j < i; j++)
-                    {
-                        copy.insert(sf.getObservationByIndex(j));
-                    }
-                    replaced = true;
-                }
+                replace(i);
             }
         }
         if (replaced)
@@ -154,6 +168,68 @@ bool withValidBeams(const mrpt::obs::CSensoryFrame& sf, mrpt::obs::CSensoryFrame
         }
     }
     return replaced;
+}
+
+/** `acts`, or in `copy` its 2D movement of least uncertainty marked so that MRPT's
+ *  CActionCollection::getBestMovementEstimation() returns it. That function, which every
+ *  prediction step calls (MRPT's and CParallelMonteCarloLocalization2D's), ignores a 2D
+ *  movement whose covariance determinant is 1e3 or more (odometry with a few metres or tens
+ *  of degrees of noise, or a long step) unless it is a scan-matching estimate, which it
+ *  returns at once: such odometry would look like none. The mark changes nothing else of
+ *  the prediction: the movement's pose PDF is what the filter samples. */
+const mrpt::obs::CActionCollection& withUsableMovement(const mrpt::obs::CActionCollection& acts,
+                                                       mrpt::obs::CActionCollection& copy)
+{
+    if (acts.getBestMovementEstimation())
+    {
+        return acts;
+    }
+    const mrpt::obs::CActionRobotMovement2D* best = nullptr;
+    double bestDet = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < acts.size(); k++)
+    {
+        const auto* m = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&acts.get(k));
+        if (m && m->poseChange)
+        {
+            const double det = m->poseChange->getCovariance().det();
+            if (std::isfinite(det) && det < bestDet)
+            {
+                best = m;
+                bestDet = det;
+            }
+        }
+    }
+    if (!best)
+    {
+        return acts;  // no 2D movement (a 3D one, or none): MRPT's own handling
+    }
+    mrpt::obs::CActionRobotMovement2D marked(*best);
+    marked.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
+    copy.clear();
+    copy.insert(marked);
+    return copy;
+}
+
+bool finiteSensorPose(const mrpt::poses::CPose3D& p)
+{
+    return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()) &&
+           std::isfinite(p.yaw()) && std::isfinite(p.pitch()) && std::isfinite(p.roll());
+}
+
+/** MRPT's warnings (e.g. CParallelMonteCarloLocalization2D's re-initializations) on stderr:
+ *  MRPT's console output prints every level but errors on stdout. */
+void toStderr(std::string_view msg, mrpt::system::VerbosityLevel level, std::string_view logger,
+              mrpt::Clock::time_point)
+{
+    const char* what = level >= mrpt::system::LVL_ERROR  ? "error"
+                       : level == mrpt::system::LVL_WARN ? "warning"
+                                                         : "info";
+    std::cerr << "[" << what << "|" << logger << "] " << msg;
+    if (msg.empty() || msg.back() != '\n')
+    {
+        std::cerr << '\n';
+    }
+    std::cerr.flush();
 }
 }  // namespace
 
@@ -180,6 +256,66 @@ size_t Localizer::TOptions::effectiveThreads() const
 {
     return threads > 0 ? static_cast<size_t>(threads)
                        : std::max<size_t>(1, std::thread::hardware_concurrency());
+}
+
+uint64_t Localizer::TOptions::particleMemoryBytes() const
+{
+    uint64_t bytes = kBytesPerParticle * static_cast<uint64_t>(particles_count);
+    if (pf.adaptiveSampleSize)
+    {
+        bytes += kBytesPerKLDParticle * static_cast<uint64_t>(kld.KLD_maxSampleSize);
+    }
+    return bytes;
+}
+
+std::string Localizer::invalidObservation(const mrpt::obs::CObservation& obs,
+                                          const mrpt::maps::CMetricMap& map)
+{
+    mrpt::poses::CPose3D pose;
+    obs.getSensorPose(pose);
+    if (!finiteSensorPose(pose))
+    {
+        return "its sensorPose is not finite";
+    }
+    if (std::max({std::abs(pose.x()), std::abs(pose.y()), std::abs(pose.z())}) > kMaxSensorOffset_m)
+    {
+        return mrpt::format("its sensorPose (%g, %g, %g) is more than %g m from the vehicle",
+                            pose.x(), pose.y(), pose.z(), kMaxSensorOffset_m);
+    }
+    if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs))
+    {
+        if (!std::isfinite(scan->aperture) || scan->aperture < 0)
+        {
+            return mrpt::format("its aperture %g is not a finite angle >= 0",
+                                static_cast<double>(scan->aperture));
+        }
+        const size_t n = scan->getScanSize();
+        if (n == 0)
+        {
+            return "it has no beam";
+        }
+        const auto* mm = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(&map);
+        const bool grid =
+            mm ? mm->mapByClass<mrpt::maps::COccupancyGridMap2D>() != nullptr
+               : dynamic_cast<const mrpt::maps::COccupancyGridMap2D*>(&map) != nullptr;
+        if (n < 2 && grid)
+        {
+            return "it has 1 beam; MRPT's occupancy grid ([MetricMap] occupancyGrid) needs at "
+                   "least 2";
+        }
+    }
+    else if (const auto* sem = dynamic_cast<const CObservationSemantic*>(&obs))
+    {
+        if (!std::isfinite(sem->maxRange_m) || sem->maxRange_m < 0)
+        {
+            return mrpt::format("its maxRange_m %g is not a finite range >= 0", sem->maxRange_m);
+        }
+        if (!std::isfinite(sem->fov_rad) || sem->fov_rad < 0)
+        {
+            return mrpt::format("its fov_rad %g is not a finite angle >= 0", sem->fov_rad);
+        }
+    }
+    return "";
 }
 
 void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
@@ -406,6 +542,14 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
       m_pdf(std::make_unique<CParallelMonteCarloLocalization2D>())
 {
     ASSERTMSG_(m_map, "Localizer: no map");
+    for (mrpt::system::COutputLogger* logger :
+         {static_cast<mrpt::system::COutputLogger*>(this),
+          static_cast<mrpt::system::COutputLogger*>(&m_pf),
+          static_cast<mrpt::system::COutputLogger*>(m_pdf.get())})
+    {
+        logger->logging_enable_console_output = false;
+        logger->logRegisterCallback(toStderr);
+    }
     const auto& o = m_options;
     m_pf.m_options = o.pf;
     m_pf.m_options.sampleSize = static_cast<unsigned>(o.particles_count);
@@ -507,7 +651,10 @@ void Localizer::reset()
 void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs::CSensoryFrame& sf)
 {
     mrpt::obs::CSensoryFrame checked;
-    const bool replaced = withValidBeams(sf, checked, m_beamsInvalid);
+    const bool replaced =
+        withValidObservations(sf, *m_map, checked, m_observationsInvalid, m_beamsInvalid);
+    mrpt::obs::CActionCollection marked;
+    const mrpt::obs::CActionCollection& acts = withUsableMovement(action, marked);
     // The standard proposal resamples inside its step and keeps the ESS before it; asking
     // executeOn for TParticleFilterStats there would read 1 and cost two exp() and two
     // virtual calls per particle (its weight variance). The other algorithms run MRPT's
@@ -515,7 +662,7 @@ void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs
     const bool ours = m_pf.m_options.PF_algorithm == CParticleFilter::pfStandardProposal;
     CParticleFilter::TParticleFilterStats stats;
     const auto t0 = std::chrono::steady_clock::now();
-    m_pf.executeOn(*m_pdf, &action, replaced ? &checked : &sf, ours ? nullptr : &stats);
+    m_pf.executeOn(*m_pdf, &acts, replaced ? &checked : &sf, ours ? nullptr : &stats);
     const auto t1 = std::chrono::steady_clock::now();
     m_last.update_us = std::chrono::duration<double, std::micro>(t1 - t0).count();
     m_last.ess_before_resampling = ours ? m_pdf->essBeforeResampling() : stats.ESS_beforeResample;
@@ -551,6 +698,7 @@ SensoryFrameLikelihood::TStats Localizer::likelihoodStats() const
 {
     auto s = m_pdf->likelihoodStats();
     s.beams_invalid = m_beamsInvalid;
+    s.observations_invalid = m_observationsInvalid;
     return s;
 }
 

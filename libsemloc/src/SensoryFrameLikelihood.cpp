@@ -8,6 +8,7 @@
 #include <semloc/CObservationSemantic.h>
 #include <semloc/CSemanticMap.h>
 #include <semloc/CStructureMap.h>
+#include <semloc/Interrupt.h>
 #include <semloc/ParallelExecutor.h>
 #include <semloc/SensoryFrameLikelihood.h>
 
@@ -24,6 +25,9 @@ using mrpt::math::TPose2D;
 
 namespace
 {
+/** Cells of the likelihood-field cache filled between two looks at interruptRequested(). */
+constexpr unsigned kGridCacheBandCells = 1u << 18;
+
 /** The pose MRPT hands to CMetricMap::computeObservationLikelihood for a 2D particle. */
 mrpt::poses::CPose3D mrptPose(const TPose2D& p)
 {
@@ -136,20 +140,33 @@ void SensoryFrameLikelihood::prepareGridCaches()
         }
         // The likelihood-field cache is filled lazily, cell by cell, by const calls: fill it
         // all now (one point per cell centre, every point used) so that threads only read it.
-        // A cell's value depends only on the cell, so the results are those of lazy filling.
-        mrpt::maps::CSimplePointsMap centres;
-        centres.reserve(static_cast<size_t>(g->getSizeX() - 1) * (g->getSizeY() - 1));
-        for (unsigned cy = 0; cy + 1 < g->getSizeY(); cy++)
-        {
-            for (unsigned cx = 0; cx + 1 < g->getSizeX(); cx++)
-            {
-                centres.insertPointFast(g->idx2x(cx), g->idx2y(cy), 0);
-            }
-        }
+        // A cell's value depends only on the cell, so the results are those of lazy filling,
+        // and filling it in bands of rows is filling it at once: between bands, an interrupt
+        // request (Ctrl-C) stops it (a large grid takes many seconds).
+        const unsigned rows = g->getSizeY() - 1, cols = g->getSizeX() - 1;
+        const unsigned band = std::max(1u, kGridCacheBandCells / cols);
         auto& grid = const_cast<COccupancyGridMap2D&>(*g);  // restored below; same thread
         const auto decimation = grid.likelihoodOptions.LF_decimation;
         grid.likelihoodOptions.LF_decimation = 1;
-        grid.computeLikelihoodField_Thrun(&centres, nullptr);
+        mrpt::maps::CSimplePointsMap centres;
+        centres.reserve(static_cast<size_t>(std::min(band, rows)) * cols);
+        for (unsigned y0 = 0; y0 < rows; y0 += band)
+        {
+            if (interruptRequested())
+            {
+                grid.likelihoodOptions.LF_decimation = decimation;
+                throw Interrupted();
+            }
+            centres.clear();
+            for (unsigned cy = y0; cy < std::min(rows, y0 + band); cy++)
+            {
+                for (unsigned cx = 0; cx < cols; cx++)
+                {
+                    centres.insertPointFast(g->idx2x(cx), g->idx2y(cy), 0);
+                }
+            }
+            grid.computeLikelihoodField_Thrun(&centres, nullptr);
+        }
         grid.likelihoodOptions.LF_decimation = decimation;
     }
 }

@@ -5,7 +5,6 @@
 #include <mrpt/core/bits_math.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
-#include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CSensoryFrame.h>
@@ -15,6 +14,8 @@
 #include <mrpt/system/filesystem.h>
 #include <semloc/ConfigHelpers.h>
 #include <semloc/Interrupt.h>
+#include <semloc/OutputPaths.h>
+#include <semloc/RawlogWriter.h>
 #include <semloc/Simulator.h>
 #include <semloc/TrajectoryFollower.h>
 
@@ -40,6 +41,8 @@ const char* const kOdometry = "Odometry";
 const char* const kSonar = "Sonar";
 const char* const kDetector = "SemanticDetector";
 const char* const kKidnapping = "Kidnapping";
+/** The first words of the effective configuration writeDataset() writes. */
+const char* const kConfigHeader = "// semloc-simulate: ";
 
 std::string shortest(double v)
 {
@@ -329,23 +332,27 @@ std::string Simulator::configPath(const std::string& rawlogPath)
 void Simulator::writeDataset(const SimulationResult& result, const std::string& rawlogPath) const
 {
     ASSERTMSG_(!rawlogPath.empty(), "Simulator::writeDataset: empty output path");
+    checkDatasetPaths(rawlogPath, {m_options.simulation.world_file});
     const std::string gtPath = groundTruthPath(rawlogPath), iniPath = configPath(rawlogPath);
-    ASSERTMSG_(gtPath != rawlogPath && iniPath != rawlogPath,
-               "Simulator::writeDataset: the rawlog path '" + rawlogPath +
-                   "' collides with its ground-truth or ini file name");
     // Temporary names beside the outputs (same file system: rename is atomic).
     const std::vector<std::pair<std::string, std::string>> files = {
         {rawlogPath + ".tmp", rawlogPath}, {gtPath + ".tmp", gtPath}, {iniPath + ".tmp", iniPath}};
     size_t renamed = 0;
+    for (const auto& f : files)
+    {
+        registerTemporaryPath(f.first);  // removed if the process is ended at Ctrl-C
+    }
+    const auto unregister = [&]
+    {
+        for (const auto& f : files)
+        {
+            unregisterTemporaryPath(f.first);
+        }
+    };
     try
     {
         {
-            mrpt::io::CFileGZOutputStream out;
-            std::string err;
-            if (!out.open(files[0].first, 1, err))
-            {
-                THROW_EXCEPTION("cannot create '" + files[0].first + "': " + err);
-            }
+            GzOutputFile out(files[0].first);  // its errors name the file and the reason
             auto ar = mrpt::serialization::archiveFrom(out);
             for (const auto& obj : result.rawlog)
             {
@@ -371,13 +378,14 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
         mrpt::config::CConfigFileMemory ini;
         effective.saveToConfigFile(ini);
         writeTextFile(files[2].first,
-                      "// semloc-simulate: the effective configuration of " + rawlogPath +
+                      kConfigHeader + std::string("the effective configuration of ") + rawlogPath +
                           " (every key; rerunning it reproduces the dataset)\n" + ini.getContent());
 
         if (interruptRequested())
         {
             throw Interrupted();  // before the first rename: the outputs as they were
         }
+        const InterruptExitDeferral whole;  // all three renamed, or none
         for (; renamed < files.size(); renamed++)
         {
             std::filesystem::rename(files[renamed].first, files[renamed].second);
@@ -390,7 +398,38 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
         {
             std::filesystem::remove(i < renamed ? files[i].second : files[i].first, ec);
         }
+        unregister();
         throw;
+    }
+    unregister();
+}
+
+void Simulator::checkDatasetPaths(const std::string& rawlogPath,
+                                  const std::vector<std::string>& inputs)
+{
+    const std::string gtPath = groundTruthPath(rawlogPath), iniPath = configPath(rawlogPath);
+    if (gtPath == rawlogPath || iniPath == rawlogPath)
+    {
+        THROW_EXCEPTION("output rawlog '" + rawlogPath +
+                        "' collides with its ground-truth or ini file name (give it an "
+                        "extension such as .rawlog)");
+    }
+    checkOutputFile(rawlogPath, inputs);
+    checkOutputFile(gtPath, inputs, isGroundTruthFile);
+    checkOutputFile(iniPath, inputs,
+                    [](const std::string& p) { return fileStartsWith(p, kConfigHeader); });
+}
+
+bool Simulator::isGroundTruthFile(const std::string& path)
+{
+    try
+    {
+        (void)readGroundTruth(path);
+        return true;
+    }
+    catch (const std::exception&)
+    {
+        return false;
     }
 }
 

@@ -1,9 +1,15 @@
 /* semloc — StagedDirectory: write beside, rename at the end. */
 #include <mrpt/core/exceptions.h>
+#include <semloc/Interrupt.h>
+#include <semloc/OutputPaths.h>
 #include <semloc/StagedDirectory.h>
+#include <sys/stat.h>
 
+#include <cerrno>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <system_error>
 #include <vector>
 
@@ -13,34 +19,31 @@ namespace fs = std::filesystem;
 
 namespace
 {
-/** mkdtemp() on `<dir>/<prefix>XXXXXX`. */
+/** mkdtemp() on `<dir>/<prefix>XXXXXX`, with the permissions the umask gives a new
+ *  directory (mkdtemp's are 0700). */
 std::string makeUniqueDir(const fs::path& dir, const std::string& prefix)
 {
     std::string tmpl = (dir / (prefix + "XXXXXX")).string();
     std::vector<char> buf(tmpl.begin(), tmpl.end());
     buf.push_back('\0');
-    if (!::mkdtemp(buf.data()))
+    if (!::mkdtemp(buf.data()) ||
+        ::chmod(buf.data(), static_cast<mode_t>(directoryModeFromUmask())) != 0)
     {
-        THROW_EXCEPTION("cannot create a directory in '" + dir.string() + "'");
+        THROW_EXCEPTION("cannot create a directory in '" + dir.string() +
+                        "': " + std::strerror(errno));
     }
     return std::string(buf.data());
 }
 }  // namespace
 
-StagedDirectory::StagedDirectory(const std::string& target) : m_target(target)
+StagedDirectory::StagedDirectory(const std::string& target, const std::vector<std::string>& inputs)
+    : m_target(target)
 {
-    if (target.empty())
-    {
-        THROW_EXCEPTION("empty output directory name");
-    }
+    checkOutputDirectory(target, inputs);
     fs::path t = fs::absolute(fs::path(target)).lexically_normal();
     if (!t.has_filename())
     {
         t = t.parent_path();
-    }
-    if (fs::exists(t) && !fs::is_directory(t))
-    {
-        THROW_EXCEPTION("output '" + target + "' exists and is not a directory");
     }
     std::error_code ec;
     fs::create_directories(t.parent_path(), ec);
@@ -49,7 +52,19 @@ StagedDirectory::StagedDirectory(const std::string& target) : m_target(target)
         THROW_EXCEPTION("cannot create '" + t.parent_path().string() + "': " + ec.message());
     }
     m_target = t.string();
-    m_staging = makeUniqueDir(t.parent_path(), "." + t.filename().string() + ".staging-");
+    {
+        const InterruptExitDeferral whole;  // never an unregistered staging directory
+        m_staging = makeUniqueDir(t.parent_path(), "." + t.filename().string() + ".staging-");
+        registerTemporaryPath(m_staging);  // removed if the process is ended at Ctrl-C
+    }
+    std::ofstream marker(path(kOutputMarker));
+    if (!marker)
+    {
+        fs::remove_all(m_staging, ec);
+        unregisterTemporaryPath(m_staging);
+        THROW_EXCEPTION("cannot write in '" + t.parent_path().string() +
+                        "': " + std::strerror(errno));
+    }
 }
 
 StagedDirectory::~StagedDirectory()
@@ -59,6 +74,7 @@ StagedDirectory::~StagedDirectory()
         std::error_code ec;
         fs::remove_all(m_staging, ec);
     }
+    unregisterTemporaryPath(m_staging);
 }
 
 std::string StagedDirectory::path(const std::string& file) const
@@ -69,6 +85,10 @@ std::string StagedDirectory::path(const std::string& file) const
 void StagedDirectory::commit()
 {
     ASSERTMSG_(!m_committed, "StagedDirectory committed twice");
+    // Ctrl-C's watchdog waits: a previous output is never left under its hidden name.
+    const InterruptExitDeferral whole;
+    // The target may have changed during the run: the rule is checked again.
+    checkOutputDirectory(m_target);
     std::error_code ec;
     std::string old;
     if (fs::exists(m_target))

@@ -1,5 +1,6 @@
 /* semloc — TrajectoryFollower: constant-speed waypoint following. */
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <semloc/TrajectoryFollower.h>
 
 #include <cmath>
@@ -25,7 +26,14 @@ TrajectoryFollower::TrajectoryFollower(std::vector<mrpt::math::TPoint2D> waypoin
     {
         length += (m_waypoints[i] - m_waypoints[i - 1]).norm();
     }
-    ASSERTMSG_(length > 0, "TrajectoryFollower: the trajectory has zero length");
+    if (!(length > 0))
+    {
+        // World files refuse this when loaded, naming the file and key (World::FromText).
+        THROW_EXCEPTION(mrpt::format(
+            "TrajectoryFollower: the trajectory has zero length (its %zu waypoints are all "
+            "[%.17g, %.17g])",
+            m_waypoints.size(), m_waypoints[0].x, m_waypoints[0].y));
+    }
     m_pose = {m_waypoints[0].x, m_waypoints[0].y, 0};
     // Skip waypoints that coincide with the start, then face the first real leg.
     while (m_target < m_waypoints.size() &&

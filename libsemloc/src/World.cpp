@@ -4,11 +4,15 @@
 #include <mrpt/core/format.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/random/RandomGenerators.h>
+#include <semloc/ErrorMessage.h>
+#include <semloc/Labels.h>
 #include <semloc/World.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <fstream>
 #include <set>
 #include <sstream>
@@ -143,6 +147,19 @@ int toInt(const node_t& n, const Where& w, const std::string& key)
     return static_cast<int>(v);
 }
 
+/** A coordinate or length: a finite number within +-kMaxWorldCoordinate_m. */
+double toCoordinate(const node_t& n, const Where& w, const std::string& key)
+{
+    const double v = toNumber(n, w, key);
+    if (std::abs(v) > kMaxWorldCoordinate_m)
+    {
+        w.fail(key, mrpt::format("'%s' is outside [-%g, %g] m, the bound of world coordinates",
+                                 scalarText(n, w, key).c_str(), kMaxWorldCoordinate_m,
+                                 kMaxWorldCoordinate_m));
+    }
+    return v;
+}
+
 TPoint2D toPoint(const node_t& n, const Where& w, const std::string& key)
 {
     if (!n.isSequence() || n.asSequence().size() != 2)
@@ -150,7 +167,7 @@ TPoint2D toPoint(const node_t& n, const Where& w, const std::string& key)
         w.fail(key, "expected a point [x, y]");
     }
     const auto& s = n.asSequence();
-    return {toNumber(s[0], w, key), toNumber(s[1], w, key)};
+    return {toCoordinate(s[0], w, key), toCoordinate(s[1], w, key)};
 }
 
 const node_t& requireKey(const yaml::map_t& m, const std::string& key, const Where& w)
@@ -283,14 +300,14 @@ WorldObject parseObject(const node_t& n, size_t index, const std::string& file)
         w.fail("id", "must be a positive integer");
     }
     o.label = scalarText(requireKey(m, "label", w), w, "label");
-    if (o.label.empty() || o.label.find_first_of(" \t\r\n") != std::string::npos)
+    if (const std::string problem = labelProblem(o.label); !problem.empty())
     {
-        w.fail("label", "must be a non-empty word without blanks, got '" + o.label + "'");
+        w.fail("label", problem);
     }
     const std::string shape = scalarText(requireKey(m, "shape", w), w, "shape");
     if (const auto* z = findKey(m, "z"))
     {
-        o.z = toNumber(*z, w, "z");
+        o.z = toCoordinate(*z, w, "z");
     }
     if (shape == "box")
     {
@@ -316,7 +333,7 @@ WorldObject parseObject(const node_t& n, size_t index, const std::string& file)
         checkKeys(m, {"id", "label", "shape", "z", "center", "radius"}, w);
         o.shape = ShapeType::Cylinder;
         o.center = toPoint(requireKey(m, "center", w), w, "center");
-        o.radius = toNumber(requireKey(m, "radius", w), w, "radius");
+        o.radius = toCoordinate(requireKey(m, "radius", w), w, "radius");
         if (o.radius <= 0)
         {
             w.fail("radius", "must be > 0");
@@ -349,7 +366,7 @@ WorldObject parseObject(const node_t& n, size_t index, const std::string& file)
         o.center = toPoint(requireKey(m, "center", w), w, "center");
         if (const auto* e = findKey(m, "extent_m"))
         {
-            o.extent_m = toNumber(*e, w, "extent_m");
+            o.extent_m = toCoordinate(*e, w, "extent_m");
             if (o.extent_m < 0)
             {
                 w.fail("extent_m", "must be >= 0");
@@ -363,7 +380,49 @@ WorldObject parseObject(const node_t& n, size_t index, const std::string& file)
     return o;
 }
 
-World parseWorld(const yaml& doc, const std::string& file)
+/** The simulated vehicle follows the waypoints: a path of zero length, or one through an
+ *  object (whose inside is not free space: the true pose would weigh zero), is refused. */
+void checkTrajectory(const World& world, const WorldTrajectory& tr, const Where& wt)
+{
+    const auto& p = tr.waypoints;
+    auto at = [](const TPoint2D& q)
+    {
+        char buf[64];
+        auto r = std::to_chars(buf, buf + sizeof(buf), q.x);
+        std::string t = "[" + std::string(buf, r.ptr) + ", ";
+        r = std::to_chars(buf, buf + sizeof(buf), q.y);
+        return t + std::string(buf, r.ptr) + "]";
+    };
+    auto wp = [&](size_t i) { return "waypoints[" + std::to_string(i) + "] " + at(p[i]); };
+    auto obj = [&](int k)
+    {
+        const auto& o = world.objects[static_cast<size_t>(k)];
+        return mrpt::format("objects[%d] (id %d, %s)", k, o.id, shapeName(o.shape));
+    };
+    bool moves = false;
+    for (size_t i = 0; i < p.size(); i++)
+    {
+        moves |= p[i].x != p[0].x || p[i].y != p[0].y;
+        if (const int k = world.firstObjectOnSegment(p[i], p[i]); k >= 0)
+        {
+            wt.fail("waypoints", wp(i) + " is inside " + obj(k));
+        }
+    }
+    if (!moves)
+    {
+        wt.fail("waypoints", "the trajectory has zero length (every waypoint is " + at(p[0]) + ")");
+    }
+    for (size_t i = 0; i + 1 < p.size(); i++)
+    {
+        if (const int k = world.firstObjectOnSegment(p[i], p[i + 1]); k >= 0)
+        {
+            wt.fail("waypoints",
+                    "the leg from " + wp(i) + " to " + wp(i + 1) + " passes through " + obj(k));
+        }
+    }
+}
+
+World parseWorld(const node_t& doc, const std::string& file)
 {
     const Where top{file, ""};
     if (!doc.isMap())
@@ -386,10 +445,10 @@ World parseWorld(const yaml& doc, const std::string& file)
     }
     const Where wb{file, "bounds"};
     checkKeys(b.asMap(), {"x_min", "x_max", "y_min", "y_max"}, wb);
-    world.bounds.x_min = toNumber(requireKey(b.asMap(), "x_min", wb), wb, "x_min");
-    world.bounds.x_max = toNumber(requireKey(b.asMap(), "x_max", wb), wb, "x_max");
-    world.bounds.y_min = toNumber(requireKey(b.asMap(), "y_min", wb), wb, "y_min");
-    world.bounds.y_max = toNumber(requireKey(b.asMap(), "y_max", wb), wb, "y_max");
+    world.bounds.x_min = toCoordinate(requireKey(b.asMap(), "x_min", wb), wb, "x_min");
+    world.bounds.x_max = toCoordinate(requireKey(b.asMap(), "x_max", wb), wb, "x_max");
+    world.bounds.y_min = toCoordinate(requireKey(b.asMap(), "y_min", wb), wb, "y_min");
+    world.bounds.y_max = toCoordinate(requireKey(b.asMap(), "y_max", wb), wb, "y_max");
     if (!(world.bounds.x_min < world.bounds.x_max) || !(world.bounds.y_min < world.bounds.y_max))
     {
         top.fail("bounds", "empty area: need x_min < x_max and y_min < y_max");
@@ -458,6 +517,7 @@ World parseWorld(const yaml& doc, const std::string& file)
             }
             tr.waypoints.push_back(q);
         }
+        checkTrajectory(world, tr, wt);
         world.trajectory = std::move(tr);
     }
     return world;
@@ -473,6 +533,65 @@ std::string num(double v)
 std::string pt(const TPoint2D& p)
 {
     return "[" + num(p.x) + ", " + num(p.y) + "]";
+}
+
+/** `s` as a YAML scalar that reads back as the string `s` in a flow map or a block: as it is
+ *  if it is a plain word of ASCII letters, digits and `_` (then `-./+`), else double-quoted,
+ *  with escapes for `"`, `\\`, control characters and what YAML would not keep as text (the
+ *  C1 controls, its line breaks U+0085, U+2028 and U+2029, U+FEFF, U+FFFE and U+FFFF). */
+std::string yamlString(const std::string& s)
+{
+    bool plain = !s.empty() && s != "null" && s != "Null" && s != "NULL";
+    for (size_t i = 0; plain && i < s.size(); i++)
+    {
+        const char c = s[i];
+        plain = std::isalnum(static_cast<unsigned char>(c)) || c == '_' ||
+                (i > 0 && std::strchr("-./+", c) != nullptr);
+    }
+    if (plain)
+    {
+        return s;
+    }
+    std::string q = "\"";
+    for (size_t i = 0; i < s.size(); i++)
+    {
+        const auto c = static_cast<unsigned char>(s[i]);
+        const auto byte = [&](size_t k)
+        { return i + k < s.size() ? static_cast<unsigned char>(s[i + k]) : 0u; };
+        // The code point of a 2- or 3-byte UTF-8 sequence at i (the text is valid UTF-8).
+        unsigned code = 0;
+        size_t len = 1;
+        if ((c >> 5) == 0x6)
+        {
+            code = ((c & 0x1Fu) << 6) | (byte(1) & 0x3Fu);
+            len = 2;
+        }
+        else if ((c >> 4) == 0xE)
+        {
+            code = ((c & 0x0Fu) << 12) | ((byte(1) & 0x3Fu) << 6) | (byte(2) & 0x3Fu);
+            len = 3;
+        }
+        if (c == '"' || c == '\\')
+        {
+            q += '\\';
+            q += static_cast<char>(c);
+        }
+        else if (c < 0x20 || c == 0x7F)
+        {
+            q += mrpt::format("\\x%02X", c);
+        }
+        else if ((code >= 0x80 && code <= 0x9F) || code == 0x2028 || code == 0x2029 ||
+                 code == 0xFEFF || code == 0xFFFE || code == 0xFFFF)
+        {
+            q += mrpt::format("\\u%04X", code);
+            i += len - 1;
+        }
+        else
+        {
+            q += static_cast<char>(c);
+        }
+    }
+    return q + "\"";
 }
 
 }  // namespace
@@ -500,18 +619,10 @@ World World::FromText(const std::string& yamlText, const std::string& sourceName
         THROW_EXCEPTION(
             mrpt::format("world file '%s': line %zu: not UTF-8 text", sourceName.c_str(), line));
     }
-    yaml doc;
-    if (const std::string err = detail::yamlSyntaxError(yamlText); !err.empty())
+    node_t doc;
+    if (const std::string err = detail::parseYaml(yamlText, doc); !err.empty())
     {
         THROW_EXCEPTION("world file '" + sourceName + "': " + err);
-    }
-    try
-    {
-        doc = yaml::FromText(yamlText);
-    }
-    catch (const std::exception& e)
-    {
-        THROW_EXCEPTION("world file '" + sourceName + "': not valid YAML: " + e.what());
     }
     return parseWorld(doc, sourceName);
 }
@@ -537,14 +648,15 @@ std::string World::toYamlText() const
     std::ostringstream o;
     if (!name.empty())
     {
-        o << "name: " << name << "\n";
+        o << "name: " << yamlString(name) << "\n";
     }
     o << "bounds: {x_min: " << num(bounds.x_min) << ", x_max: " << num(bounds.x_max)
       << ", y_min: " << num(bounds.y_min) << ", y_max: " << num(bounds.y_max) << "}\n";
     o << "objects:" << (objects.empty() ? " []" : "") << "\n";
     for (const auto& ob : objects)
     {
-        o << "  - {id: " << ob.id << ", label: " << ob.label << ", shape: " << shapeName(ob.shape);
+        o << "  - {id: " << ob.id << ", label: " << yamlString(ob.label)
+          << ", shape: " << shapeName(ob.shape);
         switch (ob.shape)
         {
             case ShapeType::Box:
@@ -592,15 +704,46 @@ std::string World::toYamlText() const
 
 void World::saveToFile(const std::string& path) const
 {
-    std::ofstream f(path);
-    if (!f)
+    // What semloc writes, semloc reads back: the text must load, with the same name and the
+    // same objects (ids, labels, shapes; numbers are written exactly).
+    const std::string text = toYamlText();
+    try
     {
-        THROW_EXCEPTION("cannot write world file '" + path + "'");
+        const World back = World::FromText(text, path);
+        bool same = back.name == name && back.objects.size() == objects.size();
+        for (size_t i = 0; same && i < objects.size(); i++)
+        {
+            const auto &a = objects[i], &b = back.objects[i];
+            same = a.id == b.id && a.label == b.label && a.shape == b.shape;
+        }
+        if (!same)
+        {
+            THROW_EXCEPTION("it reads back as another world");
+        }
     }
-    f << toYamlText();
+    catch (const std::exception& e)
+    {
+        std::string why = errorMessage(e);
+        const std::string prefix = "world file '" + path + "': ";
+        if (why.compare(0, prefix.size(), prefix) == 0)
+        {
+            why.erase(0, prefix.size());
+        }
+        THROW_EXCEPTION("not writing world file '" + path +
+                        "': semloc could not read it back: " + why);
+    }
+    errno = 0;
+    std::ofstream f(path, std::ios::binary);
     if (!f)
     {
-        THROW_EXCEPTION("write error on world file '" + path + "'");
+        THROW_EXCEPTION("cannot write world file '" + path + "': " + std::strerror(errno));
+    }
+    f << text;
+    f.close();
+    if (!f)
+    {
+        THROW_EXCEPTION("cannot write world file '" + path +
+                        "': " + (errno ? std::strerror(errno) : "write error"));
     }
 }
 
@@ -649,6 +792,31 @@ bool insideObject(const WorldObject& o, const TPoint2D& p)
 
 /** Maximum number of rejection-sampling draws in sampleFreePose(). */
 constexpr int kMaxFreeDraws = 100000;
+
+/** Distance from p to the closed segment [a, b]. */
+double pointSegmentDistance(const TPoint2D& p, const TPoint2D& a, const TPoint2D& b)
+{
+    const double ex = b.x - a.x, ey = b.y - a.y;
+    const double len2 = ex * ex + ey * ey;
+    const double u =
+        len2 > 0 ? std::clamp(((p.x - a.x) * ex + (p.y - a.y) * ey) / len2, 0.0, 1.0) : 0.0;
+    return std::hypot(p.x - (a.x + u * ex), p.y - (a.y + u * ey));
+}
+
+/** Cells i of a raster axis (origin v0, side c, n cells) with floor((lo - v0) / c) <= i <=
+ *  floor((hi - v0) / c), clamped to [0, n); false if there is none. */
+bool cellSpan(double lo, double hi, double v0, double c, size_t n, size_t& i0, size_t& i1)
+{
+    const double a = std::floor((lo - v0) / c), b = std::floor((hi - v0) / c);
+    const double last = static_cast<double>(n) - 1;
+    if (!(b >= 0) || !(a <= last) || !(a <= b))
+    {
+        return false;
+    }
+    i0 = static_cast<size_t>(std::max(a, 0.0));
+    i1 = static_cast<size_t>(std::min(b, last));
+    return true;
+}
 }  // namespace
 
 int World::cylinderSides(double radius_m, double tolerance_m)
@@ -754,10 +922,202 @@ mrpt::math::TPose2D World::sampleFreePose(mrpt::random::CRandomGenerator& rng) c
         (source.empty() ? name : source).c_str(), kMaxFreeDraws));
 }
 
+int World::firstObjectOnSegment(const TPoint2D& a, const TPoint2D& b) const
+{
+    for (size_t k = 0; k < objects.size(); k++)
+    {
+        const auto& o = objects[k];
+        if (o.shape == ShapeType::Point)
+        {
+            continue;
+        }
+        // The shape lies in the disc of radius extent_m around the centre (insideObject).
+        const double d = pointSegmentDistance(o.center, a, b);
+        if (d * d > o.extent_m * o.extent_m * (1 + 1e-12) + 1e-18)
+        {
+            continue;
+        }
+        bool touches = o.shape == ShapeType::Cylinder || insideObject(o, a) || insideObject(o, b);
+        for (size_t i = 0; !touches && i < o.points.size(); i++)
+        {
+            touches = segmentsTouch(a, b, o.points[i], o.points[(i + 1) % o.points.size()]);
+        }
+        if (touches)
+        {
+            return static_cast<int>(k);
+        }
+    }
+    return -1;
+}
+
+std::vector<uint8_t> World::freeRaster(double x0, double y0, double cell_m, size_t nx,
+                                       size_t ny) const
+{
+    ASSERTMSG_(cell_m > 0 && std::isfinite(cell_m) && std::isfinite(x0) && std::isfinite(y0),
+               "World::freeRaster: the origin must be finite and the cell a finite number > 0");
+    std::vector<uint8_t> free(nx * ny, 1);
+    if (free.empty())
+    {
+        return free;
+    }
+    auto cellIndex = [&](size_t i, size_t j) { return i + j * nx; };
+    struct Run
+    {
+        size_t i0, i1;
+    };
+    std::vector<std::vector<Run>> rows;
+    for (const auto& o : objects)
+    {
+        if (o.shape == ShapeType::Point)
+        {
+            continue;
+        }
+        // The margin by which cells are widened: far above the rounding of a cell lookup
+        // ((x - x0) / cell) and of the exact tests' tolerances (relative 1e-12), so that a
+        // point that is not free never looks up a cell marked free.
+        const double m = 1e-4 + 1e-11 * (std::abs(o.center.x) + std::abs(o.center.y) + o.extent_m +
+                                         std::abs(x0) + std::abs(y0));
+        const double pad = 2 * m;
+        if (o.shape == ShapeType::Cylinder || o.points.size() < 3)
+        {
+            // Every cell whose widened box meets the disc of radius r + m (an outline
+            // without its points: the disc of its extent).
+            const double R =
+                (o.shape == ShapeType::Cylinder ? o.radius : o.extent_m) * (1 + 1e-12) + m;
+            size_t j0 = 0, j1 = 0;
+            if (!cellSpan(o.center.y - R - pad, o.center.y + R + pad, y0, cell_m, ny, j0, j1))
+            {
+                continue;
+            }
+            for (size_t j = j0; j <= j1; j++)
+            {
+                const double b0 = y0 + static_cast<double>(j) * cell_m - m;
+                const double b1 = y0 + static_cast<double>(j + 1) * cell_m + m;
+                const double dy = std::max({0.0, b0 - o.center.y, o.center.y - b1});
+                if (dy > R)
+                {
+                    continue;
+                }
+                const double hw = std::sqrt(R * R - dy * dy);
+                size_t i0 = 0, i1 = 0;
+                if (cellSpan(o.center.x - hw - pad, o.center.x + hw + pad, x0, cell_m, nx, i0, i1))
+                {
+                    std::fill(free.begin() + static_cast<ptrdiff_t>(cellIndex(i0, j)),
+                              free.begin() + static_cast<ptrdiff_t>(cellIndex(i1, j) + 1), 0);
+                }
+            }
+            continue;
+        }
+        // Box or polygon: the cells its edges touch (per row, the x extent of each edge
+        // within the row's widened band), then per row each run of untouched cells of the
+        // bounding box is wholly inside or wholly outside: one exact test of a cell centre.
+        const auto& poly = o.points;
+        double xmin = poly[0].x, xmax = xmin, ymin = poly[0].y, ymax = ymin;
+        for (const auto& p : poly)
+        {
+            xmin = std::min(xmin, p.x);
+            xmax = std::max(xmax, p.x);
+            ymin = std::min(ymin, p.y);
+            ymax = std::max(ymax, p.y);
+        }
+        size_t bi0 = 0, bi1 = 0, bj0 = 0, bj1 = 0;
+        if (!cellSpan(xmin - pad, xmax + pad, x0, cell_m, nx, bi0, bi1) ||
+            !cellSpan(ymin - pad, ymax + pad, y0, cell_m, ny, bj0, bj1))
+        {
+            continue;
+        }
+        rows.assign(bj1 - bj0 + 1, {});
+        for (size_t e = 0; e < poly.size(); e++)
+        {
+            const auto& a = poly[e];
+            const auto& b = poly[(e + 1) % poly.size()];
+            size_t j0 = 0, j1 = 0;
+            if (!cellSpan(std::min(a.y, b.y) - pad, std::max(a.y, b.y) + pad, y0, cell_m, ny, j0,
+                          j1))
+            {
+                continue;
+            }
+            for (size_t j = std::max(j0, bj0); j <= std::min(j1, bj1); j++)
+            {
+                const double lo = y0 + static_cast<double>(j) * cell_m - pad;
+                const double hi = y0 + static_cast<double>(j + 1) * cell_m + pad;
+                double xa = std::min(a.x, b.x), xb = std::max(a.x, b.x);
+                if (a.y != b.y)
+                {
+                    const double ta = (lo - a.y) / (b.y - a.y), tb = (hi - a.y) / (b.y - a.y);
+                    const double t0 = std::max(0.0, std::min(ta, tb));
+                    const double t1 = std::min(1.0, std::max(ta, tb));
+                    if (t0 > t1)
+                    {
+                        continue;
+                    }
+                    const double u0 = a.x + t0 * (b.x - a.x), u1 = a.x + t1 * (b.x - a.x);
+                    xa = std::min(u0, u1);
+                    xb = std::max(u0, u1);
+                }
+                size_t i0 = 0, i1 = 0;
+                if (cellSpan(xa - pad, xb + pad, x0, cell_m, nx, i0, i1))
+                {
+                    rows[j - bj0].push_back({i0, i1});
+                }
+            }
+        }
+        for (size_t j = bj0; j <= bj1; j++)
+        {
+            auto& runs = rows[j - bj0];
+            std::sort(runs.begin(), runs.end(),
+                      [](const Run& l, const Run& r) { return l.i0 < r.i0; });
+            const double cy = y0 + (static_cast<double>(j) + 0.5) * cell_m;
+            size_t next = bi0;  // first cell of the row not yet classified
+            auto untouched = [&](size_t from, size_t to)  // cells [from, to] of row j
+            {
+                const double cx = x0 + (static_cast<double>(from) + 0.5) * cell_m;
+                if (from <= to && insideObject(o, TPoint2D(cx, cy)))
+                {
+                    std::fill(free.begin() + static_cast<ptrdiff_t>(cellIndex(from, j)),
+                              free.begin() + static_cast<ptrdiff_t>(cellIndex(to, j) + 1), 0);
+                }
+            };
+            for (const auto& r : runs)
+            {
+                if (r.i0 > next)
+                {
+                    untouched(next, std::min(r.i0 - 1, bi1));
+                }
+                std::fill(free.begin() + static_cast<ptrdiff_t>(cellIndex(r.i0, j)),
+                          free.begin() + static_cast<ptrdiff_t>(cellIndex(r.i1, j) + 1), 0);
+                next = std::max(next, r.i1 + 1);
+            }
+            if (next <= bi1)
+            {
+                untouched(next, bi1);
+            }
+        }
+    }
+    return free;
+}
+
 mrpt::maps::COccupancyGridMap2D World::makeOccupancyGrid(double resolution_m) const
 {
     ASSERTMSG_(resolution_m > 0 && std::isfinite(resolution_m),
                "World::makeOccupancyGrid: resolution must be a finite number > 0");
+    {
+        const double w = bounds.x_max - bounds.x_min, h = bounds.y_max - bounds.y_min;
+        const double cells = (std::ceil(w / resolution_m) + 1) * (std::ceil(h / resolution_m) + 1);
+        const auto maxCells = static_cast<double>(kMaxOccupancyGridCells);
+        if (!(cells <= maxCells))
+        {
+            // The resolution r at which (w / r + 1) (h / r + 1) = maxCells, a little coarser.
+            const double a = w * h, bq = w + h, c = 1 - maxCells;
+            const double u = (-bq + std::sqrt(bq * bq - 4 * a * c)) / (2 * a);
+            THROW_EXCEPTION(mrpt::format(
+                "world '%s': an occupancy grid over its bounds x [%g, %g], y [%g, %g] at "
+                "resolution %g m would have %.3g cells, more than the %zu allowed: use a "
+                "resolution of %.3g m or coarser",
+                (source.empty() ? name : source).c_str(), bounds.x_min, bounds.x_max, bounds.y_min,
+                bounds.y_max, resolution_m, cells, kMaxOccupancyGridCells, 1.001 / u));
+        }
+    }
     mrpt::maps::COccupancyGridMap2D grid;
     grid.setSize(static_cast<float>(bounds.x_min), static_cast<float>(bounds.x_max),
                  static_cast<float>(bounds.y_min), static_cast<float>(bounds.y_max),

@@ -1,19 +1,28 @@
 /* semloc — WorldPlot: gnuplot script and data for a world figure. */
 #include <mrpt/core/exceptions.h>
-#include <mrpt/system/filesystem.h>
+#include <semloc/ErrorMessage.h>
+#include <semloc/Interrupt.h>
 #include <semloc/WorldPlot.h>
+#include <sys/wait.h>
 
 #include <algorithm>
-#include <cstdio>
+#include <cerrno>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
+#include <system_error>
+#include <utility>
+
 #include "TextFiles.h"
 
 namespace semloc
 {
 namespace
 {
-using detail::shellQuoted;
+namespace fs = std::filesystem;
 using detail::writeFile;
 std::string quoted(const std::string& s)
 {
@@ -24,6 +33,37 @@ std::string quoted(const std::string& s)
     }
     return out + "'";
 }
+
+/** A new directory `<dir>/<prefix>XXXXXX`, registered for the interrupt watchdog and removed
+ *  with everything in it at the end of the scope. */
+class TemporaryDirectory
+{
+public:
+    TemporaryDirectory(const fs::path& dir, const std::string& prefix)
+    {
+        std::string name = (dir / (prefix + "XXXXXX")).string();
+        const InterruptExitDeferral defer;  // created and registered as one step
+        if (!::mkdtemp(name.data()))
+        {
+            THROW_EXCEPTION("cannot create a temporary directory in '" + dir.string() +
+                            "': " + std::strerror(errno));
+        }
+        m_path = name;
+        registerTemporaryPath(m_path);
+    }
+    ~TemporaryDirectory()
+    {
+        std::error_code ec;
+        fs::remove_all(m_path, ec);
+        unregisterTemporaryPath(m_path);
+    }
+    TemporaryDirectory(const TemporaryDirectory&) = delete;
+    TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
+    std::string path(const std::string& file) const { return (fs::path(m_path) / file).string(); }
+
+private:
+    std::string m_path;
+};
 
 }  // namespace
 
@@ -145,34 +185,66 @@ std::string WorldPlot::script(const std::string& dataPath, const std::string& pn
 void WorldPlot::savePng(const std::string& pngPath, int widthPx, int heightPx,
                         bool keepScript) const
 {
-    const std::string tmpPng = pngPath + ".tmp.png";
-    const std::string dataPath = pngPath + ".dat";
-    const std::string scriptPath = pngPath + ".gp";
+    // Everything is drawn in a private directory beside the PNG (registered for the interrupt
+    // watchdog), and only finished files are renamed out of it.
+    const fs::path png = fs::absolute(fs::path(pngPath));
+    std::optional<TemporaryDirectory> tmpDir;
+    try
+    {
+        tmpDir.emplace(png.parent_path(), "." + png.filename().string() + ".plot-");
+    }
+    catch (const std::exception& e)
+    {
+        THROW_EXCEPTION("cannot write '" + pngPath + "': " + errorMessage(e));
+    }
+    const TemporaryDirectory& tmp = *tmpDir;
+    const std::string tmpPng = tmp.path("plot.png"), dataPath = tmp.path("plot.dat");
+    const std::string scriptPath = tmp.path("plot.gp"), logPath = tmp.path("gnuplot.log");
     writeFile(dataPath, data());
     writeFile(scriptPath, script(dataPath, tmpPng, widthPx, heightPx));
-    const std::string logPath = pngPath + ".log";
-    const std::string cmd =
-        "gnuplot " + shellQuoted(scriptPath) + " > " + shellQuoted(logPath) + " 2>&1";
-    const int rc = std::system(cmd.c_str());
-    std::ifstream logf(logPath);
-    std::stringstream log;
-    log << logf.rdbuf();
-    std::remove(logPath.c_str());
-    if (!keepScript)
+    int status = 0;
+    try
     {
-        std::remove(dataPath.c_str());
-        std::remove(scriptPath.c_str());
+        status = runChildProcess({"gnuplot", scriptPath}, logPath);
     }
-    if (rc != 0 || !mrpt::system::fileExists(tmpPng))
+    catch (const Interrupted&)
     {
-        std::remove(tmpPng.c_str());
-        THROW_EXCEPTION("gnuplot failed drawing '" + pngPath +
-                        "' (is the Debian package gnuplot-nox installed?): " + log.str());
+        throw;
     }
-    if (std::rename(tmpPng.c_str(), pngPath.c_str()) != 0)
+    catch (const std::exception& e)
     {
-        std::remove(tmpPng.c_str());
-        THROW_EXCEPTION("cannot write '" + pngPath + "'");
+        THROW_EXCEPTION("drawing '" + pngPath + "': " + errorMessage(e) +
+                        " (is the Debian package gnuplot-nox installed?)");
+    }
+    if (status != 0 || !fs::exists(tmpPng))
+    {
+        std::ifstream logf(logPath);
+        std::stringstream log;
+        log << logf.rdbuf();
+        THROW_EXCEPTION("gnuplot failed drawing '" + pngPath + "' (it " + waitStatusText(status) +
+                        "): " + log.str());
+    }
+    std::vector<std::pair<std::string, std::string>> moves = {{tmpPng, pngPath}};
+    if (keepScript)
+    {
+        // The kept script reads the kept data and draws the PNG beside it.
+        const std::string keptData = pngPath + ".dat", keptScript = pngPath + ".gp";
+        writeFile(tmp.path("kept.gp"), script(keptData, pngPath, widthPx, heightPx));
+        moves.insert(moves.begin(), {{dataPath, keptData}, {tmp.path("kept.gp"), keptScript}});
+    }
+    if (interruptRequested())
+    {
+        throw Interrupted();  // nothing renamed yet
+    }
+    const InterruptExitDeferral defer;  // the renames are not cut in the middle
+    for (const auto& [from, to] : moves)
+    {
+        std::error_code ec;
+        fs::rename(from, to, ec);
+        if (ec)
+        {
+            THROW_EXCEPTION("cannot write '" + to + "': " + ec.message());
+        }
     }
 }
 

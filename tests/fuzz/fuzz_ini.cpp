@@ -1,12 +1,13 @@
-/* semloc — libFuzzer target: ini text -> semloc's option loaders (README "Fuzzing and
- * sanitizers"): [LocalizationExperiment] with the filter's sections, [MetricMap] and its map
- * sections (semanticMap, structureMap and MRPT's own maps), semloc-simulate's sections and
- * [Benchmark]. Each loader must accept or throw; what it accepted must be written out as an
- * effective configuration that loads again to the same text (what the tools' config.ini
- * promises). The maps are filled from the shipped paper world; run from config/ so that the
- * seeds' relative paths (../maps/...) resolve as they do next to the ini files. */
+/* semloc — libFuzzer target: ini text -> semloc's ini check (config::checkIniText) and option
+ * loaders (README "Fuzzing and sanitizers"): [LocalizationExperiment] with the filter's sections,
+ * [MetricMap] and its map sections (semanticMap, structureMap and MRPT's own maps),
+ * semloc-simulate's sections and [Benchmark]. Each loader must accept or throw; what it accepted
+ * must be written out as an effective configuration that loads again to the same text (what the
+ * tools' config.ini promises). The maps are filled from the shipped paper world; run from config/
+ * so that the seeds' relative paths (../maps/...) resolve as they do next to the ini files. */
 #include <mrpt/config/CConfigFileMemory.h>
 #include <semloc/Benchmark.h>
+#include <semloc/ConfigHelpers.h>
 #include <semloc/LocalizationExperiment.h>
 #include <semloc/LocalizationMap.h>
 #include <semloc/Simulator.h>
@@ -57,8 +58,18 @@ void loadAndRoundTrip(
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
 {
-    const mrpt::config::CConfigFileMemory ini(
-        std::string(reinterpret_cast<const char*>(data), size));
+    const std::string text(reinterpret_cast<const char*>(data), size);
+    // The tools' check of an ini file's lines (blank, comment, section, key = value, each key
+    // once, a leading byte-order mark): it must accept or throw. The loaders below run either
+    // way, as they do on ini text that did not come from a file.
+    try
+    {
+        semloc::config::checkIniText(text, "fuzz.ini");
+    }
+    catch (const std::exception&)
+    {
+    }
+    const mrpt::config::CConfigFileMemory ini(text);
     using Experiment = semloc::LocalizationExperiment::TOptions;
     loadAndRoundTrip<Experiment>(
         ini,

@@ -241,6 +241,9 @@ private:
     std::vector<TScenarioSummary> summarize(const std::vector<TRunResult>& runs) const;
     /** run() with scenarios. */
     TResult runScenarios(const std::function<void(size_t, size_t)>& progress) const;
+    /** The files the benchmark reads (its ini, the simulation's ini and world, the
+     *  variants' inis and maps, the scenarios' too): the output directory holds none. */
+    std::vector<std::string> inputFiles() const;
 
     std::string m_iniPath;
     TOptions m_options;

@@ -10,10 +10,18 @@
 namespace semloc::config
 {
 /** Throws naming `kind` and `path` if the ini file does not exist, is a directory or cannot
- *  be read, and "<kind> 'path':LINE: ..." for a line that is neither blank, a comment
- *  (`;`, `#`, `//`, `%`), a `[section]`, a `key = value` nor an MRPT `@` directive: MRPT's
- *  parser skips such lines silently, so a typo would lose a setting without a word. */
+ *  be read, else checks its text with checkIniText(). */
 void checkIniFile(const std::string& path, const std::string& kind = "config file");
+
+/** Throws "<file>:LINE: ..." (`file` names the text, e.g. "config file 'x.ini'") for
+ *  - a line that is neither blank, a comment (`;`, `#`, `//`, `%`), a `[section]`, a
+ *    `key = value` nor an MRPT `@` directive: MRPT's parser skips such lines silently, so a
+ *    typo would lose a setting without a word;
+ *  - a key set twice in one section (MRPT keeps the last value silently). Section and key
+ *    names match regardless of ASCII case, as in MRPT. A section may appear more than once:
+ *    its keys are merged, as MRPT does.
+ *  A UTF-8 byte-order mark at the start of the text is skipped, as MRPT skips it. */
+void checkIniText(const std::string& text, const std::string& file);
 
 /** Reads a finite number in [lo, hi]; keeps `value` when the key is absent.
  *  Throws "ini [section] key: 'text' is not a number" and the like. */

@@ -62,9 +62,10 @@ public:
 
     /** One pose. */
     mrpt::math::TPose2D draw(mrpt::random::CRandomGenerator& rng) const;
-    /** True if a vehicle may be at (x, y): World::isFree (exact; a rasterization answers
-     *  first for the cells no outline touches), a free grid cell, or inside the box. The
-     *  box of FromWorld()/FromGrid() restricts draw() only. Safe from many threads. */
+    /** True if a vehicle may be at (x, y): World::isFree (exactly; a raster of at most
+     *  kMaxWorldRasterCells answers first for the cells no object touches), a free grid
+     *  cell, or inside the box. The box of FromWorld()/FromGrid() restricts draw() only.
+     *  Safe from many threads. */
     bool contains(double x, double y) const;
     /** The free-space prior of n poses: each logLik[i] that is not -inf already becomes -inf
      *  if poses[i] is outside (not contains()); returns how many did. The filter calls it
@@ -73,6 +74,14 @@ public:
     size_t excludeOutside(const mrpt::math::TPose2D* poses, size_t n, double* logLik) const;
     /** A short description for logs ("free space of world 'paper_50x50'", ...). */
     const std::string& description() const { return m_description; }
+    /** Bytes of the raster that answers contains() first (0 for a box). */
+    size_t rasterBytes() const { return m_raster.free.size(); }
+
+    /** Most cells of a world's raster (one byte each): its cell, 0.1 m on small worlds, is
+     *  doubled until the bounds fit, so memory stays within 16 MiB whatever the area (a
+     *  20 x 20 km world gets 6.4 m cells); the exact test answers for the cells an object
+     *  may touch. */
+    static constexpr size_t kMaxWorldRasterCells = size_t{1} << 24;
 
 private:
     enum class Kind
@@ -90,15 +99,16 @@ private:
     std::shared_ptr<const World> m_world;
     /** m_world's bounds (World: contains() reads them without the indirection). */
     WorldBounds m_bounds;
-    /** Free cells of a grid as a byte raster (1 = free), row-major from (x0, y0): what
+    /** Free cells as a byte raster (1 = free), row-major from (x0, y0). World: the cells
+     *  no object touches (World::freeRaster) over the bounds; Grid: the grid's cells, what
      *  COccupancyGridMap2D::getCell(x2idx(x), y2idx(y)) >= threshold answers, without the
-     *  log-odds lookup. World: the cells no outline touches and whose centre is free
-     *  (World::makeOccupancyGrid); Grid: the grid's cells. */
+     *  log-odds lookup. */
     struct FreeRaster
     {
         std::vector<uint8_t> free;
         int sizeX = 0, sizeY = 0;
-        /** The grid's float origin and resolution, widened as x2idx(double) does. */
+        /** Origin and cell side (Grid: the grid's float values, widened as x2idx(double)
+         *  does). */
         double x0 = 0, y0 = 0, resolution = 1;
         FreeRaster() = default;
         FreeRaster(const mrpt::maps::COccupancyGridMap2D& grid, double freeThreshold);

@@ -1,7 +1,11 @@
 /* semloc — stopping a long job cleanly (Ctrl-C). */
 #pragma once
 
+#include <sys/types.h>
+
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace semloc
 {
@@ -23,7 +27,57 @@ void clearInterrupt() noexcept;
 
 /** Makes SIGINT and SIGTERM call requestInterrupt() (the tools do this). A second signal
  *  gets the default action: the process ends at once. Installed without SA_RESTART, so a
- *  blocking wait returns and the job sees the request. */
-void installInterruptHandlers();
+ *  blocking wait returns and the job sees the request.
+ *
+ *  It also starts a watchdog thread (once per process): a job that has not returned within
+ *  kInterruptGracePeriod_s of the first signal (a step inside MRPT that has no check, such
+ *  as KLD sampling) is ended by the watchdog, unless clearInterrupt() was called meanwhile.
+ *  It kills the registered child processes (SIGKILL, and waits for them), removes the
+ *  registered temporary paths, prints "<tool>: interrupted; no output written" (`tool`: a
+ *  string that lives as long as the process, such as a literal; the program's name when
+ *  null) and ends the process with _exit(130). */
+void installInterruptHandlers(const char* tool = nullptr);
+
+/** How long the watchdog lets a job stop by itself after the first signal [s]. */
+constexpr double kInterruptGracePeriod_s = 1.0;
+
+/** The registry of what the watchdog removes or ends (thread-safe; none of these may be
+ *  called from a signal handler). A writer registers a temporary file or directory before
+ *  creating it and unregisters it once it is renamed into place or removed; the watchdog
+ *  removes the registered paths recursively (a path that no longer exists is skipped). A
+ *  path registered twice must be unregistered twice. */
+void registerTemporaryPath(const std::string& path);
+void unregisterTemporaryPath(const std::string& path);
+/** A child process that the watchdog kills (SIGKILL) and waits for before removing the
+ *  temporary paths (so that it cannot write them again). */
+void registerChildProcess(pid_t pid);
+void unregisterChildProcess(pid_t pid);
+
+/** While one exists, the watchdog does not end the process (it waits): for a short sequence
+ *  that must not be cut in the middle, such as the renames that put an output in place, or
+ *  a child's start and registration. Once the watchdog has begun ending the process, a new
+ *  one blocks until the process ends. */
+class InterruptExitDeferral
+{
+public:
+    InterruptExitDeferral();
+    ~InterruptExitDeferral();
+    InterruptExitDeferral(const InterruptExitDeferral&) = delete;
+    InterruptExitDeferral& operator=(const InterruptExitDeferral&) = delete;
+};
+
+/** A wait status (waitpid) in words: "exited with status 2", "was killed by signal 9
+ *  (SIGKILL)". */
+std::string waitStatusText(int status);
+
+/** Runs `argv` (argv[0] looked up on the PATH), with standard input from /dev/null and
+ *  standard output and error into `logPath` (created or truncated), in `workDir` (empty: the
+ *  current directory), and waits for it; returns its wait status. The child is registered
+ *  for the watchdog while it runs. At an interrupt request the child is ended (SIGTERM, then
+ *  SIGKILL), waited for, and Interrupted is thrown; a child that ends while an interrupt is
+ *  requested (Ctrl-C reaches the whole process group) also throws Interrupted. Throws naming
+ *  argv[0] if it cannot be started. */
+int runChildProcess(const std::vector<std::string>& argv, const std::string& logPath,
+                    const std::string& workDir = {});
 
 }  // namespace semloc

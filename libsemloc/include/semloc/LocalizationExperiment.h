@@ -124,9 +124,13 @@ public:
 
     /** Reads and validates everything (ini, files, maps, the whole rawlog) before any
      *  output is written. Throws on any error; in the rawlog: a truncated or corrupted entry
-     *  (unless `allow_truncated`), an entry of an unknown class, no odometry at all (unless
-     *  [DummyOdometryParams] allow_no_odometry), a non-finite odometry reading, or no
-     *  observation any map in [MetricMap] can use. */
+     *  (unless `allow_truncated` and an entry before it is intact), an entry of an unknown
+     *  class, no odometry at all (unless [DummyOdometryParams] allow_no_odometry), a
+     *  non-finite odometry reading (mean or covariance), no observation any map in
+     *  [MetricMap] can use, a rawlog_offset that skips every step; with ground truth, step
+     *  times that do not increase (from rawlog_offset on) or match no row. Also throws when
+     *  the particles (Localizer::TOptions::particleMemoryBytes) need more memory than the
+     *  machine has (or `ulimit -v` / `ulimit -m` allows). */
     static LocalizationExperiment FromConfigFile(const std::string& iniPath,
                                                  const TOverrides& overrides);
     /** FromConfigFile() without overrides. */
@@ -146,9 +150,15 @@ public:
     /** With allow_truncated and a defective rawlog: what was wrong and what is used (to be
      *  shown to the user); empty otherwise. */
     const std::string& rawlogWarning() const { return m_rawlogWarning; }
+    /** What the user should know before the run (to be shown on stderr): rawlogWarning(),
+     *  particles taking more than half the memory, more threads than the machine has. */
+    const std::vector<std::string>& warnings() const { return m_warnings; }
 
 private:
     LocalizationExperiment() = default;
+    /** The files the run reads (the ini, rawlog, map, ground truth; empty when unset): the
+     *  output directory must not hold any of them. */
+    std::vector<std::string> inputFiles() const;
 
     std::string m_iniPath;
     TOptions m_options;
@@ -158,6 +168,9 @@ private:
     /** See TResult::rawlogTruncatedAtEntry. */
     std::optional<size_t> m_truncatedAt;
     std::string m_rawlogWarning;
+    std::vector<std::string> m_warnings;
+    /** The ground truth (empty without ground_truth_path_file). */
+    GroundTruth m_groundTruth;
     /** The ini's text with its [MetricMap...] sections, for the effective configuration. */
     std::shared_ptr<mrpt::config::CConfigFileBase> m_ini;
     /** Keys pf-localization reads that we only carry over (display, 3D). */

@@ -135,7 +135,34 @@ public:
         static std::vector<std::string> experimentKeys();
         /** The thread count `threads` stands for on this machine. */
         size_t effectiveThreads() const;
+        /** The memory the particles may take [bytes]: kBytesPerParticle x particles_count,
+         *  plus kBytesPerKLDParticle x KLD_maxSampleSize with KLD sampling
+         *  (adaptiveSampleSize), which may grow the cloud to that many. The maps, the rawlog
+         *  and the program itself come on top. */
+        uint64_t particleMemoryBytes() const;
     };
+
+    /** @name Memory of the particles (measured peak resident memory per particle, rounded
+     *  up: the particle, its pose, log-likelihood and weight buffers, the resampled copy)
+     *  @{ */
+    /** Bytes per particle of the filter. */
+    static constexpr uint64_t kBytesPerParticle = 144;
+    /** Bytes per particle of MRPT's KLD sampling (adaptiveSampleSize = 1), its bins included. */
+    static constexpr uint64_t kBytesPerKLDParticle = 192;
+    /** @} */
+
+    /** Why `obs` cannot be scored at all, as a phrase ("its sensorPose is not finite"), or ""
+     *  when it can: a sensorPose with a non-finite component or a position more than
+     *  kMaxSensorOffset_m from the vehicle; a range scan with a non-finite or negative
+     *  aperture, without beams, or (when `map` holds an occupancy grid, which MRPT scores
+     *  with at least 2 beams) with one beam; a CObservationSemantic with a non-finite or
+     *  negative maxRange_m or fov_rad. step() skips such observations and counts them
+     *  (likelihoodStats().observations_invalid). */
+    static std::string invalidObservation(const mrpt::obs::CObservation& obs,
+                                          const mrpt::maps::CMetricMap& map);
+    /** Largest |x|, |y|, |z| of an observation's sensorPose [m] (semloc-simulate's largest
+     *  sensor mount). */
+    static constexpr double kMaxSensorOffset_m = 1e3;
 
     /** What one step did. */
     struct TStepInfo
@@ -160,7 +187,11 @@ public:
     /** One step, action / sensory-frame format: the action's odometry moves the particles,
      *  the frame's observations weigh them. Range-scan beams flagged valid with a NaN,
      *  infinite, negative or beyond-maxRange range are made invalid first (in a copy) and
-     *  counted (likelihoodStats().beams_invalid): no map ever sees them. */
+     *  counted (likelihoodStats().beams_invalid), observations that cannot be scored
+     *  (invalidObservation()) are left out and counted (observations_invalid): no map ever
+     *  sees them. The 2D movement of least uncertainty is used however uncertain it is
+     *  (MRPT's CActionCollection::getBestMovementEstimation() ignores one whose covariance
+     *  determinant reaches 1e3, and would find no odometry). */
     void step(const mrpt::obs::CActionCollection& action, const mrpt::obs::CSensoryFrame& sf);
     /** Observations-only format: remembers an odometry reading; the next step(sf) moves the
      *  particles by the increment since the previous step (pf-localization's rule; Gaussian
@@ -219,6 +250,8 @@ private:
     size_t m_steps = 0;
     /** Scan beams with impossible ranges, made invalid before the update. */
     size_t m_beamsInvalid = 0;
+    /** Observations left out of the update (invalidObservation()). */
+    size_t m_observationsInvalid = 0;
 };
 
 }  // namespace semloc

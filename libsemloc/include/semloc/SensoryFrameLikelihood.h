@@ -53,13 +53,20 @@ public:
          *  scan's maxRange: marked invalid before any map sees the scan (counted by
          *  Localizer, which does that; 0 here). */
         size_t beams_invalid = 0;
+        /** Observations left out whole because they cannot be scored (a non-finite sensor
+         *  pose, aperture or range limit, a scan without beams...:
+         *  Localizer::invalidObservation(); counted by Localizer, 0 here). Not counted in
+         *  observations_used or observations_skipped. */
+        size_t observations_invalid = 0;
     };
 
     /** `map` is the filter's map (usually a CMultiMetricMap); it must outlive this object. */
     explicit SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map);
 
     /** Does the one-off work of the first multi-threaded evaluate() now (fills the
-     *  likelihood-field caches of the occupancy grids), e.g. before timing starts. */
+     *  likelihood-field caches of the occupancy grids), e.g. before timing starts. Throws
+     *  semloc::Interrupted at an interrupt request (semloc/Interrupt.h); a later call goes on
+     *  filling the caches. */
     void prepare(const ParallelExecutor& executor);
 
     /** out[i] = log p(sf | poses[i]) for i in [0, n), on the executor's threads. */

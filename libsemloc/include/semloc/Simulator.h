@@ -156,6 +156,14 @@ public:
      *  and the error is thrown. */
     void writeDataset(const SimulationResult& result, const std::string& rawlogPath) const;
 
+    /** Checks, before any work, that writeDataset() may write `rawlogPath` and its two
+     *  companions (checkOutputFile): none is a directory or one of `inputs`, the directory
+     *  exists, and an existing ground-truth or ini companion is a previous output of
+     *  semloc-simulate (a readable ground truth; an ini with its header). Throws naming the
+     *  file. */
+    static void checkDatasetPaths(const std::string& rawlogPath,
+                                  const std::vector<std::string>& inputs);
+
     /** `<dir>/<stem>_gt.txt` for `<dir>/<stem>.rawlog` (any extension). */
     static std::string groundTruthPath(const std::string& rawlogPath);
     /** `<dir>/<stem>.ini` for `<dir>/<stem>.rawlog`. */
@@ -165,6 +173,8 @@ public:
      *  not a finite number, or a time not after the previous row's; and on a file without
      *  rows. */
     static std::vector<GroundTruthRow> readGroundTruth(const std::string& path);
+    /** True when readGroundTruth() reads `path` without an error. */
+    static bool isGroundTruthFile(const std::string& path);
 
     /** The options. */
     const TSimulatorOptions& options() const { return m_options; }

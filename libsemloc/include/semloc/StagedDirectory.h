@@ -2,18 +2,24 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace semloc
 {
 /** Files are written into a hidden staging directory beside `target`
- *  (`<parent>/.<name>.staging-XXXXXX`); commit() renames it onto `target`, replacing a
- *  previous `target` directory. If commit() is never reached (an error), the destructor
- *  removes the staging directory: no partial output is ever left at `target`. */
+ *  (`<parent>/.<name>.staging-XXXXXX`, holding the kOutputMarker file); commit() renames it
+ *  onto `target`, replacing a previous output of semloc there. If commit() is never reached
+ *  (an error), the destructor removes the staging directory: no partial output is ever left
+ *  at `target`. A `target` that checkOutputDirectory() refuses (a directory semloc did not
+ *  write, one holding the working directory or an input) is refused by the constructor and
+ *  again by commit(). */
 class StagedDirectory
 {
 public:
-    /** Creates the staging directory (and `target`'s missing parents). */
-    explicit StagedDirectory(const std::string& target);
+    /** Checks `target` (see checkOutputDirectory, with the run's `inputs`) and creates the
+     *  staging directory (and `target`'s missing parents) with the umask's permissions. */
+    explicit StagedDirectory(const std::string& target,
+                             const std::vector<std::string>& inputs = {});
     ~StagedDirectory();
     StagedDirectory(const StagedDirectory&) = delete;
     StagedDirectory& operator=(const StagedDirectory&) = delete;

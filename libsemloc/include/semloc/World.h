@@ -6,6 +6,8 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/math/TSegment2D.h>
 
+#include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -39,6 +41,17 @@ const char* shapeName(ShapeType s);
 
 /** Default chord tolerance of a cylinder's polygon [m] (see cylinderSides()). */
 constexpr double kDefaultCylinderTolerance_m = 0.01;
+
+/** Bound of every coordinate and length in a world file [m]: bounds, centres, points, sizes,
+ *  radii, extents and z lie in [-kMaxWorldCoordinate_m, kMaxWorldCoordinate_m] (10 000 km,
+ *  far beyond any survey, and small enough that squares and sums of coordinates stay
+ *  finite and precise to well under a millimetre). */
+constexpr double kMaxWorldCoordinate_m = 1e7;
+
+/** Most cells World::makeOccupancyGrid() builds (2^25: e.g. 5.8 x 5.8 km at 1 m): an MRPT
+ *  grid takes about 9 bytes per cell with its likelihood cache, and its free cells more
+ *  again in a FreeSpaceSampler. */
+constexpr size_t kMaxOccupancyGridCells = size_t{1} << 25;
 
 /** One labelled object of the world. */
 struct WorldObject
@@ -159,8 +172,24 @@ public:
     /** MRPT occupancy grid over `bounds` with cells of `resolution_m` [m]: a cell is
      *  occupied (value 0) if its centre is inside an object (isFree's shapes) or an
      *  outline segment (default cylinder tolerance) touches it, and free (value 1)
-     *  elsewhere. Needs <mrpt/maps/COccupancyGridMap2D.h> at the call site. */
+     *  elsewhere. Throws, naming the bounds and the resolution, if the grid would have more
+     *  than kMaxOccupancyGridCells cells. Needs <mrpt/maps/COccupancyGridMap2D.h> at the
+     *  call site. */
     mrpt::maps::COccupancyGridMap2D makeOccupancyGrid(double resolution_m) const;
+
+    /** A raster of nx x ny square cells of side `cell_m` [m] from (x0, y0), row-major (cell
+     *  (i, j) is [x0 + i cell_m, x0 + (i + 1) cell_m] x [y0 + j cell_m, ...]): 1 where no
+     *  object's closed shape (isFree's shapes: a cylinder's exact circle) touches the closed
+     *  cell widened by a small margin, 0 where one may. Exact in the sense that a 1 cell is
+     *  free everywhere (bounds aside); a 0 cell may be partly or (by the margin) wholly
+     *  free. Time about the cells the outlines cross plus one exact test per run of
+     *  untouched cells in a row of each object's bounding box; memory the raster. */
+    std::vector<uint8_t> freeRaster(double x0, double y0, double cell_m, size_t nx,
+                                    size_t ny) const;
+
+    /** Index in `objects` of the first object (box, cylinder, polygon) whose closed shape
+     *  (isFree's) the closed segment [a, b] touches, or -1. */
+    int firstObjectOnSegment(const mrpt::math::TPoint2D& a, const mrpt::math::TPoint2D& b) const;
     /** @} */
 };
 

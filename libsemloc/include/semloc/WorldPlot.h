@@ -41,8 +41,10 @@ public:
     /** The data file the script reads (gnuplot indexed blocks). */
     std::string data() const;
 
-    /** Renders to `pngPath` (written to a temporary file, renamed when complete).
-     *  Throws with gnuplot's output if gnuplot is missing or fails. */
+    /** Renders to `pngPath`: gnuplot (a child process) draws in a temporary directory beside
+     *  it, and the finished files are renamed into place. Throws with gnuplot's output if
+     *  gnuplot is missing or fails; throws semloc::Interrupted at an interrupt request
+     *  (semloc/Interrupt.h), gnuplot ended. Nothing is left behind on any error. */
     void savePng(const std::string& pngPath, int widthPx = 900, int heightPx = 900,
                  bool keepScript = false) const;
 
