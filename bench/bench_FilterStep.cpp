@@ -8,13 +8,13 @@
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/poses/CPosePDFParticles.h>
 #include <mrpt/random/RandomGenerators.h>
-#include <semloc/CObservationSemantic.h>
-#include <semloc/CParallelMonteCarloLocalization2D.h>
-#include <semloc/CSemanticMap.h>
-#include <semloc/FreeSpaceSampler.h>
-#include <semloc/LocalizationMap.h>
-#include <semloc/ParallelExecutor.h>
-#include <semloc/Simulator.h>
+#include <semloc/filter/CParallelMonteCarloLocalization2D.h>
+#include <semloc/filter/FreeSpaceSampler.h>
+#include <semloc/filter/ParallelExecutor.h>
+#include <semloc/maps/CSemanticMap.h>
+#include <semloc/maps/LocalizationMap.h>
+#include <semloc/observation/CObservationSemantic.h>
+#include <semloc/simulator/Simulator.h>
 
 #include <map>
 #include <memory>

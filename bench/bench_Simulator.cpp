@@ -4,7 +4,7 @@
  * Run: build/bench/bench_Simulator
  * Counter `per_step`: seconds per simulated step. */
 #include <benchmark/benchmark.h>
-#include <semloc/Simulator.h>
+#include <semloc/simulator/Simulator.h>
 
 #include <cstdio>
 #include <string>

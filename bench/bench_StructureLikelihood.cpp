@@ -7,7 +7,7 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/random/RandomGenerators.h>
-#include <semloc/CStructureMap.h>
+#include <semloc/maps/CStructureMap.h>
 
 #include <vector>
 

@@ -4,11 +4,11 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/random/RandomGenerators.h>
-#include <semloc/CObservationSemantic.h>
-#include <semloc/CSemanticMap.h>
-#include <semloc/ErrorMessage.h>
-#include <semloc/Interrupt.h>
-#include <semloc/World.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/io/Interrupt.h>
+#include <semloc/maps/CSemanticMap.h>
+#include <semloc/observation/CObservationSemantic.h>
+#include <semloc/world/World.h>
 
 #include <cmath>
 #include <filesystem>

@@ -2,8 +2,8 @@
 #pragma once
 
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <semloc/ErrorMessage.h>
-#include <semloc/Interrupt.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/io/Interrupt.h>
 
 #include <cstdint>
 #include <iostream>

@@ -4,8 +4,8 @@
  *   semloc-benchmark config/robustness.ini   (scenarios: sensor faults, kidnapping) */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/format.h>
-#include <semloc/Benchmark.h>
-#include <semloc/Interrupt.h>
+#include <semloc/experiment/Benchmark.h>
+#include <semloc/io/Interrupt.h>
 #include <unistd.h>
 
 #include <chrono>

@@ -7,14 +7,14 @@
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/system/filesystem.h>
-#include <semloc/ErrorMessage.h>
-#include <semloc/Interrupt.h>
-#include <semloc/LandmarkImport.h>
-#include <semloc/OutputPaths.h>
-#include <semloc/RawlogReader.h>
-#include <semloc/RawlogWriter.h>
-#include <semloc/Simulator.h>
-#include <semloc/World.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/io/Interrupt.h>
+#include <semloc/io/LandmarkImport.h>
+#include <semloc/io/OutputPaths.h>
+#include <semloc/io/RawlogReader.h>
+#include <semloc/io/RawlogWriter.h>
+#include <semloc/simulator/Simulator.h>
+#include <semloc/world/World.h>
 
 #include <cerrno>
 #include <cstring>

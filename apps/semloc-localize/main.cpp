@@ -1,10 +1,10 @@
-/* semloc-localize: MRPT pf-localization's configuration, our particle filter, DESIGN.md's outputs.
- *   semloc-localize config/semantic.ini [dataset.rawlog] [--threads N] [--seed S] [-o DIR]
+/* semloc-localize: MRPT pf-localization's configuration, our particle filter, docs/design.md's
+ * outputs. semloc-localize config/semantic.ini [dataset.rawlog] [--threads N] [--seed S] [-o DIR]
  *                   [--allow-truncated] */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <semloc/ErrorMessage.h>
-#include <semloc/Interrupt.h>
-#include <semloc/LocalizationExperiment.h>
+#include <semloc/experiment/LocalizationExperiment.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/io/Interrupt.h>
 
 #include <unistd.h>
 #include <cstdio>

@@ -2,10 +2,10 @@
  *   semloc-plot-world maps/paper_50x50.yaml -o maps/paper_50x50.png */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
-#include <semloc/ErrorMessage.h>
-#include <semloc/Interrupt.h>
-#include <semloc/OutputPaths.h>
-#include <semloc/WorldPlot.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/io/Interrupt.h>
+#include <semloc/io/OutputPaths.h>
+#include <semloc/world/WorldPlot.h>
 
 #include <algorithm>
 #include <iostream>

@@ -1,9 +1,9 @@
 /* semloc-simulate: a dataset for the paper's experiment (rawlog + ground truth + effective ini).
  *   semloc-simulate config/simulate.ini -o dataset.rawlog --seed 7 */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <semloc/ErrorMessage.h>
-#include <semloc/Interrupt.h>
-#include <semloc/Simulator.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/io/Interrupt.h>
+#include <semloc/simulator/Simulator.h>
 
 #include <iostream>
 

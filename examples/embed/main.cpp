@@ -7,10 +7,10 @@
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/random/RandomGenerators.h>
-#include <semloc/CSemanticMap.h>
-#include <semloc/Localizer.h>
-#include <semloc/OdometryModel.h>
-#include <semloc/SemanticDetectorModel.h>
+#include <semloc/filter/Localizer.h>
+#include <semloc/maps/CSemanticMap.h>
+#include <semloc/simulator/OdometryModel.h>
+#include <semloc/simulator/SemanticDetectorModel.h>
 
 #include <cmath>
 #include <cstdio>

@@ -4,9 +4,9 @@
  * semloc object. */
 #include <mrpt/core/initializer.h>
 #include <mrpt/rtti/CObject.h>
-#include <semloc/CObservationSemantic.h>
-#include <semloc/CSemanticMap.h>
-#include <semloc/CStructureMap.h>
+#include <semloc/maps/CSemanticMap.h>
+#include <semloc/maps/CStructureMap.h>
+#include <semloc/observation/CObservationSemantic.h>
 
 MRPT_INITIALIZER(semloc_registerAllClasses)
 {

@@ -9,9 +9,9 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
-#include <semloc/CObservationSemantic.h>
-#include <semloc/CSemanticMap.h>
-#include <semloc/CStructureMap.h>
+#include <semloc/maps/CSemanticMap.h>
+#include <semloc/maps/CStructureMap.h>
+#include <semloc/observation/CObservationSemantic.h>
 
 #include <array>
 #include <cmath>

@@ -6,11 +6,11 @@
  * tools' config.ini promises). The maps are filled from the shipped paper world; run from config/
  * so that the seeds' relative paths (../maps/...) resolve as they do next to the ini files. */
 #include <mrpt/config/CConfigFileMemory.h>
-#include <semloc/Benchmark.h>
-#include <semloc/ConfigHelpers.h>
-#include <semloc/LocalizationExperiment.h>
-#include <semloc/LocalizationMap.h>
-#include <semloc/Simulator.h>
+#include <semloc/experiment/Benchmark.h>
+#include <semloc/experiment/LocalizationExperiment.h>
+#include <semloc/io/ConfigHelpers.h>
+#include <semloc/maps/LocalizationMap.h>
+#include <semloc/simulator/Simulator.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -1,7 +1,7 @@
 /* semloc — libFuzzer target: world YAML text -> semloc::World (README "Fuzzing and
  * sanitizers"). Any input must either load or throw; a loaded world must round-trip through
  * toYamlText() and give finite geometry. */
-#include <semloc/World.h>
+#include <semloc/world/World.h>
 
 #include <cstddef>
 #include <cstdint>

@@ -4,10 +4,10 @@
  * Usage: fuzz_write_seeds <output directory> */
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
-#include <semloc/CObservationSemantic.h>
-#include <semloc/CSemanticMap.h>
-#include <semloc/CStructureMap.h>
-#include <semloc/World.h>
+#include <semloc/maps/CSemanticMap.h>
+#include <semloc/maps/CStructureMap.h>
+#include <semloc/observation/CObservationSemantic.h>
+#include <semloc/world/World.h>
 
 #include <cstdint>
 #include <fstream>

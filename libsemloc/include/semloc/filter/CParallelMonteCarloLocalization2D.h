@@ -1,0 +1,254 @@
+/* semloc — MRPT's 2D Monte Carlo localization with the observation likelihood evaluated on
+ * several threads (bit-identical for any thread count), and failure recovery. */
+#pragma once
+
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
+#include <mrpt/slam/CMonteCarloLocalization2D.h>
+#include <semloc/filter/AugmentedMCL.h>
+#include <semloc/filter/DetectionPoseSampler.h>
+#include <semloc/filter/FreeSpaceSampler.h>
+#include <semloc/filter/SensoryFrameLikelihood.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <optional>
+#include <tuple>
+#include <vector>
+
+namespace semloc
+{
+class ParallelExecutor;
+
+/** mrpt::slam::CMonteCarloLocalization2D whose standard-proposal step (PF_algorithm = 0,
+ *  pfStandardProposal) runs the per-particle work through a ParallelExecutor. Drive it with
+ *  mrpt::bayes::CParticleFilter::executeOn like its base class.
+ *
+ *  ## The step (pfStandardProposal)
+ *  - Prediction, fixed sample size, Gaussian odometry (CPosePDFGaussian): one 64-bit key per
+ *    step from MRPT's global generator (mrpt::random::getRandomGenerator(), so the seed
+ *    decides it), then each particle's increment from its own counter-based stream
+ *    (splitmix64 of key and particle index, ziggurat normals, MRPT's CPoseRandomSampler
+ *    transform mean + Z sqrt(D) n), drawn and composed (2D) on the executor's threads.
+ *    Other motion models (Thrun's particles, 3D actions): MRPT's sampler on this thread.
+ *  - Prediction, adaptive sample size (KLD, `adaptiveSampleSize = 1`): MRPT's own sequential
+ *    implementation.
+ *  - Update: every particle's log-likelihood on the executor's threads
+ *    (SensoryFrameLikelihood: MRPT's value, its fast paths), added to the log-weight times
+ *    `powFactor`, exactly as MRPT.
+ *  The other algorithms (pfAuxiliaryPFStandard, pfAuxiliaryPFOptimal) run MRPT's code
+ *  unchanged, sequential and without recovery.
+ *
+ *  The results never depend on the number of threads: each particle's values are written
+ *  to its own slot, and the few sums (ESS, the likelihood average) are taken over blocks
+ *  fixed by the particle count (ParallelExecutor::reduceBlocks).
+ *
+ *  ## Free-space prior (setFreeSpacePrior, off by default)
+ *  A particle outside the free space (FreeSpaceSampler::contains) has zero prior probability:
+ *  its weight is set to zero at the update. A wrong hypothesis that drives out of the map
+ *  then dies instead of surviving where no map predicts anything.
+ *
+ *  ## Never NaN, never empty
+ *  When every particle's weight is zero after an update (all log-likelihoods -inf or NaN),
+ *  the particles are re-initialized uniformly over the free space (the FreeSpaceSampler) and
+ *  the event is counted (TRecoveryStats::reinitializations). With recovery on, the
+ *  re-initialized particles are drawn as injected ones (`from_detections` of them from the
+ *  frame's detections).
+ *
+ *  ## Recovery (off by default)
+ *  Augmented MCL (AugmentedMCL): when p_inject > 0 the particles are resampled at once
+ *  (`resamplingMethod`) and each is replaced, with probability p_inject, by a random pose:
+ *  with probability `from_detections` one consistent with a detection of the frame's
+ *  CObservationSemantic (DetectionPoseSampler over the first CSemanticMap of
+ *  options.metricMap; up to kDetectionTries draws until one lies in the free space), else
+ *  (or when no detection is usable, or no draw was free) one from the FreeSpaceSampler.
+ *  Uniform injection over a 50 x 50 m map almost never lands within a metre and a few degrees
+ *  of the truth; a detection of an object at range r leaves a circle of radius r per
+ *  candidate object, so after a kidnapping some injected particles start near the truth.
+ *  All draws come from MRPT's global generator on the calling thread: deterministic, the
+ *  same for any thread count.
+ *
+ *  ## Resampling
+ *  With a fixed sample size, the step resamples at its own end when ESS() < BETA (the test
+ *  of CParticleFilter::executeOn): `resamplingMethod` 3 (systematic) by its own
+ *  implementation, from the weights of the ESS pass, with one uniform draw of MRPT's
+ *  generator as MRPT's; the others by MRPT's computeResampling(). This avoids executeOn's
+ *  per-particle virtual getW()/setW() calls and its extra weight passes (executeOn then
+ *  finds equal weights and leaves them). Hence
+ *  executeOn's TParticleFilterStats::ESS_beforeResample reads 1 after a resampling step:
+ *  read essBeforeResampling() instead.
+ *  performSubstitution() gives every resampled particle the log-weight 0: MRPT 2.5.8's
+ *  CParticleFilterCapable::performResampling() keeps the old weights when called with the
+ *  default particle count, as CParticleFilter::executeOn does (fixed upstream by MRPT commit
+ *  8c341ad5b), which counts the last likelihood twice. */
+class CParallelMonteCarloLocalization2D : public mrpt::slam::CMonteCarloLocalization2D
+{
+public:
+    /** Counters of the failure handling. */
+    struct TRecoveryStats
+    {
+        /** Updates after which every weight was zero: the particles were re-initialized. */
+        size_t reinitializations = 0;
+        /** Particles of re-initializations drawn from a semantic detection (recovery on). */
+        size_t reinitialized_from_detections = 0;
+        /** Particles replaced by random poses by augmented MCL. */
+        size_t injected_particles = 0;
+        /** Of injected_particles, those drawn from a semantic detection. */
+        size_t injected_from_detections = 0;
+        /** Updates in which augmented MCL injected particles. */
+        size_t injection_steps = 0;
+        /** Particle updates that found the particle outside the free space (prior on). */
+        size_t outside_free_space = 0;
+    };
+
+    /** `M` particles; the executor runs on one thread until setExecutor(). */
+    explicit CParallelMonteCarloLocalization2D(size_t M = 1);
+    ~CParallelMonteCarloLocalization2D() override;
+
+    /** @name Configuration
+     *  @{ */
+    /** The threads of the per-particle work (shared: several filters may use one pool,
+     *  one at a time). */
+    void setExecutor(std::shared_ptr<ParallelExecutor> executor);
+    /** The threads of the per-particle work. */
+    ParallelExecutor& executor() const { return *m_executor; }
+    /** Where re-initialized and injected particles come from. Without one, a
+     *  re-initialization keeps the poses and only resets the weights. */
+    void setFreeSpaceSampler(std::shared_ptr<const FreeSpaceSampler> sampler);
+    /** Augmented MCL parameters (off by default). */
+    void setRecoveryOptions(const AugmentedMCL::TOptions& o);
+    /** Free-space prior (off by default): a particle the FreeSpaceSampler does not contain
+     *  (outside the world's bounds, inside an object) gets weight zero at each update. */
+    void setFreeSpacePrior(bool on) { m_freeSpacePrior = on; }
+    /** @} */
+
+    /** @name Statistics
+     *  @{ */
+    /** What the observations contained (skipped observations, invalid detections...). */
+    SensoryFrameLikelihood::TStats likelihoodStats() const;
+    /** Re-initializations and injections so far. */
+    const TRecoveryStats& recoveryStats() const { return m_recoveryStats; }
+    /** Augmented MCL's p_inject at the last update (0 when off). */
+    double lastInjectionProbability() const { return m_lastPInject; }
+    /** ESS() at the end of the last step, before its resampling (see "Resampling"). */
+    double essBeforeResampling() const { return m_essBeforeResampling; }
+    /** @} */
+
+    /** Sets up the sensor model for options.metricMap now (else at the first update): the
+     *  one-off cache filling of SensoryFrameLikelihood::prepare() stays out of step timings. */
+    void prepareLikelihood();
+
+    /** Re-draws every particle from the FreeSpaceSampler with log-weight 0 (requires one). */
+    void resetFromSampler(size_t particleCount);
+
+    // CMonteCarloLocalization2D / CParticleFilterCapable
+    /** One step: predicts from the odometry (in parallel; MRPT's own KLD sampling if
+     *  PF_options.adaptiveSampleSize), weights by the frame with options.metricMap, then
+     *  resamples when ESS < BETA (fixed sample size; see "Resampling"). */
+    void prediction_and_update_pfStandardProposal(
+        const mrpt::obs::CActionCollection* action, const mrpt::obs::CSensoryFrame* observation,
+        const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options) override;
+    /** Shifts the log-weights so the largest is 0; returns max/min weight ratio. */
+    double normalizeWeights(double* out_max_log_w = nullptr) override;
+    /** Effective sample size fraction (sum w)^2 / (M sum w^2), thread-count independent. */
+    double ESS() const override;
+    /** Replaces the particles by those at the (sorted) resampled indices, in parallel. */
+    void performSubstitution(const std::vector<size_t>& indx) override;
+    /** Log-weight of particle i. MRPT's base reaches the particles through a dynamic_cast
+     *  per call, and its performResampling() calls this once per particle. */
+    double getW(size_t i) const override { return m_particles.at(i).log_w; }
+    /** Sets the log-weight of particle i (without the base's dynamic_cast per call). */
+    void setW(size_t i, double w) override { m_particles.at(i).log_w = w; }
+    /** Number of particles (without the base's dynamic_cast per call). */
+    size_t particlesCount() const override { return m_particles.size(); }
+
+    // CPosePDFParticles
+    /** The weighted mean pose, MRPT's CPosePDFParticles::getMean bit for bit (the same
+     *  libm calls, the sums in the same order), faster: the headings' cos and sin and the
+     *  weights' exp on the executor's threads, no exp() for a log-weight of 0 (every weight
+     *  after a resampling; exp(0) is 1 exactly), no deque indexing per particle. Throws as
+     *  MRPT's when every weight is zero. Another thread may call it between steps (while
+     *  the executor runs another call, it computes on its own thread); its buffers are kept
+     *  per calling thread. */
+    void getMean(mrpt::poses::CPose2D& mean) const override;
+    /** Covariance and mean, MRPT's CPosePDFParticles::getCovarianceAndMean bit for bit
+     *  (with getMean() above): one exp() per particle at most instead of three, no fmod()
+     *  per particle. */
+    std::tuple<cov_mat_t, type_value> getCovarianceAndMean() const override;
+
+private:
+    class GaussianIncrementDrawer;
+    /** Smallest and largest log-weight (NaN ignored). */
+    struct MinMax
+    {
+        double min = std::numeric_limits<double>::infinity();
+        double max = -std::numeric_limits<double>::infinity();
+        void add(double w)
+        {
+            max = std::max(max, w);
+            min = std::min(min, w);
+        }
+        void add(const MinMax& o)
+        {
+            max = std::max(max, o.max);
+            min = std::min(min, o.min);
+        }
+    };
+
+    /** The odometry of `actions` when it is a CPosePDFGaussian, else none. */
+    static std::optional<mrpt::poses::CPosePDFGaussian> gaussianMotion(
+        const mrpt::obs::CActionCollection& actions);
+    /** Prediction by MRPT's sampler (motion models other than the Gaussian). */
+    void predictOtherMotion(const mrpt::obs::CActionCollection& actions);
+    /** The per-particle pass: prediction by `drawer` (if any) with the step's `key`, then
+     *  (with a frame) likelihood, free-space prior and weight update. The log-weights'
+     *  extremes when known at the end (no injection), else none. */
+    std::optional<MinMax> predictAndUpdate(
+        const GaussianIncrementDrawer* drawer, uint64_t key, const mrpt::obs::CSensoryFrame* sf,
+        const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options);
+    /** Extremes of the log-weights, on the executor's threads. */
+    MinMax minMaxLogWeights() const;
+    double logSumExpWeights() const;
+    /** ESS() from the log-weights' extremes `range`; with `linW`, also each particle's weight
+     *  relative to the largest. */
+    double weightsAndESS(const MinMax& range, std::vector<double>* linW) const;
+    /** getMean(), each particle's exp(log_w) into `w` and their sum (in particle order)
+     *  into `weightSum`. */
+    mrpt::poses::CPose2D meanAndWeights(std::vector<double>& w, double& weightSum) const;
+    /** Systematic resampling of the weights m_linW, substituted in place. */
+    void systematicResampling();
+    void injectRandomParticles(double pInject, const mrpt::obs::CSensoryFrame& sf,
+                               const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o);
+    /** The frame's detections to draw recovery poses from (recovery on, from_detections > 0,
+     *  a semantic map and a usable detection), else none. */
+    std::optional<DetectionPoseSampler> detectionSampler(const mrpt::obs::CSensoryFrame& sf) const;
+    /** A recovery pose into `out`: with probability from_detections one from `detections`
+     *  in the free space (true), else uniform over the free space (false). */
+    bool drawRecoveryPose(const std::optional<DetectionPoseSampler>& detections,
+                          mrpt::math::TPose2D& out) const;
+
+    std::shared_ptr<ParallelExecutor> m_executor;
+    std::shared_ptr<const FreeSpaceSampler> m_sampler;
+    std::unique_ptr<SensoryFrameLikelihood> m_likelihood;
+    const mrpt::maps::CMetricMap* m_likelihoodMap = nullptr;
+    AugmentedMCL m_augmented;
+    TRecoveryStats m_recoveryStats;
+    double m_lastPInject = 0;
+    bool m_freeSpacePrior = false;
+
+    /** Per-step buffers, reused (no allocation per step once sized). */
+    std::vector<mrpt::math::TPose2D> m_poses;
+    std::vector<double> m_logLik;
+    CParticleList m_resampled;
+    std::vector<size_t> m_resampleIdx;
+    /** Systematic resampling: cumulative weight before each block, first pointer of each. */
+    std::vector<double> m_blockCum;
+    std::vector<size_t> m_blockFirstPointer;
+    std::vector<double> m_linW;
+    double m_essBeforeResampling = 1;
+};
+
+}  // namespace semloc

@@ -1,0 +1,274 @@
+/* semloc — semantic map: labelled objects and the paper's semantic likelihood. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/maps/CMetricMap.h>
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <semloc/observation/CObservationSemantic.h>
+#include <semloc/world/World.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace semloc
+{
+class LabelIndex;
+
+/** A map of labelled objects (the paper's semantic map) and the likelihood of a
+ *  CObservationSemantic from a vehicle pose, usable by MRPT's particle filters.
+ *
+ *  Created in a CMultiMetricMap with `[MetricMap] semanticMap_count=1`; options in
+ *  `[MetricMap_semanticMap_00_creationOpts]` (`world_file`), `..._likelihoodOpts`
+ *  and `..._insertOpts`.
+ *
+ *  ## Likelihood models (`likelihoodOpts.model`)
+ *
+ *  Notation of §III: the real observation z^r has l detections (rho^r, theta^r);
+ *  the predicted observation z^k from a particle pose holds the q map objects inside
+ *  the detector's range and field of view, with (rho^k, theta^k); m pairs are matched.
+ *
+ *  **paper** (exactly §III):
+ *
+ *      log w = sum_{i=1..m} [ -1/2 ((rho^r_i - rho^k_i) / sigma_rho)^2
+ *                             -1/2 ((theta^r_i - theta^k_i) / sigma_theta)^2 ]
+ *              + d * log(p_u),          d = q + l - 2m
+ *
+ *  i.e. w = prod_i N0(d_rho_i) N0(d_theta_i) * p_u^d with zero-centred, peak-one
+ *  Gaussians N0. Why this reading of "a mixture of two families of Gaussians ...
+ *  then adjusted for the d objects present in one observation only":
+ *  - the two families (range, bearing) are multiplied, not summed: a sum would let a
+ *    particle with one good match and four bad ones score almost as well as the true
+ *    pose, and the SIR weight of independent errors is their product;
+ *  - peak-one Gaussians make a perfect match cost nothing, so the adjustment p_u in
+ *    (0, 1] (`unmatched_penalty`) is the price of one unexplained object on the same
+ *    scale, whichever of the two observations it is missing from;
+ *  - matching: by object id when the detection carries one, otherwise by label; a pair
+ *    is only matched if it costs less than leaving both unmatched (the gate
+ *    N0 N0 > p_u^2), and same-label candidates are assigned one-to-one, greedily from
+ *    the best pair (deterministic; optimal for the 1-2 candidates per label usual here).
+ *    So w >= p_u^(q+l) > 0: always finite.
+ *  - detections with a label the map does not know are skipped: they are unmatched at
+ *    every particle, a constant factor that normalization removes.
+ *  Occlusion is not modelled (that would need the ray casting the paper avoids); an
+ *  occluded object costs one p_u at the particles that predict it.
+ *
+ *  **probabilistic** (the paper's future work, a probabilistic semantic map): each
+ *  predicted object is detected with P_D(rho) (linear from `p_detect_near` at 0 to
+ *  `p_detect_far` at max range), detections carry Gaussian range/bearing noise and are
+ *  labelled correctly with 1 - p_c or as any other of the K map labels with
+ *  p_c / (K - 1), and false positives are Poisson with mean lambda (`clutter_per_scan`),
+ *  uniform over the field of view and the K labels (density kappa = lambda / (R fov K)).
+ *  With a one-to-one association A chosen greedily, best pair first (the most likely one
+ *  whenever no two pairs that gain compete for a detection or an object):
+ *
+ *      log p(z | x) = -lambda + sum_{(j,v) in A} [log P_D(rho_v) + log C(L_j | L_v)
+ *                                 + log N(d_rho; sigma_rho) + log N(d_theta; sigma_theta)]
+ *                   + sum_{v unmatched} log(1 - P_D(rho_v)) + sum_{j unmatched} log kappa
+ *
+ *  Both models are evaluated without allocation, through a uniform-grid index over the
+ *  objects (cost independent of map size at fixed density), and are safe to call from
+ *  many threads at once. */
+class CSemanticMap : public mrpt::maps::CMetricMap
+{
+    DEFINE_SERIALIZABLE(CSemanticMap, semloc)
+
+public:
+    /** One labelled object of the map. */
+    struct TObject
+    {
+        /** Unique positive id. */
+        int32_t id = 0;
+        /** Object class. */
+        std::string label;
+        /** Position [m]: x. */
+        double x = 0;
+        /** Position [m]: y. */
+        double y = 0;
+        /** Depth/height [m]. */
+        double z = 0;
+        /** Radius of the object's outline around (x, y) [m] (display, merging). */
+        double extent_m = 0;
+        /** How many detections were merged into it (1 for map-file objects). */
+        uint32_t n_observations = 1;
+    };
+
+    /** Which likelihood (see the class documentation). */
+    enum class Model
+    {
+        Paper,
+        Probabilistic
+    };
+
+    /** Parameters of the likelihood models; defaults are the documented ones. */
+    struct TLikelihoodOptions : public mrpt::config::CLoadableOptions
+    {
+        /** "paper" or "probabilistic". */
+        Model model = Model::Paper;
+        /** Range noise of a detection, sigma_rho [m]. */
+        double sigma_range_m = 0.5;
+        /** Bearing noise of a detection, sigma_theta [deg]. */
+        double sigma_bearing_deg = 3.0;
+        /** paper: factor p_u in (0, 1] per object present in one observation only. */
+        double unmatched_penalty = 0.2;
+        /** probabilistic: detection probability of an object at zero range. */
+        double p_detect_near = 0.95;
+        /** probabilistic: detection probability of an object at max range. */
+        double p_detect_far = 0.6;
+        /** probabilistic: expected false positives per scan (Poisson mean). */
+        double clutter_per_scan = 0.2;
+        /** probabilistic: probability a detection carries a wrong label. */
+        double p_confusion = 0.05;
+        /** Detections with lower confidence are ignored. */
+        double min_confidence = 0.0;
+        /** Overrides the observation's max range when > 0 [m]. */
+        double max_range_m = 0.0;
+        /** Overrides the observation's field of view when > 0 [deg]. */
+        double fov_deg = 0.0;
+        /** Cell size of the object index [m]; a quarter of the detector range is about best. */
+        double index_cell_m = 5.0;
+
+        /** Reads `section` strictly (unknown keys and bad values are errors). */
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                const std::string& section) override;
+        /** Writes every key with a comment. */
+        void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                              const std::string& section) const override;
+    };
+
+    /** How observations inserted with a known pose become objects. */
+    struct TInsertionOptions : public mrpt::config::CLoadableOptions
+    {
+        /** A detection this close [m] to a known object of the same label is merged into it. */
+        double merge_distance_m = 1.5;
+        /** Label given to landmarks of a CObservationBearingRange. */
+        std::string landmark_label = "landmark";
+
+        /** Reads `section` strictly (unknown keys and bad values are errors). */
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                const std::string& section) override;
+        /** Writes every key with a comment. */
+        void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                              const std::string& section) const override;
+    };
+
+    /** What a likelihood call could use of an observation. */
+    struct TObservationCheck
+    {
+        /** Detections used by the likelihood. */
+        size_t used = 0;
+        /** NaN/inf/negative/out-of-range/out-of-FOV/low-confidence detections, skipped. */
+        size_t invalid = 0;
+        /** Valid detections whose label and id the map does not know, skipped. */
+        size_t unknown = 0;
+    };
+
+    CSemanticMap();
+    ~CSemanticMap() override;
+    /** Copies the objects and options (the index is rebuilt). */
+    CSemanticMap(const CSemanticMap& o);
+    /** Copies the objects and options (the index is rebuilt). */
+    CSemanticMap& operator=(const CSemanticMap& o);
+
+    /** Likelihood parameters. */
+    TLikelihoodOptions likelihoodOptions;
+    /** Insertion parameters. */
+    TInsertionOptions insertionOptions;
+
+    /** @name Map contents
+     *  @{ */
+    /** Replaces the contents with the world's objects (every shape, at its centre). */
+    void loadFromWorld(const World& world);
+    /** Loads a world YAML file (see World::FromFile). */
+    void loadFromWorldFile(const std::string& path);
+    /** Adds one object; its id must be positive and unused. */
+    void addObject(const TObject& o);
+    /** The objects, in insertion order. */
+    const std::vector<TObject>& objects() const { return m_objects; }
+    /** Number of distinct labels. */
+    size_t labelCount() const;
+    /** The world this map was last saved or loaded with, as a World (points). */
+    World toWorld() const;
+    /** @} */
+
+    /** @name Likelihood (the fast path; the CMetricMap interface calls these)
+     *  @{ */
+    /** Log-likelihood of a semantic observation taken from vehicle pose `pose`. Finite. */
+    double computeLogLikelihood(const CObservationSemantic& obs,
+                                const mrpt::math::TPose2D& pose) const;
+    /** Log-likelihood of MRPT's landmark observation: `landmarkID` >= 0 is an object id,
+     *  otherwise the landmark is associated by position with any object. Finite. */
+    double computeLogLikelihood(const mrpt::obs::CObservationBearingRange& obs,
+                                const mrpt::math::TPose2D& pose) const;
+    /** Log-likelihoods of one observation from `n` vehicle poses, into `out[0..n)`: the
+     *  filter's inner loop. The observation is prepared (validated, labels resolved) once,
+     *  so each pose costs only its geometry. Equal to n calls of computeLogLikelihood. */
+    void computeLogLikelihoods(const CObservationSemantic& obs, const mrpt::math::TPose2D* poses,
+                               size_t n, double* out) const;
+    /** Batch version for MRPT landmark observations. */
+    void computeLogLikelihoods(const mrpt::obs::CObservationBearingRange& obs,
+                               const mrpt::math::TPose2D* poses, size_t n, double* out) const;
+    /** Counts what the likelihood will use of `obs` (call once per observation). */
+    TObservationCheck check(const CObservationSemantic& obs) const;
+    /** True if the likelihood uses `d` of `obs` as valid (range, bearing within the
+     *  effective max range and field of view, confidence >= min_confidence). */
+    bool isUsable(const CObservationSemantic& obs, const TSemanticDetection& d) const;
+    /** Indices into objects() of the map objects detection `d` of `obs` may be, as the
+     *  likelihood associates it: its object if it carries an id the map knows, else every
+     *  object with its label; empty if the likelihood skips it (not usable, unknown). */
+    std::vector<size_t> candidatesOf(const CObservationSemantic& obs,
+                                     const TSemanticDetection& d) const;
+    /** @} */
+
+    // CMetricMap interface
+    /** True without objects. */
+    bool isEmpty() const override { return m_objects.empty(); }
+    /** Writes `<prefix>_semantic.yaml`, a world file of point objects that loads back. */
+    void saveMetricMapRepresentationToFile(const std::string& filNamePrefix) const override;
+    /** One line: object and label counts, likelihood model. */
+    std::string asString() const override;
+    /** A cylinder and a "label #id" text per object (coloured by label). */
+    void getVisualizationInto(mrpt::opengl::CSetOfObjects& outObj) const override;
+
+    MAP_DEFINITION_START(CSemanticMap)
+    /** [creationOpts] world YAML to load (empty: start empty). */
+    std::string world_file;
+    /** [likelihoodOpts] */
+    CSemanticMap::TLikelihoodOptions likelihoodOpts;
+    /** [insertOpts] */
+    CSemanticMap::TInsertionOptions insertionOpts;
+    MAP_DEFINITION_END(CSemanticMap)
+
+private:
+    void internal_clear() override;
+    bool internal_insertObservation(
+        const mrpt::obs::CObservation& obs,
+        const std::optional<const mrpt::poses::CPose3D>& robotPose = std::nullopt) override;
+    double internal_computeObservationLikelihood(
+        const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
+    bool internal_canComputeObservationLikelihood(
+        const mrpt::obs::CObservation& obs) const override;
+
+    template <typename OBS>
+    void logLikelihoods(const OBS& obs, const mrpt::math::TPose2D* poses, size_t n,
+                        double* out) const;
+    /** Rebuilds the label table and the grid index after any change of m_objects. */
+    void rebuildIndex();
+    int nextFreeId() const;
+
+    std::vector<TObject> m_objects;
+    WorldBounds m_bounds;
+    bool m_hasBounds = false;
+
+public:
+    /** Internal search structures (opaque; defined in the .cpp). */
+    struct Index;
+
+private:
+    std::unique_ptr<LabelIndex> m_labels;
+    std::unique_ptr<Index> m_index;
+};
+
+}  // namespace semloc

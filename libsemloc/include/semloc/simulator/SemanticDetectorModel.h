@@ -1,0 +1,126 @@
+/* semloc — simulated object detector: visible objects, missed detections, clutter, confusion. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/math/TPose2D.h>
+#include <mrpt/poses/CPose3D.h>
+#include <semloc/maps/RayCaster.h>
+#include <semloc/observation/CObservationSemantic.h>
+#include <semloc/world/World.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace mrpt::random
+{
+class CRandomGenerator;
+}
+
+namespace semloc
+{
+/** An object detector (e.g. on forward-looking sonar images) producing CObservationSemantic;
+ *  its error model is the one CSemanticMap's `probabilistic` likelihood assumes.
+ *
+ *  **Visibility.** An object is visible when its centre lies within `max_range_m` and the
+ *  field of view `fov_deg` of the sensor, and the line of sight from the sensor to the centre
+ *  is not occluded: the first outline that line crosses (RayCaster over
+ *  World::outlineSegments(), the sonar's segments) must be the object's own, or none. The
+ *  own outline is recognized exactly, by casting the same ray against the object's outline
+ *  alone and comparing the two distances (bit-equal when the nearest hit is on it); so an
+ *  object is never hidden by itself, a box behind a pillar is, and a point object (a
+ *  marker) is hidden by any outline in front of it.
+ *
+ *  **Detections** of a visible object at true range r, bearing b:
+ *  - detected with P_D(r) = p_detect_near + (p_detect_far - p_detect_near) r / max_range_m;
+ *  - range r + N(0, range_noise_std_m^2) clamped to [0, max_range_m], bearing
+ *    b + N(0, bearing_noise_std_deg^2) wrapped and clamped to the field of view (so every
+ *    detection is valid for CObservationSemantic::isValid);
+ *  - label: with probability p_confusion one of the world's other labels (uniform), else
+ *    its own; object_id is the object's id when report_ids (also when the label is
+ *    confused: the id is the truth the detector could not classify), else -1;
+ *  - confidence 1.
+ *  **False positives**: Poisson(false_positives_per_scan) per scan, each with a label
+ *  uniform over the world's labels, range uniform in [0, max_range_m] and bearing uniform
+ *  in the field of view (the density CSemanticMap assumes), object_id -1.
+ *  Detections are listed in world-object order, false positives last. */
+class SemanticDetectorModel
+{
+public:
+    /** Section [SemanticDetector]. */
+    struct TOptions : public mrpt::config::CLoadableOptions
+    {
+        /** Maximum detection range [m]. */
+        double max_range_m = 20.0;
+        /** Horizontal field of view [deg], centred on the sensor's x axis, (0, 360]. */
+        double fov_deg = 120.0;
+        /** Std. dev. of the range noise [m]. */
+        double range_noise_std_m = 0.5;
+        /** Std. dev. of the bearing noise [deg]. */
+        double bearing_noise_std_deg = 3.0;
+        /** Detection probability of a visible object at zero range. */
+        double p_detect_near = 0.95;
+        /** Detection probability of a visible object at max range (linear in between). */
+        double p_detect_far = 0.6;
+        /** Mean number of false positives per scan (Poisson). */
+        double false_positives_per_scan = 0.2;
+        /** Probability that a detection carries another label of the world. */
+        double p_confusion = 0.05;
+        /** Report the map object id of each true detection (else -1: label only). */
+        bool report_ids = false;
+        /** @name Pose of the detector on the vehicle
+         *  @{ */
+        double sensor_x_m = 0.0;      //!< [m] forward
+        double sensor_y_m = 0.0;      //!< [m] to the left
+        double sensor_yaw_deg = 0.0;  //!< [deg] counter-clockwise
+        /** @} */
+
+        /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                const std::string& section) override;
+        /** Writes every key of the section, defaults included, with a comment. */
+        void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                              const std::string& section) const override;
+
+        /** The sensor pose on the vehicle. */
+        mrpt::poses::CPose3D sensorPose() const;
+    };
+
+    /** An object the sensor sees (before detection noise and misses). */
+    struct TVisibleObject
+    {
+        /** Index in World::objects. */
+        size_t index = 0;
+        /** Exact range of its centre [m]. */
+        double range_m = 0;
+        /** Exact bearing of its centre in the sensor frame [rad]. */
+        double bearing_rad = 0;
+    };
+
+    /** A detector of the objects of `world` with the given options. */
+    SemanticDetectorModel(const World& world, const TOptions& options);
+
+    /** The objects visible from vehicle pose `vehicle` (class documentation), world order. */
+    std::vector<TVisibleObject> visibleObjects(const mrpt::math::TPose2D& vehicle) const;
+
+    /** One detector output from vehicle pose `vehicle` (label "SEMANTIC", timestamp unset). */
+    CObservationSemantic::Ptr measure(const mrpt::math::TPose2D& vehicle,
+                                      mrpt::random::CRandomGenerator& rng) const;
+
+    /** P_D(r): detection probability of a visible object at range `range_m`. */
+    double detectionProbability(double range_m) const;
+    /** The world's distinct labels, sorted. */
+    const std::vector<std::string>& labels() const { return m_labels; }
+    /** The parameters. */
+    const TOptions& options() const { return m_options; }
+
+private:
+    TOptions m_options;
+    std::vector<WorldObject> m_objects;
+    std::vector<size_t> m_labelOf;      // per object: index into m_labels
+    std::vector<std::string> m_labels;  // distinct, sorted
+    RayCaster m_all;                    // every outline
+    std::vector<RayCaster> m_own;       // per object: its outline only (empty for points)
+};
+
+}  // namespace semloc

@@ -1,0 +1,57 @@
+/* semloc — figures of a world (outlines, labels, paths) drawn by gnuplot. */
+#pragma once
+
+#include <mrpt/math/TPoint2D.h>
+#include <semloc/world/World.h>
+
+#include <string>
+#include <vector>
+
+namespace semloc
+{
+/** A top view of a world: object outlines, their labels and ids, point objects, and any
+ *  number of named paths (the trajectory, estimates), rendered to PNG by gnuplot.
+ *
+ *  gnuplot (Debian package gnuplot-nox) must be on the PATH; the script and data are
+ *  written next to the PNG as `<png>.gp` / `<png>.dat` when `keepScript` is set, so a
+ *  figure can be restyled by hand. */
+class WorldPlot
+{
+public:
+    /** A named polyline drawn over the world. */
+    struct Path
+    {
+        /** Legend entry. */
+        std::string name;
+        /** Vertices [m]. */
+        std::vector<mrpt::math::TPoint2D> points;
+    };
+
+    /** A figure of `world`; `title` defaults to the world's name. */
+    explicit WorldPlot(World world, std::string title = {});
+
+    /** Adds a path (drawn in insertion order, legend entry `name`). */
+    void addPath(const std::string& name, std::vector<mrpt::math::TPoint2D> points);
+    /** Adds the world's own trajectory (waypoints) as a path named "trajectory". */
+    void addWorldTrajectory();
+
+    /** The gnuplot script that draws into `pngPath` reading `dataPath`. */
+    std::string script(const std::string& dataPath, const std::string& pngPath, int widthPx,
+                       int heightPx) const;
+    /** The data file the script reads (gnuplot indexed blocks). */
+    std::string data() const;
+
+    /** Renders to `pngPath`: gnuplot (a child process) draws in a temporary directory beside
+     *  it, and the finished files are renamed into place. Throws with gnuplot's output if
+     *  gnuplot is missing or fails; throws semloc::Interrupted at an interrupt request
+     *  (semloc/Interrupt.h), gnuplot ended. Nothing is left behind on any error. */
+    void savePng(const std::string& pngPath, int widthPx = 900, int heightPx = 900,
+                 bool keepScript = false) const;
+
+private:
+    World m_world;
+    std::string m_title;
+    std::vector<Path> m_paths;
+};
+
+}  // namespace semloc

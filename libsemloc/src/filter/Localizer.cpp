@@ -1,0 +1,745 @@
+/* semloc — Localizer: options of pf-localization's sections, the initial cloud, the steps. */
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <semloc/filter/Localizer.h>
+#include <semloc/filter/ParallelExecutor.h>
+#include <semloc/io/ConfigHelpers.h>
+#include <semloc/observation/CObservationSemantic.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <string_view>
+#include <thread>
+
+#include "io/ExactConfigWrite.h"
+
+namespace semloc
+{
+using mrpt::bayes::CParticleFilter;
+
+namespace
+{
+const char* const kPF = "PF_options";
+const char* const kKLD = "KLD_options";
+const char* const kOdo = "DummyOdometryParams";
+
+const std::vector<std::string> kAlgorithms = {"pfStandardProposal", "pfAuxiliaryPFStandard",
+                                              "pfOptimalProposal", "pfAuxiliaryPFOptimal"};
+const std::vector<std::string> kResampling = {"prMultinomial", "prResidual", "prStratified",
+                                              "prSystematic"};
+
+/** An MRPT enum written as its number or its name (read_enum accepts both). */
+int readEnum(const mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key,
+             int value, const std::vector<std::string>& names)
+{
+    if (!c.keyExists(s, key))
+    {
+        return value;
+    }
+    std::string text = c.read_string(s, key, "");
+    text.erase(0, text.find_first_not_of(" \t"));
+    text.erase(text.find_last_not_of(" \t\r") + 1);
+    for (size_t i = 0; i < names.size(); i++)
+    {
+        if (text == names[i] || text == std::to_string(i))
+        {
+            return static_cast<int>(i);
+        }
+    }
+    std::string list;
+    for (size_t i = 0; i < names.size(); i++)
+    {
+        list.append(i ? ", " : "")
+            .append(std::to_string(i))
+            .append(" (")
+            .append(names[i])
+            .append(")");
+    }
+    THROW_EXCEPTION("ini [" + s + "] " + key + ": '" + text + "' is not one of " + list);
+}
+
+void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key,
+         const std::string& value, const std::string& comment)
+{
+    detail::writeText(c, s, key, value, comment);
+}
+void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key, double v,
+         const std::string& comment)
+{
+    detail::writeExact(c, s, key, v, comment);
+}
+
+[[noreturn]] void bad(const std::string& s, const std::string& key, const std::string& what)
+{
+    THROW_EXCEPTION("ini [" + s + "] " + key + ": " + what);
+}
+
+mrpt::obs::CActionRobotMovement2D::TMotionModelOptions odometryModel(const Localizer::TOptions& o)
+{
+    // pf-localization's model of the odometry of observations-only rawlogs.
+    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions m;
+    m.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
+    m.gaussianModel.minStdXY = o.odometry_min_std_xy;
+    m.gaussianModel.minStdPHI = mrpt::DEG2RAD(o.odometry_min_std_phi_deg);
+    return m;
+}
+
+/** A range reading no sensor can return: NaN, +-inf, negative, beyond the scan's maxRange
+ *  (or any reading of a scan whose maxRange is itself not a positive number). */
+bool impossibleRange(float z, float maxRange)
+{
+    return !std::isfinite(z) || z < 0 || !(maxRange > 0) || !std::isfinite(maxRange) ||
+           z > maxRange;
+}
+
+/** A copy of a scan without the cached points map the original may hold (a copy would
+ *  share it, and it holds the beams being made invalid). */
+struct UncachedScan : public mrpt::obs::CObservation2DRangeScan
+{
+    explicit UncachedScan(const mrpt::obs::CObservation2DRangeScan& scan)
+        : mrpt::obs::CObservation2DRangeScan(scan)
+    {
+        m_cachedMap.reset();
+    }
+};
+
+/** `sf`, or in `copy` (true then) the same frame without the observations
+ *  Localizer::invalidObservation() rejects (their number added to `invalid`) and with every
+ *  valid beam of impossible range made invalid (their number added to `beams`). */
+bool withValidObservations(const mrpt::obs::CSensoryFrame& sf, const mrpt::maps::CMetricMap& map,
+                           mrpt::obs::CSensoryFrame& copy, size_t& invalid, size_t& beams)
+{
+    bool replaced = false;
+    auto replace = [&](size_t i)
+    {
+        if (!replaced)
+        {
+            for (size_t j = 0; j < i; j++)
+            {
+                copy.insert(sf.getObservationByIndex(j));
+            }
+            replaced = true;
+        }
+    };
+    for (size_t i = 0; i < sf.size(); i++)
+    {
+        auto obs = sf.getObservationByIndex(i);
+        if (obs && !Localizer::invalidObservation(*obs, map).empty())
+        {
+            invalid++;
+            replace(i);
+            continue;
+        }
+        if (const auto scan = std::dynamic_pointer_cast<mrpt::obs::CObservation2DRangeScan>(obs))
+        {
+            const size_t n = scan->getScanSize();
+            size_t bad = 0;
+            for (size_t k = 0; k < n; k++)
+            {
+                bad += scan->getScanRangeValidity(k) &&
+                       impossibleRange(scan->getScanRange(k), scan->maxRange);
+            }
+            if (bad > 0)
+            {
+                auto fixed = std::make_shared<UncachedScan>(*scan);
+                for (size_t k = 0; k < n; k++)
+                {
+                    if (impossibleRange(fixed->getScanRange(k), fixed->maxRange))
+                    {
+                        fixed->setScanRangeValidity(k, false);
+                    }
+                }
+                beams += bad;
+                obs = fixed;
+                replace(i);
+            }
+        }
+        if (replaced)
+        {
+            copy.insert(obs);
+        }
+    }
+    return replaced;
+}
+
+/** `acts`, or in `copy` its 2D movement of least uncertainty marked so that MRPT's
+ *  CActionCollection::getBestMovementEstimation() returns it. That function, which every
+ *  prediction step calls (MRPT's and CParallelMonteCarloLocalization2D's), ignores a 2D
+ *  movement whose covariance determinant is 1e3 or more (odometry with a few metres or tens
+ *  of degrees of noise, or a long step) unless it is a scan-matching estimate, which it
+ *  returns at once: such odometry would look like none. The mark changes nothing else of
+ *  the prediction: the movement's pose PDF is what the filter samples. */
+const mrpt::obs::CActionCollection& withUsableMovement(const mrpt::obs::CActionCollection& acts,
+                                                       mrpt::obs::CActionCollection& copy)
+{
+    if (acts.getBestMovementEstimation())
+    {
+        return acts;
+    }
+    const mrpt::obs::CActionRobotMovement2D* best = nullptr;
+    double bestDet = std::numeric_limits<double>::infinity();
+    for (size_t k = 0; k < acts.size(); k++)
+    {
+        const auto* m = dynamic_cast<const mrpt::obs::CActionRobotMovement2D*>(&acts.get(k));
+        if (m && m->poseChange)
+        {
+            const double det = m->poseChange->getCovariance().det();
+            if (std::isfinite(det) && det < bestDet)
+            {
+                best = m;
+                bestDet = det;
+            }
+        }
+    }
+    if (!best)
+    {
+        return acts;  // no 2D movement (a 3D one, or none): MRPT's own handling
+    }
+    mrpt::obs::CActionRobotMovement2D marked(*best);
+    marked.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
+    copy.clear();
+    copy.insert(marked);
+    return copy;
+}
+
+bool finiteSensorPose(const mrpt::poses::CPose3D& p)
+{
+    return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z()) &&
+           std::isfinite(p.yaw()) && std::isfinite(p.pitch()) && std::isfinite(p.roll());
+}
+
+/** MRPT's warnings (e.g. CParallelMonteCarloLocalization2D's re-initializations) on stderr:
+ *  MRPT's console output prints every level but errors on stdout. */
+void toStderr(std::string_view msg, mrpt::system::VerbosityLevel level, std::string_view logger,
+              mrpt::Clock::time_point)
+{
+    const char* what = level >= mrpt::system::LVL_ERROR  ? "error"
+                       : level == mrpt::system::LVL_WARN ? "warning"
+                                                         : "info";
+    std::cerr << "[" << what << "|" << logger << "] " << msg;
+    if (msg.empty() || msg.back() != '\n')
+    {
+        std::cerr << '\n';
+    }
+    std::cerr.flush();
+}
+}  // namespace
+
+// ------------------------------------------------------------------ options
+
+Localizer::TOptions::TOptions()
+{
+    pf.PF_algorithm = CParticleFilter::pfStandardProposal;
+    pf.resamplingMethod = CParticleFilter::prMultinomial;
+}
+
+std::vector<std::string> Localizer::TOptions::experimentKeys()
+{
+    return {"particles_count",       "init_PDF_mode",
+            "init_PDF_min_x",        "init_PDF_max_x",
+            "init_PDF_min_y",        "init_PDF_max_y",
+            "init_PDF_min_yaw_deg",  "init_PDF_max_yaw_deg",
+            "init_PDF_mean_x",       "init_PDF_mean_y",
+            "init_PDF_mean_yaw_deg", "init_PDF_std_xy",
+            "init_PDF_std_yaw_deg",  "seed"};
+}
+
+size_t Localizer::TOptions::effectiveThreads() const
+{
+    return threads > 0 ? static_cast<size_t>(threads)
+                       : std::max<size_t>(1, std::thread::hardware_concurrency());
+}
+
+uint64_t Localizer::TOptions::particleMemoryBytes() const
+{
+    uint64_t bytes = kBytesPerParticle * static_cast<uint64_t>(particles_count);
+    if (pf.adaptiveSampleSize)
+    {
+        bytes += kBytesPerKLDParticle * static_cast<uint64_t>(kld.KLD_maxSampleSize);
+    }
+    return bytes;
+}
+
+std::string Localizer::invalidObservation(const mrpt::obs::CObservation& obs,
+                                          const mrpt::maps::CMetricMap& map)
+{
+    mrpt::poses::CPose3D pose;
+    obs.getSensorPose(pose);
+    if (!finiteSensorPose(pose))
+    {
+        return "its sensorPose is not finite";
+    }
+    if (std::max({std::abs(pose.x()), std::abs(pose.y()), std::abs(pose.z())}) > kMaxSensorOffset_m)
+    {
+        return mrpt::format("its sensorPose (%g, %g, %g) is more than %g m from the vehicle",
+                            pose.x(), pose.y(), pose.z(), kMaxSensorOffset_m);
+    }
+    if (const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs))
+    {
+        if (!std::isfinite(scan->aperture) || scan->aperture < 0)
+        {
+            return mrpt::format("its aperture %g is not a finite angle >= 0",
+                                static_cast<double>(scan->aperture));
+        }
+        const size_t n = scan->getScanSize();
+        if (n == 0)
+        {
+            return "it has no beam";
+        }
+        const auto* mm = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(&map);
+        const bool grid =
+            mm ? mm->mapByClass<mrpt::maps::COccupancyGridMap2D>() != nullptr
+               : dynamic_cast<const mrpt::maps::COccupancyGridMap2D*>(&map) != nullptr;
+        if (n < 2 && grid)
+        {
+            return "it has 1 beam; MRPT's occupancy grid ([MetricMap] occupancyGrid) needs at "
+                   "least 2";
+        }
+    }
+    else if (const auto* sem = dynamic_cast<const CObservationSemantic*>(&obs))
+    {
+        if (!std::isfinite(sem->maxRange_m) || sem->maxRange_m < 0)
+        {
+            return mrpt::format("its maxRange_m %g is not a finite range >= 0", sem->maxRange_m);
+        }
+        if (!std::isfinite(sem->fov_rad) || sem->fov_rad < 0)
+        {
+            return mrpt::format("its fov_rad %g is not a finite angle >= 0", sem->fov_rad);
+        }
+    }
+    return "";
+}
+
+void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                             const std::string& s)
+{
+    using namespace semloc::config;
+    // [LocalizationExperiment] (its other keys belong to LocalizationExperiment).
+    if (std::string v = c.read_string(s, "particles_count", "");
+        v.find_first_of(" \t,", v.find_first_not_of(" \t")) < v.find_last_not_of(" \t\r"))
+    {
+        bad(s, "particles_count",
+            "'" + v +
+                "': one number of particles (pf-localization's list of runs is not "
+                "supported)");
+    }
+    readInt(c, s, "particles_count", particles_count, 1, kMaxParticles);
+    {
+        int mode = static_cast<int>(init_PDF_mode);
+        if (c.keyExists(s, "init_PDF_mode"))
+        {
+            // pf-localization reads it as a boolean: accept true/false as 1/0.
+            std::string v = c.read_string(s, "init_PDF_mode", "");
+            v.erase(0, v.find_first_not_of(" \t"));
+            v.erase(v.find_last_not_of(" \t\r") + 1);
+            if (v == "true" || v == "false")
+            {
+                mode = v == "true" ? 1 : 0;
+            }
+            else
+            {
+                readInt(c, s, "init_PDF_mode", mode, 0, 2);
+            }
+        }
+        init_PDF_mode = static_cast<InitMode>(mode);
+    }
+    constexpr double kBig = 1e9;
+    readDouble(c, s, "init_PDF_min_x", init_PDF_min_x, -kBig, kBig);
+    readDouble(c, s, "init_PDF_max_x", init_PDF_max_x, -kBig, kBig);
+    readDouble(c, s, "init_PDF_min_y", init_PDF_min_y, -kBig, kBig);
+    readDouble(c, s, "init_PDF_max_y", init_PDF_max_y, -kBig, kBig);
+    readDouble(c, s, "init_PDF_min_yaw_deg", init_PDF_min_yaw_deg, -360, 360);
+    readDouble(c, s, "init_PDF_max_yaw_deg", init_PDF_max_yaw_deg, -360, 360);
+    readDouble(c, s, "init_PDF_mean_x", init_PDF_mean_x, -kBig, kBig);
+    readDouble(c, s, "init_PDF_mean_y", init_PDF_mean_y, -kBig, kBig);
+    readDouble(c, s, "init_PDF_mean_yaw_deg", init_PDF_mean_yaw_deg, -360, 360);
+    readDouble(c, s, "init_PDF_std_xy", init_PDF_std_xy, 0, kBig);
+    readDouble(c, s, "init_PDF_std_yaw_deg", init_PDF_std_yaw_deg, 0, 360);
+    {
+        int sd = static_cast<int>(seed);
+        readInt(c, s, "seed", sd, 0, std::numeric_limits<int>::max());
+        seed = static_cast<uint32_t>(sd);
+    }
+    if (init_PDF_min_yaw_deg > init_PDF_max_yaw_deg)
+    {
+        bad(s, "init_PDF_max_yaw_deg", "must be >= init_PDF_min_yaw_deg");
+    }
+    if (init_PDF_mode == InitMode::Box &&
+        !(init_PDF_min_x < init_PDF_max_x && init_PDF_min_y < init_PDF_max_y))
+    {
+        bad(s, "init_PDF_mode",
+            "1 (uniform in a box) needs init_PDF_min_x < init_PDF_max_x and init_PDF_min_y < "
+            "init_PDF_max_y");
+    }
+
+    // [PF_options]: MRPT's TParticleFilterOptions, strictly, plus ours.
+    {
+        auto known = keysOf(pf);
+        known.insert(known.end(), {"threads", "recovery_alpha_slow", "recovery_alpha_fast",
+                                   "recovery_from_detections", "free_space_prior"});
+        rejectUnknownKeys(c, kPF, known);
+    }
+    pf.PF_algorithm = static_cast<CParticleFilter::TParticleFilterAlgorithm>(
+        readEnum(c, kPF, "PF_algorithm", pf.PF_algorithm, kAlgorithms));
+    pf.resamplingMethod = static_cast<CParticleFilter::TParticleResamplingAlgorithm>(
+        readEnum(c, kPF, "resamplingMethod", pf.resamplingMethod, kResampling));
+    readBool(c, kPF, "adaptiveSampleSize", pf.adaptiveSampleSize);
+    readDouble(c, kPF, "BETA", pf.BETA, 0, 1);
+    {
+        int ss = static_cast<int>(pf.sampleSize);
+        readInt(c, kPF, "sampleSize", ss, 0, 100000000);  // pf-localization ignores it too
+        pf.sampleSize = static_cast<unsigned>(ss);
+        int ms = static_cast<int>(pf.pfAuxFilterOptimal_MaximumSearchSamples);
+        readInt(c, kPF, "pfAuxFilterOptimal_MaximumSearchSamples", ms, 1, 100000000);
+        pf.pfAuxFilterOptimal_MaximumSearchSamples = static_cast<unsigned>(ms);
+    }
+    readDouble(c, kPF, "powFactor", pf.powFactor, 1e-9, 1e9);
+    readDouble(c, kPF, "max_loglikelihood_dyn_range", pf.max_loglikelihood_dyn_range, 0, 1e9);
+    readBool(c, kPF, "pfAuxFilterStandard_FirstStageWeightsMonteCarlo",
+             pf.pfAuxFilterStandard_FirstStageWeightsMonteCarlo);
+    readBool(c, kPF, "pfAuxFilterOptimal_MLE", pf.pfAuxFilterOptimal_MLE);
+    readInt(c, kPF, "threads", threads, 0, kMaxThreads);
+    readDouble(c, kPF, "recovery_alpha_slow", recovery.alpha_slow, 0, 1);
+    readDouble(c, kPF, "recovery_alpha_fast", recovery.alpha_fast, 0, 1);
+    readDouble(c, kPF, "recovery_from_detections", recovery.from_detections, 0, 1);
+    readBool(c, kPF, "free_space_prior", free_space_prior);
+    if (pf.PF_algorithm == CParticleFilter::pfOptimalProposal)
+    {
+        bad(kPF, "PF_algorithm",
+            "2 (pfOptimalProposal) is not implemented by MRPT's CMonteCarloLocalization2D; use "
+            "0, 1 or 3");
+    }
+    if (pf.adaptiveSampleSize && (pf.PF_algorithm != CParticleFilter::pfStandardProposal ||
+                                  pf.resamplingMethod != CParticleFilter::prMultinomial))
+    {
+        bad(kPF, "adaptiveSampleSize",
+            "1 (KLD sampling) needs PF_algorithm = 0 (pfStandardProposal) and resamplingMethod "
+            "= 0 (prMultinomial)");
+    }
+    const bool recoveryOff = recovery.alpha_slow == 0 && recovery.alpha_fast == 0;
+    if (!recoveryOff && !recovery.enabled())
+    {
+        bad(kPF, "recovery_alpha_fast",
+            "augmented MCL needs 0 < recovery_alpha_slow < recovery_alpha_fast <= 1 (both 0: "
+            "off)");
+    }
+    if (free_space_prior && pf.PF_algorithm != CParticleFilter::pfStandardProposal)
+    {
+        bad(kPF, "free_space_prior", "needs PF_algorithm = 0 (pfStandardProposal)");
+    }
+    if (!recoveryOff && pf.PF_algorithm != CParticleFilter::pfStandardProposal)
+    {
+        bad(kPF, "recovery_alpha_slow", "recovery needs PF_algorithm = 0 (pfStandardProposal)");
+    }
+
+    // [KLD_options]
+    rejectUnknownKeys(c, kKLD,
+                      {"KLD_binSize_XY", "KLD_binSize_PHI_deg", "KLD_delta", "KLD_epsilon",
+                       "KLD_minSampleSize", "KLD_maxSampleSize", "KLD_minSamplesPerBin"});
+    readDouble(c, kKLD, "KLD_binSize_XY", kld.KLD_binSize_XY, 1e-6, 1e6);
+    {
+        double phiDeg = mrpt::RAD2DEG(kld.KLD_binSize_PHI);
+        readDouble(c, kKLD, "KLD_binSize_PHI_deg", phiDeg, 1e-6, 360);
+        kld.KLD_binSize_PHI = mrpt::DEG2RAD(phiDeg);
+    }
+    readDouble(c, kKLD, "KLD_delta", kld.KLD_delta, 1e-12, 1 - 1e-12);
+    readDouble(c, kKLD, "KLD_epsilon", kld.KLD_epsilon, 1e-12, 1e6);
+    int kMin = static_cast<int>(kld.KLD_minSampleSize),
+        kMax = static_cast<int>(kld.KLD_maxSampleSize);
+    readInt(c, kKLD, "KLD_minSampleSize", kMin, 1, 100000000);
+    readInt(c, kKLD, "KLD_maxSampleSize", kMax, 1, 100000000);
+    if (kMax < kMin)
+    {
+        bad(kKLD, "KLD_maxSampleSize", "must be >= KLD_minSampleSize");
+    }
+    kld.KLD_minSampleSize = static_cast<unsigned>(kMin);
+    kld.KLD_maxSampleSize = static_cast<unsigned>(kMax);
+    readDouble(c, kKLD, "KLD_minSamplesPerBin", kld.KLD_minSamplesPerBin, 0, 1e9);
+
+    // [DummyOdometryParams]; the 3D keys are pf-localization's, checked and unused here.
+    rejectUnknownKeys(c, kOdo,
+                      {"minStdXY", "minStdPHI", "allow_no_odometry", "additional_std_XYZ",
+                       "additional_std_angle"});
+    readDouble(c, kOdo, "minStdXY", odometry_min_std_xy, 0, 1e3);
+    readDouble(c, kOdo, "minStdPHI", odometry_min_std_phi_deg, 0, 360);
+    readBool(c, kOdo, "allow_no_odometry", allow_no_odometry);
+    double unused3D = 0;
+    readDouble(c, kOdo, "additional_std_XYZ", unused3D, 0, 1e3);
+    readDouble(c, kOdo, "additional_std_angle", unused3D, 0, 360);
+}
+
+void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                           const std::string& s) const
+{
+    put(c, s, "particles_count", std::to_string(particles_count), "number of particles");
+    put(c, s, "init_PDF_mode", std::to_string(static_cast<int>(init_PDF_mode)),
+        "0: uniform over the free space, 1: uniform in the box, 2: Gaussian");
+    put(c, s, "init_PDF_min_x", init_PDF_min_x, "box [m] (mode 0: empty = whole free space)");
+    put(c, s, "init_PDF_max_x", init_PDF_max_x, "");
+    put(c, s, "init_PDF_min_y", init_PDF_min_y, "");
+    put(c, s, "init_PDF_max_y", init_PDF_max_y, "");
+    put(c, s, "init_PDF_min_yaw_deg", init_PDF_min_yaw_deg, "heading interval [deg]");
+    put(c, s, "init_PDF_max_yaw_deg", init_PDF_max_yaw_deg, "");
+    put(c, s, "init_PDF_mean_x", init_PDF_mean_x, "mode 2: mean [m]");
+    put(c, s, "init_PDF_mean_y", init_PDF_mean_y, "");
+    put(c, s, "init_PDF_mean_yaw_deg", init_PDF_mean_yaw_deg, "mode 2: mean heading [deg]");
+    put(c, s, "init_PDF_std_xy", init_PDF_std_xy, "mode 2: std of x and y [m]");
+    put(c, s, "init_PDF_std_yaw_deg", init_PDF_std_yaw_deg, "mode 2: std of the heading [deg]");
+    put(c, s, "seed", std::to_string(seed), "seed of MRPT's random generator");
+
+    put(c, kPF, "PF_algorithm", std::to_string(static_cast<int>(pf.PF_algorithm)),
+        kAlgorithms[pf.PF_algorithm]);
+    put(c, kPF, "resamplingMethod", std::to_string(static_cast<int>(pf.resamplingMethod)),
+        kResampling[pf.resamplingMethod]);
+    put(c, kPF, "adaptiveSampleSize", pf.adaptiveSampleSize ? "1" : "0", "KLD sampling");
+    put(c, kPF, "BETA", pf.BETA, "resample when ESS < BETA");
+    put(c, kPF, "sampleSize", std::to_string(pf.sampleSize), "ignored: see particles_count");
+    put(c, kPF, "pfAuxFilterOptimal_MaximumSearchSamples",
+        std::to_string(pf.pfAuxFilterOptimal_MaximumSearchSamples), "PF_algorithm 1 and 3");
+    put(c, kPF, "powFactor", pf.powFactor, "log-likelihoods are multiplied by this");
+    put(c, kPF, "max_loglikelihood_dyn_range", pf.max_loglikelihood_dyn_range, "PF_algorithm 3");
+    put(c, kPF, "pfAuxFilterStandard_FirstStageWeightsMonteCarlo",
+        pf.pfAuxFilterStandard_FirstStageWeightsMonteCarlo ? "1" : "0", "PF_algorithm 1");
+    put(c, kPF, "pfAuxFilterOptimal_MLE", pf.pfAuxFilterOptimal_MLE ? "1" : "0", "PF_algorithm 3");
+    put(c, kPF, "threads", std::to_string(threads), "0: every hardware thread");
+    put(c, kPF, "recovery_alpha_slow", recovery.alpha_slow, "augmented MCL (0 0: off)");
+    put(c, kPF, "recovery_alpha_fast", recovery.alpha_fast, "");
+    put(c, kPF, "recovery_from_detections", recovery.from_detections,
+        "fraction of injected particles drawn from the detections");
+    put(c, kPF, "free_space_prior", free_space_prior ? "1" : "0",
+        "weight 0 outside the free space");
+
+    put(c, kKLD, "KLD_binSize_XY", kld.KLD_binSize_XY, "[m]");
+    put(c, kKLD, "KLD_binSize_PHI_deg", mrpt::RAD2DEG(kld.KLD_binSize_PHI), "[deg]");
+    put(c, kKLD, "KLD_delta", kld.KLD_delta, "");
+    put(c, kKLD, "KLD_epsilon", kld.KLD_epsilon, "");
+    put(c, kKLD, "KLD_minSampleSize", std::to_string(kld.KLD_minSampleSize), "");
+    put(c, kKLD, "KLD_maxSampleSize", std::to_string(kld.KLD_maxSampleSize), "");
+    put(c, kKLD, "KLD_minSamplesPerBin", kld.KLD_minSamplesPerBin, "");
+
+    put(c, kOdo, "minStdXY", odometry_min_std_xy, "[m] observations-only rawlogs");
+    put(c, kOdo, "minStdPHI", odometry_min_std_phi_deg, "[deg]");
+    put(c, kOdo, "allow_no_odometry", allow_no_odometry ? "true" : "false",
+        "true: a rawlog without odometry moves by zero + this noise");
+}
+
+// ------------------------------------------------------------------ localizer
+
+Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr map,
+                     const World* world)
+    : mrpt::system::COutputLogger("Localizer"),
+      m_options(options),
+      m_map(std::move(map)),
+      m_executor(std::make_shared<ParallelExecutor>(options.effectiveThreads())),
+      m_pdf(std::make_unique<CParallelMonteCarloLocalization2D>())
+{
+    ASSERTMSG_(m_map, "Localizer: no map");
+    for (mrpt::system::COutputLogger* logger :
+         {static_cast<mrpt::system::COutputLogger*>(this),
+          static_cast<mrpt::system::COutputLogger*>(&m_pf),
+          static_cast<mrpt::system::COutputLogger*>(m_pdf.get())})
+    {
+        logger->logging_enable_console_output = false;
+        logger->logRegisterCallback(toStderr);
+    }
+    const auto& o = m_options;
+    m_pf.m_options = o.pf;
+    m_pf.m_options.sampleSize = static_cast<unsigned>(o.particles_count);
+    m_pdf->options.metricMap = m_map;
+    m_pdf->options.KLD_params = o.kld;
+    m_pdf->setExecutor(m_executor);
+    m_pdf->setRecoveryOptions(o.recovery);
+    m_pdf->setFreeSpacePrior(o.free_space_prior);
+
+    TSamplingArea area;
+    area.x_min = o.init_PDF_min_x;
+    area.x_max = o.init_PDF_max_x;
+    area.y_min = o.init_PDF_min_y;
+    area.y_max = o.init_PDF_max_y;
+    area.yaw_min = mrpt::DEG2RAD(o.init_PDF_min_yaw_deg);
+    area.yaw_max = mrpt::DEG2RAD(o.init_PDF_max_yaw_deg);
+    const auto grid = m_map->mapByClass<mrpt::maps::COccupancyGridMap2D>();
+    if (world)
+    {
+        m_freeSpace = std::make_shared<FreeSpaceSampler>(FreeSpaceSampler::FromWorld(*world));
+        m_initSpace = std::make_shared<FreeSpaceSampler>(FreeSpaceSampler::FromWorld(*world, area));
+    }
+    else if (grid)
+    {
+        m_freeSpace = std::make_shared<FreeSpaceSampler>(FreeSpaceSampler::FromGrid(*grid));
+        m_initSpace = std::make_shared<FreeSpaceSampler>(FreeSpaceSampler::FromGrid(*grid, area));
+    }
+    else if (area.hasBox())
+    {
+        m_freeSpace = m_initSpace =
+            std::make_shared<FreeSpaceSampler>(FreeSpaceSampler::FromBox(area));
+    }
+    if (o.init_PDF_mode == InitMode::Box && !area.hasBox())
+    {
+        THROW_EXCEPTION("init_PDF_mode = 1 (uniform in a box) needs a non-empty init_PDF box");
+    }
+    if (!m_freeSpace && o.init_PDF_mode == InitMode::FreeSpace)
+    {
+        THROW_EXCEPTION(
+            "init_PDF_mode = 0 (uniform over the free space) needs a world (map_file *.yaml), an "
+            "occupancyGrid map or an init_PDF_min/max_x/y box");
+    }
+    m_pdf->setFreeSpaceSampler(m_freeSpace);
+    m_pdf->prepareLikelihood();
+
+    // A fresh generator, not randomize(seed): randomize() re-seeds the Mersenne twister but
+    // keeps std::normal_distribution's cached second value, so the first Gaussian draw of a
+    // second filter in the same process depended on the draws of the one before.
+    mrpt::random::getRandomGenerator() = mrpt::random::CRandomGenerator(o.seed);
+    reset();
+}
+
+Localizer::~Localizer() = default;
+
+void Localizer::reset()
+{
+    const auto& o = m_options;
+    const auto M = static_cast<size_t>(o.particles_count);
+    auto& rng = mrpt::random::getRandomGenerator();
+    switch (o.init_PDF_mode)
+    {
+        case InitMode::FreeSpace:
+        {
+            auto& parts = m_pdf->m_particles;
+            parts.resize(M);
+            for (auto& p : parts)
+            {
+                p.d = m_initSpace->draw(rng);
+                p.log_w = 0;
+            }
+            break;
+        }
+        case InitMode::Box:
+            m_pdf->resetUniform(o.init_PDF_min_x, o.init_PDF_max_x, o.init_PDF_min_y,
+                                o.init_PDF_max_y, mrpt::DEG2RAD(o.init_PDF_min_yaw_deg),
+                                mrpt::DEG2RAD(o.init_PDF_max_yaw_deg), static_cast<int>(M));
+            break;
+        case InitMode::Gaussian:
+        {
+            auto& parts = m_pdf->m_particles;
+            parts.resize(M);
+            const double sYaw = mrpt::DEG2RAD(o.init_PDF_std_yaw_deg);
+            for (auto& p : parts)
+            {
+                const double x = o.init_PDF_mean_x + rng.drawGaussian1D(0, o.init_PDF_std_xy);
+                const double y = o.init_PDF_mean_y + rng.drawGaussian1D(0, o.init_PDF_std_xy);
+                const double phi =
+                    mrpt::DEG2RAD(o.init_PDF_mean_yaw_deg) + rng.drawGaussian1D(0, sYaw);
+                p.d = mrpt::math::TPose2D(x, y, mrpt::math::wrapToPi(phi));
+                p.log_w = 0;
+            }
+            break;
+        }
+    }
+    m_last = TStepInfo();
+    m_last.particles = m_pdf->size();
+}
+
+void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs::CSensoryFrame& sf)
+{
+    mrpt::obs::CSensoryFrame checked;
+    const bool replaced =
+        withValidObservations(sf, *m_map, checked, m_observationsInvalid, m_beamsInvalid);
+    mrpt::obs::CActionCollection marked;
+    const mrpt::obs::CActionCollection& acts = withUsableMovement(action, marked);
+    // The standard proposal resamples inside its step and keeps the ESS before it; asking
+    // executeOn for TParticleFilterStats there would read 1 and cost two exp() and two
+    // virtual calls per particle (its weight variance). The other algorithms run MRPT's
+    // step: their ESS comes from the stats.
+    const bool ours = m_pf.m_options.PF_algorithm == CParticleFilter::pfStandardProposal;
+    CParticleFilter::TParticleFilterStats stats;
+    const auto t0 = std::chrono::steady_clock::now();
+    m_pf.executeOn(*m_pdf, &acts, replaced ? &checked : &sf, ours ? nullptr : &stats);
+    const auto t1 = std::chrono::steady_clock::now();
+    m_last.update_us = std::chrono::duration<double, std::micro>(t1 - t0).count();
+    m_last.ess_before_resampling = ours ? m_pdf->essBeforeResampling() : stats.ESS_beforeResample;
+    m_last.particles = m_pdf->size();
+    m_steps++;
+}
+
+void Localizer::setOdometry(const mrpt::obs::CObservationOdometry& odo)
+{
+    m_pendingOdometry = odo.odometry;
+    if (!m_lastOdometry)
+    {
+        m_lastOdometry = odo.odometry;  // the reference of the first increment
+    }
+}
+
+void Localizer::step(const mrpt::obs::CSensoryFrame& sf)
+{
+    mrpt::poses::CPose2D increment;
+    if (m_pendingOdometry && m_lastOdometry)
+    {
+        increment = *m_pendingOdometry - *m_lastOdometry;
+        m_lastOdometry = m_pendingOdometry;
+    }
+    mrpt::obs::CActionRobotMovement2D act;
+    act.computeFromOdometry(increment, odometryModel(m_options));
+    mrpt::obs::CActionCollection acts;
+    acts.insert(act);
+    step(acts, sf);
+}
+
+SensoryFrameLikelihood::TStats Localizer::likelihoodStats() const
+{
+    auto s = m_pdf->likelihoodStats();
+    s.beams_invalid = m_beamsInvalid;
+    s.observations_invalid = m_observationsInvalid;
+    return s;
+}
+
+mrpt::poses::CPose2D Localizer::mean() const
+{
+    return m_pdf->getMeanVal();
+}
+
+double Localizer::varianceXY() const
+{
+    const auto [cov, mean] = m_pdf->getCovarianceAndMean();
+    (void)mean;
+    return cov(0, 0) + cov(1, 1);
+}
+
+TStepRecord Localizer::lastStepRecord(const mrpt::obs::CSensoryFrame& sf) const
+{
+    TStepRecord r;
+    r.step = m_steps > 0 ? m_steps - 1 : 0;
+    r.t = std::numeric_limits<double>::quiet_NaN();
+    if (sf.size() > 0 && sf.getObservationByIndex(0)->timestamp != INVALID_TIMESTAMP)
+    {
+        r.t = mrpt::Clock::toDouble(sf.getObservationByIndex(0)->timestamp);
+    }
+    const auto [cov, mean] = m_pdf->getCovarianceAndMean();
+    r.est = mean.asTPose();
+    r.var_xy = cov(0, 0) + cov(1, 1);
+    r.ess = m_last.ess_before_resampling;
+    r.n_particles = m_last.particles;
+    r.update_us = m_last.update_us;
+    return r;
+}
+
+size_t Localizer::threads() const
+{
+    return m_executor->threads();
+}
+
+std::string Localizer::freeSpaceDescription() const
+{
+    return m_freeSpace ? m_freeSpace->description() : "none";
+}
+
+}  // namespace semloc

@@ -1,0 +1,354 @@
+/* semloc — SensoryFrameLikelihood: MRPT's per-particle observation likelihood, per chunk. */
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/poses/CPose3D.h>
+#include <semloc/filter/ParallelExecutor.h>
+#include <semloc/filter/SensoryFrameLikelihood.h>
+#include <semloc/io/Interrupt.h>
+#include <semloc/maps/CSemanticMap.h>
+#include <semloc/maps/CStructureMap.h>
+#include <semloc/observation/CObservationSemantic.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <typeinfo>
+
+namespace semloc
+{
+using mrpt::maps::COccupancyGridMap2D;
+using mrpt::math::TPose2D;
+
+namespace
+{
+/** Cells of the likelihood-field cache filled between two looks at interruptRequested(). */
+constexpr unsigned kGridCacheBandCells = 1u << 18;
+
+/** The pose MRPT hands to CMetricMap::computeObservationLikelihood for a 2D particle. */
+mrpt::poses::CPose3D mrptPose(const TPose2D& p)
+{
+    return mrpt::poses::CPose3D(mrpt::math::TPose3D(p));
+}
+
+/** out[i] += v[i] for one observation's log-likelihoods; the first observation's sum starts
+ *  from 1 as MRPT's CMonteCarloLocalization2D does (1 + v is 1, then += v, bit for bit), the
+ *  last one's maps non-finite sums to -inf and counts them. */
+template <bool First, bool Last>
+size_t addObservationAs(double* out, const double* v, size_t m)
+{
+    size_t nonfinite = 0;
+    for (size_t i = 0; i < m; i++)
+    {
+        double o = (First ? 1.0 : out[i]) + v[i];
+        if constexpr (Last)
+        {
+            if (!std::isfinite(o))
+            {
+                o = -std::numeric_limits<double>::infinity();
+                nonfinite++;
+            }
+        }
+        out[i] = o;
+    }
+    return nonfinite;
+}
+
+size_t addObservation(double* out, const double* v, size_t m, bool first, bool last)
+{
+    if (first)
+    {
+        return last ? addObservationAs<true, true>(out, v, m)
+                    : addObservationAs<true, false>(out, v, m);
+    }
+    return last ? addObservationAs<false, true>(out, v, m)
+                : addObservationAs<false, false>(out, v, m);
+}
+
+bool isThreadSafeGrid(const COccupancyGridMap2D& g)
+{
+    // These two methods only read the grid (the likelihood field through its cache, filled
+    // in advance by prepareGridCaches); the others write mutable members on every call.
+    const auto m = g.likelihoodOptions.likelihoodMethod;
+    return m == COccupancyGridMap2D::lmRayTracing ||
+           m == COccupancyGridMap2D::lmLikelihoodField_Thrun;
+}
+}  // namespace
+
+SensoryFrameLikelihood::SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map)
+{
+    if (const auto* mm = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(&map))
+    {
+        m_enabled = mm->genericMapParams.enableObservationLikelihood;
+        for (const auto& m : mm->maps)
+        {
+            m_maps.push_back(m.get());
+        }
+    }
+    else
+    {
+        m_maps.push_back(&map);
+    }
+}
+
+SensoryFrameLikelihood::Path SensoryFrameLikelihood::choosePath(
+    const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map) const
+{
+    if (!map.genericMapParams.enableObservationLikelihood)
+    {
+        return Path::Zero;  // CMetricMap::computeObservationLikelihood returns 0
+    }
+    // Exact types only: a subclass may override the likelihood the fast paths bypass.
+    if (typeid(map) == typeid(CSemanticMap))
+    {
+        if (dynamic_cast<const CObservationSemantic*>(&obs))
+        {
+            return Path::Semantic;
+        }
+        if (dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
+        {
+            return Path::SemanticBearingRange;
+        }
+        return Path::Zero;
+    }
+    if (typeid(map) == typeid(CStructureMap))
+    {
+        return dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs) ? Path::Structure
+                                                                             : Path::Zero;
+    }
+    if (const auto* grid = dynamic_cast<const COccupancyGridMap2D*>(&map);
+        grid && isThreadSafeGrid(*grid))
+    {
+        return Path::GenericParallel;
+    }
+    return Path::GenericSerial;
+}
+
+void SensoryFrameLikelihood::prepareGridCaches()
+{
+    for (const auto* m : m_maps)
+    {
+        const auto* g = dynamic_cast<const COccupancyGridMap2D*>(m);
+        if (!g ||
+            g->likelihoodOptions.likelihoodMethod != COccupancyGridMap2D::lmLikelihoodField_Thrun ||
+            !g->likelihoodOptions.enableLikelihoodCache || g->getSizeX() < 2 || g->getSizeY() < 2)
+        {
+            continue;
+        }
+        // The likelihood-field cache is filled lazily, cell by cell, by const calls: fill it
+        // all now (one point per cell centre, every point used) so that threads only read it.
+        // A cell's value depends only on the cell, so the results are those of lazy filling,
+        // and filling it in bands of rows is filling it at once: between bands, an interrupt
+        // request (Ctrl-C) stops it (a large grid takes many seconds).
+        const unsigned rows = g->getSizeY() - 1, cols = g->getSizeX() - 1;
+        const unsigned band = std::max(1u, kGridCacheBandCells / cols);
+        auto& grid = const_cast<COccupancyGridMap2D&>(*g);  // restored below; same thread
+        const auto decimation = grid.likelihoodOptions.LF_decimation;
+        grid.likelihoodOptions.LF_decimation = 1;
+        mrpt::maps::CSimplePointsMap centres;
+        centres.reserve(static_cast<size_t>(std::min(band, rows)) * cols);
+        for (unsigned y0 = 0; y0 < rows; y0 += band)
+        {
+            if (interruptRequested())
+            {
+                grid.likelihoodOptions.LF_decimation = decimation;
+                throw Interrupted();
+            }
+            centres.clear();
+            for (unsigned cy = y0; cy < std::min(rows, y0 + band); cy++)
+            {
+                for (unsigned cx = 0; cx < cols; cx++)
+                {
+                    centres.insertPointFast(g->idx2x(cx), g->idx2y(cy), 0);
+                }
+            }
+            grid.computeLikelihoodField_Thrun(&centres, nullptr);
+        }
+        grid.likelihoodOptions.LF_decimation = decimation;
+    }
+}
+
+void SensoryFrameLikelihood::prepare(const ParallelExecutor& executor)
+{
+    if (executor.threads() > 1 && !m_gridCachesReady)
+    {
+        prepareGridCaches();
+        m_gridCachesReady = true;
+    }
+}
+
+bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelExecutor& executor)
+{
+    // One term per (observation, map) pair that can contribute, in MRPT's order.
+    m_terms.clear();
+    m_nSerial = 0;
+    bool anyParallelGeneric = false;
+    for (const auto& o : sf)
+    {
+        if (!o)
+        {
+            continue;
+        }
+        bool usable = false, first = true;
+        const CSemanticMap* checkedBy = nullptr;
+        for (const auto* map : m_maps)
+        {
+            usable = usable || map->canComputeObservationLikelihood(*o);
+            const Path path = m_enabled ? choosePath(*o, *map) : Path::Zero;
+            if (path == Path::Semantic && !checkedBy)
+            {
+                checkedBy = static_cast<const CSemanticMap*>(map);
+            }
+            if (path == Path::Zero)
+            {
+                continue;
+            }
+            Term t;
+            t.obs = o.get();
+            t.map = map;
+            t.path = path;
+            t.firstOfObservation = first;
+            first = false;
+            if (path == Path::GenericSerial)
+            {
+                t.serialIndex = m_nSerial++;
+            }
+            anyParallelGeneric = anyParallelGeneric || path == Path::GenericParallel;
+            m_terms.push_back(t);
+        }
+        (usable ? m_stats.observations_used : m_stats.observations_skipped)++;
+        if (checkedBy)
+        {
+            const auto c = checkedBy->check(static_cast<const CObservationSemantic&>(*o));
+            m_stats.detections_invalid += c.invalid;
+            m_stats.detections_unknown += c.unknown;
+        }
+    }
+
+    if (anyParallelGeneric)
+    {
+        prepare(executor);
+    }
+    return m_nSerial == 0 && !anyParallelGeneric;
+}
+
+void SensoryFrameLikelihood::preEvaluate(const TPose2D* poses, size_t n)
+{
+    // Terms no thread may share: every pose, here, before the parallel section.
+    m_serial.resize(std::max(m_serial.size(), m_nSerial));
+    for (const auto& t : m_terms)
+    {
+        if (t.path == Path::GenericSerial)
+        {
+            auto& v = m_serial[t.serialIndex];
+            v.resize(n);
+            for (size_t i = 0; i < n; i++)
+            {
+                v[i] = t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[i]));
+            }
+        }
+        else if (t.path == Path::GenericParallel && n > 0)
+        {
+            // Builds the observation's lazy caches (e.g. the scan's points map) on this thread.
+            (void)t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[0]));
+        }
+    }
+}
+
+size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, size_t e,
+                                             double* out) const
+{
+    const size_t m = e - b;
+    // Per-thread scratch, grown only (no allocation or clearing per chunk).
+    thread_local std::vector<double> obsScratch, termScratch;
+    if (termScratch.size() < m)
+    {
+        obsScratch.resize(m);
+        termScratch.resize(m);
+    }
+    double* obsSum = obsScratch.data();
+    double* term = termScratch.data();
+    if (m_terms.empty())
+    {
+        std::fill_n(out + b, m, 1.0);  // MRPT's CMonteCarloLocalization2D starts the sum at 1
+        return 0;
+    }
+    bool firstSum = true;
+    size_t nonfinite = 0;
+    for (size_t k = 0; k < m_terms.size(); k++)
+    {
+        const Term& t = m_terms[k];
+        const bool lastOfObservation = k + 1 == m_terms.size() || m_terms[k + 1].firstOfObservation;
+        switch (t.path)
+        {
+            case Path::Semantic:
+                static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
+                    static_cast<const CObservationSemantic&>(*t.obs), poses + b, m, term);
+                break;
+            case Path::SemanticBearingRange:
+                static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
+                    static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs), poses + b, m,
+                    term);
+                break;
+            case Path::Structure:
+            {
+                const auto& st = static_cast<const CStructureMap&>(*t.map);
+                const auto& scan = static_cast<const mrpt::obs::CObservation2DRangeScan&>(*t.obs);
+                for (size_t i = 0; i < m; i++)
+                {
+                    term[i] = st.computeLogLikelihood(scan, poses[b + i]);
+                }
+                break;
+            }
+            case Path::GenericParallel:
+                for (size_t i = 0; i < m; i++)
+                {
+                    term[i] = t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[b + i]));
+                }
+                break;
+            case Path::GenericSerial:
+                std::copy_n(m_serial[t.serialIndex].begin() + static_cast<ptrdiff_t>(b), m, term);
+                break;
+            case Path::Zero:
+                std::fill_n(term, m, 0.0);
+                break;
+        }
+        if (t.firstOfObservation && lastOfObservation)
+        {
+            // The observation's only term: out + (0 + term) is out + term, bit for bit (0 + term
+            // only turns -0 into +0, which adds the same to out, never -0 as a sum from 1).
+            nonfinite += addObservation(out + b, term, m, firstSum, k + 1 == m_terms.size());
+            firstSum = false;
+            continue;
+        }
+        for (size_t i = 0; i < m; i++)
+        {
+            obsSum[i] = (t.firstOfObservation ? 0.0 : obsSum[i]) + term[i];
+        }
+        if (lastOfObservation)
+        {
+            nonfinite += addObservation(out + b, obsSum, m, firstSum, k + 1 == m_terms.size());
+            firstSum = false;
+        }
+    }
+    return nonfinite;
+}
+
+void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const TPose2D* poses,
+                                      size_t n, double* out, ParallelExecutor& executor)
+{
+    plan(sf, executor);
+    preEvaluate(poses, n);
+    std::atomic<size_t> nonfinite{0};
+    executor.forEachRange(
+        n,
+        [&](size_t b, size_t e, size_t)
+        { nonfinite.fetch_add(evaluateChunk(poses, b, e, out), std::memory_order_relaxed); },
+        256);  // below a few hundred poses one thread is faster than waking another
+    addNonfinite(nonfinite.load());
+}
+
+}  // namespace semloc

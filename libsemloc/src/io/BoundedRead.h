@@ -1,0 +1,44 @@
+/* semloc — reading lengths and strings from MRPT archives within bounds: a corrupted length
+ * in a rawlog or map file must throw, not allocate gigabytes (tests/fuzz/fuzz_deserialize). */
+#pragma once
+
+#include <mrpt/core/exceptions.h>
+#include <mrpt/serialization/CArchive.h>
+#include <semloc/observation/Labels.h>
+
+#include <cstdint>
+#include <string>
+
+namespace semloc::detail
+{
+/** Longest string accepted from an archive (labels, sensor labels, world names): the label
+ *  limit, which the writers check. */
+constexpr uint32_t kMaxSerializedString = static_cast<uint32_t>(kMaxLabelLength);
+
+/** Reads an element count written as uint32 and checks it against `maxCount`; `what` names
+ *  the class and the elements in the message. Readers must then grow their containers as
+ *  elements arrive (push_back), never resize to the count: memory follows the bytes present. */
+inline uint32_t readCount(mrpt::serialization::CArchive& in, uint32_t maxCount, const char* what)
+{
+    const auto n = in.ReadAs<uint32_t>();
+    if (n > maxCount)
+    {
+        THROW_EXCEPTION_FMT("%s: corrupted data: %u elements (at most %u)", what,
+                            static_cast<unsigned>(n), static_cast<unsigned>(maxCount));
+    }
+    return n;
+}
+
+/** Reads a string as MRPT's `operator<<(CArchive&, const std::string&)` writes it (uint32
+ *  length, bytes), throwing on a length beyond kMaxSerializedString or a short read. MRPT's
+ *  own `operator>>` allocates whatever the length says and ignores short reads. */
+inline void readString(mrpt::serialization::CArchive& in, std::string& s, const char* what)
+{
+    const uint32_t n = readCount(in, kMaxSerializedString, what);
+    s.assign(n, '\0');
+    if (n > 0 && in.ReadBuffer(s.data(), n) != n)
+    {
+        THROW_EXCEPTION_FMT("%s: corrupted data: string truncated", what);
+    }
+}
+}  // namespace semloc::detail

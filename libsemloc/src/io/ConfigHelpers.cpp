@@ -1,0 +1,298 @@
+/* semloc — strict ini value parsing. */
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <mrpt/system/filesystem.h>
+#include <semloc/io/ConfigHelpers.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace semloc::config
+{
+namespace
+{
+/** The UTF-8 byte-order mark some editors put at the start of a text file. */
+const char* const kUtf8Bom = "\xEF\xBB\xBF";
+
+std::string trim(const std::string& s)
+{
+    const auto b = s.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos)
+    {
+        return {};
+    }
+    const auto e = s.find_last_not_of(" \t\r\n");
+    return s.substr(b, e - b + 1);
+}
+
+[[noreturn]] void fail(const std::string& section, const std::string& key, const std::string& what)
+{
+    THROW_EXCEPTION("ini [" + section + "] " + key + ": " + what);
+}
+
+bool readRaw(const mrpt::config::CConfigFileBase& c, const std::string& section,
+             const std::string& key, std::string& out)
+{
+    if (!c.keyExists(section, key))
+    {
+        return false;
+    }
+    out = trim(c.read_string(section, key, "", false));
+    return true;
+}
+
+std::string numText(double v)
+{
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
+    return std::string(buf, r.ptr);
+}
+}  // namespace
+
+void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                const std::string& key, double& value, double lo, double hi)
+{
+    std::string s;
+    if (!readRaw(c, section, key, s))
+    {
+        return;
+    }
+    const char* b = s.data();
+    if (!s.empty() && s[0] == '+')
+    {
+        ++b;
+    }
+    double v = 0;
+    const auto r = std::from_chars(b, s.data() + s.size(), v);
+    if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size())
+    {
+        fail(section, key, "'" + s + "' is not a number");
+    }
+    if (!std::isfinite(v))
+    {
+        fail(section, key, "'" + s + "' is not a finite number");
+    }
+    if (v < lo || v > hi)
+    {
+        fail(section, key,
+             "value " + s + " is out of range [" + numText(lo) + ", " + numText(hi) + "]");
+    }
+    value = v;
+}
+
+void readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
+             const std::string& key, int& value, int lo, int hi)
+{
+    std::string s;
+    if (!readRaw(c, section, key, s))
+    {
+        return;
+    }
+    long long v = 0;
+    const char* b = s.data();
+    if (!s.empty() && s[0] == '+')
+    {
+        ++b;
+    }
+    const auto r = std::from_chars(b, s.data() + s.size(), v);
+    if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size())
+    {
+        fail(section, key, "'" + s + "' is not an integer");
+    }
+    if (v < lo || v > hi)
+    {
+        fail(section, key,
+             "value " + s + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                 "]");
+    }
+    value = static_cast<int>(v);
+}
+
+void readBool(const mrpt::config::CConfigFileBase& c, const std::string& section,
+              const std::string& key, bool& value)
+{
+    std::string s;
+    if (!readRaw(c, section, key, s))
+    {
+        return;
+    }
+    std::string l = s;
+    std::transform(l.begin(), l.end(), l.begin(),
+                   [](unsigned char ch) { return std::tolower(ch); });
+    if (l == "true" || l == "1" || l == "yes" || l == "on")
+    {
+        value = true;
+    }
+    else if (l == "false" || l == "0" || l == "no" || l == "off")
+    {
+        value = false;
+    }
+    else
+    {
+        fail(section, key, "'" + s + "' is not a boolean (true/false)");
+    }
+}
+
+void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                const std::string& key, std::string& value, const std::vector<std::string>& choices)
+{
+    std::string s;
+    if (!readRaw(c, section, key, s))
+    {
+        return;
+    }
+    if (std::find(choices.begin(), choices.end(), s) == choices.end())
+    {
+        std::string list;
+        for (const auto& ch : choices)
+        {
+            list += (list.empty() ? "" : ", ") + ch;
+        }
+        fail(section, key, "'" + s + "' is not one of: " + list);
+    }
+    value = s;
+}
+
+void checkIniFile(const std::string& path, const std::string& kind)
+{
+    const std::string file = kind + " '" + path + "'";
+    if (!std::filesystem::exists(path))
+    {
+        THROW_EXCEPTION(file + " does not exist");
+    }
+    if (std::filesystem::is_directory(path))
+    {
+        THROW_EXCEPTION(file + " is a directory, not a file");
+    }
+    std::ifstream f(path, std::ios::binary);
+    if (!f)
+    {
+        THROW_EXCEPTION("cannot read " + file);
+    }
+    std::stringstream text;
+    text << f.rdbuf();
+    if (f.bad())
+    {
+        THROW_EXCEPTION("cannot read " + file);
+    }
+    checkIniText(text.str(), file);
+}
+
+void checkIniText(const std::string& text, const std::string& file)
+{
+    // MRPT's ini reader (SimpleIni) matches sections and keys regardless of ASCII case.
+    auto lower = [](std::string s)
+    {
+        std::transform(s.begin(), s.end(), s.begin(),
+                       [](unsigned char ch) { return std::tolower(ch); });
+        return s;
+    };
+    // Per section (lower case): its name as first written and the first line of each key.
+    std::map<std::string, std::pair<std::string, std::map<std::string, size_t>>> sections;
+    auto* current = &sections[""];
+    std::istringstream in(text);
+    std::string line;
+    for (size_t n = 1; std::getline(in, line); n++)
+    {
+        if (n == 1 && line.compare(0, 3, kUtf8Bom) == 0)
+        {
+            line.erase(0, 3);  // a byte-order mark: MRPT skips it too
+        }
+        const auto b = line.find_first_not_of(" \t\r");
+        if (b == std::string::npos || line[b] == ';' || line[b] == '#' || line[b] == '%' ||
+            line[b] == '@' || line.compare(b, 2, "//") == 0)
+        {
+            continue;
+        }
+        const auto e = line.find_last_not_of(" \t\r");
+        const std::string content = line.substr(b, e - b + 1);
+        const bool section = content.front() == '[' && content.back() == ']' && content.size() > 2;
+        const auto eq = content.find('=');
+        const bool keyValue = content.front() != '[' && eq != std::string::npos && eq > 0;
+        if (!section && !keyValue)
+        {
+            THROW_EXCEPTION(mrpt::format("%s:%zu: '%s' is neither a [section] nor key = value",
+                                         file.c_str(), n, content.c_str()));
+        }
+        if (section)
+        {
+            const std::string name = trim(content.substr(1, content.size() - 2));
+            current = &sections[lower(name)];
+            if (current->first.empty())
+            {
+                current->first = name;
+            }
+            continue;
+        }
+        const std::string key = trim(content.substr(0, eq));
+        const auto [it, added] = current->second.emplace(lower(key), n);
+        if (!added)
+        {
+            THROW_EXCEPTION(mrpt::format(
+                "%s:%zu: [%s] %s: set twice (also on line %zu; MRPT would silently use the "
+                "last value): keep one",
+                file.c_str(), n, current->first.c_str(), key.c_str(), it->second));
+        }
+    }
+}
+
+void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                       const std::vector<std::string>& known)
+{
+    std::vector<std::string> keys;
+    c.getAllKeys(section, keys);
+    for (auto k : keys)
+    {
+        k = trim(k);
+        if (std::find(known.begin(), known.end(), k) == known.end())
+        {
+            std::string list;
+            for (const auto& kn : known)
+            {
+                list += (list.empty() ? "" : ", ") + kn;
+            }
+            fail(section, k, "unknown key (known keys: " + list + ")");
+        }
+    }
+}
+
+std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file)
+{
+    if (file.empty() || file[0] == '/' || mrpt::system::fileExists(file))
+    {
+        return file;
+    }
+    if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
+    {
+        // MRPT 2.5's extractFileDirectory() drops the trailing separator: join explicitly.
+        const std::string dir = mrpt::system::extractFileDirectory(f->getAssociatedFile());
+        std::string joined = mrpt::system::pathJoin({dir.empty() ? "." : dir, file});
+        if (mrpt::system::fileExists(joined))
+        {
+            return joined;
+        }
+    }
+    return file;
+}
+
+std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o)
+{
+    mrpt::config::CConfigFileMemory mem;
+    o.saveToConfigFile(mem, "s");
+    std::vector<std::string> keys;
+    mem.getAllKeys("s", keys);
+    for (auto& k : keys)
+    {
+        k = trim(k);  // MRPT pads keys to align the written columns
+    }
+    return keys;
+}
+
+}  // namespace semloc::config

@@ -1,0 +1,456 @@
+/* semloc — LocalizationMap: [MetricMap] strictly, and the map file as pf-localization reads it. */
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/maps/CSimpleMap.h>
+#include <mrpt/maps/TMetricMapTypesRegistry.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/filesystem.h>
+#include <mrpt/system/string_utils.h>
+#include <semloc/io/ConfigHelpers.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/maps/CSemanticMap.h>
+#include <semloc/maps/CStructureMap.h>
+#include <semloc/maps/LocalizationMap.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+#include <regex>
+#include <set>
+
+#include "io/ExactConfigWrite.h"
+
+namespace semloc
+{
+using mrpt::maps::COccupancyGridMap2D;
+
+namespace
+{
+/** Keys of [MetricMap] other than `<name>_count` that MRPT's sample configurations carry
+ *  (read by MRPT 1.x, ignored by 2.x). */
+const std::vector<std::string> kLegacyKeys = {
+    "likelihoodMapSelection",   "enableInsertion_pointsMap",   "enableInsertion_landmarksMap",
+    "enableInsertion_gridMaps", "enableInsertion_gasGridMaps", "enableInsertion_beaconMap"};
+
+const std::string kCount = "_count";
+
+std::set<std::string> registeredNames()
+{
+    std::set<std::string> names;
+    for (const auto& [name, functors] :
+         mrpt::maps::internal::TMetricMapTypesRegistry::Instance().getAllRegistered())
+    {
+        names.insert(name);
+    }
+    return names;
+}
+
+std::string trim(std::string s)
+{
+    s.erase(0, s.find_first_not_of(" \t"));
+    s.erase(s.find_last_not_of(" \t\r") + 1);
+    return s;
+}
+
+/** (alias, index) of each definition, in the order TSetOfMetricMapInitializers creates them:
+ *  registry names in order, `<alias>_count` maps each. */
+std::vector<std::pair<std::string, unsigned>> definitionAliases(
+    const mrpt::config::CConfigFileBase& ini, const std::string& section)
+{
+    std::vector<std::pair<std::string, unsigned>> out;
+    for (const auto& name : registeredNames())
+    {
+        const auto n = ini.read_uint64_t(section, name + kCount, 0);
+        for (unsigned i = 0; i < n; i++)
+        {
+            out.emplace_back(name, i);
+        }
+    }
+    return out;
+}
+
+std::string gridMethodName(const COccupancyGridMap2D& g)
+{
+    switch (g.likelihoodOptions.likelihoodMethod)
+    {
+        case COccupancyGridMap2D::lmMeanInformation:
+            return "grid_mi";
+        case COccupancyGridMap2D::lmRayTracing:
+            return "grid_rt";
+        case COccupancyGridMap2D::lmConsensus:
+            return "grid_consensus";
+        case COccupancyGridMap2D::lmCellsDifference:
+            return "grid_cells";
+        case COccupancyGridMap2D::lmLikelihoodField_Thrun:
+            return "grid_lf";
+        case COccupancyGridMap2D::lmLikelihoodField_II:
+            return "grid_lf2";
+        case COccupancyGridMap2D::lmConsensusOWA:
+            return "grid_owa";
+    }
+    return "grid";
+}
+
+/** Replaces a grid's cells by `cells`, keeping the options the ini gave it. */
+void replaceGridCells(COccupancyGridMap2D& grid, const COccupancyGridMap2D& cells)
+{
+    const auto insertion = grid.insertionOptions;
+    const auto likelihood = grid.likelihoodOptions;
+    const auto generic = grid.genericMapParams;
+    grid = cells;
+    grid.insertionOptions = insertion;
+    grid.likelihoodOptions = likelihood;
+    grid.genericMapParams = generic;
+}
+
+/** A float as text that reads back as the same float. */
+std::string floatText(float v)
+{
+    return mrpt::format("%.9g", static_cast<double>(v));
+}
+
+/** "mrpt::maps::COccupancyGridMap2D" -> "COccupancyGridMap2D". */
+std::string stripNamespace(const std::string& cls)
+{
+    const auto p = cls.rfind("::");
+    return p == std::string::npos ? cls : cls.substr(p + 2);
+}
+
+std::string creationSection(const std::string& prefix)
+{
+    return prefix + "_creationOpts";
+}
+}  // namespace
+
+void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
+                                       const std::string& section)
+{
+    const auto names = registeredNames();
+    std::string known;
+    for (const auto& n : names)
+    {
+        if (n.find("::") == std::string::npos)
+        {
+            known.append(known.empty() ? "" : ", ").append(n);
+        }
+    }
+    std::vector<std::string> keys;
+    ini.getAllKeys(section, keys);
+    for (auto key : keys)
+    {
+        key = trim(key);
+        if (key.size() > kCount.size() &&
+            key.compare(key.size() - kCount.size(), kCount.size(), kCount) == 0)
+        {
+            const std::string name = key.substr(0, key.size() - kCount.size());
+            if (!names.count(name))
+            {
+                THROW_EXCEPTION(mrpt::format(
+                    "ini [%s] %s: unknown map '%s' (MRPT would ignore it silently); known maps: %s",
+                    section.c_str(), key.c_str(), name.c_str(), known.c_str()));
+            }
+            int n = 0;
+            config::readInt(ini, section, key, n, 0, 99);
+        }
+        else if (std::find(kLegacyKeys.begin(), kLegacyKeys.end(), key) == kLegacyKeys.end())
+        {
+            THROW_EXCEPTION(mrpt::format(
+                "ini [%s] %s: unknown key (expected <map>_count, e.g. semanticMap_count = 1)",
+                section.c_str(), key.c_str()));
+        }
+    }
+
+    // [<section>_<name>_<NN>_<kind>] must belong to a map that is created.
+    const std::regex re("^" + section + "_(.+)_([0-9]+)_([A-Za-z0-9]+)$");
+    std::vector<std::string> sections;
+    ini.getAllSections(sections);
+    for (const auto& s : sections)
+    {
+        if (s.rfind(section + "_", 0) != 0)
+        {
+            continue;
+        }
+        // MRPT reads its maps' numbers leniently: NaN and inf would pass.
+        std::vector<std::string> mapKeys;
+        ini.getAllKeys(s, mapKeys);
+        for (const auto& key : mapKeys)
+        {
+            const std::string v = trim(ini.read_string(s, key, ""));
+            char* end = nullptr;
+            const double d = v.empty() ? 0 : std::strtod(v.c_str(), &end);
+            if (!v.empty() && end == v.c_str() + v.size() && !std::isfinite(d))
+            {
+                THROW_EXCEPTION(mrpt::format("ini [%s] %s: '%s' is not a finite number", s.c_str(),
+                                             trim(key).c_str(), v.c_str()));
+            }
+        }
+        std::smatch m;
+        if (!std::regex_match(s, m, re) || !names.count(m[1].str()))
+        {
+            THROW_EXCEPTION(mrpt::format(
+                "ini [%s]: unknown section (map sections are [%s_<map>_<NN>_<creationOpts|"
+                "likelihoodOpts|insertOpts|...>] with a known map: %s)",
+                s.c_str(), section.c_str(), known.c_str()));
+        }
+        const auto count = ini.read_uint64_t(section, m[1].str() + kCount, 0);
+        if (static_cast<uint64_t>(std::stoul(m[2].str())) >= count)
+        {
+            THROW_EXCEPTION(mrpt::format("ini [%s]: section of %s #%s, but [%s] %s%s = %u",
+                                         s.c_str(), m[1].str().c_str(), m[2].str().c_str(),
+                                         section.c_str(), m[1].str().c_str(), kCount.c_str(),
+                                         static_cast<unsigned>(count)));
+        }
+    }
+}
+
+LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase& ini,
+                                            const std::string& mapFile, const std::string& section)
+{
+    validateSections(ini, section);
+    LocalizationMap lm;
+    lm.definitions.loadFromConfigFile(ini, section);
+    if (lm.definitions.size() == 0)
+    {
+        THROW_EXCEPTION("ini [" + section +
+                        "]: no map (e.g. semanticMap_count = 1, structureMap_count = 1, "
+                        "occupancyGrid_count = 1)");
+    }
+    lm.map = mrpt::maps::CMultiMetricMap::Create();
+    lm.map->setListOfMaps(lm.definitions);
+    const auto aliases = definitionAliases(ini, section);
+    ASSERT_EQUAL_(aliases.size(), lm.map->maps.size());
+
+    const std::string ext =
+        mapFile.empty()
+            ? ""
+            : mrpt::system::lowerCase(mrpt::system::extractFileExtension(mapFile, true));
+    if (!mapFile.empty() && !mrpt::system::fileExists(mapFile))
+    {
+        THROW_EXCEPTION("map_file '" + mapFile + "' does not exist");
+    }
+    const bool fromWorld = ext == "yaml" || ext == "yml";
+    if (fromWorld)
+    {
+        lm.world = World::FromFile(mapFile);
+    }
+    else if (ext == "simplemap")
+    {
+        mrpt::maps::CSimpleMap sm;
+        mrpt::io::CFileGZInputStream f(mapFile);
+        mrpt::serialization::archiveFrom(f) >> sm;
+        if (sm.empty())
+        {
+            THROW_EXCEPTION("map_file '" + mapFile + "': the simple map is empty");
+        }
+        lm.map->loadFromProbabilisticPosesAndObservations(sm);
+    }
+    else if (ext == "gridmap")
+    {
+        const auto grid = lm.map->mapByClass<COccupancyGridMap2D>();
+        if (!grid)
+        {
+            THROW_EXCEPTION("map_file '" + mapFile + "' is a grid map, but [" + section +
+                            "] creates no occupancyGrid");
+        }
+        COccupancyGridMap2D cells;
+        mrpt::io::CFileGZInputStream f(mapFile);
+        mrpt::serialization::archiveFrom(f) >> cells;
+        replaceGridCells(*grid, cells);
+    }
+    else if (!mapFile.empty())
+    {
+        THROW_EXCEPTION("map_file '" + mapFile +
+                        "': unknown kind (expected .yaml, .simplemap or .gridmap, optionally .gz)");
+    }
+
+    lm.m_worldFiles.assign(lm.map->maps.size(), "");
+    size_t k = 0;
+    for (const auto& def : lm.definitions)
+    {
+        auto& m = lm.map->maps[k];
+        const std::string prefix =
+            section + "_" + aliases[k].first + mrpt::format("_%02u", aliases[k].second);
+        if (const auto* d = dynamic_cast<const CSemanticMap::TMapDefinition*>(def.get()))
+        {
+            auto& sem = dynamic_cast<CSemanticMap&>(*m);
+            lm.m_worldFiles[k] = d->world_file;
+            if (d->world_file.empty() && lm.world)
+            {
+                sem.loadFromWorld(*lm.world);
+                lm.m_worldFiles[k] = mapFile;
+            }
+            if (!lm.world && !d->world_file.empty())
+            {
+                lm.world = World::FromFile(d->world_file);
+            }
+            if (sem.isEmpty())
+            {
+                THROW_EXCEPTION("ini [" + creationSection(prefix) +
+                                "] world_file: the semantic map is empty (set world_file, or a "
+                                "world YAML as map_file)");
+            }
+        }
+        else if (const auto* ds = dynamic_cast<const CStructureMap::TMapDefinition*>(def.get()))
+        {
+            auto& st = dynamic_cast<CStructureMap&>(*m);
+            lm.m_worldFiles[k] = ds->world_file;
+            if (ds->world_file.empty() && lm.world)
+            {
+                st.loadFromWorld(*lm.world, ds->cylinder_tolerance_m, ds->raycast_cell_m);
+                lm.m_worldFiles[k] = mapFile;
+            }
+            if (!lm.world && !ds->world_file.empty())
+            {
+                lm.world = World::FromFile(ds->world_file);
+            }
+            if (st.isEmpty())
+            {
+                THROW_EXCEPTION("ini [" + creationSection(prefix) +
+                                "] world_file: the structure map is empty (set world_file, or a "
+                                "world YAML as map_file)");
+            }
+        }
+        else if (const auto* dg =
+                     dynamic_cast<const COccupancyGridMap2D::TMapDefinition*>(def.get());
+                 dg && fromWorld)
+        {
+            COccupancyGridMap2D cells;
+            try
+            {
+                cells = lm.world->makeOccupancyGrid(dg->resolution);
+            }
+            catch (const std::exception& e)
+            {
+                THROW_EXCEPTION("ini [" + creationSection(prefix) +
+                                "] resolution: " + errorMessage(e));
+            }
+            replaceGridCells(dynamic_cast<COccupancyGridMap2D&>(*m), cells);
+        }
+        k++;
+    }
+    return lm;
+}
+
+std::string LocalizationMap::kindOf(const mrpt::maps::CMetricMap& m)
+{
+    const std::string cls = m.GetRuntimeClass()->className;
+    const auto& reg = mrpt::maps::internal::TMetricMapTypesRegistry::Instance();
+    for (const auto& name : registeredNames())
+    {
+        if (name.find("::") != std::string::npos || name == stripNamespace(cls))
+        {
+            continue;
+        }
+        const std::unique_ptr<mrpt::maps::TMetricMapInitializer> def(
+            reg.factoryMapDefinition(name));
+        if (def && def->getMetricMapClassType()->className == cls)
+        {
+            return name;
+        }
+    }
+    return stripNamespace(cls);
+}
+
+std::string LocalizationMap::variant() const
+{
+    std::vector<std::string> kinds;
+    for (const auto& m : map->maps)
+    {
+        if (dynamic_cast<const CSemanticMap*>(m.get()))
+        {
+            kinds.push_back("semantic");
+        }
+        else if (dynamic_cast<const CStructureMap*>(m.get()))
+        {
+            kinds.push_back("geometric");
+        }
+        else if (const auto* g = dynamic_cast<const COccupancyGridMap2D*>(m.get()))
+        {
+            kinds.push_back(gridMethodName(*g));
+        }
+        else
+        {
+            kinds.push_back(kindOf(*m));
+        }
+    }
+    if (kinds.size() == 2 && std::count(kinds.begin(), kinds.end(), "semantic") == 1 &&
+        std::count(kinds.begin(), kinds.end(), "geometric") == 1)
+    {
+        return "fused";
+    }
+    std::string v;
+    for (const auto& k : kinds)
+    {
+        v += (v.empty() ? "" : "+") + k;
+    }
+    return v;
+}
+
+std::string LocalizationMap::effectiveConfig(const mrpt::config::CConfigFileBase& input,
+                                             const std::string& section) const
+{
+    // Every key of the options we know, defaults included...
+    mrpt::config::CConfigFileMemory ours;
+    const auto aliases = definitionAliases(input, section);
+    size_t k = 0;
+    for (const auto& def : definitions)
+    {
+        const std::string prefix =
+            section + "_" + aliases[k].first + mrpt::format("_%02u", aliases[k].second);
+        const std::string sc = creationSection(prefix);
+        def->genericMapParams.saveToConfigFile(ours, sc);
+        if (const auto* d = dynamic_cast<const CSemanticMap::TMapDefinition*>(def.get()))
+        {
+            ours.write(sc, "world_file", m_worldFiles[k]);
+            d->likelihoodOpts.saveToConfigFile(ours, prefix + "_likelihoodOpts");
+            d->insertionOpts.saveToConfigFile(ours, prefix + "_insertOpts");
+        }
+        else if (const auto* ds = dynamic_cast<const CStructureMap::TMapDefinition*>(def.get()))
+        {
+            ours.write(sc, "world_file", m_worldFiles[k]);
+            detail::writeExact(ours, sc, "cylinder_tolerance_m", ds->cylinder_tolerance_m, "");
+            detail::writeExact(ours, sc, "raycast_cell_m", ds->raycast_cell_m, "");
+            ds->likelihoodOpts.saveToConfigFile(ours, prefix + "_likelihoodOpts");
+        }
+        else if (const auto* dg =
+                     dynamic_cast<const COccupancyGridMap2D::TMapDefinition*>(def.get()))
+        {
+            ours.write(sc, "min_x", floatText(dg->min_x));
+            ours.write(sc, "max_x", floatText(dg->max_x));
+            ours.write(sc, "min_y", floatText(dg->min_y));
+            ours.write(sc, "max_y", floatText(dg->max_y));
+            ours.write(sc, "resolution", floatText(dg->resolution));
+        }
+        k++;
+    }
+    // ...(re-read: MRPT pads the keys it writes), then the input's other keys of the map
+    // sections as given: MRPT's map options cannot all be written back.
+    mrpt::config::CConfigFileMemory out;
+    out.setContent(ours.getContent());
+    std::vector<std::string> sections;
+    input.getAllSections(sections);
+    for (const auto& s : sections)
+    {
+        if (s != section && s.rfind(section + "_", 0) != 0)
+        {
+            continue;
+        }
+        std::vector<std::string> keys;
+        input.getAllKeys(s, keys);
+        for (auto key : keys)
+        {
+            key = trim(key);
+            if (!out.keyExists(s, key))
+            {
+                out.write(s, key, trim(input.read_string(s, key, "")));
+            }
+        }
+    }
+    return out.getContent();
+}
+
+}  // namespace semloc

@@ -1,0 +1,170 @@
+/* semloc — SemanticDetectorModel: visibility by ray casting, detector error model. */
+#include <mrpt/core/bits_math.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <semloc/io/ConfigHelpers.h>
+#include <semloc/simulator/SemanticDetectorModel.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "io/ExactConfigWrite.h"
+#include "simulator/SensorMount.h"
+#include "simulator/SimRandom.h"
+
+namespace semloc
+{
+void SemanticDetectorModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                                         const std::string& s)
+{
+    config::rejectUnknownKeys(c, s, config::keysOf(*this));
+    config::readDouble(c, s, "max_range_m", max_range_m, 1e-3, 1e5);
+    config::readDouble(c, s, "fov_deg", fov_deg, 1e-6, 360);
+    config::readDouble(c, s, "range_noise_std_m", range_noise_std_m, 0, 1e3);
+    config::readDouble(c, s, "bearing_noise_std_deg", bearing_noise_std_deg, 0, 360);
+    config::readDouble(c, s, "p_detect_near", p_detect_near, 0, 1);
+    config::readDouble(c, s, "p_detect_far", p_detect_far, 0, 1);
+    config::readDouble(c, s, "false_positives_per_scan", false_positives_per_scan, 0, 100);
+    config::readDouble(c, s, "p_confusion", p_confusion, 0, 1);
+    config::readBool(c, s, "report_ids", report_ids);
+    detail::readSensorMount(c, s, sensor_x_m, sensor_y_m, sensor_yaw_deg);
+}
+
+void SemanticDetectorModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                       const std::string& s) const
+{
+    using detail::writeExact;
+    writeExact(c, s, "max_range_m", max_range_m, "maximum detection range [m]");
+    writeExact(c, s, "fov_deg", fov_deg, "field of view, centred ahead [deg]");
+    writeExact(c, s, "range_noise_std_m", range_noise_std_m, "range noise [m]");
+    writeExact(c, s, "bearing_noise_std_deg", bearing_noise_std_deg, "bearing noise [deg]");
+    writeExact(c, s, "p_detect_near", p_detect_near, "P(detect) of a visible object at 0 m");
+    writeExact(c, s, "p_detect_far", p_detect_far, "P(detect) at max range (linear between)");
+    writeExact(c, s, "false_positives_per_scan", false_positives_per_scan,
+               "Poisson mean of false positives per scan");
+    writeExact(c, s, "p_confusion", p_confusion, "P(label swapped to another world label)");
+    c.write(s, "report_ids", report_ids, 24, 24, "report map object ids (else -1)");
+    detail::writeSensorMount(c, s, "detector", sensor_x_m, sensor_y_m, sensor_yaw_deg);
+}
+
+mrpt::poses::CPose3D SemanticDetectorModel::TOptions::sensorPose() const
+{
+    return detail::sensorMountPose(sensor_x_m, sensor_y_m, sensor_yaw_deg);
+}
+
+SemanticDetectorModel::SemanticDetectorModel(const World& world, const TOptions& options)
+    : m_options(options), m_objects(world.objects), m_all(world.outlineSegments())
+{
+    for (const auto& o : m_objects)
+    {
+        m_labels.push_back(o.label);
+    }
+    std::sort(m_labels.begin(), m_labels.end());
+    m_labels.erase(std::unique(m_labels.begin(), m_labels.end()), m_labels.end());
+    for (const auto& o : m_objects)
+    {
+        m_labelOf.push_back(static_cast<size_t>(
+            std::lower_bound(m_labels.begin(), m_labels.end(), o.label) - m_labels.begin()));
+        // The same segments World::outlineSegments() makes for this object.
+        const auto poly = World::outlinePolygon(o);
+        std::vector<mrpt::math::TSegment2D> own;
+        for (size_t i = 0; i < poly.size(); i++)
+        {
+            own.emplace_back(poly[i], poly[(i + 1) % poly.size()]);
+        }
+        m_own.emplace_back(own);
+    }
+}
+
+double SemanticDetectorModel::detectionProbability(double range_m) const
+{
+    const TOptions& o = m_options;
+    return o.p_detect_near + (o.p_detect_far - o.p_detect_near) * range_m / o.max_range_m;
+}
+
+std::vector<SemanticDetectorModel::TVisibleObject> SemanticDetectorModel::visibleObjects(
+    const mrpt::math::TPose2D& vehicle) const
+{
+    const TOptions& o = m_options;
+    const double c = std::cos(vehicle.phi), s = std::sin(vehicle.phi);
+    const double sx = vehicle.x + c * o.sensor_x_m - s * o.sensor_y_m;
+    const double sy = vehicle.y + s * o.sensor_x_m + c * o.sensor_y_m;
+    const double sphi = vehicle.phi + mrpt::DEG2RAD(o.sensor_yaw_deg);
+    const double halfFov = 0.5 * mrpt::DEG2RAD(o.fov_deg);
+
+    std::vector<TVisibleObject> out;
+    for (size_t i = 0; i < m_objects.size(); i++)
+    {
+        const double dx = m_objects[i].center.x - sx, dy = m_objects[i].center.y - sy;
+        const double r = std::hypot(dx, dy);
+        if (r > o.max_range_m)
+        {
+            continue;
+        }
+        const double angle = std::atan2(dy, dx);
+        const double b = mrpt::math::wrapToPi(angle - sphi);
+        if (std::abs(b) > halfFov)
+        {
+            continue;
+        }
+        // Occluded if the sight line first crosses an outline that is not the object's own.
+        const double hit = m_all.cast(sx, sy, angle, r);
+        if (hit < r && m_own[i].cast(sx, sy, angle, r) != hit)
+        {
+            continue;
+        }
+        out.push_back({i, r, b});
+    }
+    return out;
+}
+
+CObservationSemantic::Ptr SemanticDetectorModel::measure(const mrpt::math::TPose2D& vehicle,
+                                                         mrpt::random::CRandomGenerator& rng) const
+{
+    const TOptions& o = m_options;
+    auto obs = CObservationSemantic::Create();
+    obs->sensorLabel = "SEMANTIC";
+    obs->sensorPose = o.sensorPose();
+    obs->maxRange_m = o.max_range_m;
+    obs->fov_rad = mrpt::DEG2RAD(o.fov_deg);
+    const double halfFov = 0.5 * obs->fov_rad;
+    const double sigmaBearing = mrpt::DEG2RAD(o.bearing_noise_std_deg);
+    const size_t nLabels = m_labels.size();
+
+    for (const auto& v : visibleObjects(vehicle))
+    {
+        if (!detail::bernoulli(rng, detectionProbability(v.range_m)))
+        {
+            continue;
+        }
+        TSemanticDetection d;
+        d.range_m = std::clamp(v.range_m + o.range_noise_std_m * rng.drawGaussian1D_normalized(),
+                               0.0, o.max_range_m);
+        d.bearing_rad = std::clamp(
+            mrpt::math::wrapToPi(v.bearing_rad + sigmaBearing * rng.drawGaussian1D_normalized()),
+            -halfFov, halfFov);
+        size_t label = m_labelOf[v.index];
+        if (nLabels > 1 && detail::bernoulli(rng, o.p_confusion))
+        {
+            // Uniform over the K - 1 other labels.
+            const size_t k = detail::uniformIndex(rng, nLabels - 1);
+            label = k >= label ? k + 1 : k;
+        }
+        d.label = m_labels[label];
+        d.object_id = o.report_ids ? m_objects[v.index].id : -1;
+        obs->detections.push_back(std::move(d));
+    }
+
+    const unsigned nFalse = nLabels > 0 ? detail::poisson(rng, o.false_positives_per_scan) : 0;
+    for (unsigned j = 0; j < nFalse; j++)
+    {
+        TSemanticDetection d;
+        d.label = m_labels[detail::uniformIndex(rng, nLabels)];
+        d.range_m = detail::uniform01(rng) * o.max_range_m;
+        d.bearing_rad = -halfFov + detail::uniform01(rng) * 2 * halfFov;
+        obs->detections.push_back(std::move(d));
+    }
+    return obs;
+}
+
+}  // namespace semloc

@@ -1,0 +1,227 @@
+/* semloc — strict YAML reading with libyaml's event parser. */
+#include "world/YamlSyntax.h"
+
+#include <yaml.h>
+
+#include <memory>
+#include <set>
+#include <vector>
+
+namespace semloc::detail
+{
+namespace
+{
+using node_t = mrpt::containers::yaml::node_t;
+
+/** "line L, column C: " of a 0-based libyaml mark (editors count from 1). */
+std::string at(const yaml_mark_t& m)
+{
+    return "line " + std::to_string(m.line + 1) + ", column " + std::to_string(m.column + 1) + ": ";
+}
+
+/** An open map or sequence: its node (in its parent, or the document; neither moves while
+ *  it is open), and for maps the key waiting for its value. node_t has no move operations:
+ *  nodes are built in place, never copied once filled. */
+struct Open
+{
+    node_t* node = nullptr;
+    bool haveKey = false;
+    std::string key;
+    std::map<std::string, size_t> keyLine;  // each key and its 0-based line
+};
+
+/** `n` with the position of the event that starts it. */
+node_t marked(node_t n, const yaml_event_t& e)
+{
+    n.marks.line = static_cast<int>(e.start_mark.line);
+    n.marks.column = static_cast<int>(e.start_mark.column);
+    n.marks.input_pos = e.start_mark.index;
+    return n;
+}
+
+/** A scalar event's node: null for the plain forms YAML's core schema reads as null. */
+node_t scalarNode(const yaml_event_t& e)
+{
+    const std::string value(reinterpret_cast<const char*>(e.data.scalar.value),
+                            e.data.scalar.length);
+    static const std::set<std::string> nulls = {"", "~", "null", "Null", "NULL"};
+    node_t n;
+    if (!(e.data.scalar.style == YAML_PLAIN_SCALAR_STYLE && nulls.count(value)))
+    {
+        n.d.emplace<mrpt::containers::yaml::scalar_t>().emplace<std::string>(value);
+    }
+    return n;
+}
+
+/** The event parser: owns libyaml's parser and the event being handled. */
+class Reader
+{
+public:
+    explicit Reader(const std::string& text)
+    {
+        m_ok = yaml_parser_initialize(&m_parser) != 0;
+        if (m_ok)
+        {
+            yaml_parser_set_input_string(
+                &m_parser, reinterpret_cast<const unsigned char*>(text.data()), text.size());
+        }
+    }
+    ~Reader()
+    {
+        if (m_haveEvent)
+        {
+            yaml_event_delete(&m_event);
+        }
+        if (m_ok)
+        {
+            yaml_parser_delete(&m_parser);
+        }
+    }
+    Reader(const Reader&) = delete;
+    Reader& operator=(const Reader&) = delete;
+
+    std::string read(node_t& doc)
+    {
+        if (!m_ok)
+        {
+            return "cannot start the YAML parser (out of memory)";
+        }
+        std::vector<Open> open;
+        bool haveDoc = false;
+        // Places a new node (a scalar, or a collection still empty) where the document is at.
+        auto place = [&](const node_t& n) -> node_t*
+        {
+            if (open.empty())
+            {
+                doc = n;
+                return &doc;
+            }
+            Open& parent = open.back();
+            if (parent.node->isSequence())
+            {
+                parent.node->asSequence().push_back(n);
+                return &parent.node->asSequence().back();
+            }
+            parent.haveKey = false;
+            const auto it =
+                parent.node->asMap().emplace(node_t(parent.key), n).first;  // keys are unique
+            return &it->second;
+        };
+        for (;;)
+        {
+            if (!next())
+            {
+                std::string error = at(m_parser.problem_mark) + "YAML syntax error: " +
+                                    (m_parser.problem ? m_parser.problem : "unknown error");
+                if (m_parser.context)
+                {
+                    error += std::string(" (") + m_parser.context + ")";
+                }
+                return error;
+            }
+            const yaml_event_t& e = m_event;
+            const bool keyNext = !open.empty() && open.back().node->isMap() && !open.back().haveKey;
+            switch (e.type)
+            {
+                case YAML_STREAM_END_EVENT:
+                    return {};
+                case YAML_DOCUMENT_START_EVENT:
+                    if (haveDoc)
+                    {
+                        return at(e.start_mark) +
+                               "a second YAML document: the file must hold one (remove the "
+                               "'---' and what follows, or merge the documents)";
+                    }
+                    haveDoc = true;
+                    break;
+                case YAML_ALIAS_EVENT:
+                    return at(e.start_mark) + "YAML alias '*" +
+                           reinterpret_cast<const char*>(e.data.alias.anchor) +
+                           "': aliases are not supported (write the value out)";
+                case YAML_SCALAR_EVENT:
+                    if (keyNext)
+                    {
+                        Open& m = open.back();
+                        const std::string key(reinterpret_cast<const char*>(e.data.scalar.value),
+                                              e.data.scalar.length);
+                        const auto [it, added] = m.keyLine.emplace(key, e.start_mark.line);
+                        if (!added)
+                        {
+                            return at(e.start_mark) + "key '" + key + "' repeated (first on line " +
+                                   std::to_string(it->second + 1) +
+                                   "): a YAML map takes each key once";
+                        }
+                        m.key = key;
+                        m.haveKey = true;
+                    }
+                    else
+                    {
+                        place(marked(scalarNode(e), e));
+                    }
+                    break;
+                case YAML_SEQUENCE_START_EVENT:
+                case YAML_MAPPING_START_EVENT:
+                {
+                    if (open.size() >= kMaxYamlDepth)
+                    {
+                        return at(e.start_mark) + "nested deeper than " +
+                               std::to_string(kMaxYamlDepth) + " levels";
+                    }
+                    if (keyNext)
+                    {
+                        return at(e.start_mark) + "a map key must be a scalar";
+                    }
+                    node_t n;
+                    if (e.type == YAML_MAPPING_START_EVENT)
+                    {
+                        n.d.emplace<mrpt::containers::yaml::map_t>();
+                    }
+                    else
+                    {
+                        n.d.emplace<mrpt::containers::yaml::sequence_t>();
+                    }
+                    Open o;
+                    o.node = place(marked(n, e));
+                    open.push_back(o);
+                    break;
+                }
+                case YAML_SEQUENCE_END_EVENT:
+                case YAML_MAPPING_END_EVENT:
+                    open.pop_back();
+                    break;
+                default:
+                    break;
+            }
+        }
+    }
+
+private:
+    /** Parses the next event into m_event; false on a syntax error. */
+    bool next()
+    {
+        if (m_haveEvent)
+        {
+            yaml_event_delete(&m_event);
+            m_haveEvent = false;
+        }
+        if (!yaml_parser_parse(&m_parser, &m_event))
+        {
+            return false;
+        }
+        m_haveEvent = true;
+        return true;
+    }
+
+    yaml_parser_t m_parser{};
+    yaml_event_t m_event{};
+    bool m_ok = false;
+    bool m_haveEvent = false;
+};
+}  // namespace
+
+std::string parseYaml(const std::string& text, node_t& doc)
+{
+    doc = node_t();
+    return Reader(text).read(doc);
+}
+}  // namespace semloc::detail

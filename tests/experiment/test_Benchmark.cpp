@@ -1,0 +1,119 @@
+/* Tests of semloc::Benchmark: config/benchmark.ini's defaults, the uniform filter, strict
+ * keys, and runs that depend on their seed only. */
+#include <gtest/gtest.h>
+#include <mrpt/core/exceptions.h>
+#include <semloc/experiment/Benchmark.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/io/Interrupt.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "TestHelpers.h"
+
+namespace
+{
+const std::string kConfig = std::string(SEMLOC_SOURCE_DIR) + "/config/";
+
+std::string writeIni(const std::string& name, const std::string& body)
+{
+    const std::string path = std::string(SEMLOC_TEST_OUT) + "/" + name;
+    std::ofstream(path) << "[Benchmark]\nsimulate_ini = " << kConfig
+                        << "simulate.ini\nvariants = " << kConfig << "semantic.ini, " << kConfig
+                        << "geometric.ini\noutput_dir = " << SEMLOC_TEST_OUT << "/bench_unused\n"
+                        << body;
+    return path;
+}
+
+std::string errorOf(const std::string& path)
+{
+    try
+    {
+        (void)semloc::Benchmark::FromConfigFile(path);
+    }
+    catch (const std::exception& e)
+    {
+        return semloc::errorMessage(e);
+    }
+    return {};
+}
+}  // namespace
+
+TEST(Benchmark, ShippedIniIsThePapersExperimentWithOneFilterForAllVariants)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark.ini");
+    EXPECT_EQ(b.options().runs, 100);
+    ASSERT_EQ(b.variants().size(), 5u);
+    const auto& ref = b.variants().front().options.filter;
+    for (const auto& v : b.variants())
+    {
+        const auto& f = v.options.filter;
+        EXPECT_EQ(f.particles_count, ref.particles_count) << v.name();
+        EXPECT_EQ(f.init_PDF_mode, ref.init_PDF_mode) << v.name();
+        EXPECT_EQ(f.pf.resamplingMethod, ref.pf.resamplingMethod) << v.name();
+        EXPECT_EQ(f.pf.PF_algorithm, ref.pf.PF_algorithm) << v.name();
+        EXPECT_EQ(f.pf.adaptiveSampleSize, ref.pf.adaptiveSampleSize) << v.name();
+        EXPECT_EQ(f.threads, 1) << v.name();
+    }
+    EXPECT_EQ(b.variants()[0].name(), "semantic");
+    EXPECT_EQ(b.variants()[4].name(), "fused");
+}
+
+TEST(Benchmark, ErrorsNameTheKey)
+{
+    EXPECT_NE(errorOf(writeIni("bench_bad1.ini", "runs = 0\n")).find("[Benchmark] runs"),
+              std::string::npos);
+    EXPECT_NE(errorOf(writeIni("bench_bad2.ini", "partcles = 10\n")).find("partcles"),
+              std::string::npos);
+    EXPECT_NE(errorOf(writeIni("bench_bad3.ini", "simulate_ini = nope.ini\n"))
+                  .find("[Benchmark] simulate_ini"),
+              std::string::npos);
+}
+
+TEST(Benchmark, ARunDependsOnItsSeedOnly)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(
+        writeIni("bench_seed.ini", "max_steps = 15\nparticles = 200\n"));
+    const auto a1 = b.runOne(1), a2 = b.runOne(2), again = b.runOne(1);
+    ASSERT_EQ(a1.size(), 2u);
+    for (size_t k = 0; k < a1.size(); k++)
+    {
+        ASSERT_EQ(a1[k].records.size(), 15u);
+        EXPECT_EQ(a1[k].variant, again[k].variant);
+        EXPECT_EQ(a1[k].records.back().est.x, again[k].records.back().est.x);
+        EXPECT_EQ(a1[k].records.back().var_xy, again[k].records.back().var_xy);
+        EXPECT_NE(a1[k].records.back().est.x, a2[k].records.back().est.x);
+        EXPECT_EQ(a1[k].seed, 1u);
+    }
+}
+
+TEST(Benchmark, InterruptStopsTheRunsAndWritesNothing)
+{
+    // Ctrl-C as semloc-benchmark sees it: the handler turns SIGINT into a request...
+    semloc::installInterruptHandlers();
+    std::raise(SIGINT);
+    EXPECT_TRUE(semloc::interruptRequested());
+    semloc::clearInterrupt();
+    std::signal(SIGINT, SIG_DFL);
+
+    // ...and a request while runs are under way ends them: Interrupted, no output directory,
+    // no staging directory left beside it.
+    const std::string out = std::string(SEMLOC_TEST_OUT) + "/bench_interrupted";
+    std::filesystem::remove_all(out);
+    const auto b = semloc::Benchmark::FromConfigFile(
+        writeIni("bench_interrupt.ini", "runs = 4\njobs = 2\nmax_steps = 15\nparticles = 200\n"),
+        out);
+    size_t seen = 0;
+    EXPECT_THROW(b.run(semloc::test::interruptAt(1, seen)), semloc::Interrupted);
+    semloc::clearInterrupt();
+    EXPECT_GE(seen, 1u);
+    EXPECT_LT(seen, 4u) << "runs went on after the request";
+    EXPECT_FALSE(std::filesystem::exists(out));
+    for (const auto& e : std::filesystem::directory_iterator(SEMLOC_TEST_OUT))
+    {
+        EXPECT_EQ(e.path().filename().string().rfind(".bench_interrupted", 0), std::string::npos)
+            << e.path();
+    }
+}

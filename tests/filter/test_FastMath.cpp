@@ -1,0 +1,138 @@
+/* semloc tests — FastMath kernels against libm. */
+#include <gtest/gtest.h>
+#include <mrpt/random/RandomGenerators.h>
+
+#include <cmath>
+#include <cstring>
+#include <vector>
+
+#include "filter/FastMath.h"
+
+using semloc::detail::fastAtan2;
+using semloc::detail::wrapDiff;
+
+TEST(FastMath, Atan2MatchesLibmEverywhere)
+{
+    mrpt::random::CRandomGenerator rng(42);
+    double worst = 0;
+    for (int i = 0; i < 200000; i++)
+    {
+        const double y = rng.drawUniform(-50.0, 50.0), x = rng.drawUniform(-50.0, 50.0);
+        worst = std::max(worst, std::abs(fastAtan2(y, x) - std::atan2(y, x)));
+    }
+    // Axes, diagonals and the origin exactly.
+    const double pts[][2] = {{0, 1},  {0, -1}, {1, 0}, {-1, 0},     {1, 1},      {-1, -1},
+                             {1, -1}, {-1, 1}, {0, 0}, {1e-300, 1}, {1, 1e-300}, {-3, 1e-12}};
+    for (const auto& p : pts)
+    {
+        worst = std::max(worst, std::abs(fastAtan2(p[0], p[1]) - std::atan2(p[0], p[1])));
+    }
+    EXPECT_LT(worst, 1e-7);
+}
+
+TEST(FastMath, WrapDiffStaysInPiRange)
+{
+    EXPECT_NEAR(wrapDiff(3.0 - (-3.0)), 6.0 - 2 * M_PI, 1e-15);
+    EXPECT_NEAR(wrapDiff(-3.0 - 3.0), -6.0 + 2 * M_PI, 1e-15);
+    EXPECT_DOUBLE_EQ(wrapDiff(0.5), 0.5);
+}
+
+TEST(FastMath, SinCosMatchesLibm)
+{
+    mrpt::random::CRandomGenerator rng(43);
+    double worst = 0;
+    auto check = [&](double x)
+    {
+        double s = 0, c = 0;
+        semloc::detail::fastSinCos(x, s, c);
+        worst = std::max({worst, std::abs(s - std::sin(x)), std::abs(c - std::cos(x))});
+    };
+    for (int i = 0; i < 200000; i++)
+    {
+        check(rng.drawUniform(-10.0, 10.0));
+        check(rng.drawUniform(-1e5, 1e5));
+    }
+    for (int k = -8; k <= 8; k++)
+    {
+        check(k * M_PI / 4);
+        check(k * M_PI / 4 + 1e-12);
+        check(k * M_PI / 4 - 1e-12);
+    }
+    EXPECT_LT(worst, 1e-14);
+    double s = 0, c = 0;
+    semloc::detail::fastSinCos(1e300, s, c);  // falls back to libm
+    EXPECT_EQ(s, std::sin(1e300));
+    semloc::detail::fastSinCos(std::nan(""), s, c);
+    EXPECT_TRUE(std::isnan(s) && std::isnan(c));
+}
+
+TEST(FastMath, SinCosTwoAtATimeIsBitForBitOneAtATime)
+{
+    mrpt::random::CRandomGenerator rng(44);
+    std::vector<double> xs;
+    for (int i = 0; i < 100000; i++)
+    {
+        xs.push_back(rng.drawUniform(-4.0, 4.0));
+        xs.push_back(rng.drawUniform(-1e6, 1e6));
+    }
+    for (int k = -9; k <= 9; k++)  // quadrant edges, both signs, signed zeros
+    {
+        for (const double d : {0.0, 1e-12, -1e-12})
+        {
+            xs.push_back(k * M_PI / 4 + d);
+        }
+    }
+    xs.insert(xs.end(), {0.0, -0.0, 1e6, -1e6, 1e6 + 1, 1e300, -1e300, std::nan(""), INFINITY});
+    size_t differ = 0;
+    for (size_t i = 0; i + 1 < xs.size(); i++)  // each value in both lanes, beside others
+    {
+        semloc::detail::Vec2 s2, c2;
+        semloc::detail::fastSinCos2(semloc::detail::Vec2{xs[i], xs[i + 1]}, s2, c2);
+        for (int lane = 0; lane < 2; lane++)
+        {
+            double s = 0, c = 0;
+            semloc::detail::fastSinCos(xs[i + lane], s, c);
+            const double got[2] = {s2[lane], c2[lane]}, want[2] = {s, c};
+            differ += std::memcmp(got, want, sizeof got) != 0 ? 1 : 0;
+        }
+    }
+    EXPECT_EQ(differ, 0u);
+}
+
+TEST(FastMath, AbsAtan2TwoAtATimeIsBitForBitOneAtATime)
+{
+    mrpt::random::CRandomGenerator rng(45);
+    std::vector<double> ys, xs;
+    for (int i = 0; i < 100000; i++)
+    {
+        // Mostly within 45 degrees of +x (the short path, as gated pairs are), the rest
+        // anywhere: lanes mix the two paths.
+        const double a = i % 4 == 0 ? rng.drawUniform(-M_PI, M_PI) : rng.drawUniform(-0.8, 0.8);
+        const double r = rng.drawUniform(1e-3, 60.0);
+        ys.push_back(r * std::sin(a));
+        xs.push_back(r * std::cos(a));
+    }
+    // Edges: the diagonal, the axes, signed zeros, huge, tiny, non-finite.
+    const double edges[] = {0.0, -0.0, 1.0, -1.0, 1e-300, 1e300, HUGE_VAL, std::nan("")};
+    for (const double y : edges)
+    {
+        for (const double x : edges)
+        {
+            ys.push_back(y);
+            xs.push_back(x);
+        }
+    }
+    size_t differ = 0;
+    for (size_t i = 0; i + 1 < xs.size(); i++)  // each pair in both lanes, beside others
+    {
+        const semloc::detail::Vec2 got2 = semloc::detail::fastAbsAtan2x2(
+            semloc::detail::Vec2{ys[i], ys[i + 1]}, semloc::detail::Vec2{xs[i], xs[i + 1]});
+        for (int lane = 0; lane < 2; lane++)
+        {
+            const double got = got2[lane];
+            const double want = semloc::detail::fastAbsAtan2(ys[i + lane], xs[i + lane]);
+            differ += std::memcmp(&got, &want, sizeof got) != 0 ? 1 : 0;
+        }
+    }
+    EXPECT_EQ(differ, 0u);
+}

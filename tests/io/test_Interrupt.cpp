@@ -1,0 +1,524 @@
+/* semloc tests — Ctrl-C and SIGTERM end a tool promptly wherever its time goes: status 130,
+ * nothing written and no temporary left, no child process left running. The tools are run
+ * in their own process group, busy in a long step (MRPT's KLD sampling, a likelihood-field
+ * cache, gnuplot drawing a large world), and signalled; the exit must come within
+ * kLatency_s of the signal. The watchdog of semloc/Interrupt.h is also tested in-process
+ * (death tests). */
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <semloc/io/Interrupt.h>
+#include <semloc/simulator/Simulator.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "TestHelpers.h"
+
+extern char** environ;
+
+namespace fs = std::filesystem;
+
+namespace
+{
+const std::string kSrc = SEMLOC_SOURCE_DIR;
+const std::string kBin = SEMLOC_BIN_DIR;
+/** The bound on the time from the signal to the exit (generous: the watchdog's grace period
+ *  is 1 s). */
+constexpr double kLatency_s = 5.0;
+
+using semloc::test::readText;
+
+/** A fresh directory for one case, and a sibling for the tool's stdout/stderr. */
+fs::path freshDir(const std::string& name)
+{
+    fs::path d = fs::path(SEMLOC_TEST_OUT) / "interrupt" / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    fs::remove_all(d.string() + ".logs");
+    fs::create_directories(d.string() + ".logs");
+    return d;
+}
+
+/** Every name under `d` (hidden ones included), relative. */
+std::set<std::string> listing(const fs::path& d)
+{
+    std::set<std::string> names;
+    for (const auto& e : fs::recursive_directory_iterator(d))
+    {
+        names.insert(fs::relative(e.path(), d).string());
+    }
+    return names;
+}
+
+/** A tool started in its own process group (pgid = pid), in `cwd`, with its output in
+ *  `<cwd>.logs/`. */
+struct Tool
+{
+    pid_t pid = -1;
+    fs::path out, err;
+};
+
+Tool start(const std::vector<std::string>& argv, const fs::path& cwd)
+{
+    Tool t;
+    t.out = cwd.string() + ".logs/stdout";
+    t.err = cwd.string() + ".logs/stderr";
+    std::vector<char*> args;
+    args.reserve(argv.size() + 1);
+    for (const auto& a : argv)
+    {
+        args.push_back(const_cast<char*>(a.c_str()));
+    }
+    args.push_back(nullptr);
+    posix_spawn_file_actions_t fa;
+    posix_spawnattr_t at;
+    posix_spawn_file_actions_init(&fa);
+    posix_spawnattr_init(&at);
+    posix_spawn_file_actions_addopen(&fa, 0, "/dev/null", O_RDONLY, 0);
+    posix_spawn_file_actions_addopen(&fa, 1, t.out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addopen(&fa, 2, t.err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    posix_spawn_file_actions_addchdir_np(&fa, cwd.c_str());
+    posix_spawnattr_setpgroup(&at, 0);
+    posix_spawnattr_setflags(&at, POSIX_SPAWN_SETPGROUP);
+    const int rc = posix_spawn(&t.pid, args[0], &fa, &at, args.data(), environ);
+    posix_spawn_file_actions_destroy(&fa);
+    posix_spawnattr_destroy(&at);
+    EXPECT_EQ(rc, 0) << argv[0];
+    return t;
+}
+
+/** Waits at most `limit_s` for `pred`; false on time-out. */
+bool waitUntil(const std::function<bool()>& pred, double limit_s)
+{
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
+    while (!pred())
+    {
+        if (std::chrono::steady_clock::now() > end)
+        {
+            return false;
+        }
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return true;
+}
+
+/** `pid`'s /proc/<pid>/status field `key` ("" if none). */
+std::string procStatus(pid_t pid, const std::string& key)
+{
+    std::ifstream f("/proc/" + std::to_string(pid) + "/status");
+    for (std::string line; std::getline(f, line);)
+    {
+        if (line.rfind(key + ":", 0) == 0)
+        {
+            return line.substr(key.size() + 1);
+        }
+    }
+    return "";
+}
+
+/** True once the process catches SIGINT and SIGTERM: the tool has installed its handlers
+ *  (semloc::installInterruptHandlers), i.e. it has started its job. */
+bool catchesSignals(pid_t pid)
+{
+    const std::string mask = procStatus(pid, "SigCgt");
+    if (mask.empty())
+    {
+        return false;
+    }
+    const unsigned long long bits = std::stoull(mask, nullptr, 16);
+    return (bits & (1ull << (SIGINT - 1))) && (bits & (1ull << (SIGTERM - 1)));
+}
+
+/** True while `pid` exists and is not a zombie. */
+bool alive(pid_t pid)
+{
+    std::ifstream f("/proc/" + std::to_string(pid) + "/stat");
+    std::string stat;
+    std::getline(f, stat);
+    const auto close = stat.rfind(')');
+    return close != std::string::npos && close + 2 < stat.size() && stat[close + 2] != 'Z';
+}
+
+/** The live children of `parent` (and their descendants when `deep`) whose command name is
+ *  `comm` (any when empty). */
+std::vector<pid_t> childrenOf(pid_t parent, const std::string& comm = {}, bool deep = false)
+{
+    std::vector<pid_t> kids;
+    for (const auto& e : fs::directory_iterator("/proc"))
+    {
+        const std::string name = e.path().filename().string();
+        if (name.find_first_not_of("0123456789") != std::string::npos)
+        {
+            continue;
+        }
+        const pid_t pid = std::stoi(name);
+        const std::string ppid = procStatus(pid, "PPid");
+        if (ppid.empty() || std::stoi(ppid) != parent || !alive(pid))
+        {
+            continue;
+        }
+        std::string c = procStatus(pid, "Name");
+        c.erase(0, c.find_first_not_of(" \t"));
+        if (comm.empty() || c == comm)
+        {
+            kids.push_back(pid);
+        }
+        if (deep)
+        {
+            const auto more = childrenOf(pid, comm, true);
+            kids.insert(kids.end(), more.begin(), more.end());
+        }
+    }
+    return kids;
+}
+
+/** Sends `sig` to the tool (its process group when `group`) and waits for its exit:
+ *  the wait status, or nothing if it is still running kLatency_s later (then killed). */
+std::optional<int> signalAndWait(const Tool& t, int sig, bool group, double* took = nullptr)
+{
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_EQ(group ? ::kill(-t.pid, sig) : ::kill(t.pid, sig), 0);
+    int status = 0;
+    const bool ended =
+        waitUntil([&] { return ::waitpid(t.pid, &status, WNOHANG) == t.pid; }, kLatency_s);
+    if (took)
+    {
+        *took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    if (!ended)
+    {
+        ::kill(-t.pid, SIGKILL);
+        ::waitpid(t.pid, &status, 0);
+        return std::nullopt;
+    }
+    return status;
+}
+
+/** A short simulated dataset of the paper's world, in `d`. */
+void writeDataset(const fs::path& d)
+{
+    auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate.ini");
+    o.simulation.world_file = kSrc + "/maps/paper_50x50.yaml";
+    o.simulation.max_steps = 6;
+    semloc::Simulator sim(o);
+    sim.writeDataset(sim.run(), (d / "ds.rawlog").string());
+}
+
+/** `config/<name>` with each `key = value` of `set` replacing the line of that key. */
+void writeConfig(const fs::path& to, const std::string& name,
+                 const std::vector<std::pair<std::string, std::string>>& set)
+{
+    std::istringstream in(readText(kSrc + "/config/" + name));
+    std::ofstream out(to);
+    for (std::string line; std::getline(in, line);)
+    {
+        for (const auto& [k, v] : set)
+        {
+            const auto eq = line.find('=');
+            if (eq != std::string::npos && line.rfind(k, 0) == 0 &&
+                line.find_first_not_of(' ', k.size()) == eq)
+            {
+                line = k;
+                line += " = ";
+                line += v;
+            }
+        }
+        out << line << "\n";
+    }
+}
+
+/** Runs `argv` in `d` until it has installed its handlers and `settle_s` more, signals it,
+ *  and checks: exit 130 within kLatency_s with "<tool>: interrupted; no output written",
+ *  and `d` as it was. */
+void expectInterrupted(const std::vector<std::string>& argv, const fs::path& d, int sig, bool group,
+                       double settle_s)
+{
+    SCOPED_TRACE(std::string(strsignal(sig)) + (group ? " to the process group" : ""));
+    const auto before = listing(d);
+    const Tool t = start(argv, d);
+    ASSERT_TRUE(waitUntil([&] { return catchesSignals(t.pid) || !alive(t.pid); }, 300));
+    std::this_thread::sleep_for(std::chrono::duration<double>(settle_s));
+    ASSERT_TRUE(alive(t.pid)) << "the tool ended before the signal: " << readText(t.err);
+    double took = 0;
+    const auto status = signalAndWait(t, sig, group, &took);
+    ASSERT_TRUE(status.has_value()) << "still running " << kLatency_s << " s after the signal";
+    EXPECT_TRUE(WIFEXITED(*status) && WEXITSTATUS(*status) == 130)
+        << "wait status " << *status << "; stderr: " << readText(t.err);
+    const std::string tool = fs::path(argv[0]).filename().string();
+    EXPECT_NE(readText(t.err).find(tool + ": interrupted; no output written"), std::string::npos)
+        << readText(t.err);
+    EXPECT_EQ(listing(d), before) << "an output or a temporary was left";
+    EXPECT_LT(took, kLatency_s);
+}
+}  // namespace
+
+// ------------------------------------------------------------------ the tools
+
+TEST(Interrupt, LocalizeStopsInsideKLDSampling)
+{
+    // KLD sampling with a huge maximum and tiny bins draws particles for minutes inside
+    // MRPT's prediction step, which has no check: the watchdog ends the process.
+    const fs::path d = freshDir("kld");
+    writeDataset(d);
+    writeConfig(d / "kld.ini", "semantic.ini",
+                {{"map_file", kSrc + "/maps/paper_50x50.yaml"},
+                 {"particles_count", "1000"},
+                 {"resamplingMethod", "0"},
+                 {"adaptiveSampleSize", "1"},
+                 {"KLD_binSize_XY", "0.0001"},
+                 {"KLD_binSize_PHI_deg", "0.001"},
+                 {"KLD_maxSampleSize", "100000000"}});
+    const std::vector<std::string> argv = {
+        kBin + "/semloc-localize", "kld.ini", "ds.rawlog", "-o", "out", "-q"};
+    expectInterrupted(argv, d, SIGINT, false, 0.5);
+    expectInterrupted(argv, d, SIGTERM, false, 0.5);
+    expectInterrupted(argv, d, SIGINT, true, 0.5);
+}
+
+TEST(Interrupt, LocalizeStopsWhileFillingTheLikelihoodFieldCache)
+{
+    // grid_lf on a 560 x 560 m world with 2 threads: the likelihood-field cache of 31 million
+    // cells is filled before the first step (15 s on the reference machine).
+    const fs::path d = freshDir("grid_cache");
+    writeDataset(d);
+    std::string world = readText(kSrc + "/maps/paper_50x50.yaml");
+    const std::string bounds = "bounds: {x_min: 0, x_max: 50, y_min: 0, y_max: 50}";
+    ASSERT_NE(world.find(bounds), std::string::npos);
+    world.replace(world.find(bounds), bounds.size(),
+                  "bounds: {x_min: 0, x_max: 560, y_min: 0, y_max: 560}");
+    std::ofstream(d / "world.yaml") << world;
+    writeConfig(d / "grid.ini", "grid_lf.ini",
+                {{"map_file", (d / "world.yaml").string()}, {"particles_count", "1000"}});
+    const std::vector<std::string> argv = {
+        kBin + "/semloc-localize", "grid.ini", "ds.rawlog", "-o", "out", "-q", "--threads", "2"};
+    expectInterrupted(argv, d, SIGINT, false, 0.3);
+    expectInterrupted(argv, d, SIGTERM, false, 0.3);
+}
+
+TEST(Interrupt, SecondSignalEndsAtOnce)
+{
+    const fs::path d = freshDir("second");
+    writeDataset(d);
+    writeConfig(d / "kld.ini", "semantic.ini",
+                {{"map_file", kSrc + "/maps/paper_50x50.yaml"},
+                 {"resamplingMethod", "0"},
+                 {"adaptiveSampleSize", "1"},
+                 {"KLD_binSize_XY", "0.0001"},
+                 {"KLD_binSize_PHI_deg", "0.001"},
+                 {"KLD_maxSampleSize", "100000000"}});
+    const Tool t = start({kBin + "/semloc-localize", "kld.ini", "ds.rawlog", "-o", "out"}, d);
+    ASSERT_TRUE(waitUntil([&] { return catchesSignals(t.pid) || !alive(t.pid); }, 300));
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));  // inside KLD sampling
+    ASSERT_EQ(::kill(t.pid, SIGINT), 0);
+    // The first signal restores the default actions; the second one ends the process.
+    ASSERT_TRUE(waitUntil([&] { return !catchesSignals(t.pid); }, kLatency_s));
+    ASSERT_TRUE(alive(t.pid)) << "ended by the first signal already";
+    const auto status = signalAndWait(t, SIGINT, false);
+    ASSERT_TRUE(status.has_value());
+    EXPECT_TRUE(WIFSIGNALED(*status) && WTERMSIG(*status) == SIGINT) << *status;
+}
+
+TEST(Interrupt, PlotWorldEndsGnuplotAndLeavesNothing)
+{
+    // 20000 labelled objects keep gnuplot busy for many seconds.
+    const fs::path d = freshDir("plot");
+    {
+        std::ofstream w(d / "big.yaml");
+        w << "name: big\nbounds: {x_min: 0, x_max: 1000, y_min: 0, y_max: 1000}\nobjects:\n";
+        for (int i = 0; i < 20000; i++)
+        {
+            w << "  - {id: " << i + 1 << ", label: pillar, shape: cylinder, center: ["
+              << 5 + (i % 140) * 7 << ", " << 5 + (i / 140) * 7 << "], radius: 0.5}\n";
+        }
+    }
+    const auto before = listing(d);
+    for (const auto& [sig, group] : std::vector<std::pair<int, bool>>{
+             {SIGINT, true}, {SIGINT, false}, {SIGTERM, false}, {SIGTERM, true}})
+    {
+        SCOPED_TRACE(std::string(strsignal(sig)) + (group ? " to the process group" : ""));
+        const Tool t =
+            start({kBin + "/semloc-plot-world", "big.yaml", "-o", "big.png", "--keep-script"}, d);
+        std::vector<pid_t> gnuplot;
+        ASSERT_TRUE(waitUntil(
+            [&]
+            {
+                gnuplot = childrenOf(t.pid, "gnuplot", true);
+                return !gnuplot.empty() || !alive(t.pid);
+            },
+            300));
+        ASSERT_EQ(gnuplot.size(), 1u) << readText(t.err);
+        std::this_thread::sleep_for(std::chrono::milliseconds(300));
+        ASSERT_TRUE(alive(gnuplot[0])) << "gnuplot ended before the signal";
+        const auto status = signalAndWait(t, sig, group);
+        ASSERT_TRUE(status.has_value()) << "still running " << kLatency_s << " s after the signal";
+        EXPECT_TRUE(WIFEXITED(*status) && WEXITSTATUS(*status) == 130)
+            << "wait status " << *status << "; stderr: " << readText(t.err);
+        EXPECT_NE(readText(t.err).find("semloc-plot-world: interrupted; no output written"),
+                  std::string::npos)
+            << readText(t.err);
+        EXPECT_FALSE(alive(gnuplot[0])) << "gnuplot left running";
+        if (alive(gnuplot[0]))
+        {
+            ::kill(gnuplot[0], SIGKILL);
+        }
+        EXPECT_EQ(listing(d), before) << "an output or a temporary was left";
+    }
+}
+
+TEST(Interrupt, BenchmarkNamesTheSignalThatKilledARun)
+{
+    const fs::path d = freshDir("bench_killed");
+    std::ofstream(d / "bench.ini")
+        << "[Benchmark]\nsimulate_ini = " << kSrc << "/config/simulate.ini\nvariants = " << kSrc
+        << "/config/semantic.ini\noutput_dir = out\nruns = 1\n"
+           "jobs = 1\nparticles = 2000\n";
+    const auto before = listing(d);
+    const Tool t = start({kBin + "/semloc-benchmark", "bench.ini"}, d);
+    std::vector<pid_t> runs;
+    ASSERT_TRUE(waitUntil(
+        [&]
+        {
+            runs = childrenOf(t.pid);
+            return !runs.empty() || !alive(t.pid);
+        },
+        300));
+    ASSERT_EQ(runs.size(), 1u) << readText(t.err);
+    ASSERT_EQ(::kill(runs[0], SIGKILL), 0);
+    int status = 0;
+    ASSERT_TRUE(
+        waitUntil([&] { return ::waitpid(t.pid, &status, WNOHANG) == t.pid; }, kLatency_s * 10));
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 1) << status;
+    EXPECT_NE(
+        readText(t.err).find("run 1 (seed 1) failed: its process was killed by signal 9 (SIGKILL)"),
+        std::string::npos)
+        << readText(t.err);
+    EXPECT_EQ(listing(d), before);
+}
+
+// ------------------------------------------------------------------ the watchdog, in-process
+
+namespace
+{
+/** A child process that would run for a long time. */
+pid_t startSleeper()
+{
+    pid_t pid = -1;
+    const char* argv[] = {"sleep", "1000", nullptr};
+    EXPECT_EQ(posix_spawnp(&pid, "sleep", nullptr, nullptr, const_cast<char**>(argv), environ), 0);
+    return pid;
+}
+}  // namespace
+
+TEST(InterruptDeathTest, WatchdogRemovesTheRegisteredPathsAndEndsTheChildren)
+{
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const fs::path d = freshDir("watchdog");
+    const fs::path pidFile = d.string() + ".logs/sleeper";
+    EXPECT_EXIT(
+        {
+            semloc::installInterruptHandlers("watchdog-test");
+            fs::create_directories(d / "staging/sub");
+            std::ofstream(d / "staging/sub/file") << "x";
+            std::ofstream(d / "file.tmp") << "x";
+            std::ofstream(d / "kept") << "x";
+            semloc::registerTemporaryPath((d / "staging").string());
+            semloc::registerTemporaryPath((d / "file.tmp").string());
+            semloc::registerTemporaryPath((d / "never-created").string());
+            const pid_t sleeper = startSleeper();
+            semloc::registerChildProcess(sleeper);
+            std::ofstream(pidFile) << sleeper;
+            std::raise(SIGINT);
+            for (;;)
+            {
+                std::this_thread::sleep_for(std::chrono::seconds(1));  // a step without checks
+            }
+        },
+        ::testing::ExitedWithCode(130), "watchdog-test: interrupted; no output written");
+    EXPECT_EQ(listing(d), std::set<std::string>({"kept"}));
+    const pid_t sleeper = std::stoi(readText(pidFile));
+    EXPECT_FALSE(alive(sleeper));
+}
+
+TEST(InterruptDeathTest, WatchdogWaitsForADeferralAndStandsDownWhenTheJobClears)
+{
+    GTEST_FLAG_SET(death_test_style, "threadsafe");
+    const fs::path d = freshDir("deferral");
+    EXPECT_EXIT(
+        {
+            semloc::installInterruptHandlers("watchdog-test");
+            // A job that handles the request and clears it: the watchdog does nothing.
+            std::raise(SIGINT);
+            semloc::clearInterrupt();
+            std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+            std::ofstream(d / "survived") << "x";
+            // A sequence that must not be cut: the watchdog ends the process after it only.
+            semloc::installInterruptHandlers("watchdog-test");
+            std::raise(SIGTERM);
+            {
+                const semloc::InterruptExitDeferral defer;
+                std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+                std::ofstream(d / "completed") << "x";
+            }
+            for (;;)
+            {
+                std::this_thread::sleep_for(std::chrono::seconds(1));
+            }
+        },
+        ::testing::ExitedWithCode(130), "watchdog-test: interrupted; no output written");
+    EXPECT_EQ(listing(d), std::set<std::string>({"completed", "survived"}));
+}
+
+TEST(Interrupt, WaitStatusNamesTheSignal)
+{
+    EXPECT_EQ(semloc::waitStatusText(9), "was killed by signal 9 (SIGKILL)");
+    EXPECT_EQ(semloc::waitStatusText(2 << 8), "exited with status 2");
+}
+
+TEST(Interrupt, ChildProcessEndsAtARequest)
+{
+    // A request while the child runs: it is ended and waited for, and Interrupted thrown.
+    const fs::path d = freshDir("child");
+    std::thread stop(
+        []
+        {
+            std::this_thread::sleep_for(std::chrono::milliseconds(300));
+            semloc::requestInterrupt();
+        });
+    const auto t0 = std::chrono::steady_clock::now();
+    EXPECT_THROW(semloc::runChildProcess({"sleep", "1000"}, (d / "log").string()),
+                 semloc::Interrupted);
+    stop.join();
+    semloc::clearInterrupt();
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+              kLatency_s);
+    // The status of a normal run; a program that does not exist is an error naming it.
+    EXPECT_EQ(semloc::runChildProcess({"sh", "-c", "echo hi; exit 3"}, (d / "log").string()),
+              3 << 8);
+    EXPECT_EQ(readText(d / "log"), "hi\n");
+    try
+    {
+        semloc::runChildProcess({"semloc-no-such-program"}, (d / "log").string());
+        ADD_FAILURE() << "no exception";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("cannot run 'semloc-no-such-program'"),
+                  std::string::npos)
+            << e.what();
+    }
+}
