@@ -1,4 +1,4 @@
-# Sanitizer and fuzzer builds (README "Fuzzing and sanitizers"):
+# Sanitizer and fuzzer builds (docs/testing.md, "Sanitizers", "Fuzzing"):
 #   SEMLOC_SANITIZE=ON       everything (library, tools, tests, benchmarks) built with
 #                            AddressSanitizer + UndefinedBehaviorSanitizer; any UB aborts.
 #   SEMLOC_BUILD_FUZZERS=ON  also the libFuzzer targets of tests/fuzz (clang only); the

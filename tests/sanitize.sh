@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The whole test suite built with clang's AddressSanitizer + UndefinedBehaviorSanitizer
-# (README "Fuzzing and sanitizers"): configures and builds build-asan/ (SEMLOC_SANITIZE=ON;
+# (docs/testing.md, "Sanitizers"): configures and builds build-asan/ (SEMLOC_SANITIZE=ON;
 # the benchmarks are not part of the suite), then runs every ctest entry there. Any
 # sanitizer report fails the test that triggered it.   Usage: bash tests/sanitize.sh
 set -euo pipefail

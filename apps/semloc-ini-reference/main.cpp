@@ -1,5 +1,5 @@
 /* semloc-ini-reference: prints every ini section semloc reads, each key at its default
- * with a comment (the README's "ini reference" is this output). Takes no arguments. */
+ * with a comment (docs/ini-reference.md holds this output). Takes no arguments. */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/io/IniReference.h>
 

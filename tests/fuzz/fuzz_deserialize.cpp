@@ -1,5 +1,5 @@
-/* semloc — libFuzzer target: semloc's serializable classes read from bytes (README "Fuzzing
- * and sanitizers"). Input: one byte choosing the class (CObservationSemantic, CSemanticMap,
+/* semloc — libFuzzer target: semloc's serializable classes read from bytes (docs/testing.md,
+ * "Fuzzing"). Input: one byte choosing the class (CObservationSemantic, CSemanticMap,
  * CStructureMap), then the serialization version byte and the object's payload. The target
  * wraps them in a valid MRPT object header and end marker, so that every fuzzed byte reaches
  * semloc's own serializeFrom() rather than MRPT's (uninstrumented) header parsing. Any input

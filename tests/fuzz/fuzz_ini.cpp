@@ -1,5 +1,5 @@
 /* semloc — libFuzzer target: ini text -> semloc's ini check (config::checkIniText) and option
- * loaders (README "Fuzzing and sanitizers"): [LocalizationExperiment] with the filter's sections,
+ * loaders (docs/testing.md, "Fuzzing"): [LocalizationExperiment] with the filter's sections,
  * [MetricMap] and its map sections (semanticMap, structureMap and MRPT's own maps),
  * semloc-simulate's sections and [Benchmark]. Each loader must accept or throw; what it accepted
  * must be written out as an effective configuration that loads again to the same text (what the

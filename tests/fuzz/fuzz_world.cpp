@@ -1,5 +1,5 @@
-/* semloc — libFuzzer target: world YAML text -> semloc::World (README "Fuzzing and
- * sanitizers"). Any input must either load or throw; a loaded world must round-trip through
+/* semloc — libFuzzer target: world YAML text -> semloc::World (docs/testing.md,
+ * "Fuzzing"). Any input must either load or throw; a loaded world must round-trip through
  * toYamlText() and give finite geometry. */
 #include <semloc/world/World.h>
 

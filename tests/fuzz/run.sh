@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# A short run of every libFuzzer target (README "Fuzzing and sanitizers"):
+# A short run of every libFuzzer target (docs/testing.md, "Fuzzing"):
 #   bash tests/fuzz/run.sh [seconds per target, default 60]
 # Builds the targets in build-fuzz/ (clang, ASan + UBSan; see tests/sanitizer_env.sh), runs
 # each from its seed corpus tests/fuzz/corpus/<target>/ plus a working corpus kept in

@@ -1,4 +1,4 @@
-/* semloc tests — every row of the README's "Bad input" table, run through the real tools:
+/* semloc tests — every row of docs/bad-input.md's table, run through the real tools:
  * the case's bad input is built in a fresh directory, the tool runs on it, and
  * - `error` rows: exit code != 0, stderr holds the row's message, the directory is
  *   unchanged (no output, nothing half-written);
@@ -50,16 +50,16 @@ void writeText(const fs::path& p, const std::string& s)
     std::ofstream(p, std::ios::binary) << s;
 }
 
-/** One row of the README table. */
+/** One row of the table. */
 struct Row
 {
     std::string id, tool, result, message;
 };
 
 /** The rows between the bad-input markers: | `id` | tool | input | case | result | `message` |. */
-std::vector<Row> readmeRows()
+std::vector<Row> tableRows()
 {
-    std::istringstream in(readText(kSrc + "/README.md"));
+    std::istringstream in(readText(kSrc + "/docs/bad-input.md"));
     std::vector<Row> rows;
     bool inside = false;
     for (std::string line; std::getline(in, line);)
@@ -1014,7 +1014,7 @@ TEST_P(BadInput, FailsClearlyOrCounts)
 {
     const Row& row = GetParam();
     const auto it = cases().find(row.id);
-    ASSERT_NE(it, cases().end()) << "README row '" << row.id << "' has no case in this test";
+    ASSERT_NE(it, cases().end()) << "table row '" << row.id << "' has no case in this test";
     const fs::path base =
         fs::path(SEMLOC_TEST_OUT) / "bad_input" / (row.id + "_" + std::to_string(::getpid()));
     fs::remove_all(base);
@@ -1022,7 +1022,7 @@ TEST_P(BadInput, FailsClearlyOrCounts)
     fs::create_directories(dir);
     const auto args = it->second(dir);
     ASSERT_FALSE(args.empty());
-    EXPECT_EQ(args[0], row.tool) << "the README names another tool";
+    EXPECT_EQ(args[0], row.tool) << "the table names another tool";
     const auto before = listing(dir);
 
     std::string cmd = "cd " + quoted(dir.string()) + " && " + quoted(kBin + "/" + args[0]);
@@ -1064,7 +1064,7 @@ TEST_P(BadInput, FailsClearlyOrCounts)
     }
 }
 
-INSTANTIATE_TEST_SUITE_P(Readme, BadInput, ::testing::ValuesIn(readmeRows()),
+INSTANTIATE_TEST_SUITE_P(Table, BadInput, ::testing::ValuesIn(tableRows()),
                          [](const ::testing::TestParamInfo<Row>& p)
                          {
                              std::string n = p.param.id;
@@ -1077,18 +1077,18 @@ INSTANTIATE_TEST_SUITE_P(Readme, BadInput, ::testing::ValuesIn(readmeRows()),
 
 TEST(BadInputTable, TableAndCasesMatch)
 {
-    const auto rows = readmeRows();
-    ASSERT_GE(rows.size(), 30u) << "the README's bad-input table is missing or short";
+    const auto rows = tableRows();
+    ASSERT_GE(rows.size(), 30u) << "docs/bad-input.md's table is missing or short";
     std::set<std::string> ids;
     for (const auto& r : rows)
     {
-        EXPECT_TRUE(ids.insert(r.id).second) << "duplicate README row " << r.id;
-        EXPECT_TRUE(cases().count(r.id)) << "README row '" << r.id << "' has no case";
+        EXPECT_TRUE(ids.insert(r.id).second) << "duplicate table row " << r.id;
+        EXPECT_TRUE(cases().count(r.id)) << "table row '" << r.id << "' has no case";
         EXPECT_FALSE(r.message.empty()) << r.id << ": no message";
     }
     for (const auto& [id, builder] : cases())
     {
-        EXPECT_TRUE(ids.count(id)) << "case '" << id << "' has no README row";
+        EXPECT_TRUE(ids.count(id)) << "case '" << id << "' has no table row";
     }
 }
 

@@ -1,4 +1,4 @@
-/* semloc tests — the README's ini reference is exactly what the options structs write. */
+/* semloc tests — docs/ini-reference.md is exactly what the options structs write. */
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/CMultiMetricMap.h>
@@ -7,21 +7,21 @@
 #include <fstream>
 #include <sstream>
 
-TEST(IniReference, ReadmeHoldsTheGeneratedReference)
+TEST(IniReference, DocsHoldTheGeneratedReference)
 {
-    std::ifstream f(std::string(SEMLOC_SOURCE_DIR) + "/README.md");
+    std::ifstream f(std::string(SEMLOC_SOURCE_DIR) + "/docs/ini-reference.md");
     ASSERT_TRUE(f.good());
     std::stringstream ss;
     ss << f.rdbuf();
-    const std::string readme = ss.str();
+    const std::string page = ss.str();
     const std::string begin = "<!-- ini-reference:begin -->\n```ini\n";
     const std::string end = "```\n<!-- ini-reference:end -->";
-    const auto b = readme.find(begin), e = readme.find(end);
-    ASSERT_NE(b, std::string::npos) << "README.md lacks the ini-reference markers";
+    const auto b = page.find(begin), e = page.find(end);
+    ASSERT_NE(b, std::string::npos) << "docs/ini-reference.md lacks the ini-reference markers";
     ASSERT_NE(e, std::string::npos);
-    const std::string inReadme = readme.substr(b + begin.size(), e - b - begin.size());
-    EXPECT_EQ(inReadme, semloc::iniReference())
-        << "README.md's ini reference is stale: replace it with `build/bin/semloc-ini-reference`";
+    const std::string inPage = page.substr(b + begin.size(), e - b - begin.size());
+    EXPECT_EQ(inPage, semloc::iniReference())
+        << "docs/ini-reference.md is stale: paste `build/bin/semloc-ini-reference`'s output";
 }
 
 TEST(IniReference, TheReferenceItselfIsAValidConfiguration)
