@@ -118,7 +118,7 @@ void BM_FilterStep(benchmark::State& state, const std::string& variant, size_t s
         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }
 
-// threads x particles: the reference point is 10 000 particles.
+// threads x particles: the reference point is 10 000 particles.
 #define SEMLOC_FILTER_STEP_AT(name, variant, step)          \
     BENCHMARK_CAPTURE(BM_FilterStep, name, #variant, step)  \
         ->ArgNames({"threads", "particles"})                \

@@ -153,7 +153,7 @@ void BM_ProbabilisticBatch(benchmark::State& s)
     runBatch(s, CSemanticMap::Model::Probabilistic);
 }
 
-// The reference point: 50 objects, 5 detections.
+// The reference point: 50 objects, 5 detections.
 BENCHMARK(BM_PaperSingle)->Args({50, 5});
 BENCHMARK(BM_PaperBatch)->Args({50, 5});
 BENCHMARK(BM_ProbabilisticSingle)->Args({50, 5});
