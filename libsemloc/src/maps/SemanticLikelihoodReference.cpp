@@ -1,0 +1,395 @@
+/* semloc — the semantic likelihoods written to be read (see SemanticLikelihoodReference.h). */
+#include "maps/SemanticLikelihoodReference.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace semloc::reference
+{
+namespace
+{
+using mrpt::math::TPose2D;
+using Options = CSemanticMap::TLikelihoodOptions;
+
+/** What a pose that is not finite scores, and a sum that is not finite: the fast path's
+ *  floor, which keeps MRPT's finite-likelihood assertion true. */
+constexpr double kFloor = -1e300;
+
+/** One detection of z^r as the likelihoods use it. */
+struct Detection
+{
+    double rho, theta;  // range [m], bearing in the sensor frame [rad]
+    /** Its label if the map knows it, else empty (an MRPT landmark, or a label the map
+     *  lacks on a detection that names an object). */
+    std::string label;
+    /** Index into the map's objects of the object it names (a known id), else -1. */
+    int named;
+};
+
+/** One object of z^k: a map object inside the sensor's range and field of view. */
+struct Predicted
+{
+    double rho, theta;  // range [m], bearing in the sensor frame [rad]
+    size_t object;      // index into the map's objects
+};
+
+/** The observation as the likelihoods see it. */
+struct Scan
+{
+    double R = 0, fov = 0;            // effective max range [m] and field of view [rad]
+    double sx = 0, sy = 0, syaw = 0;  // the sensor's pose on the vehicle (2D part)
+    std::vector<Detection> z_r;
+    /** A sensor without a positive finite range and field of view scores 0 everywhere. */
+    bool usable() const { return R > 0 && std::isfinite(R) && fov > 0 && std::isfinite(fov); }
+};
+
+int objectWithId(const CSemanticMap& map, int32_t id)
+{
+    const auto& objs = map.objects();
+    for (size_t i = 0; i < objs.size(); i++)
+    {
+        if (objs[i].id == id)
+        {
+            return static_cast<int>(i);
+        }
+    }
+    return -1;
+}
+
+std::set<std::string> labelsOf(const CSemanticMap& map)
+{
+    std::set<std::string> labels;
+    for (const auto& o : map.objects())
+    {
+        labels.insert(o.label);
+    }
+    return labels;
+}
+
+/** |bearing| <= 4 pi and, wrapped into [-pi, pi], inside the field of view (+1e-9). */
+bool bearingInFov(double b, double fov)
+{
+    return std::abs(b) <= 4 * M_PI && std::abs(std::remainder(b, 2 * M_PI)) <= 0.5 * fov + 1e-9;
+}
+
+Scan scanOf(const CSemanticMap& map, const CObservationSemantic& obs)
+{
+    const Options& opt = map.likelihoodOptions;
+    Scan s;
+    s.R = opt.max_range_m > 0 ? opt.max_range_m : obs.maxRange_m;
+    s.fov = opt.fov_deg > 0 ? opt.fov_deg * M_PI / 180 : obs.fov_rad;
+    s.sx = obs.sensorPose.x();
+    s.sy = obs.sensorPose.y();
+    s.syaw = obs.sensorPose.yaw();
+    if (!s.usable())
+    {
+        return s;
+    }
+    const std::set<std::string> labels = labelsOf(map);
+    for (const auto& d : obs.detections)
+    {
+        const bool valid = !d.label.empty() && d.range_m >= 0 && d.range_m <= s.R &&
+                           d.confidence >= 0 && d.confidence <= 1 &&
+                           d.confidence >= opt.min_confidence && bearingInFov(d.bearing_rad, s.fov);
+        if (!valid)
+        {
+            continue;
+        }
+        const int named = d.object_id >= 0 ? objectWithId(map, d.object_id) : -1;
+        const bool known = labels.count(d.label) > 0;
+        if (named < 0 && !known)
+        {
+            continue;  // unknown to the map: unmatched at every pose, a constant factor
+        }
+        s.z_r.push_back({d.range_m, d.bearing_rad, known ? d.label : std::string(), named});
+    }
+    return s;
+}
+
+Scan scanOf(const CSemanticMap& map, const mrpt::obs::CObservationBearingRange& obs)
+{
+    const Options& opt = map.likelihoodOptions;
+    Scan s;
+    s.R = opt.max_range_m > 0 ? opt.max_range_m : obs.maxSensorDistance;
+    s.fov = opt.fov_deg > 0 ? opt.fov_deg * M_PI / 180 : obs.fieldOfView_yaw;
+    if (s.fov == 0)
+    {
+        s.fov = 2 * M_PI;  // MRPT leaves it 0 when the sensor has no FOV limit
+    }
+    s.sx = obs.sensorLocationOnRobot.x();
+    s.sy = obs.sensorLocationOnRobot.y();
+    s.syaw = obs.sensorLocationOnRobot.yaw();
+    if (!s.usable())
+    {
+        return s;
+    }
+    for (const auto& m : obs.sensedData)
+    {
+        const double rho = m.range, theta = m.yaw;
+        if (!(rho >= 0 && rho <= s.R) || !bearingInFov(theta, s.fov))
+        {
+            continue;
+        }
+        const int named = m.landmarkID >= 0 ? objectWithId(map, m.landmarkID) : -1;
+        if (m.landmarkID >= 0 && named < 0)
+        {
+            continue;  // an id the map does not have
+        }
+        s.z_r.push_back({rho, theta, std::string(), named});  // no label: any object
+    }
+    return s;
+}
+
+/** z^k: the map objects within range R and field of view fov of the sensor, for the vehicle
+ *  at `pose` (the sensor's pose on the vehicle composed with it). */
+std::vector<Predicted> predict(const CSemanticMap& map, const Scan& s, const TPose2D& pose,
+                               size_t& onEdge)
+{
+    const double cp = std::cos(pose.phi), sp = std::sin(pose.phi);
+    const double x = pose.x + cp * s.sx - sp * s.sy;
+    const double y = pose.y + sp * s.sx + cp * s.sy;
+    // The sensor's axis in the world: the vehicle's heading turned by the sensor's yaw.
+    const double c = cp * std::cos(s.syaw) - sp * std::sin(s.syaw);
+    const double sn = sp * std::cos(s.syaw) + cp * std::sin(s.syaw);
+    std::vector<Predicted> z_k;
+    const auto& objs = map.objects();
+    for (size_t i = 0; i < objs.size(); i++)
+    {
+        const double dx = objs[i].x - x, dy = objs[i].y - y;
+        const double rho = std::hypot(dx, dy);
+        const double theta = std::atan2(-sn * dx + c * dy, c * dx + sn * dy);
+        const bool fullCircle = s.fov >= 2 * M_PI;
+        onEdge += rho == 0 || std::abs(rho - s.R) <= 1e-9 * s.R ||
+                  (!fullCircle && std::abs(std::abs(theta) - 0.5 * s.fov) <= 1e-9);
+        if (rho <= s.R && (fullCircle || std::abs(theta) <= 0.5 * s.fov))
+        {
+            z_k.push_back({rho, theta, i});
+        }
+    }
+    return z_k;
+}
+
+/** May detection d be object `i` (of label `label`)? The object it names only; else one of
+ *  its label, or any object if it has no label or `anyLabel` (class confusion). */
+bool mayPair(const Detection& d, size_t i, const std::string& label, bool anyLabel)
+{
+    if (d.named >= 0)
+    {
+        return static_cast<size_t>(d.named) == i;
+    }
+    return d.label.empty() || anyLabel || d.label == label;
+}
+
+/** Bearing difference theta^r - theta^k wrapped into [-pi, pi]. */
+double bearingDiff(const Detection& d, const Predicted& v)
+{
+    return std::remainder(d.theta - v.theta, 2 * M_PI);
+}
+
+struct Pair
+{
+    double gain;  // what matching j with v adds to the log-likelihood (> 0)
+    size_t j, v;  // indices into z^r and z^k
+};
+
+/** The greedy one-to-one association: pairs by decreasing gain (ties by j, then v), each
+ *  taken unless its detection or its object is taken already. (z^k is in map order here, in
+ *  index order in the fast path: the two may differ only between pairs of equal gain.) */
+std::vector<Pair> associate(std::vector<Pair> pairs)
+{
+    std::sort(pairs.begin(), pairs.end(),
+              [](const Pair& a, const Pair& b) {
+                  return a.gain != b.gain ? a.gain > b.gain : a.j != b.j ? a.j < b.j : a.v < b.v;
+              });
+    std::set<size_t> usedJ, usedV;
+    std::vector<Pair> chosen;
+    for (const Pair& p : pairs)
+    {
+        if (usedJ.count(p.j) == 0 && usedV.count(p.v) == 0)
+        {
+            usedJ.insert(p.j);
+            usedV.insert(p.v);
+            chosen.push_back(p);
+        }
+    }
+    return chosen;
+}
+
+/** The paper's likelihood (§III): z^r has l detections (rho^r, theta^r), z^k the q objects
+ *  predicted visible (rho^k, theta^k), m pairs are matched:
+ *
+ *      log w = sum_{i=1..m} [ -1/2 ((rho^r_i - rho^k_i) / sigma_rho)^2
+ *                             -1/2 ((theta^r_i - theta^k_i) / sigma_theta)^2 ]
+ *              + d log(p_u),          d = q + l - 2m
+ *
+ *  Matching a pair gains its Gaussian terms s_i less the 2 log(p_u) it saves: pairs that may
+ *  pair (mayPair, by label) with gain s_i - 2 log(p_u) > 0, associated greedily. */
+double paper(const CSemanticMap& map, const Scan& s, const TPose2D& pose, SemanticTerms& t)
+{
+    const Options& opt = map.likelihoodOptions;
+    const double sigmaRho = opt.sigma_range_m, sigmaTheta = opt.sigma_bearing_deg * M_PI / 180;
+    const double logPu = std::log(opt.unmatched_penalty);
+    const std::vector<Predicted> z_k = predict(map, s, pose, t.onEdge);
+    const auto& objs = map.objects();
+    auto gaussians = [&](const Detection& d, const Predicted& v)
+    {
+        const double dRho = (d.rho - v.rho) / sigmaRho;
+        const double dTheta = bearingDiff(d, v) / sigmaTheta;
+        return -0.5 * dRho * dRho - 0.5 * dTheta * dTheta;
+    };
+    std::vector<Pair> pairs;
+    for (size_t j = 0; j < s.z_r.size(); j++)
+    {
+        for (size_t v = 0; v < z_k.size(); v++)
+        {
+            if (!mayPair(s.z_r[j], z_k[v].object, objs[z_k[v].object].label, false))
+            {
+                continue;
+            }
+            const double gain = gaussians(s.z_r[j], z_k[v]) - 2 * logPu;
+            if (gain > 0)
+            {
+                pairs.push_back({gain, j, v});
+            }
+        }
+    }
+    const std::vector<Pair> matched = associate(pairs);
+    double sum = 0;
+    for (const Pair& p : matched)
+    {
+        sum += gaussians(s.z_r[p.j], z_k[p.v]);
+    }
+    t.l = s.z_r.size();
+    t.q = z_k.size();
+    t.m = matched.size();
+    return static_cast<double>(t.q + t.l - 2 * t.m) * logPu + sum;
+}
+
+/** The probabilistic model: each object of z^k is detected with
+ *      P_D(rho) = clamp(p_detect_near + (p_detect_far - p_detect_near) rho / R, 1e-6, 1 - 1e-6),
+ *  a detection is labelled right with C = 1 - p_c, as any other of the K map labels with
+ *  C = p_c / (K - 1) (no label term for a detection without a label the map knows; the code
+ *  also gives none to a detection that names an object of another label when p_c = 0 or
+ *  K = 1: the id wins), its range and bearing have Gaussian noise N(.; sigma), and Poisson
+ *  clutter of mean lambda is uniform over the field of view and the labels:
+ *  kappa = lambda / (R min(fov, 2 pi) K). With the association A:
+ *
+ *      log p(z | x) = -lambda + sum_{(j,v) in A} [log P_D(rho_v) + log C(L_j | L_v)
+ *                                 + log N(d_rho; sigma_rho) + log N(d_theta; sigma_theta)]
+ *                   + sum_{v unmatched} log(1 - P_D(rho_v)) + sum_{j unmatched} log kappa
+ *
+ *  A pair's gain (what matching it adds over leaving both unmatched) is
+ *  log P_D - log(1 - P_D) + log C + log N + log N - log kappa; A takes the pairs that gain,
+ *  greedily. With class confusion (p_c > 0, K > 1) a detection may be an object of any label. */
+double probabilistic(const CSemanticMap& map, const Scan& s, const TPose2D& pose, SemanticTerms& t)
+{
+    const Options& opt = map.likelihoodOptions;
+    const double sigmaRho = opt.sigma_range_m, sigmaTheta = opt.sigma_bearing_deg * M_PI / 180;
+    const double K = std::max<double>(1, static_cast<double>(labelsOf(map).size()));
+    const double lambda = opt.clutter_per_scan, pc = opt.p_confusion;
+    const double logKappa = std::log(lambda / (s.R * std::min(s.fov, 2 * M_PI) * K));
+    const bool confusion = pc > 0 && K > 1;
+    const std::vector<Predicted> z_k = predict(map, s, pose, t.onEdge);
+    const auto& objs = map.objects();
+    auto pD = [&](const Predicted& v)
+    {
+        const double p = opt.p_detect_near + (opt.p_detect_far - opt.p_detect_near) * v.rho / s.R;
+        return std::clamp(p, 1e-6, 1 - 1e-6);
+    };
+    auto logN = [](double d, double sigma)
+    { return -0.5 * (d / sigma) * (d / sigma) - std::log(std::sqrt(2 * M_PI) * sigma); };
+    auto logC = [&](const Detection& d, const Predicted& v)
+    {
+        if (d.label.empty())
+        {
+            return 0.0;
+        }
+        if (d.label == objs[v.object].label)
+        {
+            return std::log(1 - pc);
+        }
+        return confusion ? std::log(pc / (K - 1)) : 0.0;
+    };
+    // log P_D + log C + log N + log N of a matched pair.
+    auto matchedTerm = [&](const Detection& d, const Predicted& v)
+    {
+        return std::log(pD(v)) + logC(d, v) + logN(d.rho - v.rho, sigmaRho) +
+               logN(bearingDiff(d, v), sigmaTheta);
+    };
+    std::vector<Pair> pairs;
+    for (size_t j = 0; j < s.z_r.size(); j++)
+    {
+        for (size_t v = 0; v < z_k.size(); v++)
+        {
+            if (!mayPair(s.z_r[j], z_k[v].object, objs[z_k[v].object].label, confusion))
+            {
+                continue;
+            }
+            const double gain = matchedTerm(s.z_r[j], z_k[v]) - std::log(1 - pD(z_k[v])) - logKappa;
+            if (gain > 0)
+            {
+                pairs.push_back({gain, j, v});
+            }
+        }
+    }
+    const std::vector<Pair> matched = associate(pairs);
+    std::vector<bool> detMatched(s.z_r.size(), false), objMatched(z_k.size(), false);
+    double logP = -lambda;
+    for (const Pair& p : matched)
+    {
+        logP += matchedTerm(s.z_r[p.j], z_k[p.v]);
+        detMatched[p.j] = objMatched[p.v] = true;
+    }
+    for (size_t v = 0; v < z_k.size(); v++)
+    {
+        logP += objMatched[v] ? 0.0 : std::log(1 - pD(z_k[v]));
+    }
+    for (size_t j = 0; j < s.z_r.size(); j++)
+    {
+        logP += detMatched[j] ? 0.0 : logKappa;
+    }
+    t.l = s.z_r.size();
+    t.q = z_k.size();
+    t.m = matched.size();
+    return logP;
+}
+
+double evaluate(const CSemanticMap& map, const Scan& s, const TPose2D& pose, SemanticTerms* terms)
+{
+    SemanticTerms t;
+    double logLik = 0;  // an unusable sensor: uninformative, the same at every pose
+    if (s.usable() && !(std::isfinite(pose.x) && std::isfinite(pose.y) && std::isfinite(pose.phi)))
+    {
+        logLik = kFloor;
+    }
+    else if (s.usable())
+    {
+        logLik = map.likelihoodOptions.model == CSemanticMap::Model::Paper
+                     ? paper(map, s, pose, t)
+                     : probabilistic(map, s, pose, t);
+        logLik = std::isfinite(logLik) ? logLik : kFloor;
+    }
+    if (terms != nullptr)
+    {
+        *terms = t;
+    }
+    return logLik;
+}
+}  // namespace
+
+double semanticLogLikelihood(const CSemanticMap& map, const CObservationSemantic& obs,
+                             const TPose2D& pose, SemanticTerms* terms)
+{
+    return evaluate(map, scanOf(map, obs), pose, terms);
+}
+
+double semanticLogLikelihood(const CSemanticMap& map,
+                             const mrpt::obs::CObservationBearingRange& obs, const TPose2D& pose,
+                             SemanticTerms* terms)
+{
+    return evaluate(map, scanOf(map, obs), pose, terms);
+}
+}  // namespace semloc::reference
