@@ -33,12 +33,14 @@
 #include <sstream>
 #include <thread>
 #include "io/ExactConfigWrite.h"
+#include "io/Text.h"
 #include "io/TextFiles.h"
 
 namespace semloc
 {
 namespace
 {
+using detail::trim;
 using detail::writeFile;
 const std::string kSection = "Benchmark";
 const std::vector<std::string> kKeys = {
@@ -57,13 +59,6 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The paper's Table I: average execution time of one run [ns].
 constexpr double kPaperSemanticNs = 1171934146.0;
 constexpr double kPaperGeometricNs = 6977878010.0;
-
-std::string trim(const std::string& s)
-{
-    const auto b = s.find_first_not_of(" \t\r\n");
-    const auto e = s.find_last_not_of(" \t\r\n");
-    return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
-}
 
 std::vector<std::string> splitList(const std::string& s)
 {

@@ -5,24 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
+
+#include "experiment/Statistics.h"
 
 namespace semloc
 {
-namespace
-{
-/** Median of `v` (modified). */
-double median(std::vector<double>& v)
-{
-    if (v.empty())
-    {
-        return 0;
-    }
-    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return *mid;
-}
-}  // namespace
-
 GroundTruth::GroundTruth(std::vector<GroundTruthRow> rows) : m_rows(std::move(rows))
 {
     for (size_t i = 0; i < m_rows.size(); i++)
@@ -75,7 +63,7 @@ double GroundTruth::medianPeriod() const
     {
         d.push_back(m_rows[i].t - m_rows[i - 1].t);
     }
-    return median(d);
+    return detail::median(std::move(d));
 }
 
 }  // namespace semloc

@@ -31,13 +31,19 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include "experiment/Statistics.h"
 #include "io/ExactConfigWrite.h"
+#include "io/Text.h"
 #include "io/TextFiles.h"
+#include "world/Geometry2D.h"
 
 namespace semloc
 {
 namespace
 {
+using detail::finitePose;
+using detail::median;
+using detail::trimValue;
 using detail::writeFile;
 using detail::writeText;
 const std::string kSection = "LocalizationExperiment";
@@ -80,23 +86,10 @@ const std::vector<std::string> kRunKeys = {"rawlog_file",
                                            "use_3D_poses",
                                            "experimentRepetitions"};
 
-std::string trim(std::string s)
-{
-    s.erase(0, s.find_first_not_of(" \t"));
-    s.erase(s.find_last_not_of(" \t\r") + 1);
-    return s;
-}
-
 /** Shortest round-trip text of a number; "" for NaN (steps.csv's empty cells). */
 std::string num(double v)
 {
-    if (std::isnan(v))
-    {
-        return "";
-    }
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-    return std::string(buf, r.ptr);
+    return std::isnan(v) ? std::string() : detail::shortestText(v);
 }
 
 /** A YAML value: `null` for NaN. */
@@ -117,17 +110,6 @@ std::string yamlString(const std::string& s)
         q += ch;
     }
     return q + "\"";
-}
-
-double median(std::vector<double> v)
-{
-    if (v.empty())
-    {
-        return 0;
-    }
-    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return *mid;
 }
 
 std::string stepsCsv(const std::vector<TStepRecord>& records)
@@ -200,11 +182,6 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "ground_truth_path_file: " << yamlString(o.ground_truth_path_file) << "\n"
       << "wall_time_s: " << yamlNum(res.wallTime_s) << "\n";
     return y.str();
-}
-
-bool finitePose(const mrpt::poses::CPose2D& p)
-{
-    return std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.phi());
 }
 
 bool finiteMatrix(const mrpt::math::CMatrixDouble33& m)
@@ -474,7 +451,7 @@ void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
                 if (const auto m2 = std::dynamic_pointer_cast<mrpt::obs::CActionRobotMovement2D>(a))
                 {
                     odometry = true;
-                    if (!m2->poseChange || !finitePose(m2->poseChange->getMeanVal()) ||
+                    if (!m2->poseChange || !finitePose(m2->poseChange->getMeanVal().asTPose()) ||
                         !finiteMatrix(m2->poseChange->getCovariance()))
                     {
                         badOdometry(i);
@@ -496,7 +473,7 @@ void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
         else if (const auto odo = std::dynamic_pointer_cast<mrpt::obs::CObservationOdometry>(obj))
         {
             odometry = true;
-            if (!finitePose(odo->odometry))
+            if (!finitePose(odo->odometry.asTPose()))
             {
                 badOdometry(i);
             }
@@ -553,13 +530,13 @@ void LocalizationExperiment::TOptions::loadFromConfigFile(const mrpt::config::CC
         rejectUnknownKeys(c, s, known);
     }
     filter.loadFromConfigFile(c, s);
-    rawlog_file = resolveNextToIni(c, trim(c.read_string(s, "rawlog_file", rawlog_file)));
-    map_file = resolveNextToIni(c, trim(c.read_string(s, "map_file", map_file)));
+    rawlog_file = resolveNextToIni(c, trimValue(c.read_string(s, "rawlog_file", rawlog_file)));
+    map_file = resolveNextToIni(c, trimValue(c.read_string(s, "map_file", map_file)));
     ground_truth_path_file = resolveNextToIni(
-        c, trim(c.read_string(s, "ground_truth_path_file", ground_truth_path_file)));
-    logOutput_dir = trim(c.read_string(s, "logOutput_dir", logOutput_dir));
+        c, trimValue(c.read_string(s, "ground_truth_path_file", ground_truth_path_file)));
+    logOutput_dir = trimValue(c.read_string(s, "logOutput_dir", logOutput_dir));
     readInt(c, s, "rawlog_offset", rawlog_offset, 0, std::numeric_limits<int>::max());
-    variant = trim(c.read_string(s, "variant", variant));
+    variant = trimValue(c.read_string(s, "variant", variant));
     readDouble(c, s, "convergence_max_err_xy_m", convergence.max_err_xy_m, 0, 1e9);
     readDouble(c, s, "convergence_max_var_xy_m2", convergence.max_var_xy_m2, 0, 1e9);
     readInt(c, s, "convergence_min_steps", convergence.min_steps, 1,
@@ -637,7 +614,7 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     {
         if (ini->keyExists(kSection, k))
         {
-            e.m_carried.emplace_back(k, trim(ini->read_string(kSection, k, "")));
+            e.m_carried.emplace_back(k, trimValue(ini->read_string(kSection, k, "")));
         }
     }
     if (!ov.rawlog_file.empty())

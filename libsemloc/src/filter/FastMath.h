@@ -3,7 +3,10 @@
 
 #include <cmath>
 #include <cstddef>
-#if defined(__SSE2__) && defined(__x86_64__)
+#include <cstdint>
+#include <cstring>
+// SEMLOC_FORCE_SCALAR (CMake option): the portable code on any machine, to test it.
+#if defined(__SSE2__) && defined(__x86_64__) && !defined(SEMLOC_FORCE_SCALAR)
 #include <emmintrin.h>
 #define SEMLOC_FASTMATH_SSE2 1
 #endif
@@ -35,6 +38,99 @@ inline int lessBits(Vec2 a, Vec2 b) noexcept
 
 /** Both lanes' bits. */
 constexpr int kBothLanes = 3;
+
+#if !defined(SEMLOC_FASTMATH_SSE2)
+/** The bits of a double, and back (the portable lane masks). */
+inline uint64_t bitsOf(double v) noexcept
+{
+    uint64_t b = 0;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+}
+
+inline double ofBits(uint64_t b) noexcept
+{
+    double v = 0;
+    std::memcpy(&v, &b, sizeof v);
+    return v;
+}
+#endif
+
+/** m ? a : b lane by lane, for a lane mask m (each lane all ones or all zeros). */
+inline Vec2 selectLanes(Vec2 m, Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_or_pd(_mm_and_pd(m, a), _mm_andnot_pd(m, b));
+#else
+    Vec2 r{};
+    for (int i = 0; i < 2; i++)
+    {
+        const uint64_t mi = bitsOf(m[i]);
+        r[i] = ofBits((mi & bitsOf(a[i])) | (~mi & bitsOf(b[i])));
+    }
+    return r;
+#endif
+}
+
+/** m ? -v : v lane by lane (the sign bit flipped), for a lane mask m. */
+inline Vec2 negateLanes(Vec2 m, Vec2 v) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_xor_pd(v, _mm_and_pd(m, _mm_set1_pd(-0.0)));
+#else
+    Vec2 r{};
+    for (int i = 0; i < 2; i++)
+    {
+        r[i] = ofBits(bitsOf(v[i]) ^ (bitsOf(m[i]) & bitsOf(-0.0)));
+    }
+    return r;
+#endif
+}
+
+/** The lane masks of a != b (of two lane masks: exclusive or). */
+inline Vec2 xorLanes(Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_xor_pd(a, b);
+#else
+    return Vec2{ofBits(bitsOf(a[0]) ^ bitsOf(b[0])), ofBits(bitsOf(a[1]) ^ bitsOf(b[1]))};
+#endif
+}
+
+/** copysign(mag, s) lane by lane, for mag >= 0. */
+inline Vec2 copySignLanes(double mag, Vec2 s) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_or_pd(_mm_and_pd(_mm_set1_pd(-0.0), s), _mm_set1_pd(mag));
+#else
+    return Vec2{std::copysign(mag, s[0]), std::copysign(mag, s[1])};
+#endif
+}
+
+/** v truncated toward zero lane by lane (|v| < 2^31), as doubles; `odd` and `two` are the
+ *  lane masks of bit 0 and of bit 1 of the truncated integers (a quadrant's reflections). */
+inline Vec2 truncLanes(Vec2 v, Vec2& odd, Vec2& two) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    const __m128i k = _mm_cvttpd_epi32(v);  // k0, k1 in the low two 32-bit lanes
+    // k0 k0 k1 k1 as 32-bit lanes, then the masks of bit 0 and of bit 1 per 64-bit lane.
+    const __m128i kk = _mm_shuffle_epi32(k, _MM_SHUFFLE(1, 1, 0, 0));
+    const __m128i one = _mm_set1_epi32(1), bit1 = _mm_set1_epi32(2);
+    odd = _mm_castsi128_pd(_mm_cmpeq_epi32(_mm_and_si128(kk, one), one));
+    two = _mm_castsi128_pd(_mm_cmpeq_epi32(_mm_and_si128(kk, bit1), bit1));
+    return _mm_cvtepi32_pd(k);
+#else
+    Vec2 r{};
+    for (int i = 0; i < 2; i++)
+    {
+        const auto k = static_cast<long long>(v[i]);
+        odd[i] = ofBits((k & 1) != 0 ? ~uint64_t{0} : 0);
+        two[i] = ofBits((k & 2) != 0 ? ~uint64_t{0} : 0);
+        r[i] = static_cast<double>(k);
+    }
+    return r;
+#endif
+}
 
 /** |v| lane by lane (the sign bits cleared). */
 inline Vec2 absLanes(Vec2 v) noexcept
@@ -219,36 +315,22 @@ inline void fastSinCos2(Vec2 x, Vec2& s, Vec2& c) noexcept
         sa = Vec2{s0, s1};
         ca = Vec2{c0, c1};
     };
-#if defined(SEMLOC_FASTMATH_SSE2)
-    const __m128d signBit = _mm_set1_pd(-0.0);
     if (lessEqualBits(absLanes(x), Vec2{1e6, 1e6}) != kBothLanes)
     {
         scalarLanes(x, s, c);
         return;
     }
     const Vec2 kd = x * M_2_PI;
-    // copysign(0.5, kd), then truncation toward zero as the scalar cast (|k| < 2^20).
-    const Vec2 half = _mm_or_pd(_mm_and_pd(signBit, kd), _mm_set1_pd(0.5));
-    const __m128i k = _mm_cvttpd_epi32(kd + half);  // k0, k1 in the low two 32-bit lanes
-    const Vec2 kf = _mm_cvtepi32_pd(k);
+    // Rounded half away from zero, then truncated toward zero as the scalar cast.
+    Vec2 swap, negS;
+    const Vec2 kf = truncLanes(kd + copySignLanes(0.5, kd), swap, negS);
     const Vec2 r = (x - kf * kPio2Hi) - kf * kPio2Lo;
     const Vec2 r2 = r * r;
     const Vec2 sr = sinReduced(r, r2);
     const Vec2 cr = cosReduced(r2);
-    // Quadrant bits per 64-bit lane: k0 k0 k1 k1 as 32-bit lanes, then masks of bit 0 (swap)
-    // and bit 1 (negate sin); cos is negated when bit 0 xor bit 1 (q = 1, 2).
-    const __m128i kk = _mm_shuffle_epi32(k, _MM_SHUFFLE(1, 1, 0, 0));
-    const __m128i one = _mm_set1_epi32(1), two = _mm_set1_epi32(2);
-    const __m128d swap = _mm_castsi128_pd(_mm_cmpeq_epi32(_mm_and_si128(kk, one), one));
-    const __m128d negS = _mm_castsi128_pd(_mm_cmpeq_epi32(_mm_and_si128(kk, two), two));
-    const __m128d negC = _mm_xor_pd(swap, negS);
-    const __m128d sv = _mm_or_pd(_mm_and_pd(swap, cr), _mm_andnot_pd(swap, sr));
-    const __m128d cv = _mm_or_pd(_mm_and_pd(swap, sr), _mm_andnot_pd(swap, cr));
-    s = _mm_xor_pd(sv, _mm_and_pd(negS, signBit));
-    c = _mm_xor_pd(cv, _mm_and_pd(negC, signBit));
-#else
-    scalarLanes(x, s, c);
-#endif
+    // Quadrant q = k mod 4: swap on bit 0, sin negated on bit 1, cos on bit 0 xor bit 1.
+    s = negateLanes(negS, selectLanes(swap, cr, sr));
+    c = negateLanes(xorLanes(swap, negS), selectLanes(swap, sr, cr));
 }
 
 /** Calls f(i, sin, cos) for i in [0, n) with the sin and cos of angle(i), computed two at a

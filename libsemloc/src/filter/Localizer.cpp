@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "io/ExactConfigWrite.h"
+#include "io/Text.h"
 
 namespace semloc
 {
@@ -44,9 +45,7 @@ int readEnum(const mrpt::config::CConfigFileBase& c, const std::string& s, const
     {
         return value;
     }
-    std::string text = c.read_string(s, key, "");
-    text.erase(0, text.find_first_not_of(" \t"));
-    text.erase(text.find_last_not_of(" \t\r") + 1);
+    const std::string text = detail::trimValue(c.read_string(s, key, ""));
     for (size_t i = 0; i < names.size(); i++)
     {
         if (text == names[i] || text == std::to_string(i))
@@ -337,9 +336,7 @@ void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
         if (c.keyExists(s, "init_PDF_mode"))
         {
             // pf-localization reads it as a boolean: accept true/false as 1/0.
-            std::string v = c.read_string(s, "init_PDF_mode", "");
-            v.erase(0, v.find_first_not_of(" \t"));
-            v.erase(v.find_last_not_of(" \t\r") + 1);
+            const std::string v = detail::trimValue(c.read_string(s, "init_PDF_mode", ""));
             if (v == "true" || v == "false")
             {
                 mode = v == "true" ? 1 : 0;

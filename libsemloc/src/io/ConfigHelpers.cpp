@@ -14,23 +14,17 @@
 #include <map>
 #include <sstream>
 
+#include "io/Text.h"
+
 namespace semloc::config
 {
 namespace
 {
+using detail::shortestText;
+using detail::trim;
+
 /** The UTF-8 byte-order mark some editors put at the start of a text file. */
 const char* const kUtf8Bom = "\xEF\xBB\xBF";
-
-std::string trim(const std::string& s)
-{
-    const auto b = s.find_first_not_of(" \t\r\n");
-    if (b == std::string::npos)
-    {
-        return {};
-    }
-    const auto e = s.find_last_not_of(" \t\r\n");
-    return s.substr(b, e - b + 1);
-}
 
 [[noreturn]] void fail(const std::string& section, const std::string& key, const std::string& what)
 {
@@ -48,12 +42,6 @@ bool readRaw(const mrpt::config::CConfigFileBase& c, const std::string& section,
     return true;
 }
 
-std::string numText(double v)
-{
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-    return std::string(buf, r.ptr);
-}
 }  // namespace
 
 void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
@@ -81,8 +69,9 @@ void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& secti
     }
     if (v < lo || v > hi)
     {
-        fail(section, key,
-             "value " + s + " is out of range [" + numText(lo) + ", " + numText(hi) + "]");
+        fail(
+            section, key,
+            "value " + s + " is out of range [" + shortestText(lo) + ", " + shortestText(hi) + "]");
     }
     value = v;
 }

@@ -3,8 +3,9 @@
 
 #include <mrpt/config/CConfigFileBase.h>
 
-#include <charconv>
 #include <string>
+
+#include "io/Text.h"
 
 namespace semloc::detail
 {
@@ -13,9 +14,7 @@ namespace semloc::detail
 inline void writeExact(mrpt::config::CConfigFileBase& c, const std::string& section,
                        const std::string& key, double value, const std::string& comment)
 {
-    char buf[400];  // fixed notation of any double fits
-    const auto r = std::to_chars(buf, buf + sizeof(buf), value, std::chars_format::fixed);
-    c.write(section, key, std::string(buf, r.ptr), 24, 24, comment);
+    c.write(section, key, fixedText(value), 24, 24, comment);
 }
 
 /** Writes a text value with its comment, or without the comment when the value is empty: MRPT

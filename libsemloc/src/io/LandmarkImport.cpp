@@ -15,10 +15,15 @@
 #include <fstream>
 #include <sstream>
 
+#include "io/Text.h"
+
 namespace semloc
 {
 namespace
 {
+/** The shortest text that reads back as `v`. */
+constexpr auto num = detail::shortestText;
+
 /** Numeric columns of each data line of a text file; `minCols` enforced per line. */
 std::vector<std::pair<size_t, std::vector<double>>> readRows(const std::string& path,
                                                              size_t minCols)
@@ -61,14 +66,6 @@ std::vector<std::pair<size_t, std::vector<double>>> readRows(const std::string& 
         rows.emplace_back(n, std::move(cols));
     }
     return rows;
-}
-
-/** The shortest text that reads back as `v`. */
-std::string num(double v)
-{
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-    return std::string(buf, r.ptr);
 }
 
 void checkLabel(const std::string& label)

@@ -20,17 +20,16 @@
 #include <type_traits>
 #include <unordered_map>
 #include <unordered_set>
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 #include "filter/FastMath.h"
 #include "io/BoundedRead.h"
 #include "io/ExactConfigWrite.h"
 #include "maps/LabelIndex.h"
 #include "maps/VisibilityTable.h"
+#include "world/Geometry2D.h"
 
 using mrpt::math::TPose2D;
+using semloc::detail::finitePose;
 using semloc::detail::Vec2;
 
 //  =========== Map definition (CMultiMetricMap factory) ============
@@ -660,7 +659,7 @@ Geom makeGeom(const GeomConsts& gc, const TPose2D& pose, double sp, double cp)
 void sectorCells(const CSemanticMap::Index& ix, const Geom& g, int& cx0, int& cx1, int& cy0,
                  int& cy1)
 {
-#if defined(__SSE2__)
+#if defined(SEMLOC_FASTMATH_SSE2)
     const __m128d p = _mm_set_pd(g.sy, g.sx);
     __m128d lo = p, hi = p;
     const __m128d R = _mm_set1_pd(g.R);
@@ -960,7 +959,7 @@ std::shared_ptr<const detail::VisTable> buildVisTable(const CSemanticMap::Index&
 inline bool visRange(const detail::VisTable& t, const Geom& g, uint32_t& a, uint32_t& b)
 {
     // Cell + 1 (truncation toward 0 maps (-1, 1) to 0: outside, as are NaN and huge values).
-#if defined(__SSE2__)
+#if defined(SEMLOC_FASTMATH_SSE2)
     // cvttpd gives INT_MIN for NaN and out-of-range values: no undefined conversion.
     const __m128i ci = _mm_cvttpd_epi32(
         _mm_mul_pd(_mm_sub_pd(_mm_set_pd(g.sy, g.sx), _mm_set_pd(t.oy, t.ox)), _mm_set1_pd(t.inv)));
@@ -1133,7 +1132,7 @@ size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const VisOut& v
             }
         };
         // One loop per FOV kind (the test inlined, not selected at every candidate).
-#if defined(__SSE2__)
+#if defined(SEMLOC_FASTMATH_SSE2)
         // Two candidates per step in SSE2 (every x86-64 CPU has it): the same IEEE double
         // operations in the same order as the scalar test below, so the same decisions.
         // Rows hold ~2-3 candidates, so a 2-wide step (the lane past the end is masked)
@@ -1578,11 +1577,6 @@ double finite(double v)
     return std::isfinite(v) ? v : kMinLogLik;
 }
 
-bool finitePose(const TPose2D& p)
-{
-    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
-}
-
 /** Most pairs of a particle whose q totalsBlock folds into the product: q^8 >= 1e-48. */
 constexpr uint32_t kFoldPairs = 8;
 
@@ -1794,7 +1788,7 @@ void rangesBlock(Scratch& sc, size_t ne, const CSemanticMap::TLikelihoodOptions&
     double* RR = sc.bR.data();
     double* PD = sc.bPd.data();
     const double pNear = opt.p_detect_near, slope = opt.p_detect_far - opt.p_detect_near;
-#if defined(__SSE2__)
+#if defined(SEMLOC_FASTMATH_SSE2)
     const __m128d vnear = _mm_set1_pd(pNear), vslope = _mm_set1_pd(slope), vR = _mm_set1_pd(R),
                   lo = _mm_set1_pd(1e-6), hi = _mm_set1_pd(1 - 1e-6);
     for (size_t e = 0; e < ne; e += 2)

@@ -23,6 +23,7 @@
 #include <set>
 
 #include "io/ExactConfigWrite.h"
+#include "io/Text.h"
 
 namespace semloc
 {
@@ -47,13 +48,6 @@ std::set<std::string> registeredNames()
         names.insert(name);
     }
     return names;
-}
-
-std::string trim(std::string s)
-{
-    s.erase(0, s.find_first_not_of(" \t"));
-    s.erase(s.find_last_not_of(" \t\r") + 1);
-    return s;
 }
 
 /** (alias, index) of each definition, in the order TSetOfMetricMapInitializers creates them:
@@ -142,7 +136,7 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
     ini.getAllKeys(section, keys);
     for (auto key : keys)
     {
-        key = trim(key);
+        key = detail::trimValue(key);
         if (key.size() > kCount.size() &&
             key.compare(key.size() - kCount.size(), kCount.size(), kCount) == 0)
         {
@@ -179,13 +173,13 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
         ini.getAllKeys(s, mapKeys);
         for (const auto& key : mapKeys)
         {
-            const std::string v = trim(ini.read_string(s, key, ""));
+            const std::string v = detail::trimValue(ini.read_string(s, key, ""));
             char* end = nullptr;
             const double d = v.empty() ? 0 : std::strtod(v.c_str(), &end);
             if (!v.empty() && end == v.c_str() + v.size() && !std::isfinite(d))
             {
                 THROW_EXCEPTION(mrpt::format("ini [%s] %s: '%s' is not a finite number", s.c_str(),
-                                             trim(key).c_str(), v.c_str()));
+                                             detail::trimValue(key).c_str(), v.c_str()));
             }
         }
         std::smatch m;
@@ -274,45 +268,37 @@ LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase&
         auto& m = lm.map->maps[k];
         const std::string prefix =
             section + "_" + aliases[k].first + mrpt::format("_%02u", aliases[k].second);
+        // A map of the world's objects: filled from the dataset's world unless its definition
+        // names its own world_file (which it has read), whose world then is the dataset's.
+        auto worldMap = [&](const std::string& worldFile, const char* kind, const auto& load)
+        {
+            lm.m_worldFiles[k] = worldFile;
+            if (worldFile.empty() && lm.world)
+            {
+                load(*lm.world);
+                lm.m_worldFiles[k] = mapFile;
+            }
+            if (!lm.world && !worldFile.empty())
+            {
+                lm.world = World::FromFile(worldFile);
+            }
+            if (m->isEmpty())
+            {
+                THROW_EXCEPTION("ini [" + creationSection(prefix) + "] world_file: the " + kind +
+                                " map is empty (set world_file, or a world YAML as map_file)");
+            }
+        };
         if (const auto* d = dynamic_cast<const CSemanticMap::TMapDefinition*>(def.get()))
         {
             auto& sem = dynamic_cast<CSemanticMap&>(*m);
-            lm.m_worldFiles[k] = d->world_file;
-            if (d->world_file.empty() && lm.world)
-            {
-                sem.loadFromWorld(*lm.world);
-                lm.m_worldFiles[k] = mapFile;
-            }
-            if (!lm.world && !d->world_file.empty())
-            {
-                lm.world = World::FromFile(d->world_file);
-            }
-            if (sem.isEmpty())
-            {
-                THROW_EXCEPTION("ini [" + creationSection(prefix) +
-                                "] world_file: the semantic map is empty (set world_file, or a "
-                                "world YAML as map_file)");
-            }
+            worldMap(d->world_file, "semantic", [&](const World& w) { sem.loadFromWorld(w); });
         }
         else if (const auto* ds = dynamic_cast<const CStructureMap::TMapDefinition*>(def.get()))
         {
             auto& st = dynamic_cast<CStructureMap&>(*m);
-            lm.m_worldFiles[k] = ds->world_file;
-            if (ds->world_file.empty() && lm.world)
-            {
-                st.loadFromWorld(*lm.world, ds->cylinder_tolerance_m, ds->raycast_cell_m);
-                lm.m_worldFiles[k] = mapFile;
-            }
-            if (!lm.world && !ds->world_file.empty())
-            {
-                lm.world = World::FromFile(ds->world_file);
-            }
-            if (st.isEmpty())
-            {
-                THROW_EXCEPTION("ini [" + creationSection(prefix) +
-                                "] world_file: the structure map is empty (set world_file, or a "
-                                "world YAML as map_file)");
-            }
+            worldMap(ds->world_file, "structure",
+                     [&](const World& w)
+                     { st.loadFromWorld(w, ds->cylinder_tolerance_m, ds->raycast_cell_m); });
         }
         else if (const auto* dg =
                      dynamic_cast<const COccupancyGridMap2D::TMapDefinition*>(def.get());
@@ -443,10 +429,10 @@ std::string LocalizationMap::effectiveConfig(const mrpt::config::CConfigFileBase
         input.getAllKeys(s, keys);
         for (auto key : keys)
         {
-            key = trim(key);
+            key = detail::trimValue(key);
             if (!out.keyExists(s, key))
             {
-                out.write(s, key, trim(input.read_string(s, key, "")));
+                out.write(s, key, detail::trimValue(input.read_string(s, key, "")));
             }
         }
     }

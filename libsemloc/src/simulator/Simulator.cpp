@@ -30,6 +30,8 @@
 #include <utility>
 
 #include "io/ExactConfigWrite.h"
+#include "io/Text.h"
+#include "io/TextFiles.h"
 #include "simulator/SimRandom.h"
 
 namespace semloc
@@ -43,25 +45,6 @@ const char* const kDetector = "SemanticDetector";
 const char* const kKidnapping = "Kidnapping";
 /** The first words of the effective configuration writeDataset() writes. */
 const char* const kConfigHeader = "// semloc-simulate: ";
-
-std::string shortest(double v)
-{
-    char buf[400];  // fixed notation of any double fits
-    const auto r = std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed);
-    return std::string(buf, r.ptr);
-}
-
-/** Writes `text` to `path`; throws naming the file if anything fails. */
-void writeTextFile(const std::string& path, const std::string& text)
-{
-    std::ofstream f(path, std::ios::binary | std::ios::trunc);
-    f << text;
-    f.close();
-    if (!f)
-    {
-        THROW_EXCEPTION("cannot write '" + path + "'");
-    }
-}
 
 /** config::resolveNextToIni, plus the ini's directory joined with a separator: MRPT 2.5.8's
  *  extractFileDirectory() returns no trailing '/', so resolveNextToIni misses files next to
@@ -368,18 +351,19 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
         std::string gt;
         for (const auto& r : result.groundTruth)
         {
-            gt += shortest(r.t) + ' ' + shortest(r.x) + ' ' + shortest(r.y) + ' ' +
-                  shortest(r.phi) + '\n';
+            gt += detail::fixedText(r.t) + ' ' + detail::fixedText(r.x) + ' ' +
+                  detail::fixedText(r.y) + ' ' + detail::fixedText(r.phi) + '\n';
         }
-        writeTextFile(files[1].first, gt);
+        detail::writeFile(files[1].first, gt);
 
         TSimulatorOptions effective = m_options;
         effective.simulation.output_rawlog = rawlogPath;
         mrpt::config::CConfigFileMemory ini;
         effective.saveToConfigFile(ini);
-        writeTextFile(files[2].first,
-                      kConfigHeader + std::string("the effective configuration of ") + rawlogPath +
-                          " (every key; rerunning it reproduces the dataset)\n" + ini.getContent());
+        detail::writeFile(files[2].first,
+                          kConfigHeader + std::string("the effective configuration of ") +
+                              rawlogPath + " (every key; rerunning it reproduces the dataset)\n" +
+                              ini.getContent());
 
         if (interruptRequested())
         {

@@ -1,7 +1,11 @@
-/* semloc — small 2D predicates shared by the ray caster and the world rasterizer (private). */
+/* semloc — small 2D predicates shared by the ray caster, the world rasterizer, the semantic map
+ * and the experiment (private). */
 #pragma once
 
 #include <mrpt/math/TPoint2D.h>
+#include <mrpt/math/TPose2D.h>
+
+#include <cmath>
 
 #include <vector>
 
@@ -77,6 +81,12 @@ inline bool pointInPolygon(const mrpt::math::TPoint2D& p,
         }
     }
     return inside;
+}
+
+/** True if x, y and phi of `p` are all finite. */
+inline bool finitePose(const mrpt::math::TPose2D& p) noexcept
+{
+    return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.phi);
 }
 
 }  // namespace semloc::detail

@@ -17,6 +17,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/Text.h"
 #include "world/Geometry2D.h"
 #include "world/YamlSyntax.h"
 
@@ -58,6 +59,8 @@ size_t firstNonUtf8Line(const std::string& text)
 using mrpt::containers::yaml;
 using node_t = mrpt::containers::yaml::node_t;
 using mrpt::math::TPoint2D;
+/** The shortest text that reads back as `v`. */
+constexpr auto num = detail::shortestText;
 
 /** Where in the file a value is: composes the prefix of every error message. */
 struct Where
@@ -380,20 +383,18 @@ WorldObject parseObject(const node_t& n, size_t index, const std::string& file)
     return o;
 }
 
+/** `[x, y]` of `p`, each the shortest text that reads back as it. */
+std::string pt(const TPoint2D& p)
+{
+    return "[" + num(p.x) + ", " + num(p.y) + "]";
+}
+
 /** The simulated vehicle follows the waypoints: a path of zero length, or one through an
  *  object (whose inside is not free space: the true pose would weigh zero), is refused. */
 void checkTrajectory(const World& world, const WorldTrajectory& tr, const Where& wt)
 {
     const auto& p = tr.waypoints;
-    auto at = [](const TPoint2D& q)
-    {
-        char buf[64];
-        auto r = std::to_chars(buf, buf + sizeof(buf), q.x);
-        std::string t = "[" + std::string(buf, r.ptr) + ", ";
-        r = std::to_chars(buf, buf + sizeof(buf), q.y);
-        return t + std::string(buf, r.ptr) + "]";
-    };
-    auto wp = [&](size_t i) { return "waypoints[" + std::to_string(i) + "] " + at(p[i]); };
+    auto wp = [&](size_t i) { return "waypoints[" + std::to_string(i) + "] " + pt(p[i]); };
     auto obj = [&](int k)
     {
         const auto& o = world.objects[static_cast<size_t>(k)];
@@ -410,7 +411,7 @@ void checkTrajectory(const World& world, const WorldTrajectory& tr, const Where&
     }
     if (!moves)
     {
-        wt.fail("waypoints", "the trajectory has zero length (every waypoint is " + at(p[0]) + ")");
+        wt.fail("waypoints", "the trajectory has zero length (every waypoint is " + pt(p[0]) + ")");
     }
     for (size_t i = 0; i + 1 < p.size(); i++)
     {
@@ -521,18 +522,6 @@ World parseWorld(const node_t& doc, const std::string& file)
         world.trajectory = std::move(tr);
     }
     return world;
-}
-
-std::string num(double v)
-{
-    char buf[64];
-    const auto r = std::to_chars(buf, buf + sizeof(buf), v);
-    return std::string(buf, r.ptr);
-}
-
-std::string pt(const TPoint2D& p)
-{
-    return "[" + num(p.x) + ", " + num(p.y) + "]";
 }
 
 /** `s` as a YAML scalar that reads back as the string `s` in a flow map or a block: as it is
