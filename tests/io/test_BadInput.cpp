@@ -429,6 +429,13 @@ const std::map<std::string, Builder>& cases()
              return localize(d, writeConfig(d, "grid_lf", {{"LF_stdHit", "inf"}}),
                              d / "data.rawlog");
          }},
+        {"ini-map-enum-unknown",
+         [](const fs::path& d)
+         {
+             saveGz(simulate().rawlog, d / "data.rawlog");
+             return localize(d, writeConfig(d, "grid_lf", {{"likelihoodMethod", "lmBogus"}}),
+                             d / "data.rawlog");
+         }},
         {"ini-rawlog-offset-past-end",
          [](const fs::path& d) {
              return localizeGood(d, "", {{"rawlog_offset", "6"}});

@@ -1682,8 +1682,10 @@ void scorePaperBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratc
             {
                 const Det& d = sl[t].d;
                 cands[nc] = {sl[t].j, e};  // written always, kept if it passes
-                nc += static_cast<size_t>(passesGates(d, o.r, o.lx, o.ly, ir, maxBudget, cosGate) &
-                                          idTest(d.fixed, o.sorted));
+                // Both tests evaluated, without a branch.
+                nc += static_cast<size_t>(
+                    static_cast<int>(passesGates(d, o.r, o.lx, o.ly, ir, maxBudget, cosGate)) &
+                    static_cast<int>(idTest(d.fixed, o.sorted)));
             }
         }
     };
@@ -1875,8 +1877,9 @@ size_t gateBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& 
     {
         const Det& d = slots[t].d;
         cands[nc] = {slots[t].j, e};  // written always, kept if it passes
-        nc += static_cast<size_t>(passesGates(d, RR[e], LX[e], LY[e], ir, budget, cosGate) &
-                                  idTest(d.fixed, static_cast<int32_t>(hit[e])));
+        nc += static_cast<size_t>(
+            static_cast<int>(passesGates(d, RR[e], LX[e], LY[e], ir, budget, cosGate)) &
+            static_cast<int>(idTest(d.fixed, static_cast<int32_t>(hit[e]))));
     };
     auto listed = [&](auto idTest, auto spanC)
     {

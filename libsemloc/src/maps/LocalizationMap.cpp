@@ -67,6 +67,53 @@ std::vector<std::pair<std::string, unsigned>> definitionAliases(
     return out;
 }
 
+/** `message` of a map definition that rejected its sections, prefixed by the section and key
+ *  it names (MRPT's messages name the key, `key='likelihoodMethod'`, not the section). */
+std::string mapSectionError(const mrpt::config::CConfigFileBase& ini, const std::string& prefix,
+                            const std::string& message)
+{
+    std::smatch m;
+    if (std::regex_search(message, m, std::regex("key='([^']+)'")))
+    {
+        std::vector<std::string> sections;
+        ini.getAllSections(sections);
+        for (const auto& s : sections)
+        {
+            if (s.rfind(prefix + "_", 0) == 0 && ini.keyExists(s, m[1].str()))
+            {
+                return "ini [" + s + "] " + m[1].str() + ": " + message;
+            }
+        }
+    }
+    return "ini [" + prefix + "_*]: " + message;
+}
+
+/** What TSetOfMetricMapInitializers::loadFromConfigFile does, owning each definition from its
+ *  creation: MRPT's own loop holds it by a raw pointer while the definition reads its sections,
+ *  and loses it when that reading throws (a bad value in a map's section). */
+mrpt::maps::TSetOfMetricMapInitializers loadDefinitions(const mrpt::config::CConfigFileBase& ini,
+                                                        const std::string& section)
+{
+    const auto& reg = mrpt::maps::internal::TMetricMapTypesRegistry::Instance();
+    mrpt::maps::TSetOfMetricMapInitializers out;
+    for (const auto& [name, index] : definitionAliases(ini, section))
+    {
+        std::unique_ptr<mrpt::maps::TMetricMapInitializer> def(reg.factoryMapDefinition(name));
+        ASSERT_(def);
+        const std::string prefix = mrpt::format("%s_%s_%02u", section.c_str(), name.c_str(), index);
+        try
+        {
+            def->loadFromConfigFile(ini, prefix);
+        }
+        catch (const std::exception& e)
+        {
+            THROW_EXCEPTION(mapSectionError(ini, prefix, errorMessage(e)));
+        }
+        out.push_back(mrpt::maps::TMetricMapInitializer::Ptr(def.release()));
+    }
+    return out;
+}
+
 std::string gridMethodName(const COccupancyGridMap2D& g)
 {
     switch (g.likelihoodOptions.likelihoodMethod)
@@ -206,7 +253,7 @@ LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase&
 {
     validateSections(ini, section);
     LocalizationMap lm;
-    lm.definitions.loadFromConfigFile(ini, section);
+    lm.definitions = loadDefinitions(ini, section);
     if (lm.definitions.size() == 0)
     {
         THROW_EXCEPTION("ini [" + section +
