@@ -325,10 +325,60 @@ std::string waitStatusText(int status)
     return "ended with wait status " + std::to_string(status);
 }
 
-int runChildProcess(const std::vector<std::string>& argv, const std::string& logPath,
-                    const std::string& workDir)
+namespace
 {
-    ASSERTMSG_(!argv.empty(), "runChildProcess: no program");
+/** How a child is started: stdin from /dev/null, stdout and stderr to the log (opened before
+ *  the change of directory: a relative log path is ours), in `workDir` if given, with no
+ *  signal blocked and SIGINT, SIGTERM and SIGPIPE at their defaults. */
+class SpawnSettings
+{
+public:
+    SpawnSettings(const std::string& logPath, const std::string& workDir)
+    {
+        ::posix_spawn_file_actions_init(&m_actions);
+        ::posix_spawnattr_init(&m_attr);
+        ::posix_spawn_file_actions_addopen(&m_actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+        ::posix_spawn_file_actions_addopen(&m_actions, STDOUT_FILENO, logPath.c_str(),
+                                           O_WRONLY | O_CREAT | O_TRUNC, 0644);
+        ::posix_spawn_file_actions_adddup2(&m_actions, STDOUT_FILENO, STDERR_FILENO);
+        if (!workDir.empty())
+        {
+            ::posix_spawn_file_actions_addchdir_np(&m_actions, workDir.c_str());
+        }
+        sigset_t none, defaults;
+        sigemptyset(&none);
+        sigemptyset(&defaults);
+        sigaddset(&defaults, SIGINT);
+        sigaddset(&defaults, SIGTERM);
+        sigaddset(&defaults, SIGPIPE);
+        ::posix_spawnattr_setsigmask(&m_attr, &none);
+        ::posix_spawnattr_setsigdefault(&m_attr, &defaults);
+        ::posix_spawnattr_setflags(&m_attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+    }
+    ~SpawnSettings()
+    {
+        ::posix_spawn_file_actions_destroy(&m_actions);
+        ::posix_spawnattr_destroy(&m_attr);
+    }
+    SpawnSettings(const SpawnSettings&) = delete;
+    SpawnSettings& operator=(const SpawnSettings&) = delete;
+
+    /** posix_spawnp's result: 0, or the error number. */
+    int spawn(pid_t& pid, std::vector<char*>& args) const
+    {
+        return ::posix_spawnp(&pid, args[0], &m_actions, &m_attr, args.data(), environ);
+    }
+
+private:
+    posix_spawn_file_actions_t m_actions{};
+    posix_spawnattr_t m_attr{};
+};
+
+/** Starts the child and registers it, as one step for the watchdog; its pid. Throws
+ *  Interrupted if an interrupt was requested before, or the reason it could not start. */
+pid_t startChild(const std::vector<std::string>& argv, const std::string& logPath,
+                 const std::string& workDir)
+{
     std::vector<char*> args;
     args.reserve(argv.size() + 1);
     for (const auto& a : argv)
@@ -337,47 +387,23 @@ int runChildProcess(const std::vector<std::string>& argv, const std::string& log
     }
     args.push_back(nullptr);
 
-    posix_spawn_file_actions_t actions;
-    posix_spawnattr_t attr;
-    ::posix_spawn_file_actions_init(&actions);
-    ::posix_spawnattr_init(&attr);
-    // The log is opened before the change of directory: a relative `logPath` is ours.
-    ::posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-    ::posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, logPath.c_str(),
-                                       O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-    if (!workDir.empty())
-    {
-        ::posix_spawn_file_actions_addchdir_np(&actions, workDir.c_str());
-    }
-    sigset_t none, defaults;
-    sigemptyset(&none);
-    sigemptyset(&defaults);
-    sigaddset(&defaults, SIGINT);
-    sigaddset(&defaults, SIGTERM);
-    sigaddset(&defaults, SIGPIPE);
-    ::posix_spawnattr_setsigmask(&attr, &none);
-    ::posix_spawnattr_setsigdefault(&attr, &defaults);
-    ::posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-
     pid_t pid = -1;
     int rc = 0;
     bool interruptedBefore = false;
     {
+        const SpawnSettings settings(logPath, workDir);
         // Started and registered as one step for the watchdog.
         const InterruptExitDeferral defer;
         interruptedBefore = interruptRequested();
         if (!interruptedBefore)
         {
-            rc = ::posix_spawnp(&pid, args[0], &actions, &attr, args.data(), environ);
+            rc = settings.spawn(pid, args);
             if (rc == 0)
             {
                 registerChildProcess(pid);
             }
         }
     }
-    ::posix_spawn_file_actions_destroy(&actions);
-    ::posix_spawnattr_destroy(&attr);
     if (interruptedBefore)
     {
         throw Interrupted();
@@ -386,8 +412,14 @@ int runChildProcess(const std::vector<std::string>& argv, const std::string& log
     {
         THROW_EXCEPTION("cannot run '" + argv[0] + "': " + std::strerror(rc));
     }
+    return pid;
+}
 
-    // Polled rather than blocked on: the signal may be delivered to another thread.
+/** Waits for the child to end and unregisters it; its wait status. Polled rather than
+ *  blocked on: the signal may be delivered to another thread. On an interrupt the child gets
+ *  SIGTERM, then SIGKILL after 300 ms, and Interrupted is thrown once it has ended. */
+int waitForChild(pid_t pid, const std::string& program)
+{
     int status = 0;
     bool ended = false;
     std::chrono::steady_clock::time_point termSent;
@@ -402,7 +434,7 @@ int runChildProcess(const std::vector<std::string>& argv, const std::string& log
         {
             const int err = errno;
             unregisterChildProcess(pid);
-            THROW_EXCEPTION("waiting for '" + argv[0] + "' failed: " + std::strerror(err));
+            THROW_EXCEPTION("waiting for '" + program + "' failed: " + std::strerror(err));
         }
         if (interruptRequested())
         {
@@ -425,6 +457,14 @@ int runChildProcess(const std::vector<std::string>& argv, const std::string& log
         throw Interrupted();
     }
     return status;
+}
+}  // namespace
+
+int runChildProcess(const std::vector<std::string>& argv, const std::string& logPath,
+                    const std::string& workDir)
+{
+    ASSERTMSG_(!argv.empty(), "runChildProcess: no program");
+    return waitForChild(startChild(argv, logPath, workDir), argv[0]);
 }
 
 }  // namespace semloc

@@ -81,7 +81,9 @@ std::string mapSectionError(const mrpt::config::CConfigFileBase& ini, const std:
         {
             if (s.rfind(prefix + "_", 0) == 0 && ini.keyExists(s, m[1].str()))
             {
-                return "ini [" + s + "] " + m[1].str() + ": " + message;
+                std::string error = "ini [";
+                error.append(s).append("] ").append(m[1].str()).append(": ").append(message);
+                return error;
             }
         }
     }
@@ -248,23 +250,13 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
     }
 }
 
-LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase& ini,
-                                            const std::string& mapFile, const std::string& section)
+namespace
 {
-    validateSections(ini, section);
-    LocalizationMap lm;
-    lm.definitions = loadDefinitions(ini, section);
-    if (lm.definitions.size() == 0)
-    {
-        THROW_EXCEPTION("ini [" + section +
-                        "]: no map (e.g. semanticMap_count = 1, structureMap_count = 1, "
-                        "occupancyGrid_count = 1)");
-    }
-    lm.map = mrpt::maps::CMultiMetricMap::Create();
-    lm.map->setListOfMaps(lm.definitions);
-    const auto aliases = definitionAliases(ini, section);
-    ASSERT_EQUAL_(aliases.size(), lm.map->maps.size());
-
+/** Reads `mapFile` (may be empty) by its extension: a world (`.yaml`, `.yml`) into
+ *  `lm.world`, a simple map into every map, a grid map into the first occupancy grid. True
+ *  for a world. */
+bool loadMapFile(LocalizationMap& lm, const std::string& mapFile, const std::string& section)
+{
     const std::string ext =
         mapFile.empty()
             ? ""
@@ -308,7 +300,19 @@ LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase&
                         "': unknown kind (expected .yaml, .simplemap or .gridmap, optionally .gz)");
     }
 
-    lm.m_worldFiles.assign(lm.map->maps.size(), "");
+    return fromWorld;
+}
+
+/** Fills each map of `lm` from its world: a semantic or structure map from the dataset's world
+ *  (unless its definition named its own world_file), an occupancy grid rasterized from a world
+ *  map file. Returns the world file each map was filled from ("" for the others). */
+std::vector<std::string> fillMaps(LocalizationMap& lm,
+                                  const std::vector<std::pair<std::string, unsigned>>& aliases,
+                                  const std::string& mapFile, const std::string& section,
+                                  bool fromWorld)
+{
+    std::vector<std::string> worldFiles;
+    worldFiles.assign(lm.map->maps.size(), "");
     size_t k = 0;
     for (const auto& def : lm.definitions)
     {
@@ -319,11 +323,11 @@ LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase&
         // names its own world_file (which it has read), whose world then is the dataset's.
         auto worldMap = [&](const std::string& worldFile, const char* kind, const auto& load)
         {
-            lm.m_worldFiles[k] = worldFile;
+            worldFiles[k] = worldFile;
             if (worldFile.empty() && lm.world)
             {
                 load(*lm.world);
-                lm.m_worldFiles[k] = mapFile;
+                worldFiles[k] = mapFile;
             }
             if (!lm.world && !worldFile.empty())
             {
@@ -365,6 +369,29 @@ LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase&
         }
         k++;
     }
+    return worldFiles;
+}
+}  // namespace
+
+LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase& ini,
+                                            const std::string& mapFile, const std::string& section)
+{
+    validateSections(ini, section);
+    LocalizationMap lm;
+    lm.definitions = loadDefinitions(ini, section);
+    if (lm.definitions.size() == 0)
+    {
+        THROW_EXCEPTION("ini [" + section +
+                        "]: no map (e.g. semanticMap_count = 1, structureMap_count = 1, "
+                        "occupancyGrid_count = 1)");
+    }
+    lm.map = mrpt::maps::CMultiMetricMap::Create();
+    lm.map->setListOfMaps(lm.definitions);
+    const auto aliases = definitionAliases(ini, section);
+    ASSERT_EQUAL_(aliases.size(), lm.map->maps.size());
+
+    const bool fromWorld = loadMapFile(lm, mapFile, section);
+    lm.m_worldFiles = fillMaps(lm, aliases, mapFile, section, fromWorld);
     return lm;
 }
 

@@ -80,6 +80,84 @@ double autoCellSize(double area_m2, size_t nSegments)
     return std::clamp(0.5 * std::sqrt(area_m2 / static_cast<double>(nSegments)), 0.25, 8.0);
 }
 
+/** A uniform grid: origin, cell side and its inverse, size in cells. */
+struct GridGeometry
+{
+    double x0, y0, cell, invCell;
+    int nx, ny;
+};
+
+/** The grid over the segments' bounding box (padded by twice the cell inflation): cells of
+ *  `cellSize_m`, or autoCellSize() if it is <= 0, doubled until at most kMaxCells fit. */
+GridGeometry gridOver(const std::vector<mrpt::math::TSegment2D>& segments, double cellSize_m)
+{
+    double xmin = kInf, ymin = kInf, xmax = -kInf, ymax = -kInf;
+    for (const auto& s : segments)
+    {
+        xmin = std::min({xmin, s.point1.x, s.point2.x});
+        xmax = std::max({xmax, s.point1.x, s.point2.x});
+        ymin = std::min({ymin, s.point1.y, s.point2.y});
+        ymax = std::max({ymax, s.point1.y, s.point2.y});
+    }
+    GridGeometry g{};
+    g.cell = cellSize_m > 0
+                 ? cellSize_m
+                 : autoCellSize(std::max(xmax - xmin, 1e-3) * std::max(ymax - ymin, 1e-3),
+                                segments.size());
+    const double pad = 2 * kCellInflate_m;
+    while (((xmax - xmin + 2 * pad) / g.cell + 1) * ((ymax - ymin + 2 * pad) / g.cell + 1) >
+           kMaxCells)
+    {
+        g.cell *= 2;
+    }
+    g.invCell = 1.0 / g.cell;
+    g.x0 = xmin - pad;
+    g.y0 = ymin - pad;
+    g.nx = static_cast<int>(std::floor((xmax + pad - g.x0) * g.invCell)) + 1;
+    g.ny = static_cast<int>(std::floor((ymax + pad - g.y0) * g.invCell)) + 1;
+    return g;
+}
+
+/** Conservative bucketing: for each cell (row-major), the indices of the segments that touch
+ *  it inflated by kCellInflate_m. */
+std::vector<std::vector<uint32_t>> bucketSegments(
+    const std::vector<mrpt::math::TSegment2D>& segments, const GridGeometry& g)
+{
+    const size_t ncell = static_cast<size_t>(g.nx) * static_cast<size_t>(g.ny);
+    std::vector<std::vector<uint32_t>> buckets(ncell);
+    auto cellIndex = [](double v, double v0, double inv, int n)
+    { return std::clamp(static_cast<int>(std::floor((v - v0) * inv)), 0, n - 1); };
+    for (size_t k = 0; k < segments.size(); k++)
+    {
+        const auto& s = segments[k];
+        const double sx0 = std::min(s.point1.x, s.point2.x) - kCellInflate_m;
+        const double sx1 = std::max(s.point1.x, s.point2.x) + kCellInflate_m;
+        const double sy0 = std::min(s.point1.y, s.point2.y) - kCellInflate_m;
+        const double sy1 = std::max(s.point1.y, s.point2.y) + kCellInflate_m;
+        const int ix0 = cellIndex(sx0, g.x0, g.invCell, g.nx);
+        const int ix1 = cellIndex(sx1, g.x0, g.invCell, g.nx);
+        const int iy0 = cellIndex(sy0, g.y0, g.invCell, g.ny);
+        const int iy1 = cellIndex(sy1, g.y0, g.invCell, g.ny);
+        for (int iy = iy0; iy <= iy1; iy++)
+        {
+            for (int ix = ix0; ix <= ix1; ix++)
+            {
+                const double cx0 = g.x0 + ix * g.cell - kCellInflate_m;
+                const double cy0 = g.y0 + iy * g.cell - kCellInflate_m;
+                const double cx1 = g.x0 + (ix + 1) * g.cell + kCellInflate_m;
+                const double cy1 = g.y0 + (iy + 1) * g.cell + kCellInflate_m;
+                if (detail::segmentTouchesBox(s.point1.x, s.point1.y, s.point2.x, s.point2.y, cx0,
+                                              cy0, cx1, cy1))
+                {
+                    buckets[static_cast<size_t>(iy) * g.nx + ix].push_back(
+                        static_cast<uint32_t>(k));
+                }
+            }
+        }
+    }
+    return buckets;
+}
+
 }  // namespace
 
 RayCaster::RayCaster(const std::vector<mrpt::math::TSegment2D>& segments, double cellSize_m)
@@ -106,63 +184,15 @@ void RayCaster::setSegments(const std::vector<mrpt::math::TSegment2D>& segments,
         return;
     }
 
-    double xmin = kInf, ymin = kInf, xmax = -kInf, ymax = -kInf;
-    for (const auto& s : segments)
-    {
-        xmin = std::min({xmin, s.point1.x, s.point2.x});
-        xmax = std::max({xmax, s.point1.x, s.point2.x});
-        ymin = std::min({ymin, s.point1.y, s.point2.y});
-        ymax = std::max({ymax, s.point1.y, s.point2.y});
-    }
-    m_cell = cellSize_m > 0
-                 ? cellSize_m
-                 : autoCellSize(std::max(xmax - xmin, 1e-3) * std::max(ymax - ymin, 1e-3),
-                                m_segs.size());
-    const double pad = 2 * kCellInflate_m;
-    while (((xmax - xmin + 2 * pad) / m_cell + 1) * ((ymax - ymin + 2 * pad) / m_cell + 1) >
-           kMaxCells)
-    {
-        m_cell *= 2;
-    }
-    m_invCell = 1.0 / m_cell;
-    m_x0 = xmin - pad;
-    m_y0 = ymin - pad;
-    m_nx = static_cast<int>(std::floor((xmax + pad - m_x0) * m_invCell)) + 1;
-    m_ny = static_cast<int>(std::floor((ymax + pad - m_y0) * m_invCell)) + 1;
-
-    // Conservative bucketing: every cell (inflated) the segment touches.
-    const size_t ncell = static_cast<size_t>(m_nx) * static_cast<size_t>(m_ny);
-    std::vector<std::vector<uint32_t>> buckets(ncell);
-    auto cellIndex = [](double v, double v0, double inv, int n)
-    { return std::clamp(static_cast<int>(std::floor((v - v0) * inv)), 0, n - 1); };
-    for (size_t k = 0; k < segments.size(); k++)
-    {
-        const auto& s = segments[k];
-        const double sx0 = std::min(s.point1.x, s.point2.x) - kCellInflate_m;
-        const double sx1 = std::max(s.point1.x, s.point2.x) + kCellInflate_m;
-        const double sy0 = std::min(s.point1.y, s.point2.y) - kCellInflate_m;
-        const double sy1 = std::max(s.point1.y, s.point2.y) + kCellInflate_m;
-        const int ix0 = cellIndex(sx0, m_x0, m_invCell, m_nx);
-        const int ix1 = cellIndex(sx1, m_x0, m_invCell, m_nx);
-        const int iy0 = cellIndex(sy0, m_y0, m_invCell, m_ny);
-        const int iy1 = cellIndex(sy1, m_y0, m_invCell, m_ny);
-        for (int iy = iy0; iy <= iy1; iy++)
-        {
-            for (int ix = ix0; ix <= ix1; ix++)
-            {
-                const double cx0 = m_x0 + ix * m_cell - kCellInflate_m;
-                const double cy0 = m_y0 + iy * m_cell - kCellInflate_m;
-                const double cx1 = m_x0 + (ix + 1) * m_cell + kCellInflate_m;
-                const double cy1 = m_y0 + (iy + 1) * m_cell + kCellInflate_m;
-                if (detail::segmentTouchesBox(s.point1.x, s.point1.y, s.point2.x, s.point2.y, cx0,
-                                              cy0, cx1, cy1))
-                {
-                    buckets[static_cast<size_t>(iy) * m_nx + ix].push_back(
-                        static_cast<uint32_t>(k));
-                }
-            }
-        }
-    }
+    const GridGeometry g = gridOver(segments, cellSize_m);
+    m_x0 = g.x0;
+    m_y0 = g.y0;
+    m_cell = g.cell;
+    m_invCell = g.invCell;
+    m_nx = g.nx;
+    m_ny = g.ny;
+    const auto buckets = bucketSegments(segments, g);
+    const size_t ncell = buckets.size();
     m_cellStart.assign(ncell + 1, 0);
     for (size_t c = 0; c < ncell; c++)
     {
@@ -194,6 +224,9 @@ double RayCaster::castBruteForce(double x, double y, double angle, double maxRan
     return best < maxRange ? best : maxRange;
 }
 
+// The clipping, the walk's set-up and its loop stay one function: split into helpers, the
+// geometric likelihood ran 0.6-1.7 % slower (bench_StructureLikelihood, BM_StructureMap_fast).
+// NOLINTNEXTLINE(readability-function-size)
 double RayCaster::castDir(double px, double py, double dx, double dy, double maxRange) const
 {
     if (m_nx == 0 || !(maxRange > 0) || !std::isfinite(px) || !std::isfinite(py))

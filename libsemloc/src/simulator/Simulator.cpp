@@ -209,20 +209,84 @@ double Simulator::speed() const
                                               : m_world.trajectory->speed_mps;
 }
 
+namespace
+{
+/** The random streams of a run, one per source of noise (SimRandom.h). */
+struct SimStreams
+{
+    mrpt::random::CRandomGenerator odometry, sonar, detector, kidnap;
+
+    explicit SimStreams(uint32_t seed)
+        : odometry(detail::streamSeed(seed, detail::SimStream::Odometry)),
+          sonar(detail::streamSeed(seed, detail::SimStream::Sonar)),
+          detector(detail::streamSeed(seed, detail::SimStream::Detector)),
+          kidnap(detail::streamSeed(seed, detail::SimStream::Kidnapping))
+    {
+    }
+};
+
+/** The sensor models of a run. */
+struct Sensors
+{
+    OdometryModel odometry;
+    SonarModel sonar;
+    SemanticDetectorModel detector;
+};
+
+/** What the steps of a run add up to, for the summary. */
+struct StepCounts
+{
+    size_t detections = 0, validBeams = 0;
+};
+
+/** The step at `stamp`: the odometry of `increment` as the action, then the sonar scan and
+ *  the detections at the true `pose` as the sensory frame, appended to the rawlog with the
+ *  pose as ground truth. Draws odometry, sonar and detector noise in that order. */
+void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPose2D& increment,
+                const mrpt::math::TPose2D& pose, mrpt::Clock::time_point stamp,
+                SimulationResult& res, StepCounts& counts)
+{
+    auto action = sensors.odometry.measure(increment, rng.odometry);
+    action.timestamp = stamp;
+    auto actions = mrpt::obs::CActionCollection::Create();
+    actions->insert(action);
+
+    auto scan = sensors.sonar.measure(pose, rng.sonar);
+    scan->timestamp = stamp;
+    auto semantic = sensors.detector.measure(pose, rng.detector);
+    semantic->timestamp = stamp;
+    for (size_t b = 0; b < scan->getScanSize(); b++)
+    {
+        counts.validBeams += scan->getScanRangeValidity(b) ? 1 : 0;
+    }
+    counts.detections += semantic->detections.size();
+    auto frame = mrpt::obs::CSensoryFrame::Create();
+    frame->insert(scan);
+    frame->insert(semantic);
+
+    res.rawlog.insert(actions);
+    res.rawlog.insert(frame);
+    res.groundTruth.push_back({mrpt::Clock::toDouble(stamp), pose.x, pose.y, pose.phi});
+}
+
+/** Where the kidnapped vehicle is put: a random free pose, or the configured one. */
+mrpt::math::TPose2D kidnapPose(const TKidnappingOptions& kidnap, const World& world,
+                               mrpt::random::CRandomGenerator& rng)
+{
+    return kidnap.random_pose
+               ? world.sampleFreePose(rng)
+               : mrpt::math::TPose2D(kidnap.x_m, kidnap.y_m,
+                                     mrpt::math::wrapToPi(mrpt::DEG2RAD(kidnap.phi_deg)));
+}
+}  // namespace
+
 SimulationResult Simulator::run() const
 {
     const auto wallStart = std::chrono::steady_clock::now();
     const TSimulatorOptions& o = m_options;
-    const uint32_t seed = o.simulation.seed;
-    using detail::SimStream;
-    mrpt::random::CRandomGenerator rngOdometry(detail::streamSeed(seed, SimStream::Odometry));
-    mrpt::random::CRandomGenerator rngSonar(detail::streamSeed(seed, SimStream::Sonar));
-    mrpt::random::CRandomGenerator rngDetector(detail::streamSeed(seed, SimStream::Detector));
-    mrpt::random::CRandomGenerator rngKidnap(detail::streamSeed(seed, SimStream::Kidnapping));
-
-    const OdometryModel odometry(o.odometry);
-    const SonarModel sonar(m_world, o.sonar);
-    const SemanticDetectorModel detector(m_world, o.detector);
+    SimStreams rng(o.simulation.seed);
+    const Sensors sensors{OdometryModel(o.odometry), SonarModel(m_world, o.sonar),
+                          SemanticDetectorModel(m_world, o.detector)};
     const double dt = o.simulation.time_step_s;
     TrajectoryFollower vehicle(m_world.trajectory->waypoints, speed() * dt);
     const size_t maxSteps = static_cast<size_t>(o.simulation.max_steps);
@@ -230,7 +294,7 @@ SimulationResult Simulator::run() const
 
     SimulationResult res;
     res.beamsPerScan = static_cast<size_t>(o.sonar.beam_count);
-    size_t detections = 0, validBeams = 0;
+    StepCounts counts;
     bool kidnapped = false;
     mrpt::poses::CPose2D previous(vehicle.pose());
     for (size_t k = 0;; k++)
@@ -247,38 +311,13 @@ SimulationResult Simulator::run() const
         if (kidnap.enabled && k == static_cast<size_t>(kidnap.step))
         {
             // The odometry keeps reporting `increment`: it does not see the teleport.
-            vehicle.teleport(
-                kidnap.random_pose
-                    ? m_world.sampleFreePose(rngKidnap)
-                    : mrpt::math::TPose2D(kidnap.x_m, kidnap.y_m,
-                                          mrpt::math::wrapToPi(mrpt::DEG2RAD(kidnap.phi_deg))));
+            vehicle.teleport(kidnapPose(kidnap, m_world, rng.kidnap));
             kidnapped = true;
         }
         const mrpt::math::TPose2D pose = vehicle.pose();
         const auto stamp =
             mrpt::Clock::fromDouble(o.simulation.start_time_s + static_cast<double>(k) * dt);
-
-        auto action = odometry.measure(increment, rngOdometry);
-        action.timestamp = stamp;
-        auto actions = mrpt::obs::CActionCollection::Create();
-        actions->insert(action);
-
-        auto scan = sonar.measure(pose, rngSonar);
-        scan->timestamp = stamp;
-        auto semantic = detector.measure(pose, rngDetector);
-        semantic->timestamp = stamp;
-        for (size_t b = 0; b < scan->getScanSize(); b++)
-        {
-            validBeams += scan->getScanRangeValidity(b) ? 1 : 0;
-        }
-        detections += semantic->detections.size();
-        auto frame = mrpt::obs::CSensoryFrame::Create();
-        frame->insert(scan);
-        frame->insert(semantic);
-
-        res.rawlog.insert(actions);
-        res.rawlog.insert(frame);
-        res.groundTruth.push_back({mrpt::Clock::toDouble(stamp), pose.x, pose.y, pose.phi});
+        recordStep(sensors, rng, increment, pose, stamp, res, counts);
         previous = mrpt::poses::CPose2D(pose);
         if (vehicle.finished() || (maxSteps > 0 && k + 1 >= maxSteps))
         {
@@ -293,8 +332,8 @@ SimulationResult Simulator::run() const
                          "simulation (%zu steps: 0..%zu)",
                          kKidnapping, kidnap.step, res.steps, res.steps - 1));
     }
-    res.meanDetections = static_cast<double>(detections) / static_cast<double>(res.steps);
-    res.meanValidBeams = static_cast<double>(validBeams) / static_cast<double>(res.steps);
+    res.meanDetections = static_cast<double>(counts.detections) / static_cast<double>(res.steps);
+    res.meanValidBeams = static_cast<double>(counts.validBeams) / static_cast<double>(res.steps);
     res.wallTime_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     return res;

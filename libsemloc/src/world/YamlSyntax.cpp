@@ -80,122 +80,151 @@ public:
     Reader(const Reader&) = delete;
     Reader& operator=(const Reader&) = delete;
 
+    /** Reads the whole document into `doc`: "" or the first error. */
     std::string read(node_t& doc)
     {
         if (!m_ok)
         {
             return "cannot start the YAML parser (out of memory)";
         }
-        std::vector<Open> open;
-        bool haveDoc = false;
-        // Places a new node (a scalar, or a collection still empty) where the document is at.
-        auto place = [&](const node_t& n) -> node_t*
-        {
-            if (open.empty())
-            {
-                doc = n;
-                return &doc;
-            }
-            Open& parent = open.back();
-            if (parent.node->isSequence())
-            {
-                parent.node->asSequence().push_back(n);
-                return &parent.node->asSequence().back();
-            }
-            parent.haveKey = false;
-            const auto it =
-                parent.node->asMap().emplace(node_t(parent.key), n).first;  // keys are unique
-            return &it->second;
-        };
+        m_doc = &doc;
         for (;;)
         {
             if (!next())
             {
-                std::string error = at(m_parser.problem_mark) + "YAML syntax error: " +
-                                    (m_parser.problem ? m_parser.problem : "unknown error");
-                if (m_parser.context)
-                {
-                    error += std::string(" (") + m_parser.context + ")";
-                }
-                return error;
+                return syntaxError();
             }
-            const yaml_event_t& e = m_event;
-            const bool keyNext = !open.empty() && open.back().node->isMap() && !open.back().haveKey;
-            switch (e.type)
+            if (m_event.type == YAML_STREAM_END_EVENT)
             {
-                case YAML_STREAM_END_EVENT:
-                    return {};
-                case YAML_DOCUMENT_START_EVENT:
-                    if (haveDoc)
-                    {
-                        return at(e.start_mark) +
-                               "a second YAML document: the file must hold one (remove the "
-                               "'---' and what follows, or merge the documents)";
-                    }
-                    haveDoc = true;
-                    break;
-                case YAML_ALIAS_EVENT:
-                    return at(e.start_mark) + "YAML alias '*" +
-                           reinterpret_cast<const char*>(e.data.alias.anchor) +
-                           "': aliases are not supported (write the value out)";
-                case YAML_SCALAR_EVENT:
-                    if (keyNext)
-                    {
-                        Open& m = open.back();
-                        const std::string key(reinterpret_cast<const char*>(e.data.scalar.value),
-                                              e.data.scalar.length);
-                        const auto [it, added] = m.keyLine.emplace(key, e.start_mark.line);
-                        if (!added)
-                        {
-                            return at(e.start_mark) + "key '" + key + "' repeated (first on line " +
-                                   std::to_string(it->second + 1) +
-                                   "): a YAML map takes each key once";
-                        }
-                        m.key = key;
-                        m.haveKey = true;
-                    }
-                    else
-                    {
-                        place(marked(scalarNode(e), e));
-                    }
-                    break;
-                case YAML_SEQUENCE_START_EVENT:
-                case YAML_MAPPING_START_EVENT:
-                {
-                    if (open.size() >= kMaxYamlDepth)
-                    {
-                        return at(e.start_mark) + "nested deeper than " +
-                               std::to_string(kMaxYamlDepth) + " levels";
-                    }
-                    if (keyNext)
-                    {
-                        return at(e.start_mark) + "a map key must be a scalar";
-                    }
-                    node_t n;
-                    if (e.type == YAML_MAPPING_START_EVENT)
-                    {
-                        n.d.emplace<mrpt::containers::yaml::map_t>();
-                    }
-                    else
-                    {
-                        n.d.emplace<mrpt::containers::yaml::sequence_t>();
-                    }
-                    Open o;
-                    o.node = place(marked(n, e));
-                    open.push_back(o);
-                    break;
-                }
-                case YAML_SEQUENCE_END_EVENT:
-                case YAML_MAPPING_END_EVENT:
-                    open.pop_back();
-                    break;
-                default:
-                    break;
+                return {};
+            }
+            if (std::string error = handle(m_event); !error.empty())
+            {
+                return error;
             }
         }
     }
 
 private:
+    /** The parser's error, where it is. */
+    std::string syntaxError() const
+    {
+        std::string error = at(m_parser.problem_mark) + "YAML syntax error: " +
+                            (m_parser.problem ? m_parser.problem : "unknown error");
+        if (m_parser.context)
+        {
+            error += std::string(" (") + m_parser.context + ")";
+        }
+        return error;
+    }
+
+    /** True if the event is a key of the innermost open map. */
+    bool keyNext() const
+    {
+        return !m_open.empty() && m_open.back().node->isMap() && !m_open.back().haveKey;
+    }
+
+    /** One event (not the stream's end) into the document: "" or an error. */
+    std::string handle(const yaml_event_t& e)
+    {
+        switch (e.type)
+        {
+            case YAML_DOCUMENT_START_EVENT:
+                if (m_haveDoc)
+                {
+                    return at(e.start_mark) +
+                           "a second YAML document: the file must hold one (remove the "
+                           "'---' and what follows, or merge the documents)";
+                }
+                m_haveDoc = true;
+                return {};
+            case YAML_ALIAS_EVENT:
+                return at(e.start_mark) + "YAML alias '*" +
+                       reinterpret_cast<const char*>(e.data.alias.anchor) +
+                       "': aliases are not supported (write the value out)";
+            case YAML_SCALAR_EVENT:
+                return scalar(e);
+            case YAML_SEQUENCE_START_EVENT:
+            case YAML_MAPPING_START_EVENT:
+                return openCollection(e);
+            case YAML_SEQUENCE_END_EVENT:
+            case YAML_MAPPING_END_EVENT:
+                m_open.pop_back();
+                return {};
+            default:
+                return {};
+        }
+    }
+
+    /** A scalar: the key of the innermost open map (once per map), or a value placed. */
+    std::string scalar(const yaml_event_t& e)
+    {
+        if (!keyNext())
+        {
+            place(marked(scalarNode(e), e));
+            return {};
+        }
+        Open& m = m_open.back();
+        const std::string key(reinterpret_cast<const char*>(e.data.scalar.value),
+                              e.data.scalar.length);
+        const auto [it, added] = m.keyLine.emplace(key, e.start_mark.line);
+        if (!added)
+        {
+            return at(e.start_mark) + "key '" + key + "' repeated (first on line " +
+                   std::to_string(it->second + 1) + "): a YAML map takes each key once";
+        }
+        m.key = key;
+        m.haveKey = true;
+        return {};
+    }
+
+    /** A map or sequence, placed empty and open until its end event. */
+    std::string openCollection(const yaml_event_t& e)
+    {
+        if (m_open.size() >= kMaxYamlDepth)
+        {
+            return at(e.start_mark) + "nested deeper than " + std::to_string(kMaxYamlDepth) +
+                   " levels";
+        }
+        if (keyNext())
+        {
+            return at(e.start_mark) + "a map key must be a scalar";
+        }
+        node_t n;
+        if (e.type == YAML_MAPPING_START_EVENT)
+        {
+            n.d.emplace<mrpt::containers::yaml::map_t>();
+        }
+        else
+        {
+            n.d.emplace<mrpt::containers::yaml::sequence_t>();
+        }
+        Open o;
+        o.node = place(marked(n, e));
+        m_open.push_back(o);
+        return {};
+    }
+
+    /** Places a new node (a scalar, or a collection still empty) where the document is at. */
+    node_t* place(const node_t& n)
+    {
+        if (m_open.empty())
+        {
+            *m_doc = n;
+            return m_doc;
+        }
+        Open& parent = m_open.back();
+        if (parent.node->isSequence())
+        {
+            parent.node->asSequence().push_back(n);
+            return &parent.node->asSequence().back();
+        }
+        parent.haveKey = false;
+        const auto it =
+            parent.node->asMap().emplace(node_t(parent.key), n).first;  // keys are unique
+        return &it->second;
+    }
+
     /** Parses the next event into m_event; false on a syntax error. */
     bool next()
     {
@@ -216,6 +245,9 @@ private:
     yaml_event_t m_event{};
     bool m_ok = false;
     bool m_haveEvent = false;
+    node_t* m_doc = nullptr;   // the document being read
+    std::vector<Open> m_open;  // the maps and sequences open, innermost last
+    bool m_haveDoc = false;    // a document has started
 };
 }  // namespace
 

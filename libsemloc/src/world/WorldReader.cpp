@@ -1,0 +1,420 @@
+/* semloc — the world-file reader: YAML text -> World, checked strictly (docs/design.md,
+ * "World file"). */
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <semloc/observation/Labels.h>
+#include <semloc/world/World.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "world/ObjectShape.h"
+#include "world/WorldFileValues.h"
+#include "world/YamlSyntax.h"
+
+namespace semloc
+{
+namespace
+{
+using detail::checkKeys;
+using detail::findKey;
+using detail::requireKey;
+using detail::scalarText;
+using detail::toCoordinate;
+using detail::toNumber;
+using detail::toPoint;
+using detail::Where;
+using mrpt::math::TPoint2D;
+using node_t = detail::WorldNode;
+using map_t = detail::WorldMap;
+
+/** 1-based line of the first byte sequence that is not UTF-8 (overlong forms and surrogates
+ *  are not told apart), or 0 if there is none. YAML text must be Unicode, and libfyaml (MRPT's
+ *  YAML parser) loops forever on some invalid bytes (found by tests/fuzz/fuzz_world). */
+size_t firstNonUtf8Line(const std::string& text)
+{
+    size_t line = 1;
+    for (size_t i = 0; i < text.size();)
+    {
+        const auto c = static_cast<unsigned char>(text[i]);
+        const size_t len = c < 0x80           ? 1
+                           : (c >> 5) == 0x6  ? 2
+                           : (c >> 4) == 0xE  ? 3
+                           : (c >> 3) == 0x1E ? 4
+                                              : 0;
+        if (len == 0 || i + len > text.size())
+        {
+            return line;
+        }
+        for (size_t k = 1; k < len; k++)
+        {
+            if ((static_cast<unsigned char>(text[i + k]) >> 6) != 0x2)
+            {
+                return line;
+            }
+        }
+        line += c == '\n' ? 1 : 0;
+        i += len;
+    }
+    return 0;
+}
+
+/** A polygon's area centroid; fails if it is self-intersecting or has zero area. */
+void finishPolygon(WorldObject& o, const Where& w)
+{
+    const auto& p = o.points;
+    const size_t n = p.size();
+    double a2 = 0, cx = 0, cy = 0;
+    for (size_t i = 0; i < n; i++)
+    {
+        const auto& u = p[i];
+        const auto& v = p[(i + 1) % n];
+        const double c = u.x * v.y - v.x * u.y;
+        a2 += c;
+        cx += (u.x + v.x) * c;
+        cy += (u.y + v.y) * c;
+    }
+    for (size_t i = 0; i < n; i++)
+    {
+        for (size_t j = i + 1; j < n; j++)
+        {
+            const bool adjacent = (j == i + 1) || (i == 0 && j == n - 1);
+            if (adjacent)
+            {
+                continue;
+            }
+            if (detail::segmentsTouch(p[i], p[(i + 1) % n], p[j], p[(j + 1) % n]))
+            {
+                w.fail("points", "polygon is self-intersecting (edges " + std::to_string(i) +
+                                     " and " + std::to_string(j) + ")");
+            }
+        }
+    }
+    if (std::abs(a2) < 1e-12)
+    {
+        w.fail("points", "polygon has zero area");
+    }
+    o.center = {cx / (3 * a2), cy / (3 * a2)};
+}
+
+/** A box's 4 corners (counter-clockwise) from its centre, sides and yaw. */
+void finishBox(WorldObject& o)
+{
+    const double c = std::cos(o.yaw), s = std::sin(o.yaw);
+    const double hx = 0.5 * o.size_x, hy = 0.5 * o.size_y;
+    const double corners[4][2] = {{-hx, -hy}, {hx, -hy}, {hx, hy}, {-hx, hy}};
+    o.points.clear();
+    for (const auto& k : corners)
+    {
+        o.points.emplace_back(o.center.x + c * k[0] - s * k[1], o.center.y + s * k[0] + c * k[1]);
+    }
+}
+
+/** `id` (a positive integer, then named in `w`'s messages) and `label` of an object. */
+void readIdentity(const map_t& m, Where& w, WorldObject& o)
+{
+    o.id = detail::toInt(requireKey(m, "id", w), w, "id");
+    w.object += " (id " + std::to_string(o.id) + ")";
+    if (o.id <= 0)
+    {
+        w.fail("id", "must be a positive integer");
+    }
+    o.label = scalarText(requireKey(m, "label", w), w, "label");
+    if (const std::string problem = labelProblem(o.label); !problem.empty())
+    {
+        w.fail("label", problem);
+    }
+}
+
+void readBox(const map_t& m, const Where& w, WorldObject& o)
+{
+    checkKeys(m, {"id", "label", "shape", "z", "center", "size", "yaw_deg"}, w);
+    o.shape = ShapeType::Box;
+    o.center = toPoint(requireKey(m, "center", w), w, "center");
+    const auto sz = toPoint(requireKey(m, "size", w), w, "size");
+    o.size_x = sz.x;
+    o.size_y = sz.y;
+    if (o.size_x <= 0 || o.size_y <= 0)
+    {
+        w.fail("size", "both sides must be > 0");
+    }
+    if (const auto* y = findKey(m, "yaw_deg"))
+    {
+        o.yaw = toNumber(*y, w, "yaw_deg") * M_PI / 180.0;
+    }
+    finishBox(o);
+    o.extent_m = std::hypot(0.5 * o.size_x, 0.5 * o.size_y);
+}
+
+void readCylinder(const map_t& m, const Where& w, WorldObject& o)
+{
+    checkKeys(m, {"id", "label", "shape", "z", "center", "radius"}, w);
+    o.shape = ShapeType::Cylinder;
+    o.center = toPoint(requireKey(m, "center", w), w, "center");
+    o.radius = toCoordinate(requireKey(m, "radius", w), w, "radius");
+    if (o.radius <= 0)
+    {
+        w.fail("radius", "must be > 0");
+    }
+    o.extent_m = o.radius;
+}
+
+void readPolygon(const map_t& m, const Where& w, WorldObject& o)
+{
+    checkKeys(m, {"id", "label", "shape", "z", "points"}, w);
+    o.shape = ShapeType::Polygon;
+    const auto& pts = requireKey(m, "points", w);
+    if (!pts.isSequence() || pts.asSequence().size() < 3)
+    {
+        w.fail("points", "expected a list of at least 3 points [[x, y], ...]");
+    }
+    for (const auto& p : pts.asSequence())
+    {
+        o.points.push_back(toPoint(p, w, "points"));
+    }
+    finishPolygon(o, w);
+    for (const auto& p : o.points)
+    {
+        o.extent_m = std::max(o.extent_m, std::hypot(p.x - o.center.x, p.y - o.center.y));
+    }
+}
+
+void readPoint(const map_t& m, const Where& w, WorldObject& o)
+{
+    checkKeys(m, {"id", "label", "shape", "z", "center", "extent_m"}, w);
+    o.shape = ShapeType::Point;
+    o.center = toPoint(requireKey(m, "center", w), w, "center");
+    if (const auto* e = findKey(m, "extent_m"))
+    {
+        o.extent_m = toCoordinate(*e, w, "extent_m");
+        if (o.extent_m < 0)
+        {
+            w.fail("extent_m", "must be >= 0");
+        }
+    }
+}
+
+/** objects[index]: identity, `z`, then the keys of its shape. */
+WorldObject parseObject(const node_t& n, size_t index, const std::string& file)
+{
+    Where w{file, "objects[" + std::to_string(index) + "]"};
+    if (!n.isMap())
+    {
+        w.fail("", "expected a map {id: ..., label: ..., shape: ...}");
+    }
+    const auto& m = n.asMap();
+    WorldObject o;
+    readIdentity(m, w, o);
+    const std::string shape = scalarText(requireKey(m, "shape", w), w, "shape");
+    if (const auto* z = findKey(m, "z"))
+    {
+        o.z = toCoordinate(*z, w, "z");
+    }
+    if (shape == "box")
+    {
+        readBox(m, w, o);
+    }
+    else if (shape == "cylinder")
+    {
+        readCylinder(m, w, o);
+    }
+    else if (shape == "polygon")
+    {
+        readPolygon(m, w, o);
+    }
+    else if (shape == "point")
+    {
+        readPoint(m, w, o);
+    }
+    else
+    {
+        w.fail("shape", "unknown shape '" + shape + "' (expected box, cylinder, polygon or point)");
+    }
+    return o;
+}
+
+WorldBounds readBounds(const node_t& b, const std::string& file, const Where& top)
+{
+    if (!b.isMap())
+    {
+        top.fail("bounds", "expected {x_min, x_max, y_min, y_max}");
+    }
+    const Where wb{file, "bounds"};
+    checkKeys(b.asMap(), {"x_min", "x_max", "y_min", "y_max"}, wb);
+    WorldBounds bounds;
+    bounds.x_min = toCoordinate(requireKey(b.asMap(), "x_min", wb), wb, "x_min");
+    bounds.x_max = toCoordinate(requireKey(b.asMap(), "x_max", wb), wb, "x_max");
+    bounds.y_min = toCoordinate(requireKey(b.asMap(), "y_min", wb), wb, "y_min");
+    bounds.y_max = toCoordinate(requireKey(b.asMap(), "y_max", wb), wb, "y_max");
+    if (!(bounds.x_min < bounds.x_max) || !(bounds.y_min < bounds.y_max))
+    {
+        top.fail("bounds", "empty area: need x_min < x_max and y_min < y_max");
+    }
+    return bounds;
+}
+
+/** The objects, in file order, into `world` (whose bounds are read): unique ids, centres
+ *  inside the bounds. */
+void readObjects(const node_t& objs, const std::string& file, const Where& top, World& world)
+{
+    if (objs.isNullNode())
+    {
+        return;  // "objects:" with nothing after it: an empty world is allowed.
+    }
+    if (!objs.isSequence())
+    {
+        top.fail("objects", "expected a list of objects");
+    }
+    std::set<int> ids;
+    size_t i = 0;
+    for (const auto& on : objs.asSequence())
+    {
+        WorldObject o = parseObject(on, i, file);
+        const Where w{file, "objects[" + std::to_string(i) + "] (id " + std::to_string(o.id) + ")"};
+        if (!ids.insert(o.id).second)
+        {
+            w.fail("id", "duplicate id " + std::to_string(o.id));
+        }
+        if (!world.bounds.contains(o.center.x, o.center.y))
+        {
+            w.fail(o.shape == ShapeType::Polygon ? "points" : "center",
+                   "object centre is outside bounds");
+        }
+        world.objects.push_back(std::move(o));
+        i++;
+    }
+}
+
+/** The simulated vehicle follows the waypoints: a path of zero length, or one through an
+ *  object (whose inside is not free space: the true pose would weigh zero), is refused. */
+void checkTrajectory(const World& world, const WorldTrajectory& tr, const Where& wt)
+{
+    const auto& p = tr.waypoints;
+    auto wp = [&](size_t i)
+    { return "waypoints[" + std::to_string(i) + "] " + detail::pointText(p[i]); };
+    auto obj = [&](int k)
+    {
+        const auto& o = world.objects[static_cast<size_t>(k)];
+        return mrpt::format("objects[%d] (id %d, %s)", k, o.id, shapeName(o.shape));
+    };
+    bool moves = false;
+    for (size_t i = 0; i < p.size(); i++)
+    {
+        moves |= p[i].x != p[0].x || p[i].y != p[0].y;
+        if (const int k = world.firstObjectOnSegment(p[i], p[i]); k >= 0)
+        {
+            wt.fail("waypoints", wp(i) + " is inside " + obj(k));
+        }
+    }
+    if (!moves)
+    {
+        wt.fail("waypoints", "the trajectory has zero length (every waypoint is " +
+                                 detail::pointText(p[0]) + ")");
+    }
+    for (size_t i = 0; i + 1 < p.size(); i++)
+    {
+        if (const int k = world.firstObjectOnSegment(p[i], p[i + 1]); k >= 0)
+        {
+            wt.fail("waypoints",
+                    "the leg from " + wp(i) + " to " + wp(i + 1) + " passes through " + obj(k));
+        }
+    }
+}
+
+/** The optional trajectory of a world whose bounds and objects are read. */
+WorldTrajectory readTrajectory(const node_t& t, const std::string& file, const Where& top,
+                               const World& world)
+{
+    const Where wt{file, "trajectory"};
+    if (!t.isMap())
+    {
+        top.fail("trajectory", "expected {speed_mps, waypoints}");
+    }
+    checkKeys(t.asMap(), {"speed_mps", "waypoints"}, wt);
+    WorldTrajectory tr;
+    if (const auto* s = findKey(t.asMap(), "speed_mps"))
+    {
+        tr.speed_mps = toNumber(*s, wt, "speed_mps");
+    }
+    if (tr.speed_mps <= 0)
+    {
+        wt.fail("speed_mps", "must be > 0");
+    }
+    const auto& wp = requireKey(t.asMap(), "waypoints", wt);
+    if (!wp.isSequence() || wp.asSequence().size() < 2)
+    {
+        wt.fail("waypoints", "expected at least 2 points [[x, y], ...]");
+    }
+    for (const auto& p : wp.asSequence())
+    {
+        const auto q = toPoint(p, wt, "waypoints");
+        if (!world.bounds.contains(q.x, q.y))
+        {
+            wt.fail("waypoints", "waypoint outside bounds");
+        }
+        tr.waypoints.push_back(q);
+    }
+    checkTrajectory(world, tr, wt);
+    return tr;
+}
+
+World parseWorld(const node_t& doc, const std::string& file)
+{
+    const Where top{file, ""};
+    if (!doc.isMap())
+    {
+        top.fail("", "expected a YAML map with keys name, bounds, objects");
+    }
+    const auto& m = doc.asMap();
+    checkKeys(m, {"name", "bounds", "objects", "trajectory"}, top);
+    World world;
+    world.source = file;
+    if (const auto* n = findKey(m, "name"))
+    {
+        world.name = scalarText(*n, top, "name");
+    }
+    world.bounds = readBounds(requireKey(m, "bounds", top), file, top);
+    readObjects(requireKey(m, "objects", top), file, top, world);
+    if (const auto* t = findKey(m, "trajectory"))
+    {
+        world.trajectory = readTrajectory(*t, file, top, world);
+    }
+    return world;
+}
+}  // namespace
+
+World World::FromText(const std::string& yamlText, const std::string& sourceName)
+{
+    if (const size_t line = firstNonUtf8Line(yamlText))
+    {
+        THROW_EXCEPTION(
+            mrpt::format("world file '%s': line %zu: not UTF-8 text", sourceName.c_str(), line));
+    }
+    node_t doc;
+    if (const std::string err = detail::parseYaml(yamlText, doc); !err.empty())
+    {
+        THROW_EXCEPTION("world file '" + sourceName + "': " + err);
+    }
+    return parseWorld(doc, sourceName);
+}
+
+World World::FromFile(const std::string& path)
+{
+    std::ifstream f(path);
+    if (!f)
+    {
+        THROW_EXCEPTION("world file '" + path + "': cannot open for reading");
+    }
+    std::stringstream ss;
+    ss << f.rdbuf();
+    if (f.bad())
+    {
+        THROW_EXCEPTION("world file '" + path + "': read error");
+    }
+    return FromText(ss.str(), path);
+}
+
+}  // namespace semloc
