@@ -142,6 +142,175 @@ inline Vec2 absLanes(Vec2 v) noexcept
 #endif
 }
 
+/** The two doubles at p (no alignment needed). */
+inline Vec2 loadLanes(const double* p) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_loadu_pd(p);
+#else
+    return Vec2{p[0], p[1]};
+#endif
+}
+
+/** Stores both lanes at p (no alignment needed). */
+inline void storeLanes(double* p, Vec2 v) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    _mm_storeu_pd(p, v);
+#else
+    p[0] = v[0];
+    p[1] = v[1];
+#endif
+}
+
+/** Stores lane 0 at p. */
+inline void storeLane0(double* p, Vec2 v) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    _mm_storel_pd(p, v);
+#else
+    *p = v[0];
+#endif
+}
+
+/** Stores lane 1 at p. */
+inline void storeLane1(double* p, Vec2 v) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    _mm_storeh_pd(p, v);
+#else
+    *p = v[1];
+#endif
+}
+
+/** a < b ? a : b lane by lane (SSE2's minpd: b when either is NaN). */
+inline Vec2 minLanes(Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_min_pd(a, b);
+#else
+    return Vec2{a[0] < b[0] ? a[0] : b[0], a[1] < b[1] ? a[1] : b[1]};
+#endif
+}
+
+/** a > b ? a : b lane by lane (SSE2's maxpd: b when either is NaN). */
+inline Vec2 maxLanes(Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_max_pd(a, b);
+#else
+    return Vec2{a[0] > b[0] ? a[0] : b[0], a[1] > b[1] ? a[1] : b[1]};
+#endif
+}
+
+/** The square roots of both lanes (IEEE, correctly rounded as std::sqrt). */
+inline Vec2 sqrtLanes(Vec2 v) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_sqrt_pd(v);
+#else
+    return Vec2{std::sqrt(v[0]), std::sqrt(v[1])};
+#endif
+}
+
+#if !defined(SEMLOC_FASTMATH_SSE2)
+/** The lane mask of a condition: all ones if c, else all zeros. */
+inline double laneMask(bool c) noexcept
+{
+    return ofBits(c ? ~uint64_t{0} : 0);
+}
+#endif
+
+/** The lane masks of a <= b (false for NaN, as the scalar comparison). */
+inline Vec2 lessEqualMask(Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_cmple_pd(a, b);
+#else
+    return Vec2{laneMask(a[0] <= b[0]), laneMask(a[1] <= b[1])};
+#endif
+}
+
+/** The lane masks of a < b (false for NaN). */
+inline Vec2 lessMask(Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_cmplt_pd(a, b);
+#else
+    return Vec2{laneMask(a[0] < b[0]), laneMask(a[1] < b[1])};
+#endif
+}
+
+/** The lane masks of a >= b (false for NaN). */
+inline Vec2 greaterEqualMask(Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_cmpge_pd(a, b);
+#else
+    return Vec2{laneMask(a[0] >= b[0]), laneMask(a[1] >= b[1])};
+#endif
+}
+
+/** The bits of a and b (two lane masks: both conditions; a mask and a value: the value where
+ *  the mask is set, else +0). */
+inline Vec2 andLanes(Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_and_pd(a, b);
+#else
+    return Vec2{ofBits(bitsOf(a[0]) & bitsOf(b[0])), ofBits(bitsOf(a[1]) & bitsOf(b[1]))};
+#endif
+}
+
+/** The bits of a or b (two lane masks: either condition). */
+inline Vec2 orLanes(Vec2 a, Vec2 b) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_or_pd(a, b);
+#else
+    return Vec2{ofBits(bitsOf(a[0]) | bitsOf(b[0])), ofBits(bitsOf(a[1]) | bitsOf(b[1]))};
+#endif
+}
+
+/** The lanes of a lane mask as bits (bit k for lane k: its sign bit). */
+inline int maskBits(Vec2 m) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_movemask_pd(m);
+#else
+    return static_cast<int>(bitsOf(m[0]) >> 63) | static_cast<int>((bitsOf(m[1]) >> 63) << 1);
+#endif
+}
+
+/** Both lanes truncated toward zero to 32-bit integers, into i0 and i1: INT32_MIN for NaN
+ *  and for values outside the int32 range (SSE2's cvttpd2dq), never an undefined conversion. */
+inline void truncToInt32(Vec2 v, int32_t& i0, int32_t& i1) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    const __m128i k = _mm_cvttpd_epi32(v);
+    i0 = _mm_cvtsi128_si32(k);
+    i1 = _mm_cvtsi128_si32(_mm_srli_si128(k, 4));
+#else
+    auto one = [](double x)
+    { return x > -2147483649.0 && x < 2147483648.0 ? static_cast<int32_t>(x) : INT32_MIN; };
+    i0 = one(v[0]);
+    i1 = one(v[1]);
+#endif
+}
+
+/** Both lanes truncated toward zero through 32-bit integers, as doubles (SSE2's cvttpd2dq
+ *  then cvtdq2pd: -2^31 for NaN and values outside the int32 range). */
+inline Vec2 truncInt32Lanes(Vec2 v) noexcept
+{
+#if defined(SEMLOC_FASTMATH_SSE2)
+    return _mm_cvtepi32_pd(_mm_cvttpd_epi32(v));
+#else
+    int32_t i0 = 0, i1 = 0;
+    truncToInt32(v, i0, i1);
+    return Vec2{static_cast<double>(i0), static_cast<double>(i1)};
+#endif
+}
+
 /** Branch-free selections for the per-particle kernels: branches on data that is random
  *  per particle (a quadrant, a pair that gains or not) were mispredicted about every other
  *  time. The values are those of the plain expressions, bit for bit. */

@@ -1,0 +1,277 @@
+/* semloc — CSemanticMap's likelihood entry points: the observation's detections prepared
+ * once per call, then the fast kernels over blocks of particles. */
+#include <semloc/maps/CSemanticMap.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "filter/FastMath.h"
+#include "maps/LabelIndex.h"
+#include "maps/SemanticAssociation.h"
+#include "maps/SemanticIndex.h"
+#include "maps/SemanticLikelihoodKernels.h"
+#include "maps/SemanticLikelihoodState.h"
+
+using mrpt::math::TPose2D;
+
+namespace semloc
+{
+namespace
+{
+using semantic::Scratch;
+
+Scratch& scratch()
+{
+    thread_local Scratch s;
+    return s;
+}
+
+/** What a likelihood call knows of the sensor, fixed for all particles of a step. */
+struct Sensor
+{
+    bool usable = false;  // false: nothing to score, every particle gets 0
+    double R = 0, fov = 0, ox = 0, oy = 0, oyaw = 0;
+};
+
+Sensor sensorOf(double R, double fov, const mrpt::poses::CPose3D& onVehicle)
+{
+    Sensor s;
+    s.R = R;
+    s.fov = fov;
+    s.usable = R > 0 && std::isfinite(R) && fov > 0 && std::isfinite(fov);
+    s.ox = onVehicle.x();
+    s.oy = onVehicle.y();
+    s.oyaw = onVehicle.yaw();
+    return s;
+}
+
+/** Wraps a bearing into [-pi, pi] (detectors may report [0, 2pi)). */
+double wrapBearing(double b)
+{
+    return (b >= -M_PI && b <= M_PI) ? b : std::remainder(b, 2 * M_PI);
+}
+
+/** Fills sc.dets with the detections the likelihood uses (once per observation). */
+Sensor prepare(const CObservationSemantic& obs, const CSemanticMap::TLikelihoodOptions& lo,
+               const CSemanticMap::Index& ix, const LabelIndex& labels, Scratch& sc)
+{
+    const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxRange_m;
+    const double fov = lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : obs.fov_rad;
+    const Sensor s = sensorOf(R, fov, obs.sensorPose);
+    sc.dets.clear();
+    if (!s.usable)
+    {
+        return s;
+    }
+    for (const auto& d : obs.detections)
+    {
+        if (!CObservationSemantic::isValid(d, R, fov) || d.confidence < lo.min_confidence)
+        {
+            continue;
+        }
+        int32_t fixed = -1;
+        if (d.object_id >= 0)
+        {
+            const auto it = ix.idToSorted.find(d.object_id);
+            fixed = it == ix.idToSorted.end() ? -1 : it->second;
+        }
+        const int32_t label = labels.find(d.label);
+        if (fixed < 0 && label < 0)
+        {
+            continue;  // unknown to the map: a constant factor at every particle
+        }
+        sc.dets.push_back(semantic::makeDet(d.range_m, d.bearing_rad, label, fixed));
+    }
+    return s;
+}
+
+Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
+               const CSemanticMap::TLikelihoodOptions& lo, const CSemanticMap::Index& ix,
+               const LabelIndex& /*labels*/, Scratch& sc)
+{
+    const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxSensorDistance;
+    double fov =
+        lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : static_cast<double>(obs.fieldOfView_yaw);
+    if (fov == 0)
+    {
+        fov = 2 * M_PI;  // MRPT leaves it 0 when the sensor has no FOV limit
+    }
+    const Sensor s = sensorOf(R, fov, obs.sensorLocationOnRobot);
+    sc.dets.clear();
+    if (!s.usable)
+    {
+        return s;
+    }
+    for (const auto& m : obs.sensedData)
+    {
+        const double r = m.range, b = m.yaw;
+        if (!(r >= 0 && r <= R) || !(std::abs(b) <= 4 * M_PI) ||
+            std::abs(wrapBearing(b)) > 0.5 * fov + 1e-9)
+        {
+            continue;
+        }
+        int32_t fixed = -1;
+        if (m.landmarkID >= 0)
+        {
+            const auto it = ix.idToSorted.find(m.landmarkID);
+            if (it == ix.idToSorted.end())
+            {
+                continue;  // an id the map does not have
+            }
+            fixed = it->second;
+        }
+        sc.dets.push_back(semantic::makeDet(r, b, -1, fixed));
+    }
+    return s;
+}
+}  // namespace
+
+template <typename OBS>
+void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n, double* out) const
+{
+    Scratch& sc = scratch();
+    const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
+    const size_t nLabels = m_labels->size();
+    const semantic::ModelConsts k =
+        s.usable ? semantic::cachedModelConsts(likelihoodOptions, nLabels, s.R, s.fov, sc.consts)
+                 : semantic::ModelConsts();
+    semantic::planPairsOnce(sc, *m_index, nLabels, k);
+    if (!s.usable)
+    {
+        std::fill(out, out + n, 0.0);  // nothing usable: uninformative, the same everywhere
+        return;
+    }
+    // The sensor geometry of every particle of a block first (independent short chains the
+    // CPU overlaps across particles), then the matching, which reads it.
+    sc.vis = detail::visTableFor(*m_index, s.R, s.fov, sc.visHandle);
+    constexpr size_t kBlock = 256;
+    semantic::Geom geoms[kBlock];
+    const semantic::GeomConsts gc = semantic::geomConsts(sc.trig, s.ox, s.oy, s.oyaw, s.R, s.fov);
+    for (size_t i0 = 0; i0 < n; i0 += kBlock)
+    {
+        const size_t m = std::min(kBlock, n - i0);
+        // The headings' sin and cos two at a time (the same bits as one at a time).
+        detail::forEachSinCos(
+            m, [&](size_t i) { return poses[i0 + i].phi; },
+            [&](size_t i, double sp, double cp)
+            { geoms[i] = semantic::makeGeom(gc, poses[i0 + i], sp, cp); });
+        if (likelihoodOptions.model == Model::Paper)
+        {
+            semantic::scorePaperBlock(*m_index, k, sc, geoms, poses + i0, m, out + i0);
+            continue;
+        }
+        semantic::scoreProbabilisticBlock(*m_index, likelihoodOptions, k, sc, geoms, poses + i0, m,
+                                          out + i0);
+    }
+}
+
+double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs,
+                                          const TPose2D& pose) const
+{
+    double ll = 0;
+    logLikelihoods(obs, &pose, 1, &ll);
+    return ll;
+}
+
+double CSemanticMap::computeLogLikelihood(const mrpt::obs::CObservationBearingRange& obs,
+                                          const TPose2D& pose) const
+{
+    double ll = 0;
+    logLikelihoods(obs, &pose, 1, &ll);
+    return ll;
+}
+
+void CSemanticMap::computeLogLikelihoods(const CObservationSemantic& obs, const TPose2D* poses,
+                                         size_t n, double* out) const
+{
+    logLikelihoods(obs, poses, n, out);
+}
+
+void CSemanticMap::computeLogLikelihoods(const mrpt::obs::CObservationBearingRange& obs,
+                                         const TPose2D* poses, size_t n, double* out) const
+{
+    logLikelihoods(obs, poses, n, out);
+}
+
+CSemanticMap::TObservationCheck CSemanticMap::check(const CObservationSemantic& obs) const
+{
+    TObservationCheck c;
+    for (const auto& d : obs.detections)
+    {
+        if (!isUsable(obs, d))
+        {
+            c.invalid++;
+        }
+        else if (m_labels->find(d.label) < 0 &&
+                 (d.object_id < 0 || !m_index->idToSorted.count(d.object_id)))
+        {
+            c.unknown++;
+        }
+        else
+        {
+            c.used++;
+        }
+    }
+    return c;
+}
+
+bool CSemanticMap::isUsable(const CObservationSemantic& obs, const TSemanticDetection& d) const
+{
+    const auto& lo = likelihoodOptions;
+    const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxRange_m;
+    const double fov = lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : obs.fov_rad;
+    return CObservationSemantic::isValid(d, R, fov) && d.confidence >= lo.min_confidence;
+}
+
+std::vector<size_t> CSemanticMap::candidatesOf(const CObservationSemantic& obs,
+                                               const TSemanticDetection& d) const
+{
+    std::vector<size_t> out;
+    if (!isUsable(obs, d))
+    {
+        return out;
+    }
+    // As the likelihood associates: by id when the map knows it, else by label.
+    if (d.object_id >= 0 && m_index->idToSorted.count(d.object_id))
+    {
+        for (size_t i = 0; i < m_objects.size(); i++)
+        {
+            if (m_objects[i].id == d.object_id)
+            {
+                out.push_back(i);
+            }
+        }
+        return out;
+    }
+    for (size_t i = 0; i < m_objects.size(); i++)
+    {
+        if (m_objects[i].label == d.label)
+        {
+            out.push_back(i);
+        }
+    }
+    return out;
+}
+
+bool CSemanticMap::internal_canComputeObservationLikelihood(
+    const mrpt::obs::CObservation& obs) const
+{
+    return dynamic_cast<const CObservationSemantic*>(&obs) != nullptr ||
+           dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs) != nullptr;
+}
+
+double CSemanticMap::internal_computeObservationLikelihood(
+    const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const
+{
+    const TPose2D pose(takenFrom.x(), takenFrom.y(), takenFrom.yaw());
+    if (const auto* o = dynamic_cast<const CObservationSemantic*>(&obs))
+    {
+        return computeLogLikelihood(*o, pose);
+    }
+    if (const auto* br = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
+    {
+        return computeLogLikelihood(*br, pose);
+    }
+    return 0;
+}
+}  // namespace semloc
