@@ -22,6 +22,12 @@
 namespace semloc
 {
 class ParallelExecutor;
+namespace detail
+{
+class GaussianIncrementDrawer;
+class SystematicResampling;
+struct WeightRange;
+}  // namespace detail
 
 /** mrpt::slam::CMonteCarloLocalization2D whose standard-proposal step (PF_algorithm = 0,
  *  pfStandardProposal) runs the per-particle work through a ParallelExecutor. Drive it with
@@ -180,46 +186,26 @@ public:
     std::tuple<cov_mat_t, type_value> getCovarianceAndMean() const override;
 
 private:
-    class GaussianIncrementDrawer;
-    /** Smallest and largest log-weight (NaN ignored). */
-    struct MinMax
-    {
-        double min = std::numeric_limits<double>::infinity();
-        double max = -std::numeric_limits<double>::infinity();
-        void add(double w)
-        {
-            max = std::max(max, w);
-            min = std::min(min, w);
-        }
-        void add(const MinMax& o)
-        {
-            max = std::max(max, o.max);
-            min = std::min(min, o.min);
-        }
-    };
-
-    /** The odometry of `actions` when it is a CPosePDFGaussian, else none. */
-    static std::optional<mrpt::poses::CPosePDFGaussian> gaussianMotion(
-        const mrpt::obs::CActionCollection& actions);
     /** Prediction by MRPT's sampler (motion models other than the Gaussian). */
     void predictOtherMotion(const mrpt::obs::CActionCollection& actions);
     /** The per-particle pass: prediction by `drawer` (if any) with the step's `key`, then
-     *  (with a frame) likelihood, free-space prior and weight update. The log-weights'
-     *  extremes when known at the end (no injection), else none. */
-    std::optional<MinMax> predictAndUpdate(
-        const GaussianIncrementDrawer* drawer, uint64_t key, const mrpt::obs::CSensoryFrame* sf,
-        const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options);
-    /** Extremes of the log-weights, on the executor's threads. */
-    MinMax minMaxLogWeights() const;
-    double logSumExpWeights() const;
-    /** ESS() from the log-weights' extremes `range`; with `linW`, also each particle's weight
-     *  relative to the largest. */
-    double weightsAndESS(const MinMax& range, std::vector<double>* linW) const;
-    /** getMean(), each particle's exp(log_w) into `w` and their sum (in particle order)
-     *  into `weightSum`. */
-    mrpt::poses::CPose2D meanAndWeights(std::vector<double>& w, double& weightSum) const;
-    /** Systematic resampling of the weights m_linW, substituted in place. */
-    void systematicResampling();
+     *  (with a frame) likelihood, free-space prior and weight update; then the handling of
+     *  vanished weights and the recovery. True, with the log-weights' extremes in `range`,
+     *  when they are known at the end (a frame, no injection). */
+    bool predictAndUpdate(const detail::GaussianIncrementDrawer* drawer, uint64_t key,
+                          const mrpt::obs::CSensoryFrame* sf,
+                          const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options,
+                          detail::WeightRange& range);
+    /** Moves the particles (by `drawer`, if any) and, with `weigh`, weights them by the
+     *  frame planned in m_likelihood (`chunkwise`: the likelihood per range of particles);
+     *  the log-weights' extremes (with `weigh`). */
+    detail::WeightRange updateParticles(const detail::GaussianIncrementDrawer* drawer, uint64_t key,
+                                        bool weigh, bool chunkwise, double powFactor);
+    /** Every weight vanished: the particles re-drawn over the free space (with recovery on,
+     *  from the frame's detections too), log-weights 0. */
+    void reinitialize(const mrpt::obs::CSensoryFrame& sf);
+    /** CParticleFilter::executeOn's resampling test (ESS < BETA) and the resampling. */
+    void resampleIfDegenerate(const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o);
     void injectRandomParticles(double pInject, const mrpt::obs::CSensoryFrame& sf,
                                const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o);
     /** The frame's detections to draw recovery poses from (recovery on, from_detections > 0,
@@ -244,9 +230,9 @@ private:
     std::vector<double> m_logLik;
     CParticleList m_resampled;
     std::vector<size_t> m_resampleIdx;
-    /** Systematic resampling: cumulative weight before each block, first pointer of each. */
-    std::vector<double> m_blockCum;
-    std::vector<size_t> m_blockFirstPointer;
+    /** Systematic resampling's buffers. */
+    std::unique_ptr<detail::SystematicResampling> m_systematic;
+    /** The weights relative to the largest, of the last ESS (the systematic resampling's). */
     std::vector<double> m_linW;
     double m_essBeforeResampling = 1;
 };
