@@ -17,8 +17,12 @@
 #include <semloc/world/World.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
+#include <functional>
 #include <iostream>
+#include <string>
+#include <vector>
 
 #include "common/AppMain.h"
 
@@ -40,22 +44,10 @@ TCLAP::ValueArg<std::string> argPath(
 TCLAP::ValueArg<double> argMargin("", "margin", "World bounds margin around landmarks and path [m]",
                                   false, 5.0, "m", cmd);
 
-void run()
+/** Before any work: the outputs replace neither an input nor a file of the user's. */
+void checkOutputs(const std::string& out, const std::string& worldOut, const std::string& gtOut,
+                  const std::vector<std::string>& inputs)
 {
-    using semloc::LandmarkImport;
-    LandmarkImport::checkOptions(argLabel.getValue(), argMargin.getValue());
-    const std::string in = argIn.getValue(), out = argOut.getValue();
-    const std::string landmarks =
-        argLandmarks.isSet() ? argLandmarks.getValue() : in + "_ground_truth.txt";
-    const std::string pathFile =
-        argPath.isSet() ? argPath.getValue() : in + "_ground_truth_robot_path.txt";
-    const std::string stem = mrpt::system::fileNameChangeExtension(out, "");
-    const std::string base =
-        stem.empty() || stem.back() != '.' ? stem : stem.substr(0, stem.size() - 1);
-    const std::string worldOut = base + "_world.yaml", gtOut = base + "_gt.txt";
-
-    // Before any work: the outputs replace neither an input nor a file of the user's.
-    const std::vector<std::string> inputs = {in, landmarks, pathFile};
     semloc::checkOutputFile(out, inputs);
     semloc::checkOutputFile(gtOut, inputs, semloc::Simulator::isGroundTruthFile);
     semloc::checkOutputFile(worldOut, inputs,
@@ -71,31 +63,20 @@ void run()
                                     return false;
                                 }
                             });
-    mrpt::obs::CRawlog log = semloc::RawlogReader::Load(in);
-    const auto objects = LandmarkImport::readLandmarks(landmarks, argLabel.getValue());
-    const auto path = LandmarkImport::readPath(pathFile);
-    const auto world = LandmarkImport::makeWorld(objects, path, argMargin.getValue(),
-                                                 mrpt::system::extractFileName(in));
-    const size_t n = LandmarkImport::convertRawlog(log, argLabel.getValue());
-    if (n == 0)
-    {
-        THROW_EXCEPTION("'" + in + "' holds no CObservationBearingRange to convert");
-    }
-    const auto times = LandmarkImport::frameTimes(log);
-    // Everything is checked; write the outputs, each to a temporary file renamed at the end
-    // (on an error none is left behind).
-    // Ctrl-C: exit 130, the temporary files removed, the outputs as they were.
-    semloc::installInterruptHandlers();
-    const std::vector<std::string> outputs = {gtOut, worldOut, out};
+}
+
+/** `write()` writes every file of `outputs` as `<file>.tmp`; then all are renamed onto the
+ *  outputs, or on an error (Ctrl-C too) the temporary files are removed and the outputs stay
+ *  as they were. */
+void replaceAll(const std::vector<std::string>& outputs, const std::function<void()>& write)
+{
     for (const auto& f : outputs)
     {
         semloc::registerTemporaryPath(f + ".tmp");
     }
     try
     {
-        LandmarkImport::writeGroundTruth(times, path, gtOut + ".tmp");
-        world.saveToFile(worldOut + ".tmp");
-        semloc::saveRawlog(log, out + ".tmp");  // its errors name the file and the reason
+        write();
         if (semloc::interruptRequested())
         {
             throw semloc::Interrupted();
@@ -109,18 +90,54 @@ void run()
         }
         throw;
     }
+    const semloc::InterruptExitDeferral whole;  // all renamed, or none
+    for (const auto& f : outputs)
     {
-        const semloc::InterruptExitDeferral whole;  // all three renamed, or none
-        for (const auto& f : outputs)
+        if (std::rename((f + ".tmp").c_str(), f.c_str()) != 0)
         {
-            if (std::rename((f + ".tmp").c_str(), f.c_str()) != 0)
-            {
-                THROW_EXCEPTION(mrpt::format("cannot rename '%s.tmp' to '%s': %s", f.c_str(),
-                                             f.c_str(), std::strerror(errno)));
-            }
-            semloc::unregisterTemporaryPath(f + ".tmp");
+            THROW_EXCEPTION(mrpt::format("cannot rename '%s.tmp' to '%s': %s", f.c_str(), f.c_str(),
+                                         std::strerror(errno)));
         }
+        semloc::unregisterTemporaryPath(f + ".tmp");
     }
+}
+
+void run()
+{
+    using semloc::LandmarkImport;
+    LandmarkImport::checkOptions(argLabel.getValue(), argMargin.getValue());
+    const std::string in = argIn.getValue(), out = argOut.getValue();
+    const std::string landmarks =
+        argLandmarks.isSet() ? argLandmarks.getValue() : in + "_ground_truth.txt";
+    const std::string pathFile =
+        argPath.isSet() ? argPath.getValue() : in + "_ground_truth_robot_path.txt";
+    const std::string stem = mrpt::system::fileNameChangeExtension(out, "");
+    const std::string base =
+        stem.empty() || stem.back() != '.' ? stem : stem.substr(0, stem.size() - 1);
+    const std::string worldOut = base + "_world.yaml", gtOut = base + "_gt.txt";
+    checkOutputs(out, worldOut, gtOut, {in, landmarks, pathFile});
+
+    mrpt::obs::CRawlog log = semloc::RawlogReader::Load(in);
+    const auto objects = LandmarkImport::readLandmarks(landmarks, argLabel.getValue());
+    const auto path = LandmarkImport::readPath(pathFile);
+    const auto world = LandmarkImport::makeWorld(objects, path, argMargin.getValue(),
+                                                 mrpt::system::extractFileName(in));
+    const size_t n = LandmarkImport::convertRawlog(log, argLabel.getValue());
+    if (n == 0)
+    {
+        THROW_EXCEPTION("'" + in + "' holds no CObservationBearingRange to convert");
+    }
+    const auto times = LandmarkImport::frameTimes(log);
+    // Everything is checked; write the outputs.
+    // Ctrl-C: exit 130, the temporary files removed, the outputs as they were.
+    semloc::installInterruptHandlers();
+    replaceAll({gtOut, worldOut, out},
+               [&]
+               {
+                   LandmarkImport::writeGroundTruth(times, path, gtOut + ".tmp");
+                   world.saveToFile(worldOut + ".tmp");
+                   semloc::saveRawlog(log, out + ".tmp");  // its errors name the file and why
+               });
     std::cout << "Converted " << n << " observations of " << world.objects.size()
               << " landmarks: " << out << ", " << worldOut << ", " << gtOut << "\n";
 }

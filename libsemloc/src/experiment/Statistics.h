@@ -2,7 +2,9 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 namespace semloc::detail
@@ -17,6 +19,35 @@ inline double median(std::vector<double> v)
     const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
     std::nth_element(v.begin(), mid, v.end());
     return *mid;
+}
+
+/** The mean of `v`; NaN if `v` is empty. */
+inline double mean(const std::vector<double>& v)
+{
+    if (v.empty())
+    {
+        return std::numeric_limits<double>::quiet_NaN();
+    }
+    double s = 0;
+    for (double x : v)
+    {
+        s += x;
+    }
+    return s / static_cast<double>(v.size());
+}
+
+/** The `p` quantile (0..1) of `v`, sorted: linear interpolation between closest ranks; NaN if
+ *  `v` is empty. */
+inline double percentile(const std::vector<double>& v, double p)
+{
+    if (v.empty())
+    {
+        return std::numeric_limits<double>::quiet_NaN();
+    }
+    const double r = p * static_cast<double>(v.size() - 1);
+    const auto i = static_cast<size_t>(std::floor(r));
+    const size_t j = std::min(i + 1, v.size() - 1);
+    return v[i] + (r - static_cast<double>(i)) * (v[j] - v[i]);
 }
 
 }  // namespace semloc::detail

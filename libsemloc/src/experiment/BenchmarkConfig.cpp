@@ -1,0 +1,384 @@
+/* semloc — Benchmark's configuration: [Benchmark], the scenario files and the variants, read
+ * strictly before any output is written. */
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <mrpt/system/filesystem.h>
+#include <semloc/experiment/Benchmark.h>
+#include <semloc/io/ConfigHelpers.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/io/OutputPaths.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+#include <thread>
+
+#include "io/ExactConfigWrite.h"
+#include "io/Text.h"
+
+namespace semloc
+{
+namespace
+{
+using detail::trim;
+const std::string kSection = "Benchmark";
+const std::vector<std::string> kKeys = {
+    "runs",           "variants",  "simulate_ini", "output_dir",  "jobs",
+    "filter_threads", "max_steps", "particles",    "same_filter", "scenarios"};
+const std::string kScenarioSection = "Scenario";
+const std::vector<std::string> kScenarioKeys = {"name",
+                                                "description",
+                                                "variants",
+                                                "particles",
+                                                "recovery",
+                                                "recovery_alpha_slow",
+                                                "recovery_alpha_fast",
+                                                "recovery_max_steps"};
+
+std::vector<std::string> splitList(const std::string& s)
+{
+    std::vector<std::string> out;
+    std::stringstream ss(s);
+    std::string item;
+    while (std::getline(ss, item, ','))
+    {
+        out.push_back(trim(item));
+    }
+    return out;
+}
+
+/** A comma-separated list of names or files, each without blanks; `key` names errors. */
+std::vector<std::string> readList(const mrpt::config::CConfigFileBase& c, const std::string& s,
+                                  const std::string& key)
+{
+    const std::string text = c.read_string(s, key, "");
+    auto out = splitList(text);
+    for (const auto& v : out)
+    {
+        if (v.empty() || v.find_first_of(" \t") != std::string::npos)
+        {
+            THROW_EXCEPTION(mrpt::format(
+                "ini [%s] %s: '%s' is not a comma-separated list of names or ini files", s.c_str(),
+                key.c_str(), text.c_str()));
+        }
+    }
+    return out;
+}
+
+/** `file` resolved next to `ini` (config::resolveNextToIni), absolute; throws naming `key`. */
+std::string resolveFile(const mrpt::config::CConfigFileBase& ini, const std::string& iniPath,
+                        const std::string& section, const std::string& key, const std::string& file)
+{
+    const std::string p = config::resolveNextToIni(ini, file);
+    if (!mrpt::system::fileExists(p))
+    {
+        THROW_EXCEPTION("ini [" + section + "] " + key + ": '" + file +
+                        "' does not exist (looked next to '" + iniPath +
+                        "' and in the working directory)");
+    }
+    return std::filesystem::absolute(p).lexically_normal().string();
+}
+
+std::string joinList(const std::vector<std::string>& v)
+{
+    std::string s;
+    for (const auto& x : v)
+    {
+        s += (s.empty() ? "" : ",") + x;
+    }
+    return s;
+}
+
+/** Reads scenario file `path` (resolved) into `scenario` and its overlay into `simulation`,
+ *  whose max_steps `maxSteps` > 0 replaces; throws naming the file. */
+void readScenarioFile(const std::string& path, int maxSteps, Benchmark::TScenario& scenario,
+                      TSimulatorOptions& simulation)
+{
+    try
+    {
+        config::checkIniFile(path, "scenario file");
+        mrpt::config::CConfigFile sini(path);
+        if (!sini.sectionExists(kScenarioSection))
+        {
+            THROW_EXCEPTION("no [" + kScenarioSection + "] section");
+        }
+        scenario.loadFromConfigFile(sini, kScenarioSection);
+        // The overlay: its keys replace the base simulation's.
+        simulation.loadFromConfigFile(sini);
+        if (maxSteps > 0)
+        {
+            simulation.simulation.max_steps = maxSteps;
+        }
+        (void)Simulator(simulation);
+    }
+    catch (const std::exception& e)
+    {
+        THROW_EXCEPTION("scenario '" + path + "': " + errorMessage(e));
+    }
+    if (scenario.name.empty())
+    {
+        scenario.name = std::filesystem::path(path).stem().string();
+    }
+}
+
+/** The variant `name` of [Benchmark] variants: its ini (`<name>.ini`, or a path ending in
+ *  .ini, resolved next to `ini`) and its maps; throws naming the variant. */
+Benchmark::TVariant readVariant(const mrpt::config::CConfigFileBase& ini,
+                                const std::string& iniPath, const std::string& name)
+{
+    const bool isFile = name.size() > 4 && name.substr(name.size() - 4) == ".ini";
+    Benchmark::TVariant v;
+    v.iniPath = resolveFile(ini, iniPath, kSection, "variants", isFile ? name : name + ".ini");
+    try
+    {
+        config::checkIniFile(v.iniPath);
+        mrpt::config::CConfigFile vini(v.iniPath);
+        v.options.loadFromConfigFile(vini, "LocalizationExperiment");
+        v.maps = LocalizationMap::FromConfig(vini, v.options.map_file);
+    }
+    catch (const std::exception& e)
+    {
+        THROW_EXCEPTION("variant '" + name + "' (" + v.iniPath + "): " + errorMessage(e));
+    }
+    if (v.options.variant.empty())
+    {
+        v.options.variant = v.maps.variant();
+    }
+    return v;
+}
+
+}  // namespace
+
+// ------------------------------------------------------------------ options
+
+void Benchmark::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                             const std::string& s)
+{
+    using namespace semloc::config;
+    rejectUnknownKeys(c, s, kKeys);
+    readInt(c, s, "runs", runs, 1, kMaxRuns);
+    if (c.keyExists(s, "variants"))
+    {
+        variants = readList(c, s, "variants");
+    }
+    if (c.keyExists(s, "scenarios") && !trim(c.read_string(s, "scenarios", "")).empty())
+    {
+        scenarios = readList(c, s, "scenarios");
+    }
+    simulate_ini = trim(c.read_string(s, "simulate_ini", simulate_ini));
+    output_dir = trim(c.read_string(s, "output_dir", output_dir));
+    readInt(c, s, "jobs", jobs, 0, 4096);
+    readInt(c, s, "filter_threads", filter_threads, 0, 4096);
+    readInt(c, s, "max_steps", max_steps, 0, std::numeric_limits<int>::max());
+    readInt(c, s, "particles", particles, 0, 100000000);
+    readBool(c, s, "same_filter", same_filter);
+    if (output_dir.empty())
+    {
+        THROW_EXCEPTION("ini [" + s + "] output_dir: empty");
+    }
+    if (simulate_ini.empty())
+    {
+        THROW_EXCEPTION("ini [" + s + "] simulate_ini: empty");
+    }
+}
+
+void Benchmark::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                           const std::string& s) const
+{
+    c.write(s, "runs", runs);
+    c.write(s, "variants", joinList(variants));
+    c.write(s, "simulate_ini", simulate_ini);
+    c.write(s, "output_dir", output_dir);
+    c.write(s, "jobs", jobs);
+    c.write(s, "filter_threads", filter_threads);
+    c.write(s, "max_steps", max_steps);
+    c.write(s, "particles", particles);
+    c.write(s, "same_filter", same_filter ? "true" : "false");
+    c.write(s, "scenarios", joinList(scenarios));
+}
+
+void Benchmark::TScenario::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                              const std::string& s)
+{
+    using namespace semloc::config;
+    rejectUnknownKeys(c, s, kScenarioKeys);
+    name = trim(c.read_string(s, "name", name));
+    description = trim(c.read_string(s, "description", description));
+    if (c.keyExists(s, "variants"))
+    {
+        variants = readList(c, s, "variants");
+    }
+    readInt(c, s, "particles", particles, 0, 100000000);
+    readBool(c, s, "recovery", recovery);
+    readDouble(c, s, "recovery_alpha_slow", recovery_alpha_slow, 0, 1);
+    readDouble(c, s, "recovery_alpha_fast", recovery_alpha_fast, 0, 1);
+    readInt(c, s, "recovery_max_steps", recovery_max_steps, 0, std::numeric_limits<int>::max());
+    if (name.find_first_of("/\\ \t") != std::string::npos || name == "." || name == "..")
+    {
+        THROW_EXCEPTION("ini [" + s + "] name: '" + name + "' is not a directory name");
+    }
+    if (recovery && !(recovery_alpha_slow > 0 && recovery_alpha_fast > recovery_alpha_slow))
+    {
+        THROW_EXCEPTION("ini [" + s +
+                        "] recovery_alpha_slow, recovery_alpha_fast: recovery needs 0 < "
+                        "recovery_alpha_slow < recovery_alpha_fast");
+    }
+}
+
+void Benchmark::TScenario::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                            const std::string& s) const
+{
+    c.write(s, "name", name);
+    c.write(s, "description", description);
+    c.write(s, "variants", joinList(variants));
+    c.write(s, "particles", particles);
+    c.write(s, "recovery", recovery ? "true" : "false");
+    detail::writeExact(c, s, "recovery_alpha_slow", recovery_alpha_slow, "");
+    detail::writeExact(c, s, "recovery_alpha_fast", recovery_alpha_fast, "");
+    c.write(s, "recovery_max_steps", recovery_max_steps);
+}
+
+// ------------------------------------------------------------------ setup
+
+Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::string& outputDir,
+                                    int runs)
+{
+    ASSERTMSG_(runs >= 0 && runs <= TOptions::kMaxRuns,
+               "runs must be in [0, " + std::to_string(TOptions::kMaxRuns) + "] (0: the ini's)");
+    config::checkIniFile(iniPath);
+    mrpt::config::CConfigFile ini(iniPath);
+    if (!ini.sectionExists(kSection))
+    {
+        THROW_EXCEPTION("ini '" + iniPath + "': no [" + kSection + "] section");
+    }
+    Benchmark b;
+    b.m_iniPath = iniPath;
+    auto& o = b.m_options;
+    o.loadFromConfigFile(ini, kSection);
+    if (!outputDir.empty())
+    {
+        o.output_dir = outputDir;
+    }
+    if (runs > 0)
+    {
+        o.runs = runs;
+    }
+
+    o.simulate_ini = resolveFile(ini, iniPath, kSection, "simulate_ini", o.simulate_ini);
+    b.m_simulation = TSimulatorOptions::FromConfigFile(o.simulate_ini);
+    if (o.max_steps > 0)
+    {
+        b.m_simulation.simulation.max_steps = o.max_steps;
+    }
+    (void)Simulator(b.m_simulation);  // the world and the trajectory fail here, not in a child
+    if (o.scenarios.empty())
+    {
+        b.loadVariants(ini);
+    }
+    for (const auto& file : o.scenarios)
+    {
+        Benchmark sc = b;
+        const std::string path = resolveFile(ini, iniPath, kSection, "scenarios", file);
+        readScenarioFile(path, o.max_steps, sc.m_scenario, sc.m_simulation);
+        const auto& s = sc.m_scenario;
+        for (const auto& other : b.m_scenarios)
+        {
+            if (other.m_scenario.name == s.name)
+            {
+                THROW_EXCEPTION("ini [" + kSection + "] scenarios: the name '" + s.name +
+                                "' appears twice");
+            }
+        }
+        if (!s.variants.empty())
+        {
+            sc.m_options.variants = s.variants;
+        }
+        sc.m_options.scenarios.clear();
+        sc.m_scenarios.clear();
+        sc.loadVariants(ini);
+        b.m_scenarios.push_back(std::move(sc));
+    }
+    checkOutputDirectory(o.output_dir, b.inputFiles());  // before any work
+    return b;
+}
+
+std::vector<std::string> Benchmark::inputFiles() const
+{
+    std::vector<std::string> files = {m_iniPath, m_options.simulate_ini,
+                                      m_simulation.simulation.world_file};
+    for (const auto& v : m_variants)
+    {
+        files.push_back(v.iniPath);
+        files.push_back(v.options.map_file);
+    }
+    for (const auto& sc : m_scenarios)
+    {
+        const auto more = sc.inputFiles();
+        files.insert(files.end(), more.begin(), more.end());
+    }
+    return files;
+}
+
+void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
+{
+    const auto& o = m_options;
+    for (const auto& name : o.variants)
+    {
+        TVariant v = readVariant(ini, m_iniPath, name);
+        for (const auto& w : m_variants)
+        {
+            if (w.name() == v.name())
+            {
+                THROW_EXCEPTION("ini [" + kSection + "] variants: '" + v.name() +
+                                "' appears twice");
+            }
+        }
+        m_variants.push_back(std::move(v));
+    }
+    if (m_variants.empty())
+    {
+        THROW_EXCEPTION("ini [" + kSection + "] variants: empty");
+    }
+
+    // Only the likelihood differs between variants: the first one's filter for all.
+    const auto reference = m_variants.front().options;
+    for (auto& v : m_variants)
+    {
+        if (o.same_filter)
+        {
+            v.options.filter = reference.filter;
+            v.options.convergence = reference.convergence;
+        }
+        if (o.particles > 0)
+        {
+            v.options.filter.particles_count = o.particles;
+        }
+        if (m_scenario.particles > 0)
+        {
+            v.options.filter.particles_count = m_scenario.particles;
+        }
+        v.options.filter.threads = o.filter_threads;
+        if (m_scenario.recovery)
+        {
+            v.options.filter.recovery.alpha_slow = m_scenario.recovery_alpha_slow;
+            v.options.filter.recovery.alpha_fast = m_scenario.recovery_alpha_fast;
+        }
+    }
+}
+
+long Benchmark::kidnapStep() const
+{
+    const auto& k = m_simulation.kidnapping;
+    return k.enabled ? static_cast<long>(k.step) : -1L;
+}
+
+size_t Benchmark::effectiveJobs() const
+{
+    const size_t hw = std::max(1u, std::thread::hardware_concurrency());
+    const size_t j = m_options.jobs > 0 ? static_cast<size_t>(m_options.jobs) : hw;
+    return std::min(j, static_cast<size_t>(m_options.runs));
+}
+
+}  // namespace semloc

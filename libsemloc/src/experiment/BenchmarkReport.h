@@ -1,0 +1,28 @@
+/* semloc — Benchmark's report: report.md (one benchmark, or the scenarios) and the figures
+ * (figures.gp drawn by gnuplot, world_paths.png) (private). */
+#pragma once
+
+#include <semloc/experiment/Benchmark.h>
+#include <semloc/io/StagedDirectory.h>
+
+#include <string>
+#include <vector>
+
+namespace semloc::detail
+{
+/** Writes figures.gp (the paper's Fig. 3 from curves.csv, one curve per variant), draws
+ *  fig_variance.png and fig_error.png with gnuplot and writes world_paths.png (the world of
+ *  `simulation`, run 1's true path and each variant's estimate) in `out`. */
+void writeFigures(const StagedDirectory& out, const std::vector<std::string>& variants,
+                  const TSimulatorOptions& simulation,
+                  const std::vector<Benchmark::TRunResult>& runs);
+
+/** report.md of benchmark `b`, whose runs (`jobs` at once) gave `res` (runs, table,
+ *  summaries, wall time); `kidnapStep` -1 without a kidnapping. */
+std::string reportMarkdown(const Benchmark& b, const Benchmark::TResult& res, size_t jobs,
+                           long kidnapStep);
+
+/** report.md of a benchmark with scenarios (`b.scenarios()`), whose results are `res`. */
+std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult& res);
+
+}  // namespace semloc::detail

@@ -1,0 +1,293 @@
+/* semloc — Benchmark's run pool: child processes, their run files, their failures. */
+#include "experiment/BenchmarkRunPool.h"
+
+#include <fcntl.h>
+#include <mrpt/core/exceptions.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/io/Interrupt.h>
+#include <signal.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+
+#include "io/TextFiles.h"
+
+namespace semloc::detail
+{
+namespace
+{
+std::string exact(double v)
+{
+    return mrpt::format("%.17g", v);
+}
+
+/** Why a run failed: its error message, else how its process ended (the signal named) and
+ *  the end of what it printed (its log). */
+std::string runFailure(const std::string& scenario, int run, int status, const std::string& error,
+                       const std::string& logPath)
+{
+    std::string s = (scenario.empty() ? std::string() : "scenario '" + scenario + "', ") +
+                    mrpt::format("run %d (seed %d) failed: ", run, run);
+    if (!error.empty())
+    {
+        return s + error;
+    }
+    s += "its process " + waitStatusText(status);
+    std::ifstream f(logPath);
+    std::stringstream log;
+    log << f.rdbuf();
+    std::string tail = log.str();
+    while (!tail.empty() && (tail.back() == '\n' || tail.back() == ' '))
+    {
+        tail.pop_back();
+    }
+    constexpr size_t kTail = 2000;
+    if (tail.size() > kTail)
+    {
+        tail = "..." + tail.substr(tail.size() - kTail);
+    }
+    return tail.empty() ? s + " (it printed nothing)" : s + "; the end of its output:\n" + tail;
+}
+
+/** The pool of runInChildProcesses(): the running children and the first failure. */
+class RunPool
+{
+public:
+    RunPool(const RunFiles& files, int runs, size_t jobs, const std::string& scenario,
+            const std::function<std::vector<Benchmark::TRunResult>(int)>& runOne,
+            const std::function<void(size_t, size_t)>& progress)
+        : m_files(files),
+          m_runs(runs),
+          m_jobs(jobs),
+          m_scenario(scenario),
+          m_runOne(runOne),
+          m_progress(progress)
+    {
+    }
+
+    /** Every run, then the failure or Interrupted thrown. */
+    void runAll();
+
+private:
+    /** A new run may start (none failed, no Ctrl-C, runs left). */
+    bool moreRuns() const { return m_next <= m_runs && m_failure.empty() && !m_interrupted; }
+    /** Starts `run` in a child process. */
+    void start(int run);
+    /** The child process of `run`: runs it, writes its file, exits. */
+    [[noreturn]] void child(int run) const;
+    /** Waits for a child to end and takes note of its result. */
+    void reap();
+
+    const RunFiles& m_files;
+    const int m_runs;
+    const size_t m_jobs;
+    const std::string& m_scenario;
+    const std::function<std::vector<Benchmark::TRunResult>(int)>& m_runOne;
+    const std::function<void(size_t, size_t)>& m_progress;
+    std::map<pid_t, int> m_children;
+    std::string m_failure;
+    int m_next = 1;
+    size_t m_done = 0;
+    bool m_interrupted = false;
+};
+
+void RunPool::runAll()
+{
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    if (m_progress)
+    {
+        m_progress(0, static_cast<size_t>(m_runs));
+    }
+    // Ctrl-C (installInterruptHandlers): no new run, the running ones ended, then Interrupted;
+    // the staging directory goes with the exception.
+    while (moreRuns() || !m_children.empty())
+    {
+        if (interruptRequested() && !m_interrupted)
+        {
+            m_interrupted = true;
+            for (const auto& c : m_children)
+            {
+                ::kill(c.first, SIGTERM);
+            }
+            continue;
+        }
+        if (moreRuns() && m_children.size() < m_jobs)
+        {
+            start(m_next++);
+            continue;
+        }
+        reap();
+    }
+    if (m_interrupted)
+    {
+        throw Interrupted();
+    }
+    if (!m_failure.empty())
+    {
+        THROW_EXCEPTION(m_failure);
+    }
+}
+
+void RunPool::start(int run)
+{
+    pid_t pid = -1;
+    int forkErrno = 0;
+    {
+        const InterruptExitDeferral defer;  // started and registered as one step
+        pid = ::fork();
+        forkErrno = errno;
+        if (pid > 0)
+        {
+            registerChildProcess(pid);
+        }
+    }
+    if (pid < 0)
+    {
+        m_failure = std::string("cannot start run ") + std::to_string(run) +
+                    ": fork failed: " + std::strerror(forkErrno);
+        return;
+    }
+    if (pid == 0)
+    {
+        child(run);
+    }
+    m_children[pid] = run;
+}
+
+void RunPool::child(int run) const
+{
+    // The run ends at Ctrl-C or the parent's SIGTERM (its outputs are not kept).
+    ::signal(SIGINT, SIG_DFL);
+    ::signal(SIGTERM, SIG_DFL);
+    // MRPT's warnings (e.g. re-initializations, counted in results.csv) go to the run's log,
+    // not over the progress bar.
+    const int log = ::open(m_files.path(run, "log").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (log >= 0)
+    {
+        ::dup2(log, STDOUT_FILENO);
+        ::dup2(log, STDERR_FILENO);
+        ::close(log);
+    }
+    int rc = 0;
+    try
+    {
+        writeFile(m_files.path(run, "txt"), runFileText(m_runOne(run)));
+    }
+    catch (const std::exception& e)
+    {
+        std::ofstream(m_files.path(run, "err")) << errorMessage(e);
+        rc = 1;
+    }
+    std::cout.flush();
+    std::cerr.flush();
+    std::fflush(nullptr);
+    ::_exit(rc);  // no destructors: the staging directory is the parent's
+}
+
+void RunPool::reap()
+{
+    int status = 0;
+    const pid_t pid = ::waitpid(-1, &status, 0);
+    if (pid < 0)
+    {
+        if (errno == EINTR)
+        {
+            return;  // a signal: the loop looks at interruptRequested()
+        }
+        THROW_EXCEPTION(std::string("waiting for the runs failed: ") + std::strerror(errno));
+    }
+    const auto it = m_children.find(pid);
+    if (it == m_children.end())
+    {
+        return;
+    }
+    const int run = it->second;
+    m_children.erase(it);
+    unregisterChildProcess(pid);
+    if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    {
+        std::ifstream f(m_files.path(run, "err"));
+        std::stringstream msg;
+        msg << f.rdbuf();
+        if (m_failure.empty())
+        {
+            m_failure = runFailure(m_scenario, run, status, msg.str(), m_files.path(run, "log"));
+        }
+    }
+    m_done++;
+    if (m_progress)
+    {
+        m_progress(m_done, static_cast<size_t>(m_runs));
+    }
+}
+
+}  // namespace
+
+std::string runFileText(const std::vector<Benchmark::TRunResult>& rs)
+{
+    std::ostringstream o;
+    for (const auto& r : rs)
+    {
+        o << "V " << r.variant << ' ' << r.particles << ' ' << r.threads << ' '
+          << exact(r.wallTime_s) << ' ' << r.reinitializations << ' ' << r.records.size() << '\n';
+        for (const auto& s : r.records)
+        {
+            o << s.step << ' ' << exact(s.t) << ' ' << (s.gt ? 1 : 0) << ' '
+              << exact(s.gt ? s.gt->x : 0) << ' ' << exact(s.gt ? s.gt->y : 0) << ' '
+              << exact(s.gt ? s.gt->phi : 0) << ' ' << exact(s.est.x) << ' ' << exact(s.est.y)
+              << ' ' << exact(s.est.phi) << ' ' << exact(s.var_xy) << ' ' << exact(s.ess) << ' '
+              << s.n_particles << ' ' << exact(s.update_us) << '\n';
+        }
+    }
+    return o.str();
+}
+
+std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run)
+{
+    std::ifstream f(path);
+    std::vector<Benchmark::TRunResult> rs;
+    std::string tag;
+    while (f >> tag)
+    {
+        ASSERTMSG_(tag == "V", "corrupt run file '" + path + "'");
+        Benchmark::TRunResult r;
+        r.run = run;
+        r.seed = static_cast<uint32_t>(run);
+        size_t n = 0;
+        f >> r.variant >> r.particles >> r.threads >> r.wallTime_s >> r.reinitializations >> n;
+        r.records.resize(n);
+        for (auto& s : r.records)
+        {
+            int hasGt = 0;
+            mrpt::math::TPose2D g;
+            f >> s.step >> s.t >> hasGt >> g.x >> g.y >> g.phi >> s.est.x >> s.est.y >> s.est.phi >>
+                s.var_xy >> s.ess >> s.n_particles >> s.update_us;
+            if (hasGt)
+            {
+                s.gt = g;
+            }
+        }
+        ASSERTMSG_(static_cast<bool>(f), "corrupt run file '" + path + "'");
+        rs.push_back(std::move(r));
+    }
+    return rs;
+}
+
+void runInChildProcesses(const RunFiles& files, int runs, size_t jobs, const std::string& scenario,
+                         const std::function<std::vector<Benchmark::TRunResult>(int)>& runOne,
+                         const std::function<void(size_t, size_t)>& progress)
+{
+    RunPool(files, runs, jobs, scenario, runOne, progress).runAll();
+}
+
+}  // namespace semloc::detail

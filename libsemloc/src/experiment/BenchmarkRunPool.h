@@ -1,0 +1,51 @@
+/* semloc — Benchmark's run pool: every run in a child process, its results handed back to
+ * the parent in a run file (private). */
+#pragma once
+
+#include <mrpt/core/format.h>
+#include <semloc/experiment/Benchmark.h>
+
+#include <functional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace semloc::detail
+{
+/** The files of the runs, in one directory: `run_NNNNNN.txt` (the results, runFileText()),
+ *  `.err` (the run's error message) and `.log` (what its process printed). */
+class RunFiles
+{
+public:
+    explicit RunFiles(std::string dir) : m_dir(std::move(dir)) {}
+    /** The directory. */
+    const std::string& dir() const { return m_dir; }
+    /** The file of `run` with extension `ext`. */
+    std::string path(int run, const char* ext) const
+    {
+        return m_dir + mrpt::format("/run_%06d.%s", run, ext);
+    }
+
+private:
+    std::string m_dir;
+};
+
+/** A run's results as its run file holds them: per variant "V <variant> <particles> <threads>
+ *  <wall_s> <reinitializations> <n>" then n step lines; doubles printed with 17 digits read
+ *  back bit-exactly, so the parent's metrics equal the child's. */
+std::string runFileText(const std::vector<Benchmark::TRunResult>& results);
+
+/** The results of run `run` read back from its run file (metrics and scenario not set). */
+std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run);
+
+/** Runs `runOne(run)` for run = 1..runs, each in a child process (fork(), no exec), at most
+ *  `jobs` at once, writing its run file (or its error) in `files`; `progress(done, runs)` at
+ *  the start and after each run. The first failure stops new runs and is thrown once the
+ *  running ones ended, naming `scenario` (if not empty), the run and its error or how its
+ *  process ended; Ctrl-C (installInterruptHandlers) ends the running ones and throws
+ *  Interrupted. */
+void runInChildProcesses(const RunFiles& files, int runs, size_t jobs, const std::string& scenario,
+                         const std::function<std::vector<Benchmark::TRunResult>(int)>& runOne,
+                         const std::function<void(size_t, size_t)>& progress);
+
+}  // namespace semloc::detail

@@ -1,0 +1,114 @@
+/* semloc — a localization run's steps.csv and summary.yaml. */
+#include "experiment/LocalizationOutputs.h"
+
+#include <mrpt/core/format.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "io/Text.h"
+
+namespace semloc::detail
+{
+namespace
+{
+/** Shortest round-trip text of a number; "" for NaN (steps.csv's empty cells). */
+std::string num(double v)
+{
+    return std::isnan(v) ? std::string() : detail::shortestText(v);
+}
+
+/** A YAML value: `null` for NaN. */
+std::string yamlNum(double v)
+{
+    return std::isnan(v) ? "null" : num(v);
+}
+
+std::string yamlString(const std::string& s)
+{
+    std::string q = "\"";
+    for (const char ch : s)
+    {
+        if (ch == '"' || ch == '\\')
+        {
+            q += '\\';
+        }
+        q += ch;
+    }
+    return q + "\"";
+}
+}  // namespace
+
+std::string stepsCsv(const std::vector<TStepRecord>& records)
+{
+    std::ostringstream o;
+    o << "step,t,gt_x,gt_y,gt_phi,est_x,est_y,est_phi,err_xy,err_phi,var_xy,ess,n_particles,"
+         "update_us\n";
+    for (const auto& r : records)
+    {
+        o << r.step << ',' << (std::isnan(r.t) ? "" : mrpt::format("%.6f", r.t)) << ','
+          << (r.gt ? num(r.gt->x) : "") << ',' << (r.gt ? num(r.gt->y) : "") << ','
+          << (r.gt ? num(r.gt->phi) : "") << ',' << num(r.est.x) << ',' << num(r.est.y) << ','
+          << num(r.est.phi) << ',' << num(r.errXY()) << ',' << num(r.errPhi()) << ','
+          << num(r.var_xy) << ',' << num(r.ess) << ',' << r.n_particles << ','
+          << mrpt::format("%.1f", r.update_us) << '\n';
+    }
+    return o.str();
+}
+
+std::string summaryYaml(const LocalizationExperiment::TResult& res,
+                        const LocalizationExperiment::TOptions& o)
+{
+    const auto& m = res.metrics;
+    const auto& c = o.convergence;
+    std::ostringstream y;
+    y << "# semloc-localize run summary (docs/design.md); null: not available\n"
+      << "variant: " << yamlString(res.variant) << "\n"
+      << "particles: " << o.filter.particles_count << "\n"
+      << "seed: " << o.filter.seed << "\n"
+      << "threads: " << res.threads << "\n"
+      << "steps: " << m.steps << "\n"
+      << "steps_with_ground_truth: " << m.steps_with_ground_truth << "\n"
+      << "converged: " << (m.converged ? "true" : "false") << "\n"
+      << "convergence_step: " << (m.converged ? std::to_string(m.convergence_step) : "null") << "\n"
+      << "convergence_time_s: " << yamlNum(m.convergence_time_s) << "\n"
+      << "mean_err_after_conv_m: " << yamlNum(m.mean_err_after_conv_m) << "\n"
+      << "rmse_m: " << yamlNum(m.rmse_m) << "\n"
+      << "final_err_m: " << yamlNum(m.final_err_m) << "\n"
+      << "total_update_s: " << yamlNum(m.total_update_s) << "\n"
+      << "mean_update_us_per_particle: " << yamlNum(m.mean_update_us_per_particle) << "\n"
+      << "final_particles: " << (res.records.empty() ? 0 : res.records.back().n_particles) << "\n"
+      << "convergence_criterion: {max_err_xy_m: " << num(c.max_err_xy_m)
+      << ", max_var_xy_m2: " << num(c.max_var_xy_m2) << ", min_steps: " << c.min_steps << "}\n"
+      << "# observations and detections the maps could not use, non-finite likelihoods\n"
+      << "observations_used: " << res.likelihood.observations_used << "\n"
+      << "observations_skipped: " << res.likelihood.observations_skipped << "\n"
+      << "detections_invalid: " << res.likelihood.detections_invalid << "\n"
+      << "detections_unknown: " << res.likelihood.detections_unknown << "\n"
+      << "nonfinite_likelihoods: " << res.likelihood.nonfinite_likelihoods << "\n"
+      << "# every weight zero: particles re-initialized over the free space\n"
+      << "reinitializations: " << res.recovery.reinitializations << "\n"
+      << "reinitialized_from_detections: " << res.recovery.reinitialized_from_detections << "\n"
+      << "# augmented MCL (recovery_alpha_slow / recovery_alpha_fast)\n"
+      << "injection_steps: " << res.recovery.injection_steps << "\n"
+      << "injected_particles: " << res.recovery.injected_particles << "\n"
+      << "injected_from_detections: " << res.recovery.injected_from_detections << "\n"
+      << "# free_space_prior: particle updates found outside the free space (weight 0)\n"
+      << "outside_free_space: " << res.recovery.outside_free_space << "\n"
+      << "# range-scan beams with a NaN, infinite, negative or beyond-max range (skipped)\n"
+      << "beams_invalid: " << res.likelihood.beams_invalid << "\n"
+      << "# observations that cannot be scored (a non-finite sensor pose, aperture or range\n"
+      << "# limit, a scan without beams...), left out whole\n"
+      << "observations_invalid: " << res.likelihood.observations_invalid << "\n"
+      << "rawlog_format: " << yamlString(res.rawlogFormat) << "\n"
+      << "# --allow-truncated: index of the first unreadable entry (null: rawlog complete)\n"
+      << "rawlog_truncated_at_entry: "
+      << (res.rawlogTruncatedAtEntry ? std::to_string(*res.rawlogTruncatedAtEntry) : "null") << "\n"
+      << "rawlog_file: " << yamlString(o.rawlog_file) << "\n"
+      << "map_file: " << yamlString(o.map_file) << "\n"
+      << "ground_truth_path_file: " << yamlString(o.ground_truth_path_file) << "\n"
+      << "wall_time_s: " << yamlNum(res.wallTime_s) << "\n";
+    return y.str();
+}
+
+}  // namespace semloc::detail

@@ -1,0 +1,18 @@
+/* semloc — what a localization run needs of a rawlog, checked before the run (private). */
+#pragma once
+
+#include <mrpt/maps/CMetricMap.h>
+#include <mrpt/obs/CRawlog.h>
+#include <semloc/filter/Localizer.h>
+
+#include <string>
+
+namespace semloc::detail
+{
+/** Refuses rawlog `path` when its odometry is not finite (mean or covariance), when it holds
+ *  no odometry at all (unless the filter's allow_no_odometry), or when no observation can be
+ *  scored by `maps` (Localizer::invalidObservation, canComputeObservationLikelihood). */
+void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
+                 const mrpt::maps::CMetricMap& maps, const Localizer::TOptions& filter);
+
+}  // namespace semloc::detail

@@ -1,0 +1,349 @@
+/* semloc — Localizer's options: pf-localization's sections ([LocalizationExperiment]'s
+ * filter keys, [PF_options], [KLD_options], [DummyOdometryParams]) read strictly and written
+ * back. */
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <semloc/filter/Localizer.h>
+#include <semloc/io/ConfigHelpers.h>
+
+#include <algorithm>
+#include <limits>
+#include <thread>
+
+#include "io/ExactConfigWrite.h"
+#include "io/Text.h"
+
+namespace semloc
+{
+using mrpt::bayes::CParticleFilter;
+
+namespace
+{
+using namespace semloc::config;
+
+const char* const kPF = "PF_options";
+const char* const kKLD = "KLD_options";
+const char* const kOdo = "DummyOdometryParams";
+
+const std::vector<std::string> kAlgorithms = {"pfStandardProposal", "pfAuxiliaryPFStandard",
+                                              "pfOptimalProposal", "pfAuxiliaryPFOptimal"};
+const std::vector<std::string> kResampling = {"prMultinomial", "prResidual", "prStratified",
+                                              "prSystematic"};
+
+/** An MRPT enum written as its number or its name (read_enum accepts both). */
+int readEnum(const mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key,
+             int value, const std::vector<std::string>& names)
+{
+    if (!c.keyExists(s, key))
+    {
+        return value;
+    }
+    const std::string text = detail::trimValue(c.read_string(s, key, ""));
+    for (size_t i = 0; i < names.size(); i++)
+    {
+        if (text == names[i] || text == std::to_string(i))
+        {
+            return static_cast<int>(i);
+        }
+    }
+    std::string list;
+    for (size_t i = 0; i < names.size(); i++)
+    {
+        list.append(i ? ", " : "")
+            .append(std::to_string(i))
+            .append(" (")
+            .append(names[i])
+            .append(")");
+    }
+    THROW_EXCEPTION("ini [" + s + "] " + key + ": '" + text + "' is not one of " + list);
+}
+
+void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key,
+         const std::string& value, const std::string& comment)
+{
+    detail::writeText(c, s, key, value, comment);
+}
+void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::string& key, double v,
+         const std::string& comment)
+{
+    detail::writeExact(c, s, key, v, comment);
+}
+
+[[noreturn]] void bad(const std::string& s, const std::string& key, const std::string& what)
+{
+    THROW_EXCEPTION("ini [" + s + "] " + key + ": " + what);
+}
+
+/** [LocalizationExperiment]'s filter keys: the particles, the initial cloud, the seed. */
+void loadInitialCloud(const mrpt::config::CConfigFileBase& c, const std::string& s,
+                      Localizer::TOptions& o)
+{
+    // [LocalizationExperiment] (its other keys belong to LocalizationExperiment).
+    if (std::string v = c.read_string(s, "particles_count", "");
+        v.find_first_of(" \t,", v.find_first_not_of(" \t")) < v.find_last_not_of(" \t\r"))
+    {
+        bad(s, "particles_count",
+            "'" + v +
+                "': one number of particles (pf-localization's list of runs is not "
+                "supported)");
+    }
+    readInt(c, s, "particles_count", o.particles_count, 1, Localizer::TOptions::kMaxParticles);
+    {
+        int mode = static_cast<int>(o.init_PDF_mode);
+        if (c.keyExists(s, "init_PDF_mode"))
+        {
+            // pf-localization reads it as a boolean: accept true/false as 1/0.
+            const std::string v = detail::trimValue(c.read_string(s, "init_PDF_mode", ""));
+            if (v == "true" || v == "false")
+            {
+                mode = v == "true" ? 1 : 0;
+            }
+            else
+            {
+                readInt(c, s, "init_PDF_mode", mode, 0, 2);
+            }
+        }
+        o.init_PDF_mode = static_cast<Localizer::InitMode>(mode);
+    }
+    constexpr double kBig = 1e9;
+    readDouble(c, s, "init_PDF_min_x", o.init_PDF_min_x, -kBig, kBig);
+    readDouble(c, s, "init_PDF_max_x", o.init_PDF_max_x, -kBig, kBig);
+    readDouble(c, s, "init_PDF_min_y", o.init_PDF_min_y, -kBig, kBig);
+    readDouble(c, s, "init_PDF_max_y", o.init_PDF_max_y, -kBig, kBig);
+    readDouble(c, s, "init_PDF_min_yaw_deg", o.init_PDF_min_yaw_deg, -360, 360);
+    readDouble(c, s, "init_PDF_max_yaw_deg", o.init_PDF_max_yaw_deg, -360, 360);
+    readDouble(c, s, "init_PDF_mean_x", o.init_PDF_mean_x, -kBig, kBig);
+    readDouble(c, s, "init_PDF_mean_y", o.init_PDF_mean_y, -kBig, kBig);
+    readDouble(c, s, "init_PDF_mean_yaw_deg", o.init_PDF_mean_yaw_deg, -360, 360);
+    readDouble(c, s, "init_PDF_std_xy", o.init_PDF_std_xy, 0, kBig);
+    readDouble(c, s, "init_PDF_std_yaw_deg", o.init_PDF_std_yaw_deg, 0, 360);
+    {
+        int sd = static_cast<int>(o.seed);
+        readInt(c, s, "seed", sd, 0, std::numeric_limits<int>::max());
+        o.seed = static_cast<uint32_t>(sd);
+    }
+    if (o.init_PDF_min_yaw_deg > o.init_PDF_max_yaw_deg)
+    {
+        bad(s, "init_PDF_max_yaw_deg", "must be >= init_PDF_min_yaw_deg");
+    }
+    if (o.init_PDF_mode == Localizer::InitMode::Box &&
+        !(o.init_PDF_min_x < o.init_PDF_max_x && o.init_PDF_min_y < o.init_PDF_max_y))
+    {
+        bad(s, "init_PDF_mode",
+            "1 (uniform in a box) needs init_PDF_min_x < init_PDF_max_x and init_PDF_min_y < "
+            "init_PDF_max_y");
+    }
+}
+
+/** [PF_options]: MRPT's TParticleFilterOptions, then ours. */
+void loadParticleFilter(const mrpt::config::CConfigFileBase& c, Localizer::TOptions& o)
+{
+    // [PF_options]: MRPT's TParticleFilterOptions, strictly, plus ours.
+    {
+        auto known = keysOf(o.pf);
+        known.insert(known.end(), {"threads", "recovery_alpha_slow", "recovery_alpha_fast",
+                                   "recovery_from_detections", "free_space_prior"});
+        rejectUnknownKeys(c, kPF, known);
+    }
+    o.pf.PF_algorithm = static_cast<CParticleFilter::TParticleFilterAlgorithm>(
+        readEnum(c, kPF, "PF_algorithm", o.pf.PF_algorithm, kAlgorithms));
+    o.pf.resamplingMethod = static_cast<CParticleFilter::TParticleResamplingAlgorithm>(
+        readEnum(c, kPF, "resamplingMethod", o.pf.resamplingMethod, kResampling));
+    readBool(c, kPF, "adaptiveSampleSize", o.pf.adaptiveSampleSize);
+    readDouble(c, kPF, "BETA", o.pf.BETA, 0, 1);
+    {
+        int ss = static_cast<int>(o.pf.sampleSize);
+        readInt(c, kPF, "sampleSize", ss, 0, 100000000);  // pf-localization ignores it too
+        o.pf.sampleSize = static_cast<unsigned>(ss);
+        int ms = static_cast<int>(o.pf.pfAuxFilterOptimal_MaximumSearchSamples);
+        readInt(c, kPF, "pfAuxFilterOptimal_MaximumSearchSamples", ms, 1, 100000000);
+        o.pf.pfAuxFilterOptimal_MaximumSearchSamples = static_cast<unsigned>(ms);
+    }
+    readDouble(c, kPF, "powFactor", o.pf.powFactor, 1e-9, 1e9);
+    readDouble(c, kPF, "max_loglikelihood_dyn_range", o.pf.max_loglikelihood_dyn_range, 0, 1e9);
+    readBool(c, kPF, "pfAuxFilterStandard_FirstStageWeightsMonteCarlo",
+             o.pf.pfAuxFilterStandard_FirstStageWeightsMonteCarlo);
+    readBool(c, kPF, "pfAuxFilterOptimal_MLE", o.pf.pfAuxFilterOptimal_MLE);
+    readInt(c, kPF, "threads", o.threads, 0, Localizer::TOptions::kMaxThreads);
+    readDouble(c, kPF, "recovery_alpha_slow", o.recovery.alpha_slow, 0, 1);
+    readDouble(c, kPF, "recovery_alpha_fast", o.recovery.alpha_fast, 0, 1);
+    readDouble(c, kPF, "recovery_from_detections", o.recovery.from_detections, 0, 1);
+    readBool(c, kPF, "free_space_prior", o.free_space_prior);
+}
+
+/** The [PF_options] combinations MRPT or semloc do not implement. */
+void checkParticleFilter(const Localizer::TOptions& o)
+{
+    if (o.pf.PF_algorithm == CParticleFilter::pfOptimalProposal)
+    {
+        bad(kPF, "PF_algorithm",
+            "2 (pfOptimalProposal) is not implemented by MRPT's CMonteCarloLocalization2D; use "
+            "0, 1 or 3");
+    }
+    if (o.pf.adaptiveSampleSize && (o.pf.PF_algorithm != CParticleFilter::pfStandardProposal ||
+                                    o.pf.resamplingMethod != CParticleFilter::prMultinomial))
+    {
+        bad(kPF, "adaptiveSampleSize",
+            "1 (KLD sampling) needs PF_algorithm = 0 (pfStandardProposal) and resamplingMethod "
+            "= 0 (prMultinomial)");
+    }
+    const bool recoveryOff = o.recovery.alpha_slow == 0 && o.recovery.alpha_fast == 0;
+    if (!recoveryOff && !o.recovery.enabled())
+    {
+        bad(kPF, "recovery_alpha_fast",
+            "augmented MCL needs 0 < recovery_alpha_slow < recovery_alpha_fast <= 1 (both 0: "
+            "off)");
+    }
+    if (o.free_space_prior && o.pf.PF_algorithm != CParticleFilter::pfStandardProposal)
+    {
+        bad(kPF, "free_space_prior", "needs PF_algorithm = 0 (pfStandardProposal)");
+    }
+    if (!recoveryOff && o.pf.PF_algorithm != CParticleFilter::pfStandardProposal)
+    {
+        bad(kPF, "recovery_alpha_slow", "recovery needs PF_algorithm = 0 (pfStandardProposal)");
+    }
+}
+
+/** [KLD_options]: MRPT's KLD-sampling parameters. */
+void loadKLD(const mrpt::config::CConfigFileBase& c, mrpt::slam::TKLDParams& kld)
+{
+    // [KLD_options]
+    rejectUnknownKeys(c, kKLD,
+                      {"KLD_binSize_XY", "KLD_binSize_PHI_deg", "KLD_delta", "KLD_epsilon",
+                       "KLD_minSampleSize", "KLD_maxSampleSize", "KLD_minSamplesPerBin"});
+    readDouble(c, kKLD, "KLD_binSize_XY", kld.KLD_binSize_XY, 1e-6, 1e6);
+    {
+        double phiDeg = mrpt::RAD2DEG(kld.KLD_binSize_PHI);
+        readDouble(c, kKLD, "KLD_binSize_PHI_deg", phiDeg, 1e-6, 360);
+        kld.KLD_binSize_PHI = mrpt::DEG2RAD(phiDeg);
+    }
+    readDouble(c, kKLD, "KLD_delta", kld.KLD_delta, 1e-12, 1 - 1e-12);
+    readDouble(c, kKLD, "KLD_epsilon", kld.KLD_epsilon, 1e-12, 1e6);
+    int kMin = static_cast<int>(kld.KLD_minSampleSize),
+        kMax = static_cast<int>(kld.KLD_maxSampleSize);
+    readInt(c, kKLD, "KLD_minSampleSize", kMin, 1, 100000000);
+    readInt(c, kKLD, "KLD_maxSampleSize", kMax, 1, 100000000);
+    if (kMax < kMin)
+    {
+        bad(kKLD, "KLD_maxSampleSize", "must be >= KLD_minSampleSize");
+    }
+    kld.KLD_minSampleSize = static_cast<unsigned>(kMin);
+    kld.KLD_maxSampleSize = static_cast<unsigned>(kMax);
+    readDouble(c, kKLD, "KLD_minSamplesPerBin", kld.KLD_minSamplesPerBin, 0, 1e9);
+}
+
+/** [DummyOdometryParams]: the odometry noise of observations-only rawlogs. */
+void loadOdometryNoise(const mrpt::config::CConfigFileBase& c, Localizer::TOptions& o)
+{
+    // [DummyOdometryParams]; the 3D keys are pf-localization's, checked and unused here.
+    rejectUnknownKeys(c, kOdo,
+                      {"minStdXY", "minStdPHI", "allow_no_odometry", "additional_std_XYZ",
+                       "additional_std_angle"});
+    readDouble(c, kOdo, "minStdXY", o.odometry_min_std_xy, 0, 1e3);
+    readDouble(c, kOdo, "minStdPHI", o.odometry_min_std_phi_deg, 0, 360);
+    readBool(c, kOdo, "allow_no_odometry", o.allow_no_odometry);
+    double unused3D = 0;
+    readDouble(c, kOdo, "additional_std_XYZ", unused3D, 0, 1e3);
+    readDouble(c, kOdo, "additional_std_angle", unused3D, 0, 360);
+}
+}  // namespace
+
+Localizer::TOptions::TOptions()
+{
+    pf.PF_algorithm = CParticleFilter::pfStandardProposal;
+    pf.resamplingMethod = CParticleFilter::prMultinomial;
+}
+
+std::vector<std::string> Localizer::TOptions::experimentKeys()
+{
+    return {"particles_count",       "init_PDF_mode",
+            "init_PDF_min_x",        "init_PDF_max_x",
+            "init_PDF_min_y",        "init_PDF_max_y",
+            "init_PDF_min_yaw_deg",  "init_PDF_max_yaw_deg",
+            "init_PDF_mean_x",       "init_PDF_mean_y",
+            "init_PDF_mean_yaw_deg", "init_PDF_std_xy",
+            "init_PDF_std_yaw_deg",  "seed"};
+}
+
+size_t Localizer::TOptions::effectiveThreads() const
+{
+    return threads > 0 ? static_cast<size_t>(threads)
+                       : std::max<size_t>(1, std::thread::hardware_concurrency());
+}
+
+uint64_t Localizer::TOptions::particleMemoryBytes() const
+{
+    uint64_t bytes = kBytesPerParticle * static_cast<uint64_t>(particles_count);
+    if (pf.adaptiveSampleSize)
+    {
+        bytes += kBytesPerKLDParticle * static_cast<uint64_t>(kld.KLD_maxSampleSize);
+    }
+    return bytes;
+}
+
+void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                             const std::string& s)
+{
+    loadInitialCloud(c, s, *this);
+    loadParticleFilter(c, *this);
+    checkParticleFilter(*this);
+    loadKLD(c, kld);
+    loadOdometryNoise(c, *this);
+}
+
+void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                           const std::string& s) const
+{
+    put(c, s, "particles_count", std::to_string(particles_count), "number of particles");
+    put(c, s, "init_PDF_mode", std::to_string(static_cast<int>(init_PDF_mode)),
+        "0: uniform over the free space, 1: uniform in the box, 2: Gaussian");
+    put(c, s, "init_PDF_min_x", init_PDF_min_x, "box [m] (mode 0: empty = whole free space)");
+    put(c, s, "init_PDF_max_x", init_PDF_max_x, "");
+    put(c, s, "init_PDF_min_y", init_PDF_min_y, "");
+    put(c, s, "init_PDF_max_y", init_PDF_max_y, "");
+    put(c, s, "init_PDF_min_yaw_deg", init_PDF_min_yaw_deg, "heading interval [deg]");
+    put(c, s, "init_PDF_max_yaw_deg", init_PDF_max_yaw_deg, "");
+    put(c, s, "init_PDF_mean_x", init_PDF_mean_x, "mode 2: mean [m]");
+    put(c, s, "init_PDF_mean_y", init_PDF_mean_y, "");
+    put(c, s, "init_PDF_mean_yaw_deg", init_PDF_mean_yaw_deg, "mode 2: mean heading [deg]");
+    put(c, s, "init_PDF_std_xy", init_PDF_std_xy, "mode 2: std of x and y [m]");
+    put(c, s, "init_PDF_std_yaw_deg", init_PDF_std_yaw_deg, "mode 2: std of the heading [deg]");
+    put(c, s, "seed", std::to_string(seed), "seed of MRPT's random generator");
+
+    put(c, kPF, "PF_algorithm", std::to_string(static_cast<int>(pf.PF_algorithm)),
+        kAlgorithms[pf.PF_algorithm]);
+    put(c, kPF, "resamplingMethod", std::to_string(static_cast<int>(pf.resamplingMethod)),
+        kResampling[pf.resamplingMethod]);
+    put(c, kPF, "adaptiveSampleSize", pf.adaptiveSampleSize ? "1" : "0", "KLD sampling");
+    put(c, kPF, "BETA", pf.BETA, "resample when ESS < BETA");
+    put(c, kPF, "sampleSize", std::to_string(pf.sampleSize), "ignored: see particles_count");
+    put(c, kPF, "pfAuxFilterOptimal_MaximumSearchSamples",
+        std::to_string(pf.pfAuxFilterOptimal_MaximumSearchSamples), "PF_algorithm 1 and 3");
+    put(c, kPF, "powFactor", pf.powFactor, "log-likelihoods are multiplied by this");
+    put(c, kPF, "max_loglikelihood_dyn_range", pf.max_loglikelihood_dyn_range, "PF_algorithm 3");
+    put(c, kPF, "pfAuxFilterStandard_FirstStageWeightsMonteCarlo",
+        pf.pfAuxFilterStandard_FirstStageWeightsMonteCarlo ? "1" : "0", "PF_algorithm 1");
+    put(c, kPF, "pfAuxFilterOptimal_MLE", pf.pfAuxFilterOptimal_MLE ? "1" : "0", "PF_algorithm 3");
+    put(c, kPF, "threads", std::to_string(threads), "0: every hardware thread");
+    put(c, kPF, "recovery_alpha_slow", recovery.alpha_slow, "augmented MCL (0 0: off)");
+    put(c, kPF, "recovery_alpha_fast", recovery.alpha_fast, "");
+    put(c, kPF, "recovery_from_detections", recovery.from_detections,
+        "fraction of injected particles drawn from the detections");
+    put(c, kPF, "free_space_prior", free_space_prior ? "1" : "0",
+        "weight 0 outside the free space");
+
+    put(c, kKLD, "KLD_binSize_XY", kld.KLD_binSize_XY, "[m]");
+    put(c, kKLD, "KLD_binSize_PHI_deg", mrpt::RAD2DEG(kld.KLD_binSize_PHI), "[deg]");
+    put(c, kKLD, "KLD_delta", kld.KLD_delta, "");
+    put(c, kKLD, "KLD_epsilon", kld.KLD_epsilon, "");
+    put(c, kKLD, "KLD_minSampleSize", std::to_string(kld.KLD_minSampleSize), "");
+    put(c, kKLD, "KLD_maxSampleSize", std::to_string(kld.KLD_maxSampleSize), "");
+    put(c, kKLD, "KLD_minSamplesPerBin", kld.KLD_minSamplesPerBin, "");
+
+    put(c, kOdo, "minStdXY", odometry_min_std_xy, "[m] observations-only rawlogs");
+    put(c, kOdo, "minStdPHI", odometry_min_std_phi_deg, "[deg]");
+    put(c, kOdo, "allow_no_odometry", allow_no_odometry ? "true" : "false",
+        "true: a rawlog without odometry moves by zero + this noise");
+}
+
+}  // namespace semloc
