@@ -8,4 +8,5 @@ cd "$(dirname "$0")/.."
 source tests/sanitizer_env.sh
 semloc_configure "$SEMLOC_ASAN_DIR" -DSEMLOC_SANITIZE=ON -DSEMLOC_BUILD_BENCHMARKS=OFF
 cmake --build "$SEMLOC_ASAN_DIR" -j2
-ctest --test-dir "$SEMLOC_ASAN_DIR" -j2 --output-on-failure
+# unit_size reads the sources, not the build: the plain build runs it.
+ctest --test-dir "$SEMLOC_ASAN_DIR" -j2 --output-on-failure -E "^unit_size$"

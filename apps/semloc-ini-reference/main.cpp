@@ -7,11 +7,14 @@
 
 #include "common/AppMain.h"
 
+namespace
+{
+TCLAP::CmdLine cmd("Prints every ini section semloc reads, each key at its default with a comment",
+                   ' ', "0.1");
+}  // namespace
+
 int main(int argc, char** argv)
 {
-    TCLAP::CmdLine cmd(
-        "Prints every ini section semloc reads, each key at its default with a comment", ' ',
-        "0.1");
     return semloc::apps::runMain(cmd, argc, argv, "semloc-ini-reference",
                                  [] { std::cout << semloc::iniReference(); });
 }

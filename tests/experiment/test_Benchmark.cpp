@@ -19,7 +19,7 @@ const std::string kConfig = std::string(SEMLOC_SOURCE_DIR) + "/config/";
 
 std::string writeIni(const std::string& name, const std::string& body)
 {
-    const std::string path = std::string(SEMLOC_TEST_OUT) + "/" + name;
+    std::string path = std::string(SEMLOC_TEST_OUT) + "/" + name;
     std::ofstream(path) << "[Benchmark]\nsimulate_ini = " << kConfig
                         << "simulate.ini\nvariants = " << kConfig << "semantic.ini, " << kConfig
                         << "geometric.ini\noutput_dir = " << SEMLOC_TEST_OUT << "/bench_unused\n"

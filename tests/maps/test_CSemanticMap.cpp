@@ -38,7 +38,7 @@ CSemanticMap smallMap(CSemanticMap::Model model = CSemanticMap::Model::Paper)
 
 std::string writeWorldFile(const std::string& name)
 {
-    const std::string path = std::string(SEMLOC_TEST_OUT) + "/" + name;
+    std::string path = std::string(SEMLOC_TEST_OUT) + "/" + name;
     smallWorld().saveToFile(path);
     return path;
 }

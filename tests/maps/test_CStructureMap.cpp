@@ -371,7 +371,7 @@ TEST(CStructureMap, CorruptedOptionsInAnArchiveAreRejected)
         arch << bad;
         buf.Seek(0);
         CStructureMap target = paperMap();
-        const std::string e = errorOf([&] { arch.ReadObject(&target); });
+        std::string e = errorOf([&] { arch.ReadObject(&target); });
         EXPECT_EQ(target.computeLogLikelihood(scan, kTruePoses[1]), before);
         EXPECT_EQ(target.segments().size(), good.segments().size());
         return e;

@@ -70,7 +70,7 @@ TEST(CObservationSemantic, RoundTripThroughRawlogFile)
     ASSERT_EQ(back.size(), log.size());
     for (int k = 0; k < kObsInRoundTripRawlog; k++)
     {
-        const auto sf = back.getAsObservations(static_cast<size_t>(2 * k + 1));
+        const auto sf = back.getAsObservations(2 * static_cast<size_t>(k) + 1);
         ASSERT_EQ(sf->size(), 1u);
         const auto o = sf->getObservationByClass<CObservationSemantic>();
         ASSERT_TRUE(o) << "entry " << 2 * k + 1 << " is not a CObservationSemantic";

@@ -139,7 +139,7 @@ mrpt::obs::CRawlog RawlogReader::Load(const std::string& path)
     {
         THROW_EXCEPTION("rawlog '" + path + "' holds no entries");
     }
-    return std::move(r.rawlog);
+    return r.rawlog;
 }
 
 std::string RawlogReader::TResult::defectMessage() const
