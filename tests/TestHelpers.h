@@ -1,6 +1,7 @@
 /* semloc tests — shared helpers: a small world and an ideal/noisy semantic detector. */
 #pragma once
 
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/random/RandomGenerators.h>
@@ -19,6 +20,14 @@
 
 namespace semloc::test
 {
+/** An ini file in memory holding `text`. */
+inline mrpt::config::CConfigFileMemory iniText(const std::string& text)
+{
+    mrpt::config::CConfigFileMemory c;
+    c.setContent(text);
+    return c;
+}
+
 /** The whole file at `p`, byte for byte (empty when it cannot be read). */
 inline std::string readText(const std::filesystem::path& p)
 {

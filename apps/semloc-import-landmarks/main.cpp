@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "common/AppMain.h"
+#include "common/ReplaceFiles.h"
 
 namespace
 {
@@ -65,43 +66,6 @@ void checkOutputs(const std::string& out, const std::string& worldOut, const std
                             });
 }
 
-/** `write()` writes every file of `outputs` as `<file>.tmp`; then all are renamed onto the
- *  outputs, or on an error (Ctrl-C too) the temporary files are removed and the outputs stay
- *  as they were. */
-void replaceAll(const std::vector<std::string>& outputs, const std::function<void()>& write)
-{
-    for (const auto& f : outputs)
-    {
-        semloc::registerTemporaryPath(f + ".tmp");
-    }
-    try
-    {
-        write();
-        if (semloc::interruptRequested())
-        {
-            throw semloc::Interrupted();
-        }
-    }
-    catch (...)
-    {
-        for (const auto& f : outputs)
-        {
-            std::remove((f + ".tmp").c_str());
-        }
-        throw;
-    }
-    const semloc::InterruptExitDeferral whole;  // all renamed, or none
-    for (const auto& f : outputs)
-    {
-        if (std::rename((f + ".tmp").c_str(), f.c_str()) != 0)
-        {
-            THROW_EXCEPTION(mrpt::format("cannot rename '%s.tmp' to '%s': %s", f.c_str(), f.c_str(),
-                                         std::strerror(errno)));
-        }
-        semloc::unregisterTemporaryPath(f + ".tmp");
-    }
-}
-
 void run()
 {
     using semloc::LandmarkImport;
@@ -131,13 +95,14 @@ void run()
     // Everything is checked; write the outputs.
     // Ctrl-C: exit 130, the temporary files removed, the outputs as they were.
     semloc::installInterruptHandlers();
-    replaceAll({gtOut, worldOut, out},
-               [&]
-               {
-                   LandmarkImport::writeGroundTruth(times, path, gtOut + ".tmp");
-                   world.saveToFile(worldOut + ".tmp");
-                   semloc::saveRawlog(log, out + ".tmp");  // its errors name the file and why
-               });
+    semloc::apps::replaceAll({gtOut, worldOut, out},
+                             [&]
+                             {
+                                 LandmarkImport::writeGroundTruth(times, path, gtOut + ".tmp");
+                                 world.saveToFile(worldOut + ".tmp");
+                                 semloc::saveRawlog(
+                                     log, out + ".tmp");  // its errors name the file and why
+                             });
     std::cout << "Converted " << n << " observations of " << world.objects.size()
               << " landmarks: " << out << ", " << worldOut << ", " << gtOut << "\n";
 }

@@ -18,11 +18,16 @@
 #include <memory>
 
 #include "TestHelpers.h"
+#include "filter/PaperFixtures.h"
 
 using semloc::test::errorOf;
 
 using mrpt::math::TPose2D;
 using semloc::Localizer;
+
+using semloc::test::iniText;
+using semloc::test::semanticMap;
+using semloc::test::simulate;
 
 namespace
 {
@@ -40,37 +45,12 @@ Localizer::TOptions gaussianStart(int particles)
     return o;
 }
 
-mrpt::config::CConfigFileMemory ini(const std::string& text)
-{
-    mrpt::config::CConfigFileMemory c;
-    c.setContent(text);
-    return c;
-}
-
-/** The paper trajectory's first `steps` steps, simulated with config/simulate.ini. */
-semloc::SimulationResult simulate(int steps)
-{
-    auto o = semloc::TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini");
-    o.simulation.max_steps = steps;
-    return semloc::Simulator(o).run();
-}
-
-/** A semantic map (probabilistic model) over the paper world. */
-mrpt::maps::CMultiMetricMap::Ptr semanticMap(const semloc::World& w)
-{
-    auto sem = semloc::CSemanticMap::Create();
-    sem->loadFromWorld(w);
-    sem->likelihoodOptions.model = semloc::CSemanticMap::Model::Probabilistic;
-    auto mm = mrpt::maps::CMultiMetricMap::Create();
-    mm->maps.push_back(sem);
-    return mm;
-}
 }  // namespace
 
 TEST(LocalizerOptions, ReadWriteEveryKeyAndRejectMistakes)
 {
     Localizer::TOptions o;
-    const auto c = ini(R"(
+    const auto c = iniText(R"(
 [LocalizationExperiment]
 particles_count = 1234
 init_PDF_mode = 2
@@ -111,7 +91,7 @@ minStdPHI = 3   // degrees
     mrpt::config::CConfigFileMemory out;
     o.saveToConfigFile(out, "LocalizationExperiment");
     Localizer::TOptions back;
-    back.loadFromConfigFile(ini(out.getContent()), "LocalizationExperiment");
+    back.loadFromConfigFile(iniText(out.getContent()), "LocalizationExperiment");
     mrpt::config::CConfigFileMemory out2;
     back.saveToConfigFile(out2, "LocalizationExperiment");
     EXPECT_EQ(out.getContent(), out2.getContent());
@@ -122,7 +102,7 @@ minStdPHI = 3   // degrees
             [&]
             {
                 Localizer::TOptions x;
-                x.loadFromConfigFile(ini(text), "LocalizationExperiment");
+                x.loadFromConfigFile(iniText(text), "LocalizationExperiment");
             });
     };
     // (ini text, what the error message must name)

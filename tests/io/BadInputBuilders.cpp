@@ -233,4 +233,29 @@ std::vector<mrpt::obs::CObservation::Ptr> allObservations(mrpt::obs::CRawlog& lo
     return out;
 }
 
+/** A small CSV dataset for semloc-import (see the header). */
+std::vector<std::string> importCsv(const fs::path& dir,
+                                   const std::map<std::string, std::string>& files,
+                                   const std::vector<std::string>& options)
+{
+    std::map<std::string, std::string> text = {
+        {"odom.csv", "t,x,y,phi\n1,0,0,0\n2,1,0,0\n3,2,0,0\n"},
+        {"det.csv", "t,label,range_m,bearing_rad\n1,buoy,3,0.1\n2,,,\n3,buoy,2,0.2\n"},
+        {"gt.csv", "t,x,y,phi\n1,5,5,0\n2,6,5,0\n3,7,5,0\n"},
+        {"lm.csv", "id,label,x,y\n1,buoy,9,5\n2,buoy,12,6\n"}};
+    for (const auto& [name, t] : files)
+    {
+        text[name] = t;
+    }
+    for (const auto& [name, t] : text)
+    {
+        writeText(dir / name, t);
+    }
+    std::vector<std::string> a = {"semloc-import", "-o",           "out.rawlog", "--odometry",
+                                  "odom.csv",      "--detections", "det.csv",    "--ground-truth",
+                                  "gt.csv",        "--landmarks",  "lm.csv"};
+    a.insert(a.end(), options.begin(), options.end());
+    return a;
+}
+
 }  // namespace semloc::test::bad_input

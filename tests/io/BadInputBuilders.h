@@ -63,6 +63,12 @@ std::vector<std::string> plotWorld(const fs::path& dir, const std::string& yaml)
  *  and the command line importing it with `options`. */
 std::vector<std::string> importLandmarks(const fs::path& dir,
                                          const std::vector<std::string>& options);
+/** A small CSV dataset (odom.csv, det.csv, gt.csv, lm.csv; `files` replaces the text of
+ *  those it names) and the semloc-import command line importing it into out.rawlog with
+ *  `options` (relative paths: the tool runs in `dir`). */
+std::vector<std::string> importCsv(const fs::path& dir,
+                                   const std::map<std::string, std::string>& files,
+                                   const std::vector<std::string>& options = {});
 /** The simulated rawlog with `edit` applied to it (in memory), saved gz. */
 std::vector<std::string> localizeEdited(const fs::path& dir,
                                         const std::function<void(mrpt::obs::CRawlog&)>& edit);

@@ -114,6 +114,30 @@ Cases iniFileCases()
          [](const fs::path& d) {
              return localizeGood(d, "", {{"sigma_range_m", "nan"}});
          }},
+        {"ini-motion-model-unknown-source",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"source", "recompute"}});
+         }},
+        {"ini-motion-model-unknown-key",
+         [](const fs::path& d) { return localizeGood(d, "[MotionModel]\na5 = 0.1"); }},
+        {"ini-motion-model-out-of-range",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"a1", "-0.1"}});
+         }},
+        {"ini-motion-model-nan",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"a4", "nan"}});
+         }},
+        {"rawlog-motion-model-scan-matching",
+         [](const fs::path& d)
+         {
+             auto sim = simulate();
+             using mrpt::obs::CActionRobotMovement2D;
+             auto m = sim.rawlog.getAsAction(2)->getActionByClass<CActionRobotMovement2D>();
+             m->estimationMethod = CActionRobotMovement2D::emScan2DMatching;
+             saveGz(sim.rawlog, d / "data.rawlog");
+             return localize(d, writeIni(d, "", {{"source", "gaussian"}}), d / "data.rawlog");
+         }},
     };
 }
 

@@ -377,6 +377,47 @@ Cases importCases()
          [](const fs::path& d) {
              return importLandmarks(d, {"--margin", "1e300"});
          }},
+        {"import-csv-missing-column",
+         [](const fs::path& d) {
+             return importCsv(d, {{"det.csv", "t,label,range_m\n1,buoy,3\n"}});
+         }},
+        {"import-csv-unknown-column",
+         [](const fs::path& d) {
+             return importCsv(d, {{"odom.csv", "t,x,y,heading\n1,0,0,0\n2,1,0,0\n"}});
+         }},
+        {"import-csv-not-a-number",
+         [](const fs::path& d)
+         {
+             return importCsv(
+                 d, {{"det.csv", "t,label,range_m,bearing_rad\n1,buoy,3,0.1\n2,buoy,far,0\n"}});
+         }},
+        {"import-csv-nan",
+         [](const fs::path& d) {
+             return importCsv(d, {{"gt.csv", "t,x,y,phi\n1,5,5,0\n2,nan,5,0\n"}});
+         }},
+        {"import-csv-time-back",
+         [](const fs::path& d) {
+             return importCsv(d, {{"odom.csv", "t,x,y,phi\n1,0,0,0\n2,1,0,0\n1.5,2,0,0\n"}});
+         }},
+        {"import-csv-no-scan-in-odometry",
+         [](const fs::path& d) {
+             return importCsv(d, {{"odom.csv", "t,x,y,phi\n10,0,0,0\n11,1,0,0\n"}});
+         }},
+        {"import-csv-out-is-input",
+         [](const fs::path& d)
+         {
+             auto a = importCsv(d, {});
+             a[2] = "det.csv";
+             return a;
+         }},
+        {"import-csv-landmark-duplicate-id",
+         [](const fs::path& d) {
+             return importCsv(d, {{"lm.csv", "id,label,x,y\n2,buoy,9,5\n2,rock,12,6\n"}});
+         }},
+        {"import-csv-fov-out-of-range",
+         [](const fs::path& d) {
+             return importCsv(d, {}, {"--fov-deg", "400"});
+         }},
     };
 }
 

@@ -11,22 +11,18 @@
 
 using semloc::test::errorOf;
 
+using semloc::test::iniText;
+
 namespace
 {
 const std::string kPaperWorld = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
 
-mrpt::config::CConfigFileMemory ini(const std::string& text)
-{
-    mrpt::config::CConfigFileMemory c;
-    c.setContent(text);
-    return c;
-}
 }  // namespace
 
 TEST(LocalizationMap, StrictMetricMapAndWorldFilling)
 {
     auto fromText = [](const std::string& text, const std::string& mapFile = kPaperWorld)
-    { return semloc::LocalizationMap::FromConfig(ini(text), mapFile); };
+    { return semloc::LocalizationMap::FromConfig(iniText(text), mapFile); };
 
     const auto lm = fromText(R"(
 [MetricMap]

@@ -32,8 +32,9 @@ using detail::writeText;
 const std::string kSection = "LocalizationExperiment";
 
 /** Sections semloc-localize reads; [MetricMap_...] are checked by LocalizationMap. */
-const std::vector<std::string> kSections = {kSection, "PF_options", "KLD_options",
-                                            "DummyOdometryParams", "MetricMap"};
+const std::vector<std::string> kSections = {
+    kSection, "PF_options", "KLD_options", "DummyOdometryParams", MotionModel::kSection,
+    "MetricMap"};
 
 /** pf-localization keys about its 3D display, repetitions or 3D particles: accepted,
  *  carried over to the effective configuration, not used. */

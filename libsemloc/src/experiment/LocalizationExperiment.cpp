@@ -9,6 +9,7 @@
 #include <semloc/io/StagedDirectory.h>
 
 #include <chrono>
+#include <cmath>
 #include <optional>
 
 #include "experiment/LocalizationConfig.h"
@@ -47,11 +48,17 @@ public:
     }
 
 private:
-    /** The record of the step just run on `sf`. */
-    void record(const mrpt::obs::CSensoryFrame& sf)
+    /** The record of the step just run on `sf`, timed by its first observation, else by the
+     *  step's `action` (a frame without observations: an odometry-only step). */
+    void record(const mrpt::obs::CSensoryFrame& sf,
+                const mrpt::obs::CActionCollection* action = nullptr)
     {
         TStepRecord r = m_loc.lastStepRecord(sf);
         r.step = m_records.size();
+        if (std::isnan(r.t) && action)
+        {
+            r.t = detail::actionTime(*action);
+        }
         m_records.push_back(r);
     }
     /** The observations grouped so far as one step (or one skipped). */
@@ -133,7 +140,7 @@ void RawlogPlayback::sensoryFrame(const mrpt::obs::CSensoryFrame& sf)
         {
             m_loc.step(sf);  // a frame without its action: the odometry since the last
         }
-        record(sf);
+        record(sf, m_action.get());
     }
     m_action.reset();
 }

@@ -1,4 +1,5 @@
-/* semloc — the rawlog checks of a localization run: finite odometry, usable observations. */
+/* semloc — the rawlog checks of a localization run: finite odometry that [MotionModel] can use,
+ * usable observations. */
 #include "experiment/RawlogChecks.h"
 
 #include <mrpt/core/exceptions.h>
@@ -35,12 +36,14 @@ bool finiteMatrix(const mrpt::math::CMatrixDouble33& m)
 class RawlogInventory
 {
 public:
-    RawlogInventory(const std::string& path, const mrpt::maps::CMetricMap& maps)
-        : m_path(path), m_maps(maps)
+    RawlogInventory(const std::string& path, const mrpt::maps::CMetricMap& maps,
+                    const MotionModel& motion)
+        : m_path(path), m_maps(maps), m_motion(motion)
     {
     }
 
-    /** Entry `i` of the rawlog; throws at non-finite odometry. */
+    /** Entry `i` of the rawlog; throws at non-finite odometry or odometry [MotionModel] cannot
+     *  re-derive. */
     void add(const mrpt::serialization::CSerializable::Ptr& obj, size_t i);
     /** Throws when the run could not use the rawlog. */
     void check(const Localizer::TOptions& filter) const;
@@ -56,6 +59,7 @@ private:
 
     const std::string& m_path;
     const mrpt::maps::CMetricMap& m_maps;
+    const MotionModel& m_motion;
     bool m_odometry = false;
     size_t m_observations = 0, m_usable = 0, m_invalid = 0;
     std::string m_firstInvalid;
@@ -108,6 +112,13 @@ void RawlogInventory::addActions(mrpt::obs::CActionCollection& acts, size_t i)
         }
         m_odometry = m_odometry || IS_CLASS(*a, mrpt::obs::CActionRobotMovement3D);
     }
+    if (const std::string why = m_motion.problem(acts); !why.empty())
+    {
+        THROW_EXCEPTION(mrpt::format(
+            "rawlog '%s': entry %zu: [MotionModel] source = gaussian cannot re-derive its "
+            "odometry noise: %s (source = rawlog uses the rawlog's own noise)",
+            m_path.c_str(), i, why.c_str()));
+    }
 }
 
 void RawlogInventory::addObservation(const mrpt::obs::CObservation& obs, size_t entry)
@@ -157,7 +168,8 @@ void RawlogInventory::check(const Localizer::TOptions& filter) const
 void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
                  const mrpt::maps::CMetricMap& maps, const Localizer::TOptions& filter)
 {
-    RawlogInventory inventory(path, maps);
+    const MotionModel motion(filter.motion_model);
+    RawlogInventory inventory(path, maps, motion);
     for (size_t i = 0; i < rawlog.size(); i++)
     {
         inventory.add(rawlog.getAsGeneric(i), i);

@@ -31,11 +31,19 @@ double timeOf(const mrpt::obs::CObservation& obs)
 
 }  // namespace
 
+double actionTime(const mrpt::obs::CActionCollection& actions)
+{
+    return actions.size() > 0 && actions.get(0).timestamp != INVALID_TIMESTAMP
+               ? mrpt::Clock::toDouble(actions.get(0).timestamp)
+               : std::numeric_limits<double>::quiet_NaN();
+}
+
 std::vector<StepTime> stepTimes(const mrpt::obs::CRawlog& rawlog)
 {
     std::vector<StepTime> steps;
     std::optional<StepTime> group;  // observations-only: one timestamp, one step
     mrpt::Clock::time_point groupStamp;
+    double actionT = std::numeric_limits<double>::quiet_NaN();  // the pending action's time
     auto flush = [&]
     {
         if (group)
@@ -50,13 +58,15 @@ std::vector<StepTime> stepTimes(const mrpt::obs::CRawlog& rawlog)
         {
             case mrpt::obs::CRawlog::etActionCollection:
                 flush();
+                actionT = actionTime(*rawlog.getAsAction(i));
                 break;
             case mrpt::obs::CRawlog::etSensoryFrame:
             {
                 flush();
                 const auto sf = rawlog.getAsObservations(i);
-                steps.push_back({i, sf->size() > 0 ? timeOf(*sf->getObservationByIndex(0))
-                                                   : std::numeric_limits<double>::quiet_NaN()});
+                steps.push_back(
+                    {i, sf->size() > 0 ? timeOf(*sf->getObservationByIndex(0)) : actionT});
+                actionT = std::numeric_limits<double>::quiet_NaN();
                 break;
             }
             case mrpt::obs::CRawlog::etObservation:

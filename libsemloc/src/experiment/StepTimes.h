@@ -12,12 +12,16 @@
 namespace semloc::detail
 {
 /** A step as LocalizationExperiment::run() groups the rawlog: the entry it starts at and
- *  its time (its first observation's; NaN without a timestamp). */
+ *  its time (its first observation's; for a sensory frame without observations, its
+ *  action's: actionTime(); NaN without a timestamp). */
 struct StepTime
 {
     size_t entry = 0;
     double t = 0;
 };
+
+/** The time [s] of an action collection: its first action's timestamp (NaN if it has none). */
+double actionTime(const mrpt::obs::CActionCollection& actions);
 
 /** The steps run() makes of `rawlog`: action / sensory-frame pairs, or consecutive
  *  observations with one timestamp. */

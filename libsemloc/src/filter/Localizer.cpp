@@ -26,6 +26,11 @@ namespace
 {
 mrpt::obs::CActionRobotMovement2D::TMotionModelOptions odometryModel(const Localizer::TOptions& o)
 {
+    const MotionModel model(o.motion_model);
+    if (model.rederives())
+    {
+        return model.gaussian();  // [MotionModel] source = gaussian: every increment's noise
+    }
     // pf-localization's model of the odometry of observations-only rawlogs.
     mrpt::obs::CActionRobotMovement2D::TMotionModelOptions m;
     m.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
@@ -347,8 +352,9 @@ void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs
     mrpt::obs::CSensoryFrame checked;
     const bool replaced =
         withValidObservations(sf, *m_map, checked, m_observationsInvalid, m_beamsInvalid);
-    mrpt::obs::CActionCollection marked;
-    const mrpt::obs::CActionCollection& acts = withUsableMovement(action, marked);
+    mrpt::obs::CActionCollection rederived, marked;
+    const mrpt::obs::CActionCollection& acts =
+        withUsableMovement(MotionModel(m_options.motion_model).apply(action, rederived), marked);
     // The standard proposal resamples inside its step and keeps the ESS before it; asking
     // executeOn for TParticleFilterStats there would read 1 and cost two exp() and two
     // virtual calls per particle (its weight variance). The other algorithms run MRPT's

@@ -1,6 +1,6 @@
 /* semloc — Localizer's options: pf-localization's sections ([LocalizationExperiment]'s
- * filter keys, [PF_options], [KLD_options], [DummyOdometryParams]) read strictly and written
- * back. */
+ * filter keys, [PF_options], [KLD_options], [DummyOdometryParams]) and [MotionModel] read
+ * strictly and written back. */
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <semloc/filter/Localizer.h>
@@ -289,6 +289,7 @@ void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     checkParticleFilter(*this);
     loadKLD(c, kld);
     loadOdometryNoise(c, *this);
+    motion_model.loadFromConfigFile(c, MotionModel::kSection);
 }
 
 void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -344,6 +345,7 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     put(c, kOdo, "minStdPHI", odometry_min_std_phi_deg, "[deg]");
     put(c, kOdo, "allow_no_odometry", allow_no_odometry ? "true" : "false",
         "true: a rawlog without odometry moves by zero + this noise");
+    motion_model.saveToConfigFile(c, MotionModel::kSection);
 }
 
 }  // namespace semloc

@@ -29,7 +29,7 @@ std::string iniReference()
                        "ray-casting grid cell [m], 0 = automatic");
     CStructureMap::TLikelihoodOptions().saveToConfigFile(c, st + "_likelihoodOpts");
     // semloc-localize: [LocalizationExperiment], [PF_options], [KLD_options],
-    // [DummyOdometryParams]; the maps are the [MetricMap_*] sections above
+    // [DummyOdometryParams], [MotionModel]; the maps are the [MetricMap_*] sections above
     LocalizationExperiment::TOptions loc;
     loc.rawlog_file = "dataset.rawlog";
     loc.map_file = "../maps/paper_50x50.yaml";

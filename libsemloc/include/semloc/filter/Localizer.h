@@ -15,6 +15,7 @@
 #include <semloc/filter/AugmentedMCL.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/FreeSpaceSampler.h>
+#include <semloc/filter/MotionModel.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
 #include <semloc/world/World.h>
 
@@ -54,7 +55,8 @@ public:
 
     /** The filter's settings, in the sections of MRPT's pf-localization plus ours.
      *  loadFromConfigFile() reads `section` (normally [LocalizationExperiment]) and the fixed
-     *  sections [PF_options], [KLD_options], [DummyOdometryParams]; it rejects unknown keys
+     *  sections [PF_options], [KLD_options], [DummyOdometryParams], [MotionModel]; it rejects
+     *  unknown keys
      *  of those sections and bad values, naming [section] key. Keys of
      *  [LocalizationExperiment] that are not the filter's are LocalizationExperiment's. */
     struct TOptions : public mrpt::config::CLoadableOptions
@@ -124,11 +126,17 @@ public:
         bool allow_no_odometry = false;
         /** @} */
 
+        /** [MotionModel]: the odometry's noise as the rawlog carries it (source = rawlog, the
+         *  default) or re-derived from every raw increment with MRPT's Gaussian model a1..a4,
+         *  minStdXY, minStdPHI (source = gaussian; then the [DummyOdometryParams] noise above
+         *  is not used). See MotionModel. */
+        MotionModel::TOptions motion_model;
+
         TOptions();
         /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
-        /** Writes every key (defaults included) of `section` and the three fixed sections. */
+        /** Writes every key (defaults included) of `section` and the four fixed sections. */
         void saveToConfigFile(mrpt::config::CConfigFileBase& target,
                               const std::string& section) const override;
         /** The keys this struct reads in `section` ([LocalizationExperiment]). */
@@ -191,11 +199,15 @@ public:
      *  (invalidObservation()) are left out and counted (observations_invalid): no map ever
      *  sees them. The 2D movement of least uncertainty is used however uncertain it is
      *  (MRPT's CActionCollection::getBestMovementEstimation() ignores one whose covariance
-     *  determinant reaches 1e3, and would find no odometry). */
+     *  determinant reaches 1e3, and would find no odometry). With [MotionModel] source =
+     *  gaussian every CActionRobotMovement2D's Gaussian is first recomputed from its
+     *  rawOdometryIncrementReading (MotionModel::apply; an action it cannot re-derive throws,
+     *  naming why). */
     void step(const mrpt::obs::CActionCollection& action, const mrpt::obs::CSensoryFrame& sf);
     /** Observations-only format: remembers an odometry reading; the next step(sf) moves the
      *  particles by the increment since the previous step (pf-localization's rule; Gaussian
-     *  noise from [DummyOdometryParams]). The first reading is the reference. */
+     *  noise from [DummyOdometryParams], or from [MotionModel] with source = gaussian). The
+     *  first reading is the reference. */
     void setOdometry(const mrpt::obs::CObservationOdometry& odo);
     /** One step, observations-only format (see setOdometry()). */
     void step(const mrpt::obs::CSensoryFrame& sf);

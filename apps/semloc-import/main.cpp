@@ -1,0 +1,188 @@
+/* semloc-import: a vehicle's dataset in plain-text CSV files (odometry, detections, optional
+ * ground truth and landmarks) as a semantic rawlog semloc-localize runs on:
+ *   semloc-import -o run.rawlog --odometry odom.csv --detections det.csv \
+ *                 --ground-truth gt.csv --landmarks lm.csv
+ * writes run.rawlog, run_gt.txt (with --ground-truth) and run_world.yaml (with --landmarks).
+ * The format: docs/tools.md, "semloc-import". */
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/system/filesystem.h>
+#include <semloc/io/DatasetImport.h>
+#include <semloc/io/Interrupt.h>
+#include <semloc/io/OutputPaths.h>
+#include <semloc/io/RawlogWriter.h>
+#include <semloc/simulator/Simulator.h>
+#include <semloc/world/World.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/AppMain.h"
+#include "common/ReplaceFiles.h"
+
+namespace
+{
+TCLAP::CmdLine cmd(
+    "semloc-import: a CSV dataset (odometry, detections, ground truth, "
+    "landmarks) as a semantic rawlog",
+    ' ', "0.1");
+TCLAP::ValueArg<std::string> argOut("o", "output", "Rawlog to write", true, "", "out.rawlog", cmd);
+TCLAP::ValueArg<std::string> argOdometry("", "odometry", "Odometry CSV: t,x,y,phi or t,v,w", true,
+                                         "", "odom.csv", cmd);
+TCLAP::ValueArg<std::string> argDetections(
+    "", "detections", "Detections CSV: t,label,range_m,bearing_rad[,id][,confidence]", true, "",
+    "det.csv", cmd);
+TCLAP::ValueArg<std::string> argGroundTruth("", "ground-truth", "Ground truth CSV: t,x,y,phi",
+                                            false, "", "gt.csv", cmd);
+TCLAP::ValueArg<std::string> argLandmarks("", "landmarks",
+                                          "Landmarks CSV: id,label,x,y[,sigma_x_m,sigma_y_m]",
+                                          false, "", "lm.csv", cmd);
+TCLAP::ValueArg<double> argMaxRange("", "max-range-m", "Detector's maximum range [m] (default 20)",
+                                    false, 20.0, "R", cmd);
+TCLAP::ValueArg<double> argFov("", "fov-deg",
+                               "Detector's horizontal field of view [deg] (default 120)", false,
+                               120.0, "F", cmd);
+TCLAP::ValueArg<std::string> argSensorPose(
+    "", "sensor-pose", "Detector's pose on the vehicle [m, m, deg] (default 0,0,0)", false, "0,0,0",
+    "x,y,yaw_deg", cmd);
+TCLAP::ValueArg<double> argMaxStep("", "max-step-s",
+                                   "Longest step without detections [s] (default 0.5)", false, 0.5,
+                                   "S", cmd);
+TCLAP::ValueArg<double> argMargin("", "margin-m", "World bounds margin [m] (default 10)", false,
+                                  10.0, "M", cmd);
+
+/** `x,y,yaw_deg` as a pose (yaw in radians). */
+mrpt::math::TPose2D sensorPose(const std::string& text)
+{
+    std::istringstream ss(text);
+    double v[3];
+    char comma1 = 0, comma2 = 0;
+    if (!(ss >> v[0] >> comma1 >> v[1] >> comma2 >> v[2]) || comma1 != ',' || comma2 != ',' ||
+        !(ss >> std::ws).eof())
+    {
+        THROW_EXCEPTION("--sensor-pose '" + text + "': expected x,y,yaw_deg (three numbers)");
+    }
+    return {v[0], v[1], mrpt::DEG2RAD(v[2])};
+}
+
+bool isWorldFile(const std::string& p)
+{
+    try
+    {
+        (void)semloc::World::FromFile(p);
+        return true;
+    }
+    catch (const std::exception&)
+    {
+        return false;
+    }
+}
+
+void printSummary(const std::string& out, const semloc::TDatasetImportStats& s,
+                  const std::vector<std::string>& written)
+{
+    std::cout << "semloc-import: " << out << ": " << s.steps << " steps (" << s.scans << " scans, "
+              << s.odometryOnlySteps << " odometry-only), " << s.detections << " detections; wrote";
+    for (const auto& f : written)
+    {
+        std::cout << " " << f;
+    }
+    std::cout << "\n";
+    if (s.scansOutsideOdometry > 0)
+    {
+        std::cerr << "semloc-import: warning: " << s.scansOutsideOdometry
+                  << " scans outside the odometry's time span were skipped\n";
+    }
+    if (s.detectionsOutsideCoverage > 0)
+    {
+        std::cerr << "semloc-import: warning: " << s.detectionsOutsideCoverage
+                  << " detections lie beyond --max-range-m or outside --fov-deg (semloc-localize "
+                     "skips them as detections_invalid)\n";
+    }
+}
+
+void run()
+{
+    using semloc::DatasetImport;
+    semloc::TDatasetImportOptions o;
+    o.maxRange_m = argMaxRange.getValue();
+    o.fov_deg = argFov.getValue();
+    o.sensorPose = sensorPose(argSensorPose.getValue());
+    o.maxStep_s = argMaxStep.getValue();
+    o.margin_m = argMargin.getValue();
+    o.check();
+    const std::string out = argOut.getValue(), gtIn = argGroundTruth.getValue(),
+                      lmIn = argLandmarks.getValue();
+    const std::string gtOut = semloc::Simulator::groundTruthPath(out);
+    const std::filesystem::path op(out);
+    const std::string worldOut = (op.parent_path() / (op.stem().string() + "_world.yaml")).string();
+    const std::vector<std::string> inputs = {argOdometry.getValue(), argDetections.getValue(), gtIn,
+                                             lmIn};
+    if (gtOut == out || worldOut == out)
+    {
+        THROW_EXCEPTION("output rawlog '" + out +
+                        "' collides with its ground-truth or world file name (give it an "
+                        "extension such as .rawlog)");
+    }
+    semloc::checkOutputFile(out, inputs);
+    std::vector<std::string> outputs = {out};
+    if (!gtIn.empty())
+    {
+        semloc::checkOutputFile(gtOut, inputs, semloc::Simulator::isGroundTruthFile);
+        outputs.push_back(gtOut);
+    }
+    else if (std::filesystem::exists(gtOut))
+    {
+        std::cerr << "semloc-import: warning: '" << gtOut
+                  << "' (a previous ground truth) stays; semloc-localize would take it for "
+                     "this rawlog's\n";
+    }
+    if (!lmIn.empty())
+    {
+        semloc::checkOutputFile(worldOut, inputs, isWorldFile);
+        outputs.push_back(worldOut);
+    }
+
+    // Everything is read and checked before anything is written.
+    const auto odometry = DatasetImport::readOdometry(argOdometry.getValue());
+    const auto scans = DatasetImport::readDetections(argDetections.getValue());
+    const auto gt =
+        gtIn.empty() ? std::vector<semloc::GroundTruthRow>{} : DatasetImport::readGroundTruth(gtIn);
+    const auto landmarks =
+        lmIn.empty() ? std::vector<semloc::ImportedLandmark>{} : DatasetImport::readLandmarks(lmIn);
+    semloc::TDatasetImportStats stats;
+    const auto steps = DatasetImport::steps(scans, odometry, o.maxStep_s, stats);
+    const auto log = DatasetImport::makeRawlog(steps, scans, odometry, o, stats);
+    const auto gtRows = gt.empty() ? gt : DatasetImport::groundTruthAtSteps(gt, steps, gtIn);
+    const auto world =
+        landmarks.empty() ? semloc::World{}
+                          : DatasetImport::makeWorld(landmarks, gt, o.margin_m, op.stem().string());
+
+    // Ctrl-C: exit 130, the temporary files removed, the outputs as they were.
+    semloc::installInterruptHandlers();
+    semloc::apps::replaceAll(outputs,
+                             [&]
+                             {
+                                 semloc::saveRawlog(log, out + ".tmp");
+                                 if (!gtRows.empty())
+                                 {
+                                     DatasetImport::writeGroundTruth(gtRows, gtOut + ".tmp");
+                                 }
+                                 if (!landmarks.empty())
+                                 {
+                                     world.saveToFile(worldOut + ".tmp");
+                                 }
+                             });
+    printSummary(out, stats, outputs);
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    return semloc::apps::runMain(cmd, argc, argv, "semloc-import", run);
+}

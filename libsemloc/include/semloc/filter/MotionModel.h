@@ -1,0 +1,98 @@
+/* semloc — the odometry's motion model of the ini ([MotionModel]): the noise of every odometry
+ * increment as the rawlog carries it, or re-derived from the raw increment with MRPT's Gaussian
+ * model. */
+#pragma once
+
+#include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+
+#include <string>
+
+namespace semloc
+{
+/** Where the noise of the odometry comes from ([MotionModel] source).
+ *
+ *  - `rawlog` (default, as MRPT's pf-localization): the Gaussian every CActionRobotMovement2D
+ *    of the rawlog carries; the increments of CObservationOdometry readings (and the zero
+ *    increments of allow_no_odometry) get pf-localization's model: MRPT's default a1..a4 with
+ *    [DummyOdometryParams] minStdXY, minStdPHI.
+ *  - `gaussian`: every increment's Gaussian is computed again by MRPT's own
+ *    CActionRobotMovement2D::computeFromOdometry() with the Gaussian model a1..a4, minStdXY,
+ *    minStdPHI of this section: the rawOdometryIncrementReading of each
+ *    CActionRobotMovement2D, and the increments of CObservationOdometry readings
+ *    ([DummyOdometryParams] minStdXY/minStdPHI are then not used). An action that cannot be
+ *    re-derived (problem()) is an error.
+ *
+ *  The keys are MRPT's names of TMotionModelOptions::TOptions_GaussianModel, in the units of
+ *  that struct's documentation and of MRPT's RawLogViewer motion-model dialog (MRPT 2.5 has no
+ *  ini loader for it): a2 in m/deg, a3 in deg/m, minStdPHI in deg, as MRPT's ini files give
+ *  minStdPHI. */
+class MotionModel
+{
+public:
+    /** [MotionModel] source. */
+    enum class Source
+    {
+        /** The rawlog's own noise. */
+        Rawlog = 0,
+        /** MRPT's Gaussian model with a1..a4, minStdXY, minStdPHI. */
+        Gaussian = 1
+    };
+
+    /** The section's keys; the defaults of a1..minStdPHI are MRPT's own. */
+    struct TOptions : public mrpt::config::CLoadableOptions
+    {
+        /** source: rawlog | gaussian. */
+        Source source = Source::Rawlog;
+        /** Position std per metre travelled [m/m]. */
+        double a1 = 0.01;
+        /** Position std per degree turned [m/deg]. */
+        double a2 = 0.001;
+        /** Heading std per metre travelled [deg/m]. */
+        double a3 = 1.0;
+        /** Heading std per degree turned [deg/deg]. */
+        double a4 = 0.05;
+        /** Minimum position std of every increment [m]. */
+        double minStdXY = 0.01;
+        /** Minimum heading std of every increment [deg]. */
+        double minStdPHI = 0.2;
+
+        /** Reads `section` strictly: an unknown key, a value out of range or not finite is an
+         *  error naming [section] key. */
+        void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                const std::string& section) override;
+        /** Writes every key, defaults included. */
+        void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                              const std::string& section) const override;
+    };
+
+    /** The section's name. */
+    static constexpr const char* kSection = "MotionModel";
+
+    explicit MotionModel(const TOptions& options) : m_options(options) {}
+
+    /** True when every increment's noise is re-derived (source = gaussian). */
+    bool rederives() const { return m_options.source == Source::Gaussian; }
+    /** MRPT's options of the Gaussian model with a1..minStdPHI (converted to radians). */
+    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions gaussian() const;
+    /** Why the movements of `acts` cannot be re-derived, as a phrase, or "" when they can (or
+     *  nothing is re-derived): a CActionRobotMovement2D whose estimationMethod is not
+     *  emOdometry (a scan-matching estimate has no raw odometry increment), one without a raw
+     *  increment (rawOdometryIncrementReading zero while its pose change's mean is not: the
+     *  writer set the pose change only), a CActionRobotMovement3D (2D odometry only). */
+    std::string problem(const mrpt::obs::CActionCollection& acts) const;
+    /** `acts` when nothing is re-derived, else `copy` filled with `acts` and each
+     *  CActionRobotMovement2D recomputed by computeFromOdometry(rawOdometryIncrementReading,
+     *  gaussian()). Throws when problem() is not empty. */
+    const mrpt::obs::CActionCollection& apply(const mrpt::obs::CActionCollection& acts,
+                                              mrpt::obs::CActionCollection& copy) const;
+
+    /** The options. */
+    const TOptions& options() const { return m_options; }
+
+private:
+    TOptions m_options;
+};
+
+}  // namespace semloc

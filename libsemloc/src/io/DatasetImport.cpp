@@ -1,0 +1,196 @@
+/* semloc — DatasetImport: the steps, rawlog, ground truth and world of an imported dataset
+ * (the CSV readers are in DatasetImportReaders.cpp). */
+#include <mrpt/core/Clock.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/poses/CPose3D.h>
+#include <semloc/io/DatasetImport.h>
+#include <semloc/io/LandmarkImport.h>
+
+#include <cmath>
+
+#include "io/Text.h"
+#include "io/TextFiles.h"
+
+namespace semloc
+{
+namespace
+{
+std::string num(double v)
+{
+    return detail::shortestText(v);
+}
+
+/** The scan's observation: the detector's pose, coverage and detections at time `t`. */
+CObservationSemantic::Ptr semanticObservation(const DetectionScan& scan,
+                                              const TDatasetImportOptions& o,
+                                              TDatasetImportStats& stats)
+{
+    auto obs = CObservationSemantic::Create();
+    obs->sensorLabel = "SEMANTIC";
+    obs->timestamp = mrpt::Clock::fromDouble(scan.t);
+    obs->sensorPose =
+        mrpt::poses::CPose3D(o.sensorPose.x, o.sensorPose.y, 0, o.sensorPose.phi, 0, 0);
+    obs->maxRange_m = o.maxRange_m;
+    obs->fov_rad = mrpt::DEG2RAD(o.fov_deg);
+    obs->detections = scan.detections;
+    for (const auto& d : scan.detections)
+    {
+        stats.detectionsOutsideCoverage += obs->isValid(d) ? 0 : 1;
+    }
+    stats.detections += scan.detections.size();
+    return obs;
+}
+
+/** The odometry action of the step from `from` to `to` (poses of the odometry track). */
+mrpt::obs::CActionCollection::Ptr odometryAction(const mrpt::math::TPose2D& from,
+                                                 const mrpt::math::TPose2D& to, double t)
+{
+    // MRPT's default Gaussian model (a1 0.01 m/m, a2 0.057 m/rad, a3 1 deg/m, a4 0.05 rad/rad,
+    // minimum std 0.01 m and 0.2 deg per step).
+    const mrpt::obs::CActionRobotMovement2D::TMotionModelOptions model;
+    mrpt::obs::CActionRobotMovement2D action;
+    action.computeFromOdometry(mrpt::poses::CPose2D(to) - mrpt::poses::CPose2D(from), model);
+    action.timestamp = mrpt::Clock::fromDouble(t);
+    auto actions = mrpt::obs::CActionCollection::Create();
+    actions->insert(action);
+    return actions;
+}
+}  // namespace
+
+std::vector<ImportStep> DatasetImport::steps(const std::vector<DetectionScan>& scans,
+                                             const OdometryTrack& odometry, double maxStep_s,
+                                             TDatasetImportStats& stats)
+{
+    ASSERT_(!odometry.t.empty());
+    std::vector<ImportStep> out;
+    for (size_t k = 0; k < scans.size(); k++)
+    {
+        const double t = scans[k].t;
+        if (t < odometry.t.front() || t > odometry.t.back())
+        {
+            stats.scansOutsideOdometry++;
+            continue;
+        }
+        if (!out.empty())
+        {
+            // Evenly spaced odometry-only steps, none of the gaps longer than maxStep_s.
+            const double t0 = out.back().t, gap = t - t0;
+            const auto n = static_cast<size_t>(std::ceil(gap / maxStep_s - 1e-9));
+            for (size_t i = 1; i < n; i++)
+            {
+                const double ti = t0 + gap * static_cast<double>(i) / static_cast<double>(n);
+                if (ti != 0 && ti > out.back().t && ti < t)  // 0: MRPT's "no timestamp"
+                {
+                    out.push_back({ti, -1});
+                }
+            }
+        }
+        out.push_back({t, static_cast<long>(k)});
+    }
+    if (out.empty())
+    {
+        THROW_EXCEPTION(
+            mrpt::format("no scan lies within the odometry's time span [%s, %s] s: "
+                         "nothing to import (the %zu scans are at %s to %s s)",
+                         num(odometry.t.front()).c_str(), num(odometry.t.back()).c_str(),
+                         scans.size(), num(scans.front().t).c_str(), num(scans.back().t).c_str()));
+    }
+    return out;
+}
+
+mrpt::obs::CRawlog DatasetImport::makeRawlog(const std::vector<ImportStep>& steps,
+                                             const std::vector<DetectionScan>& scans,
+                                             const OdometryTrack& odometry,
+                                             const TDatasetImportOptions& options,
+                                             TDatasetImportStats& stats)
+{
+    mrpt::obs::CRawlog log;
+    mrpt::math::TPose2D previous = odometry.at(steps.front().t);
+    for (const auto& s : steps)
+    {
+        const mrpt::math::TPose2D pose = odometry.at(s.t);
+        log.insert(odometryAction(previous, pose, s.t));
+        previous = pose;
+        // An odometry-only step's frame is empty: the detector did not report then.
+        auto frame = mrpt::obs::CSensoryFrame::Create();
+        if (s.scan >= 0)
+        {
+            frame->insert(semanticObservation(scans[static_cast<size_t>(s.scan)], options, stats));
+            stats.scans++;
+        }
+        else
+        {
+            stats.odometryOnlySteps++;
+        }
+        log.insert(frame);
+        stats.steps++;
+    }
+    return log;
+}
+
+std::vector<GroundTruthRow> DatasetImport::groundTruthAtSteps(const std::vector<GroundTruthRow>& gt,
+                                                              const std::vector<ImportStep>& steps,
+                                                              const std::string& path)
+{
+    OdometryTrack track;  // the same interpolation as the odometry's
+    for (const auto& r : gt)
+    {
+        track.t.push_back(r.t);
+        track.pose.push_back({r.x, r.y, r.phi});
+    }
+    std::vector<GroundTruthRow> out;
+    for (const auto& s : steps)
+    {
+        if (s.t >= track.t.front() && s.t <= track.t.back())
+        {
+            const auto p = track.at(s.t);
+            out.push_back({s.t, p.x, p.y, p.phi});
+        }
+    }
+    if (out.empty())
+    {
+        THROW_EXCEPTION("ground truth '" + path + "' (times " + num(gt.front().t) + " to " +
+                        num(gt.back().t) + " s) covers no step (times " + num(steps.front().t) +
+                        " to " + num(steps.back().t) + " s)");
+    }
+    return out;
+}
+
+void DatasetImport::writeGroundTruth(const std::vector<GroundTruthRow>& rows,
+                                     const std::string& path)
+{
+    std::string text;
+    for (const auto& r : rows)
+    {
+        text += detail::fixedText(r.t) + ' ' + detail::fixedText(r.x) + ' ' +
+                detail::fixedText(r.y) + ' ' + detail::fixedText(r.phi) + '\n';
+    }
+    detail::writeFile(path, text);
+}
+
+World DatasetImport::makeWorld(const std::vector<ImportedLandmark>& landmarks,
+                               const std::vector<GroundTruthRow>& groundTruth, double margin_m,
+                               const std::string& name)
+{
+    std::vector<WorldObject> objects;
+    objects.reserve(landmarks.size());
+    for (const auto& l : landmarks)
+    {
+        objects.push_back(l.object);
+    }
+    std::vector<mrpt::math::TPose2D> path;
+    path.reserve(groundTruth.size());
+    for (const auto& r : groundTruth)
+    {
+        path.emplace_back(r.x, r.y, r.phi);
+    }
+    return LandmarkImport::makeWorld(objects, path, margin_m, name);
+}
+
+}  // namespace semloc

@@ -1,0 +1,128 @@
+/* semloc tests — CsvTable: semloc-import's CSV files read strictly, every error naming the
+ * file, the line and the column. */
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "io/CsvTable.h"
+
+namespace
+{
+using semloc::detail::CsvTable;
+
+/** The message of the error reading `text` as f.csv with columns t,x (required), id
+ *  (optional); "" if it reads. */
+std::string errorOf(const std::string& text, bool strictTime = true)
+{
+    try
+    {
+        const auto t = CsvTable::FromText(text, "f.csv", {"t", "x"}, {"id"});
+        for (size_t r = 0; r < t.rows(); r++)
+        {
+            (void)t.number(r, "t");
+            (void)t.number(r, "x");
+        }
+        t.checkIncreasing("t", strictTime);
+        return "";
+    }
+    catch (const std::exception& e)
+    {
+        return e.what();
+    }
+}
+
+void expectError(const std::string& text, const std::string& excerpt, bool strictTime = true)
+{
+    const std::string e = errorOf(text, strictTime);
+    EXPECT_NE(e.find(excerpt), std::string::npos) << "error: '" << e << "'\nexpected: " << excerpt;
+}
+
+TEST(CsvTable, ReadsColumnsByNameInAnyOrderSkippingComments)
+{
+    const auto t = CsvTable::FromText("# a comment\n\n x , t ,id\r\n1.5,2,\n# again\n-3, 4 ,7\n",
+                                      "f.csv", {"t", "x"}, {"id"});
+    ASSERT_EQ(t.rows(), 2u);
+    EXPECT_EQ(t.headerLine(), 3u);
+    EXPECT_EQ(t.line(1), 6u);
+    EXPECT_DOUBLE_EQ(t.number(0, "x"), 1.5);
+    EXPECT_DOUBLE_EQ(t.number(1, "t"), 4);
+    EXPECT_TRUE(t.empty(0, "id"));
+    EXPECT_DOUBLE_EQ(t.numberOr(0, "id", -1), -1);
+    EXPECT_DOUBLE_EQ(t.numberOr(1, "id", -1), 7);
+    EXPECT_TRUE(t.has("id"));
+    EXPECT_FALSE(t.has("y"));
+    EXPECT_EQ(errorOf("t,x\n1,2\n"), "");
+}
+
+TEST(CsvTable, UnknownColumn)
+{
+    expectError("t,x,speed\n1,2,3\n",
+                "f.csv:1: column 3 'speed': unknown column (known: t, x, id)");
+}
+
+TEST(CsvTable, MissingColumn)
+{
+    expectError("# header next\nt,id\n1,2\n",
+                "f.csv:2: missing column 'x' (the header names: t, id)");
+}
+
+TEST(CsvTable, ColumnNamedTwice)
+{
+    expectError("t,x,t\n1,2,3\n", "f.csv:1: column 3 't': named twice");
+}
+
+TEST(CsvTable, NonNumberNamesLineAndColumn)
+{
+    expectError("t,x\n1,2\n2,abc\n", "f.csv:3: column 2 'x': 'abc' is not a number");
+    expectError("x,t\n1,2\n2,3q\n", "f.csv:3: column 2 't': '3q' is not a number");
+    expectError("t,x\n1,\n", "f.csv:2: column 2 'x': empty (a number is required)");
+}
+
+TEST(CsvTable, NonFinite)
+{
+    expectError("t,x\n1,nan\n", "f.csv:2: column 2 'x': 'nan' is not a finite number");
+    expectError("t,x\n1,2\n2,-inf\n", "f.csv:3: column 2 'x': '-inf' is not a finite number");
+    expectError("t,x\n1e999,2\n", "f.csv:2: column 1 't': '1e999' is not a finite number");
+}
+
+TEST(CsvTable, TimeGoingBack)
+{
+    expectError("t,x\n1,0\n3,0\n2,0\n",
+                "f.csv:4: column 1 't': time 2 goes back: it is before 3 (line 3): times must "
+                "increase");
+    expectError("t,x\n1,0\n1,0\n", "f.csv:3: column 1 't': time 1 is not after 1 (line 2)");
+    EXPECT_EQ(errorOf("t,x\n1,0\n1,0\n", false), "");  // equal times: one scan
+    expectError("t,x\n1,0\n0.5,0\n", "time 0.5 goes back", false);
+}
+
+TEST(CsvTable, WrongCellCountAndNoHeader)
+{
+    expectError("t,x\n1,2,3\n", "f.csv:2: expected 2 cells (t, x), found 3");
+    expectError("# nothing\n\n", "'f.csv' has no header row (expected the columns t, x)");
+}
+
+TEST(CsvTable, FromFileNamesThePath)
+{
+    const auto dir = std::filesystem::path(SEMLOC_TEST_OUT) / "csv_table";
+    std::filesystem::create_directories(dir);
+    const auto p = (dir / "odom.csv").string();
+    std::ofstream(p) << "t,x\n1,2\n2,zz\n";
+    const auto t = CsvTable::FromFile(p, {"t", "x"});
+    try
+    {
+        (void)t.number(1, "x");
+        FAIL() << "no error";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find(p + ":3: column 2 'x': 'zz' is not a number"),
+                  std::string::npos)
+            << e.what();
+    }
+    EXPECT_THROW(CsvTable::FromFile((dir / "nope.csv").string(), {"t"}), std::exception);
+    EXPECT_THROW(CsvTable::FromFile(dir.string(), {"t"}), std::exception);
+}
+
+}  // namespace

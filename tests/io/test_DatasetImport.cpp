@@ -1,0 +1,298 @@
+/* semloc tests — DatasetImport and semloc-import: the steps and rawlog made of CSV files, and a
+ * simulated dataset exported as CSV, imported by the tool and localized by semloc-localize. */
+#include <gtest/gtest.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose2D.h>
+#include <semloc/io/DatasetImport.h>
+#include <semloc/simulator/Simulator.h>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "TestHelpers.h"
+
+namespace
+{
+namespace fs = std::filesystem;
+using semloc::DatasetImport;
+using semloc::test::readText;
+
+const std::string kSrc = SEMLOC_SOURCE_DIR;
+const std::string kBin = SEMLOC_BIN_DIR;
+
+fs::path freshDir(const std::string& name)
+{
+    fs::path d = fs::path(SEMLOC_TEST_OUT) / "dataset_import" / name;
+    fs::remove_all(d);
+    fs::create_directories(d);
+    return d;
+}
+
+std::string write(const fs::path& p, const std::string& text)
+{
+    std::ofstream(p) << text;
+    return p.string();
+}
+
+template <typename F>
+std::string errorOf(F&& f)
+{
+    try
+    {
+        f();
+    }
+    catch (const std::exception& e)
+    {
+        return e.what();
+    }
+    return "";
+}
+
+TEST(DatasetImport, OdometryPosesOrSpeeds)
+{
+    const auto d = freshDir("odometry");
+    const auto poses =
+        DatasetImport::readOdometry(write(d / "p.csv", "phi,t,x,y\n0,10,0,0\n1.5,12,2,1\n"));
+    const auto mid = poses.at(11);
+    EXPECT_DOUBLE_EQ(mid.x, 1);
+    EXPECT_DOUBLE_EQ(mid.y, 0.5);
+    EXPECT_DOUBLE_EQ(mid.phi, 0.75);
+    // A quarter circle of radius 2: v = pi/2 m/s, w = pi/4 rad/s for 2 s.
+    const auto arc = DatasetImport::readOdometry(write(
+        d / "s.csv", "# speeds\nt,v,w\n0,1.5707963267948966,0.7853981633974483\n2,0,0\n3,0,0\n"));
+    EXPECT_NEAR(arc.pose[1].x, 2, 1e-12);
+    EXPECT_NEAR(arc.pose[1].y, 2, 1e-12);
+    EXPECT_NEAR(arc.pose[1].phi, M_PI / 2, 1e-12);
+    EXPECT_NE(errorOf([&] { DatasetImport::readOdometry(write(d / "m.csv", "t,x,y\n1,0,0\n")); })
+                  .find("m.csv:1: missing column 'phi'"),
+              std::string::npos);
+    EXPECT_NE(errorOf([&] { DatasetImport::readOdometry(write(d / "b.csv", "t,v\n1,0\n2,0\n")); })
+                  .find("b.csv:1: missing column 'w'"),
+              std::string::npos);
+}
+
+TEST(DatasetImport, DetectionsFormScansAndEmptyScans)
+{
+    const auto d = freshDir("detections");
+    const auto scans = DatasetImport::readDetections(
+        write(d / "det.csv",
+              "t,label,range_m,bearing_rad,id,confidence\n1,buoy,3,0.1,4,0.9\n1,rock,5,-0.2,,\n"
+              "2,,,,,\n3,buoy,2,0,-1,\n"));
+    ASSERT_EQ(scans.size(), 3u);
+    ASSERT_EQ(scans[0].detections.size(), 2u);
+    EXPECT_EQ(scans[0].detections[0].object_id, 4);
+    EXPECT_DOUBLE_EQ(scans[0].detections[0].confidence, 0.9);
+    EXPECT_EQ(scans[0].detections[1].object_id, -1);
+    EXPECT_DOUBLE_EQ(scans[0].detections[1].confidence, 1.0);
+    EXPECT_TRUE(scans[1].detections.empty());
+    EXPECT_EQ(scans[2].detections.size(), 1u);
+    const std::string mixed = errorOf(
+        [&]
+        {
+            DatasetImport::readDetections(
+                write(d / "x.csv", "t,label,range_m,bearing_rad\n1,buoy,3,0\n1,,,\n"));
+        });
+    EXPECT_NE(mixed.find("x.csv:3: column 2 'label': the scan at time 1 is marked empty"),
+              std::string::npos)
+        << mixed;
+    const std::string label = errorOf(
+        [&]
+        {
+            DatasetImport::readDetections(
+                write(d / "l.csv", "t,label,range_m,bearing_rad\n1,oil rig,3,0\n"));
+        });
+    EXPECT_NE(label.find("l.csv:2: column 2 'label':"), std::string::npos) << label;
+}
+
+TEST(DatasetImport, StepsAtScansWithOdometryOnlyStepsInLongGaps)
+{
+    semloc::OdometryTrack odo;
+    odo.t = {0.5, 10};
+    odo.pose = {{0, 0, 0}, {9.5, 0, 0}};
+    std::vector<semloc::DetectionScan> scans = {{0.2, {}}, {1, {}}, {1.4, {}}, {3, {}}, {11, {}}};
+    semloc::TDatasetImportStats stats;
+    const auto steps = DatasetImport::steps(scans, odo, 0.5, stats);
+    // 1 and 1.4 (0.4 apart), then 1.4 .. 3 in 4 gaps of 0.4 s.
+    const std::vector<double> t = {1, 1.4, 1.8, 2.2, 2.6, 3};
+    ASSERT_EQ(steps.size(), t.size());
+    for (size_t k = 0; k < t.size(); k++)
+    {
+        EXPECT_NEAR(steps[k].t, t[k], 1e-12);
+    }
+    EXPECT_EQ(steps[0].scan, 1);
+    EXPECT_EQ(steps[2].scan, -1);
+    EXPECT_EQ(steps[5].scan, 3);
+    EXPECT_EQ(stats.scansOutsideOdometry, 2u);
+
+    semloc::TDatasetImportOptions o;
+    const auto log = DatasetImport::makeRawlog(steps, scans, odo, o, stats);
+    ASSERT_EQ(log.size(), 12u);
+    EXPECT_EQ(stats.odometryOnlySteps, 3u);
+    EXPECT_EQ(stats.scans, 3u);
+    EXPECT_EQ(log.getAsObservations(1)->size(), 1u);  // a scan: its (empty) observation
+    EXPECT_EQ(log.getAsObservations(5)->size(), 0u);  // odometry only: nothing
+    const auto move = log.getAsAction(4)->getBestMovementEstimation();
+    ASSERT_TRUE(move);
+    EXPECT_NEAR(move->poseChange->getMeanVal().x(), 0.4, 1e-12);
+    EXPECT_GT(move->poseChange->getCovariance()(0, 0), 0);
+}
+
+TEST(DatasetImport, LandmarksRejectDuplicateIds)
+{
+    const auto d = freshDir("landmarks");
+    const auto lm = DatasetImport::readLandmarks(
+        write(d / "lm.csv", "label,id,x,y,sigma_x_m\nbuoy,3,1,2,0.5\nrock,7,4,5,\n"));
+    ASSERT_EQ(lm.size(), 2u);
+    EXPECT_EQ(lm[1].object.id, 7);
+    EXPECT_DOUBLE_EQ(lm[0].sigma_x_m, 0.5);
+    EXPECT_TRUE(std::isnan(lm[1].sigma_x_m));
+    const std::string dup = errorOf(
+        [&]
+        { DatasetImport::readLandmarks(write(d / "d.csv", "id,label,x,y\n3,a,0,0\n3,b,1,1\n")); });
+    EXPECT_NE(dup.find("d.csv:3: column 1 'id': duplicate id 3 (first on line 2)"),
+              std::string::npos)
+        << dup;
+}
+
+// ------------------------------------------------------------------ end to end
+
+int runTool(const std::string& commandLine, const fs::path& log)
+{
+    const int status = std::system((commandLine + " >" + log.string() + " 2>&1").c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/** A simulated paper dataset (detector 0.5 m ahead, yawed 10 deg) as CSV files: dead-reckoned
+ *  odometry, every third scan left out (gaps of 2 s: odometry-only steps), empty scans marked,
+ *  ground truth and landmarks. */
+void exportSimulation(const fs::path& d)
+{
+    auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate.ini");
+    o.simulation.world_file = kSrc + "/maps/paper_50x50.yaml";
+    o.detector.sensor_x_m = 0.5;
+    o.detector.sensor_yaw_deg = 10;
+    const semloc::Simulator sim(o);
+    const auto res = sim.run();
+    std::ostringstream odo, det, gt, lm;
+    odo.precision(17);
+    det.precision(17);
+    gt.precision(17);
+    odo << "t,x,y,phi\n";
+    det << "# a simulated detector\nt,label,range_m,bearing_rad,id,confidence\n";
+    gt << "t,x,y,phi\n";
+    lm << "id,label,x,y,sigma_x_m,sigma_y_m\n";
+    mrpt::poses::CPose2D dead(0, 0, 0);
+    for (size_t i = 0, k = 0; i + 1 < res.rawlog.size(); i += 2, k++)
+    {
+        const auto acts = res.rawlog.getAsAction(i);
+        dead = dead + acts->getBestMovementEstimation()->poseChange->getMeanVal();
+        const double t = mrpt::Clock::toDouble(acts->get(0)->timestamp);
+        odo << t << ',' << dead.x() << ',' << dead.y() << ',' << dead.phi() << '\n';
+        const auto sem = res.rawlog.getAsObservations(i + 1)
+                             ->getObservationByClass<semloc::CObservationSemantic>();
+        if (k % 3 == 1)
+        {
+            continue;
+        }
+        for (const auto& x : sem->detections)
+        {
+            det << t << ',' << x.label << ',' << x.range_m << ',' << x.bearing_rad << ','
+                << x.object_id << ',' << x.confidence << '\n';
+        }
+        if (sem->detections.empty())
+        {
+            det << t << ",,,,,\n";
+        }
+    }
+    for (const auto& r : res.groundTruth)
+    {
+        gt << r.t << ',' << r.x << ',' << r.y << ',' << r.phi << '\n';
+    }
+    for (const auto& ob : sim.world().objects)
+    {
+        lm << ob.id << ',' << ob.label << ',' << ob.center.x << ',' << ob.center.y << ",0.1,0.1\n";
+    }
+    write(d / "odom.csv", odo.str());
+    write(d / "det.csv", det.str());
+    write(d / "gt.csv", gt.str());
+    write(d / "lm.csv", lm.str());
+}
+
+/** config/semantic.ini on the imported dataset, `particles` particles. */
+void writeIni(const fs::path& d, int particles)
+{
+    std::string ini = readText(kSrc + "/config/semantic.ini");
+    const std::vector<std::pair<std::string, std::string>> keys = {
+        {"map_file", "run_world.yaml"},
+        {"ground_truth_path_file", "run_gt.txt"},
+        {"logOutput_dir", "loc"},
+        {"particles_count", std::to_string(particles)}};
+    for (const auto& [k, v] : keys)
+    {
+        std::string pattern = "\n";
+        pattern += k;
+        pattern += " *=[^\n]*";
+        std::string line = "\n";
+        line += k;
+        line += " = ";
+        line += v;
+        ini = std::regex_replace(ini, std::regex(pattern), line);
+    }
+    write(d / "loc.ini", ini);
+}
+
+TEST(DatasetImport, SimulatedDatasetImportedAndLocalized)
+{
+    const auto d = freshDir("end_to_end");
+    exportSimulation(d);
+    const std::string import = "cd " + d.string() + " && " + kBin +
+                               "/semloc-import -o run.rawlog --odometry odom.csv --detections "
+                               "det.csv --ground-truth gt.csv --landmarks lm.csv "
+                               "--max-range-m 20 --fov-deg 120 --sensor-pose 0.5,0,10";
+    ASSERT_EQ(runTool(import, d / "import.log"), 0) << readText(d / "import.log");
+    const std::string summary = readText(d / "import.log");
+    // 431 scans, 144 of them left out: 287 scans, 143 gaps of 2 s with 3 odometry-only steps
+    // each and 143 gaps of 1 s with 1.
+    EXPECT_NE(summary.find("run.rawlog: 859 steps (287 scans, 572 odometry-only)"),
+              std::string::npos)
+        << summary;
+    for (const char* f : {"run.rawlog", "run_gt.txt", "run_world.yaml"})
+    {
+        EXPECT_TRUE(fs::exists(d / f)) << f;
+    }
+    writeIni(d, 3000);
+    ASSERT_EQ(runTool("cd " + d.string() + " && " + kBin + "/semloc-localize loc.ini run.rawlog -q",
+                      d / "localize.log"),
+              0)
+        << readText(d / "localize.log");
+    const std::string yaml = readText(d / "loc" / "summary.yaml");
+    EXPECT_NE(yaml.find("steps: 859\n"), std::string::npos) << yaml;
+    // Every step is timed, the odometry-only ones by their action, and has ground truth.
+    EXPECT_NE(yaml.find("steps_with_ground_truth: 859\n"), std::string::npos) << yaml;
+    EXPECT_NE(yaml.find("converged: true"), std::string::npos) << yaml;
+    EXPECT_NE(yaml.find("detections_invalid: 0\n"), std::string::npos) << yaml;
+    const std::regex finalErr("final_err_m: ([0-9.e-]+)");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(yaml, m, finalErr)) << yaml;
+    EXPECT_LT(std::stod(m[1]), 1.0) << yaml;
+    // The same import again replaces its own outputs; an input as the output is refused.
+    EXPECT_EQ(runTool(import, d / "again.log"), 0) << readText(d / "again.log");
+    EXPECT_NE(runTool("cd " + d.string() + " && " + kBin +
+                          "/semloc-import -o odom.csv --odometry odom.csv --detections det.csv",
+                      d / "refused.log"),
+              0);
+    EXPECT_NE(readText(d / "refused.log").find("is the input"), std::string::npos);
+}
+
+}  // namespace
