@@ -124,12 +124,12 @@ TEST(MotionModel, ReadWriteEveryKeyAndRejectMistakes)
     };
     for (const auto& [line, needle] : bad)
     {
+        const std::string text = std::string("[MotionModel]\n") + line + "\n";
         const std::string err = errorOf(
-            [&]
+            [&text]
             {
                 MotionModel::TOptions x;
-                x.loadFromConfigFile(iniText(std::string("[MotionModel]\n") + line + "\n"),
-                                     "MotionModel");
+                x.loadFromConfigFile(iniText(text), "MotionModel");
             });
         EXPECT_NE(err.find(needle), std::string::npos) << line << ": " << err;
     }
