@@ -33,7 +33,7 @@ const std::string kBin = SEMLOC_BIN_DIR;
 
 /** Peak resident set allowed to each tool on the 20 km world [MiB] (docs/design.md, "Large
  *  worlds"). A raster of the world at the 0.1 m of small worlds would take 40 GB, at 1 m 400 MB. */
-constexpr long kBudget_MiB = 256;
+[[maybe_unused]] constexpr long kBudget_MiB = 256;  // unused when sanitized
 
 using semloc::test::readText;
 
