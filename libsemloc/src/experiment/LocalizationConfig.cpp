@@ -33,7 +33,7 @@ const std::string kSection = "LocalizationExperiment";
 
 /** Sections semloc-localize reads; [MetricMap_...] are checked by LocalizationMap. */
 const std::vector<std::string> kSections = {
-    kSection, "PF_options", "KLD_options", "DummyOdometryParams", MotionModel::kSection,
+    kSection,   "PF_options", "KLD_options", "DummyOdometryParams", MotionModel::kSection,
     "MetricMap"};
 
 /** pf-localization keys about its 3D display, repetitions or 3D particles: accepted,
