@@ -16,10 +16,6 @@
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>
 
-#include <cerrno>
-#include <cstdio>
-#include <cstring>
-#include <functional>
 #include <iostream>
 #include <string>
 #include <vector>
