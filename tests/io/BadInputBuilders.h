@@ -135,6 +135,7 @@ Cases rawlogOdometryCases();
 Cases timeCases();
 Cases observationCases();
 Cases importCases();
+Cases calibrateCases();
 
 inline std::vector<Cases> allCaseGroups()
 {
@@ -142,6 +143,6 @@ inline std::vector<Cases> allCaseGroups()
             outputDirectoryCases(), outputFileCases(), worldSyntaxCases(),
             worldContentCases(),    rawlogFileCases(), rawlogDamagedCases(),
             rawlogOdometryCases(),  timeCases(),       observationCases(),
-            importCases()};
+            importCases(),          calibrateCases()};
 }
 }  // namespace semloc::test::bad_input

@@ -421,4 +421,47 @@ Cases importCases()
     };
 }
 
+/** semloc-calibrate: the simulated dataset, its first `gtRows` ground-truth rows, the base
+ *  config/<base>.ini copied as base.ini, the calibrated ini written to `out`. */
+namespace
+{
+std::vector<std::string> calibrate(const fs::path& d, size_t gtRows, const std::string& base,
+                                   const std::string& out)
+{
+    const auto sim = simulate();
+    saveGz(sim.rawlog, d / "data.rawlog");
+    std::ostringstream gt;
+    gt.precision(17);
+    for (size_t i = 0; i < gtRows && i < sim.groundTruth.size(); i++)
+    {
+        const auto& r = sim.groundTruth[i];
+        gt << r.t << " " << r.x << " " << r.y << " " << r.phi << "\n";
+    }
+    writeText(d / "gt.txt", gt.str());
+    fs::copy_file(kSrc + "/config/" + base + ".ini", d / "base.ini");
+    return {"semloc-calibrate",
+            (d / "data.rawlog").string(),
+            "--world",
+            kSrc + "/maps/paper_50x50.yaml",
+            "--ground-truth",
+            (d / "gt.txt").string(),
+            "--base",
+            (d / "base.ini").string(),
+            "-o",
+            (d / out).string()};
+}
+}  // namespace
+
+Cases calibrateCases()
+{
+    return {
+        {"calibrate-base-no-semantic-map",
+         [](const fs::path& d) { return calibrate(d, 100, "geometric", "out.ini"); }},
+        {"calibrate-ground-truth-short",
+         [](const fs::path& d) { return calibrate(d, 2, "semantic", "out.ini"); }},
+        {"calibrate-out-is-input",
+         [](const fs::path& d) { return calibrate(d, 100, "semantic", "base.ini"); }},
+    };
+}
+
 }  // namespace semloc::test::bad_input

@@ -1,0 +1,119 @@
+/* semloc-calibrate: the detector's and the odometry's noise of a dataset with ground truth, as a
+ * semloc-localize configuration:
+ *   semloc-calibrate run.rawlog --world w.yaml --ground-truth run_gt.txt --base semantic.ini \
+ *                    -o calibrated.ini [--report DIR]
+ * docs/tools.md, "semloc-calibrate". */
+#include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <semloc/calibration/SensorCalibration.h>
+#include <semloc/io/Interrupt.h>
+#include <semloc/io/OutputPaths.h>
+#include <semloc/io/RawlogReader.h>
+#include <semloc/io/StagedDirectory.h>
+#include <semloc/simulator/Simulator.h>
+#include <semloc/world/World.h>
+
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "common/AppMain.h"
+#include "common/ReplaceFiles.h"
+
+namespace
+{
+TCLAP::CmdLine cmd(
+    "semloc-calibrate: a dataset's detector and odometry noise, fitted against "
+    "its ground truth, as a semloc-localize configuration",
+    ' ', "0.1");
+TCLAP::UnlabeledValueArg<std::string> argRawlog("rawlog", "Dataset (rawlog)", true, "",
+                                                "DATASET.rawlog", cmd);
+TCLAP::ValueArg<std::string> argWorld("", "world", "World file (YAML) of the dataset", true, "",
+                                      "W.yaml", cmd);
+TCLAP::ValueArg<std::string> argGroundTruth("", "ground-truth", "Ground truth: t x y phi per line",
+                                            true, "", "GT.txt", cmd);
+TCLAP::ValueArg<std::string> argBase("", "base", "semloc-localize ini the fits are written into",
+                                     true, "", "BASE.ini", cmd);
+TCLAP::ValueArg<std::string> argOut("o", "output", "Calibrated ini to write", true, "", "OUT.ini",
+                                    cmd);
+TCLAP::ValueArg<std::string> argReport("", "report", "Directory for report.md and its figures",
+                                       false, "", "DIR", cmd);
+TCLAP::ValueArg<double> argGate("", "gate-m",
+                                "Matching gate around an object's centre [m] (default 3)", false,
+                                3.0, "G", cmd);
+
+std::string readText(const std::string& path)
+{
+    std::ifstream f(path, std::ios::binary);
+    std::stringstream s;
+    s << f.rdbuf();
+    if (!f)
+    {
+        throw std::runtime_error("ini '" + path + "': cannot be read");
+    }
+    return s.str();
+}
+
+void run()
+{
+    const std::string rawlogPath = argRawlog.getValue(), out = argOut.getValue(),
+                      report = argReport.getValue(), base = argBase.getValue();
+    const std::vector<std::string> inputs = {rawlogPath, argWorld.getValue(),
+                                             argGroundTruth.getValue(), base};
+    semloc::checkOutputFile(out, inputs);
+    std::unique_ptr<semloc::StagedDirectory> staged;
+    if (!report.empty())
+    {
+        staged = std::make_unique<semloc::StagedDirectory>(report, inputs);
+    }
+    semloc::SensorCalibration::TOptions o;
+    o.gate_m = argGate.getValue();
+    if (!(o.gate_m > 0))
+    {
+        throw std::invalid_argument("--gate-m must be > 0");
+    }
+    // Everything is read and checked before anything is written.
+    const std::string baseText = readText(base);
+    semloc::SensorCalibration::CheckBase(baseText, base);
+    const auto world = semloc::World::FromFile(argWorld.getValue());
+    const auto gt = semloc::Simulator::readGroundTruth(argGroundTruth.getValue());
+    const auto rawlog = semloc::RawlogReader::Load(rawlogPath);
+    const auto result = semloc::SensorCalibration::Estimate(rawlog, rawlogPath, world, gt, o);
+    const std::string ini = semloc::SensorCalibration::ApplyToIni(baseText, base, result);
+
+    semloc::installInterruptHandlers();
+    if (staged)
+    {
+        semloc::SensorCalibration::WriteReport(result, *staged);
+    }
+    semloc::apps::replaceAll({out},
+                             [&]
+                             {
+                                 std::ofstream f(out + ".tmp", std::ios::binary);
+                                 f << ini;
+                                 if (!f.flush())
+                                 {
+                                     throw std::runtime_error("cannot write '" + out + ".tmp'");
+                                 }
+                             });
+    if (staged)
+    {
+        staged->commit();
+    }
+    std::cout << "semloc-calibrate: " << result.scans << " scans, " << result.increments
+              << " odometry increments: sigma_range_m " << result.sigma_range_m.value
+              << ", sigma_bearing_deg " << result.sigma_bearing_deg.value << ", p_detect "
+              << result.p_detect_near.value << " .. " << result.p_detect_far.value
+              << ", clutter_per_scan " << result.clutter_per_scan.value << ", p_confusion "
+              << result.p_confusion.value << "; wrote " << out
+              << (report.empty() ? "" : " and " + report) << "\n";
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    return semloc::apps::runMain(cmd, argc, argv, "semloc-calibrate", run);
+}

@@ -1,0 +1,129 @@
+/* semloc — the detector's and the odometry's noise estimated from a dataset with ground truth
+ * (semloc-calibrate's engine). */
+#pragma once
+
+#include <mrpt/obs/CRawlog.h>
+#include <semloc/io/StagedDirectory.h>
+#include <semloc/simulator/Simulator.h>
+#include <semloc/world/World.h>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace semloc
+{
+/** One estimated value and how it was fitted. */
+struct TCalibrationFit
+{
+    /** The estimate, in the unit of the ini key it fills. */
+    double value = 0;
+    /** Number of samples it was fitted from. */
+    size_t n = 0;
+    /** Half-width of its approximate 95 % confidence interval (same unit; 0: not computed). */
+    double ci95 = 0;
+    /** How it was fitted, one phrase (written as the ini key's comment). */
+    std::string method;
+};
+
+/** The samples behind the fits (the report's histograms and curves). */
+struct TCalibrationSamples
+{
+    std::vector<double> rangeResiduals_m;      //!< detection minus object range
+    std::vector<double> bearingResiduals_deg;  //!< detection minus object bearing
+    std::vector<double> visibleRanges_m;       //!< range of every in-view object ...
+    std::vector<int> visibleDetected;          //!< ... 1 when a detection matched it
+    /** ... per unit of clutter rate, the expected other-label clutter within its gate when no
+     *  detection of its label matched it (else 0): what the confusion pass may take for it. */
+    std::vector<double> visibleSpurious;
+    std::vector<double> odomDist_m;      //!< true increment length per step
+    std::vector<double> odomTurn_rad;    //!< |true increment rotation| per step
+    std::vector<double> odomErrXY_m;     //!< |position error| of the odometry per step
+    std::vector<double> odomErrPhi_rad;  //!< |heading error| of the odometry per step
+};
+
+/** Every fit semloc-calibrate writes. The keys are those of
+ *  [MetricMap_semanticMap_00_likelihoodOpts] and [MotionModel] (MotionModel.h units). */
+struct TCalibrationResult
+{
+    TCalibrationFit sigma_range_m, sigma_bearing_deg;
+    TCalibrationFit p_detect_near, p_detect_far;
+    TCalibrationFit clutter_per_scan, p_confusion;
+    TCalibrationFit a1, a2, a3, a4, minStdXY, minStdPHI;
+    /** Semantic scans with a ground-truth pose, and the detector's max range of the first. */
+    size_t scans = 0;
+    double maxRange_m = 0;
+    /** Detections matched to an object of their label, of another label, unmatched. */
+    size_t matched = 0, confused = 0, clutter = 0;
+    /** Odometry increments compared with ground-truth increments. */
+    size_t increments = 0;
+    TCalibrationSamples samples;
+};
+
+/** Estimates the noise of a dataset's detector and odometry against its ground truth
+ *  (docs/tools.md, "semloc-calibrate").
+ *
+ *  **Matching.** At each semantic scan the vehicle is at the ground-truth row nearest in time
+ *  (at most `gtTolerance_s` away, else an error naming the rawlog entry). The in-view objects
+ *  are the world's objects the detector sees from there, occlusion included
+ *  (SemanticDetectorModel::visibleObjects with the observation's max range, field of view
+ *  and sensor pose). A detection is matched to an in-view object of its label whose centre
+ *  lies within the **gate** `gate_m` (Euclidean distance between the detection's point and the
+ *  object's centre, in the sensor frame; default 3 m = 6 sigma of the default range noise),
+ *  one to one, greedily from the nearest pair. The detections left are then matched, the same
+ *  way, to the in-view objects left of any other label (confusions); the rest are clutter.
+ *  Clutter that falls within the gate of an object left after the first pass is counted as a
+ *  confusion there: its expected number (the clutter's density, uniform in range and bearing,
+ *  integrated over each such gate) is moved back from the confusions and detections to the
+ *  clutter (iterated to a fixed point, as it depends on the clutter rate).
+ *
+ *  **Fits.** sigma_range_m, sigma_bearing_deg: 1.4826 x the median absolute deviation of the
+ *  matched residuals (robust to the few clutter points the gate lets in). p_detect_near/far:
+ *  least-squares line of "detected" (0/1) against r / max_range over every in-view object,
+ *  at 0 and at 1. clutter_per_scan: unmatched detections per scan (Poisson interval), corrected as
+ *  above. p_confusion: confused / (matched + confused), corrected as above. Odometry: the error of
+ * each odometry increment against the ground-truth increment (both in the previous true pose's
+ * frame); E|e_xy| = std_xy sqrt(pi/2) for an isotropic 2D Gaussian and E|e_phi| = std_phi
+ * sqrt(2/pi), so least squares of |e| against [1, d, |dphi|] gives minStdXY, a1, a2 and minStdPHI,
+ * a3, a4 (clamped at 0); a coefficient whose regressor does not vary (e.g. no turns) is 0. */
+class SensorCalibration
+{
+public:
+    /** Tunables of the estimator. */
+    struct TOptions
+    {
+        /** Gate of the matching [m]. */
+        double gate_m = 3.0;
+        /** Largest time between a scan and its ground-truth row [s]. */
+        double gtTolerance_s = 0.05;
+    };
+
+    /** Fits every value from `rawlog` (read from `rawlogName`, used in errors), the world's
+     *  objects and the ground truth. Throws on a dataset without semantic scans, a scan without
+     *  a ground-truth row, too few samples for a fit. */
+    static TCalibrationResult Estimate(const mrpt::obs::CRawlog& rawlog,
+                                       const std::string& rawlogName, const World& world,
+                                       const std::vector<GroundTruthRow>& groundTruth,
+                                       const TOptions& options);
+
+    /** Throws naming the file and [MetricMap] semanticMap_count when `baseIni` (read from
+     *  `baseName`) has no semantic map whose noise the fits could fill. */
+    static void CheckBase(const std::string& baseIni, const std::string& baseName);
+
+    /** The text of `baseIni` (read from `baseName`) with the fitted values in place: each key
+     *  of [MetricMap_semanticMap_00_likelihoodOpts] and [MotionModel] replaced (or added) with
+     *  a comment giving its fit, `model = probabilistic` and `source = gaussian`. Throws naming
+     *  the file and [section] key when the base has no semantic map. */
+    static std::string ApplyToIni(const std::string& baseIni, const std::string& baseName,
+                                  const TCalibrationResult& result);
+
+    /** Writes the fits into `out`'s staging directory: report.md (a table of the fits) and
+     *  its figures drawn by gnuplot (fig_residuals.png: the range and bearing residuals'
+     *  histograms with the fitted Gaussians; fig_detection.png: the detected share by range
+     *  with the fitted P_D(r); fig_odometry.png: the odometry errors against the distance
+     *  travelled with the fitted standard deviations), the data in *.dat and figures.gp.
+     *  Throws when gnuplot fails. */
+    static void WriteReport(const TCalibrationResult& result, const StagedDirectory& out);
+};
+
+}  // namespace semloc

@@ -1,0 +1,252 @@
+/* semloc — the fits of semloc-calibrate (docs/tools.md, "semloc-calibrate"). */
+#include "calibration/CalibrationFits.h"
+
+#include <mrpt/core/bits_math.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+namespace semloc::detail
+{
+namespace
+{
+constexpr double kZ95 = 1.96;
+
+/** A number in 4 significant digits. */
+std::string text(double v)
+{
+    std::ostringstream s;
+    s << std::setprecision(4) << v;
+    return s.str();
+}
+
+double median(std::vector<double> x)
+{
+    if (x.empty())
+    {
+        return 0;
+    }
+    const size_t h = x.size() / 2;
+    std::nth_element(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(h), x.end());
+    const double hi = x[h];
+    if (x.size() % 2 == 1)
+    {
+        return hi;
+    }
+    return 0.5 * (hi + *std::max_element(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(h)));
+}
+
+TCalibrationFit fit(double value, size_t n, double ci95, const std::string& method)
+{
+    TCalibrationFit f;
+    f.value = value;
+    f.n = n;
+    f.ci95 = ci95;
+    f.method = method;
+    return f;
+}
+
+/** A robust sigma with its interval: the MAD's asymptotic efficiency is 37 %. */
+TCalibrationFit robustSigma(const std::vector<double>& x)
+{
+    const double s = madSigma(x);
+    const double n = static_cast<double>(x.size());
+    return fit(s, x.size(), kZ95 * 1.166 * s / std::sqrt(std::max(n, 1.0)),
+               "1.4826 MAD of the matched residuals");
+}
+
+/** Least squares of y on [1, x] evaluated at x = 0 and x = 1, with their half-widths. */
+void detectionLine(const TCalibrationResult& r, double lambda, TCalibrationFit& nearFit,
+                   TCalibrationFit& farFit)
+{
+    const auto& rs = r.samples.visibleRanges_m;
+    const auto& ys = r.samples.visibleDetected;
+    const size_t n = rs.size();
+    std::vector<double> x(n), y(n);
+    for (size_t i = 0; i < n; i++)
+    {
+        x[i] = r.maxRange_m > 0 ? rs[i] / r.maxRange_m : 0.0;
+        y[i] = ys[i] - lambda * r.samples.visibleSpurious[i];  // less the expected clutter
+    }
+    // Ordinary least squares (the slope is negative when P_D falls with range).
+    double mx = 0, my = 0;
+    for (size_t i = 0; i < n; i++)
+    {
+        mx += x[i];
+        my += y[i];
+    }
+    mx /= static_cast<double>(n);
+    my /= static_cast<double>(n);
+    double sxx = 0, sxy = 0;
+    for (size_t i = 0; i < n; i++)
+    {
+        sxx += (x[i] - mx) * (x[i] - mx);
+        sxy += (x[i] - mx) * (y[i] - my);
+    }
+    const double b = sxx > 0 ? sxy / sxx : 0.0, a = my - b * mx;
+    double sse = 0;
+    for (size_t i = 0; i < n; i++)
+    {
+        sse += (y[i] - a - b * x[i]) * (y[i] - a - b * x[i]);
+    }
+    const double s = n > 2 ? std::sqrt(sse / static_cast<double>(n - 2)) : 0.0;
+    const auto se = [&](double x0)
+    {
+        return s * std::sqrt(1.0 / static_cast<double>(n) +
+                             (sxx > 0 ? (x0 - mx) * (x0 - mx) / sxx : 0.0));
+    };
+    const std::string how = "least-squares line of detected (0/1) against range / " +
+                            text(r.maxRange_m) + " m over the in-view objects";
+    nearFit = fit(std::clamp(a, 0.0, 1.0), n, kZ95 * se(0.0), how + ", at 0 m");
+    farFit = fit(std::clamp(a + b, 0.0, 1.0), n, kZ95 * se(1.0), how + ", at max range");
+}
+}  // namespace
+
+double madSigma(std::vector<double> x)
+{
+    const double m = median(x);
+    for (double& v : x)
+    {
+        v = std::abs(v - m);
+    }
+    return 1.482602218505602 * median(std::move(x));
+}
+
+std::vector<double> nonNegativeLeastSquares(const std::vector<std::vector<double>>& cols,
+                                            const std::vector<double>& y, std::vector<double>& ci95)
+{
+    const size_t k = cols.size(), n = y.size();
+    std::vector<double> best(k, 0.0);
+    ci95.assign(k, 0.0);
+    double bestSse = std::numeric_limits<double>::infinity();
+    for (unsigned mask = 1; mask < (1U << k); mask++)
+    {
+        std::vector<size_t> use;
+        for (size_t c = 0; c < k; c++)
+        {
+            if ((mask >> c) & 1U)
+            {
+                use.push_back(c);
+            }
+        }
+        Eigen::MatrixXd X(n, use.size());
+        Eigen::VectorXd Y(n);
+        for (size_t i = 0; i < n; i++)
+        {
+            Y(static_cast<Eigen::Index>(i)) = y[i];
+            for (size_t c = 0; c < use.size(); c++)
+            {
+                X(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c)) = cols[use[c]][i];
+            }
+        }
+        const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(X);
+        if (n <= use.size() || qr.rank() < static_cast<Eigen::Index>(use.size()))
+        {
+            continue;
+        }
+        const Eigen::VectorXd b = qr.solve(Y);
+        if ((b.array() < 0).any())
+        {
+            continue;
+        }
+        const double sse = (X * b - Y).squaredNorm();
+        if (sse < bestSse * (1 - 1e-12))
+        {
+            bestSse = sse;
+            const Eigen::MatrixXd cov =
+                (X.transpose() * X).inverse() * sse / static_cast<double>(n - use.size());
+            std::fill(best.begin(), best.end(), 0.0);
+            std::fill(ci95.begin(), ci95.end(), 0.0);
+            for (size_t c = 0; c < use.size(); c++)
+            {
+                const auto e = static_cast<Eigen::Index>(c);
+                best[use[c]] = b(e);
+                ci95[use[c]] = kZ95 * std::sqrt(std::max(cov(e, e), 0.0));
+            }
+        }
+    }
+    return best;
+}
+
+void fitOdometry(TCalibrationResult& r)
+{
+    const auto& sm = r.samples;
+    // An increment whose error is 10 medians away is not noise (a kidnapping, a jump in the
+    // ground truth): it is left out.
+    const double limXY = 10 * median(sm.odomErrXY_m), limPhi = 10 * median(sm.odomErrPhi_rad);
+    std::vector<std::vector<double>> cols(3);
+    std::vector<double> exy, ephi;
+    for (size_t i = 0; i < sm.odomDist_m.size(); i++)
+    {
+        if (sm.odomErrXY_m[i] <= limXY && sm.odomErrPhi_rad[i] <= limPhi)
+        {
+            cols[0].push_back(1.0);
+            cols[1].push_back(sm.odomDist_m[i]);
+            cols[2].push_back(sm.odomTurn_rad[i]);
+            // E|e| = std sqrt(pi/2) (2D isotropic), std sqrt(2/pi) (1D).
+            exy.push_back(sm.odomErrXY_m[i] / std::sqrt(M_PI / 2));
+            ephi.push_back(sm.odomErrPhi_rad[i] / std::sqrt(2 / M_PI));
+        }
+    }
+    const size_t n = exy.size();
+    std::vector<double> cxy(3, 0.0), cphi(3, 0.0), ixy(3, 0.0), iphi(3, 0.0);
+    if (n >= 4)
+    {
+        cxy = nonNegativeLeastSquares(cols, exy, ixy);
+        cphi = nonNegativeLeastSquares(cols, ephi, iphi);
+    }
+    const std::string xy = "least squares (>= 0) of |xy error| / sqrt(pi/2) against [1, d, |dphi|]";
+    const std::string ph =
+        "least squares (>= 0) of |phi error| / sqrt(2/pi) against [1, d, |dphi|]";
+    const double d2r = M_PI / 180;
+    r.minStdXY = fit(cxy[0], n, ixy[0], xy);
+    r.a1 = fit(cxy[1], n, ixy[1], xy);
+    r.a2 = fit(cxy[2] * d2r, n, ixy[2] * d2r, xy);
+    r.minStdPHI = fit(mrpt::RAD2DEG(cphi[0]), n, mrpt::RAD2DEG(iphi[0]), ph);
+    r.a3 = fit(mrpt::RAD2DEG(cphi[1]), n, mrpt::RAD2DEG(iphi[1]), ph);
+    r.a4 = fit(cphi[2], n, iphi[2], ph);
+}
+
+void fitDetector(TCalibrationResult& r)
+{
+    if (r.samples.rangeResiduals_m.empty())
+    {
+        throw std::runtime_error(
+            "calibration: no detection matched an in-view object of its "
+            "label (wrong world, ground truth or gate?)");
+    }
+    r.sigma_range_m = robustSigma(r.samples.rangeResiduals_m);
+    r.sigma_bearing_deg = robustSigma(r.samples.bearingResiduals_deg);
+    // Clutter within the gate of an object without a same-label match was taken for a
+    // confusion: its expected number depends on the clutter rate (fixed point).
+    double spuriousPerRate = 0;
+    for (double v : r.samples.visibleSpurious)
+    {
+        spuriousPerRate += v;
+    }
+    const double scans = static_cast<double>(r.scans);
+    double lambda = static_cast<double>(r.clutter) / scans, spurious = 0;
+    for (int it = 0; it < 50; it++)
+    {
+        spurious = std::min(lambda * spuriousPerRate, static_cast<double>(r.confused));
+        lambda = (static_cast<double>(r.clutter) + spurious) / scans;
+    }
+    detectionLine(r, lambda, r.p_detect_near, r.p_detect_far);
+    const double clutter = static_cast<double>(r.clutter) + spurious;
+    r.clutter_per_scan =
+        fit(lambda, r.scans, kZ95 * std::sqrt(std::max(clutter, 1.0)) / scans,
+            std::to_string(r.clutter) + " detections matching no in-view object + " +
+                text(spurious) + " expected in the confusion gates, per scan");
+    const double confused = static_cast<double>(r.confused) - spurious;
+    const double n = static_cast<double>(r.matched) + confused;
+    const double p = n > 0 ? confused / n : 0.0;
+    r.p_confusion = fit(p, r.matched + r.confused, kZ95 * std::sqrt(p * (1 - p) / std::max(n, 1.0)),
+                        std::to_string(r.confused) + " matched detections of another label, less " +
+                            text(spurious) + " expected clutter");
+}
+}  // namespace semloc::detail

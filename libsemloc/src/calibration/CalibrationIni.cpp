@@ -1,0 +1,195 @@
+/* semloc — semloc-calibrate's output ini: the base configuration with the fitted values in
+ * place, each with a comment giving its fit. */
+#include <mrpt/config/CConfigFileMemory.h>
+#include <semloc/calibration/SensorCalibration.h>
+#include <semloc/filter/MotionModel.h>
+
+#include <algorithm>
+#include <cctype>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "io/Text.h"
+
+namespace semloc
+{
+namespace
+{
+using detail::trim;
+
+const char* const kLikelihood = "MetricMap_semanticMap_00_likelihoodOpts";
+
+std::string lower(std::string s)
+{
+    std::transform(s.begin(), s.end(), s.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    return s;
+}
+
+/** The section a line opens ("" when it opens none). */
+std::string sectionOf(const std::string& line)
+{
+    const std::string t = trim(line);
+    return t.size() >= 2 && t.front() == '[' && t.back() == ']' ? trim(t.substr(1, t.size() - 2))
+                                                                : std::string();
+}
+
+/** The key a line sets ("" for a comment, a blank line or a section). */
+std::string keyOf(const std::string& line)
+{
+    const std::string t = trim(line);
+    const auto eq = t.find('=');
+    if (t.empty() || t[0] == '#' || t[0] == ';' || t[0] == '[' || t.rfind("//", 0) == 0 ||
+        eq == std::string::npos)
+    {
+        return "";
+    }
+    return trim(t.substr(0, eq));
+}
+
+std::string number(double v)
+{
+    std::ostringstream s;
+    s << std::setprecision(4) << v;
+    return s.str();
+}
+
+std::string keyLine(const std::string& key, const std::string& value, const std::string& comment)
+{
+    std::string k = key;
+    k.resize(std::max<size_t>(key.size(), 24), ' ');
+    std::string v = value + " ";  // MRPT reads "//" as a comment only after a blank
+    v.resize(std::max<size_t>(v.size(), 10), ' ');
+    return k + "= " + v + (comment.empty() ? "" : "// " + comment);
+}
+
+std::string fitComment(const TCalibrationFit& f)
+{
+    return "calibrated: n = " + std::to_string(f.n) + ", +/- " + number(f.ci95) + " (95 %), " +
+           f.method;
+}
+
+/** The base's lines, with `key` of `section` set (replaced where the base has it, else added
+ *  at the end of the section, or in a new section at the end). */
+class IniText
+{
+public:
+    IniText(const std::string& text, std::string name) : m_name(std::move(name))
+    {
+        std::istringstream in(text);
+        for (std::string line; std::getline(in, line);)
+        {
+            m_lines.push_back(line);
+        }
+    }
+    void set(const std::string& section, const std::string& key, const std::string& value,
+             const std::string& comment)
+    {
+        std::string cur;
+        size_t found = m_lines.size(), lastInSection = m_lines.size();
+        bool inSection = false;
+        for (size_t i = 0; i < m_lines.size(); i++)
+        {
+            if (const std::string s = sectionOf(m_lines[i]); !s.empty())
+            {
+                inSection = lower(s) == lower(section);
+                cur = s;
+            }
+            if (!inSection)
+            {
+                continue;
+            }
+            if (!trim(m_lines[i]).empty())
+            {
+                lastInSection = i;
+            }
+            if (lower(keyOf(m_lines[i])) == lower(key))
+            {
+                if (found < m_lines.size())
+                {
+                    throw std::runtime_error("ini '" + m_name + "': line " + std::to_string(i + 1) +
+                                             ": [" + section + "] " + key +
+                                             ": set twice (first on line " +
+                                             std::to_string(found + 1) + ")");
+                }
+                found = i;
+            }
+        }
+        const std::string line = keyLine(key, value, comment);
+        if (found < m_lines.size())
+        {
+            m_lines[found] = line;
+        }
+        else if (lastInSection < m_lines.size())
+        {
+            m_lines.insert(m_lines.begin() + static_cast<std::ptrdiff_t>(lastInSection + 1), line);
+        }
+        else
+        {
+            m_lines.emplace_back("");
+            m_lines.push_back("[" + section + "]");
+            m_lines.push_back(line);
+        }
+    }
+    std::string text() const
+    {
+        std::string out;
+        for (const auto& l : m_lines)
+        {
+            out += l + "\n";
+        }
+        return out;
+    }
+
+private:
+    std::string m_name;
+    std::vector<std::string> m_lines;
+};
+
+void setFit(IniText& ini, const char* section, const char* key, const TCalibrationFit& f)
+{
+    ini.set(section, key, number(f.value), fitComment(f));
+}
+}  // namespace
+
+void SensorCalibration::CheckBase(const std::string& baseIni, const std::string& baseName)
+{
+    mrpt::config::CConfigFileMemory mem(baseIni);
+    if (mem.read_int("MetricMap", "semanticMap_count", 0) < 1)
+    {
+        throw std::runtime_error("ini '" + baseName +
+                                 "': [MetricMap] semanticMap_count: the base configuration has "
+                                 "no semantic map to calibrate (needs >= 1)");
+    }
+}
+
+std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std::string& baseName,
+                                          const TCalibrationResult& r)
+{
+    CheckBase(baseIni, baseName);
+    IniText ini(baseIni, baseName);
+    ini.set(kLikelihood, "model", "probabilistic", "calibrated: the model the fits are for");
+    setFit(ini, kLikelihood, "sigma_range_m", r.sigma_range_m);
+    setFit(ini, kLikelihood, "sigma_bearing_deg", r.sigma_bearing_deg);
+    setFit(ini, kLikelihood, "p_detect_near", r.p_detect_near);
+    setFit(ini, kLikelihood, "p_detect_far", r.p_detect_far);
+    setFit(ini, kLikelihood, "clutter_per_scan", r.clutter_per_scan);
+    setFit(ini, kLikelihood, "p_confusion", r.p_confusion);
+    if (r.increments < 4)
+    {
+        return ini.text();
+    }
+    const char* mm = MotionModel::kSection;
+    ini.set(mm, "source", "gaussian", "calibrated: the model below, from the odometry's errors");
+    setFit(ini, mm, "a1", r.a1);
+    setFit(ini, mm, "a2", r.a2);
+    setFit(ini, mm, "a3", r.a3);
+    setFit(ini, mm, "a4", r.a4);
+    setFit(ini, mm, "minStdXY", r.minStdXY);
+    setFit(ini, mm, "minStdPHI", r.minStdPHI);
+    return ini.text();
+}
+
+}  // namespace semloc

@@ -1,0 +1,282 @@
+/* semloc — the detector's and the odometry's noise estimated against ground truth. */
+#include <mrpt/core/bits_math.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/system/datetime.h>
+#include <semloc/calibration/SensorCalibration.h>
+#include <semloc/experiment/GroundTruth.h>
+#include <semloc/observation/CObservationSemantic.h>
+#include <semloc/simulator/SemanticDetectorModel.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+#include "calibration/CalibrationFits.h"
+
+namespace semloc
+{
+namespace
+{
+using mrpt::obs::CActionCollection;
+using mrpt::obs::CActionRobotMovement2D;
+using mrpt::obs::CSensoryFrame;
+
+/** The detector options that reproduce an observation's coverage (visibility only). */
+SemanticDetectorModel::TOptions coverageOf(const CObservationSemantic& obs)
+{
+    SemanticDetectorModel::TOptions o;
+    o.max_range_m = obs.maxRange_m;
+    o.fov_deg = mrpt::RAD2DEG(obs.fov_rad);
+    o.sensor_x_m = obs.sensorPose.x();
+    o.sensor_y_m = obs.sensorPose.y();
+    o.sensor_yaw_deg = mrpt::RAD2DEG(obs.sensorPose.yaw());
+    return o;
+}
+
+/** Squared distance between a detection and an object in the sensor frame. */
+double distance2(const TSemanticDetection& d, const SemanticDetectorModel::TVisibleObject& v)
+{
+    const double dx = d.range_m * std::cos(d.bearing_rad) - v.range_m * std::cos(v.bearing_rad);
+    const double dy = d.range_m * std::sin(d.bearing_rad) - v.range_m * std::sin(v.bearing_rad);
+    return dx * dx + dy * dy;
+}
+
+/** One-to-one greedy matching, nearest pair first, of the detections and objects not yet used
+ *  within the gate; `sameLabel` selects same- or other-label pairs. */
+void matchGreedy(const std::vector<TSemanticDetection>& dets,
+                 const std::vector<SemanticDetectorModel::TVisibleObject>& vis, const World& world,
+                 double gate_m, bool sameLabel, std::vector<int>& detTo, std::vector<int>& visTo)
+{
+    struct Pair
+    {
+        double d2;
+        size_t j, v;
+    };
+    std::vector<Pair> pairs;
+    for (size_t j = 0; j < dets.size(); j++)
+    {
+        for (size_t v = 0; v < vis.size(); v++)
+        {
+            const bool same = dets[j].label == world.objects[vis[v].index].label;
+            const double d2 = distance2(dets[j], vis[v]);
+            if (detTo[j] < 0 && visTo[v] < 0 && same == sameLabel && d2 <= gate_m * gate_m)
+            {
+                pairs.push_back({d2, j, v});
+            }
+        }
+    }
+    std::sort(pairs.begin(), pairs.end(),
+              [](const Pair& a, const Pair& b) {
+                  return a.d2 < b.d2 || (a.d2 == b.d2 && (a.j < b.j || (a.j == b.j && a.v < b.v)));
+              });
+    for (const auto& p : pairs)
+    {
+        if (detTo[p.j] < 0 && visTo[p.v] < 0)
+        {
+            detTo[p.j] = static_cast<int>(p.v);
+            visTo[p.v] = static_cast<int>(p.j);
+        }
+    }
+}
+
+/** The share of one scan's clutter expected within the gate of object `v`: the clutter is
+ *  uniform in range and bearing over the coverage (density 1 / (R fov r) per unit area),
+ *  integrated over the gate's disc on a 24 x 24 grid. */
+double clutterInGate(const SemanticDetectorModel::TVisibleObject& v,
+                     const CObservationSemantic& obs, double gate_m)
+{
+    constexpr int kCells = 24;
+    const double cell = 2 * gate_m / kCells;
+    const double cx = v.range_m * std::cos(v.bearing_rad), cy = v.range_m * std::sin(v.bearing_rad);
+    double sum = 0;
+    for (int i = 0; i < kCells; i++)
+    {
+        for (int j = 0; j < kCells; j++)
+        {
+            const double dx = -gate_m + (i + 0.5) * cell, dy = -gate_m + (j + 0.5) * cell;
+            const double x = cx + dx, y = cy + dy, r = std::hypot(x, y);
+            if (dx * dx + dy * dy <= gate_m * gate_m && r > 0 && r <= obs.maxRange_m &&
+                std::abs(std::atan2(y, x)) <= 0.5 * obs.fov_rad)
+            {
+                sum += cell * cell / r;
+            }
+        }
+    }
+    return sum / (obs.maxRange_m * obs.fov_rad);
+}
+
+/** The detector's side of one scan at true pose `pose`, seen by `model`. */
+void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& pose, const World& world,
+             const SemanticDetectorModel& model, double gate_m, TCalibrationResult& r)
+{
+    const auto vis = model.visibleObjects(pose);
+    std::vector<int> detTo(obs.detections.size(), -1), visTo(vis.size(), -1);
+    matchGreedy(obs.detections, vis, world, gate_m, true, detTo, visTo);
+    size_t same = 0;
+    for (size_t j = 0; j < detTo.size(); j++)
+    {
+        if (detTo[j] >= 0)
+        {
+            const auto& v = vis[static_cast<size_t>(detTo[j])];
+            r.samples.rangeResiduals_m.push_back(obs.detections[j].range_m - v.range_m);
+            r.samples.bearingResiduals_deg.push_back(
+                mrpt::RAD2DEG(mrpt::math::wrapToPi(obs.detections[j].bearing_rad - v.bearing_rad)));
+            same++;
+        }
+    }
+    const double otherLabels = model.labels().size() > 1
+                                   ? static_cast<double>(model.labels().size() - 1) /
+                                         static_cast<double>(model.labels().size())
+                                   : 0.0;
+    for (size_t v = 0; v < vis.size(); v++)
+    {
+        r.samples.visibleSpurious.push_back(
+            visTo[v] < 0 ? otherLabels * clutterInGate(vis[v], obs, gate_m) : 0.0);
+    }
+    matchGreedy(obs.detections, vis, world, gate_m, false, detTo, visTo);
+    for (size_t v = 0; v < vis.size(); v++)
+    {
+        r.samples.visibleRanges_m.push_back(vis[v].range_m);
+        r.samples.visibleDetected.push_back(visTo[v] >= 0 ? 1 : 0);
+    }
+    const auto used = static_cast<size_t>(
+        std::count_if(detTo.begin(), detTo.end(), [](int v) { return v >= 0; }));
+    r.matched += same;
+    r.confused += used - same;
+    r.clutter += obs.detections.size() - used;
+    if (r.scans == 0)
+    {
+        r.maxRange_m = obs.maxRange_m;
+    }
+    r.scans++;
+}
+
+std::string secondsText(double s)
+{
+    std::ostringstream t;
+    t << s;
+    return t.str();
+}
+
+/** The ground-truth row at `t`, or an error naming the rawlog entry. */
+const GroundTruthRow& rowAt(const GroundTruth& gt, mrpt::Clock::time_point t, double tol,
+                            const std::string& rawlogName, size_t entry)
+{
+    const GroundTruthRow* row = gt.nearest(mrpt::Clock::toDouble(t), tol);
+    if (t == INVALID_TIMESTAMP || row == nullptr)
+    {
+        throw std::runtime_error("rawlog '" + rawlogName + "': entry " + std::to_string(entry) +
+                                 ": no ground-truth row within " + secondsText(tol) +
+                                 " s of its timestamp");
+    }
+    return *row;
+}
+
+/** The odometry of one action against the ground truth between `prev` and `cur`. */
+void addIncrement(const CActionRobotMovement2D& act, const GroundTruthRow& prev,
+                  const GroundTruthRow& cur, TCalibrationResult& r)
+{
+    const mrpt::poses::CPose2D truth =
+        mrpt::poses::CPose2D(cur.pose()) - mrpt::poses::CPose2D(prev.pose());
+    const mrpt::poses::CPose2D& odo = act.rawOdometryIncrementReading;
+    r.samples.odomDist_m.push_back(truth.norm());
+    r.samples.odomTurn_rad.push_back(std::abs(truth.phi()));
+    r.samples.odomErrXY_m.push_back(std::hypot(odo.x() - truth.x(), odo.y() - truth.y()));
+    r.samples.odomErrPhi_rad.push_back(std::abs(mrpt::math::wrapToPi(odo.phi() - truth.phi())));
+    r.increments++;
+}
+
+/** A detector model of `obs`'s coverage: `model` kept while the coverage is the same. */
+const SemanticDetectorModel& modelFor(const CObservationSemantic& obs, const World& world,
+                                      std::unique_ptr<SemanticDetectorModel>& model)
+{
+    const auto c = coverageOf(obs);
+    if (!model || model->options().max_range_m != c.max_range_m ||
+        model->options().fov_deg != c.fov_deg || model->options().sensor_x_m != c.sensor_x_m ||
+        model->options().sensor_y_m != c.sensor_y_m ||
+        model->options().sensor_yaw_deg != c.sensor_yaw_deg)
+    {
+        model = std::make_unique<SemanticDetectorModel>(world, c);
+    }
+    return *model;
+}
+
+/** Walks the rawlog: every semantic scan and every odometry action against the ground truth. */
+void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, const World& world,
+             const GroundTruth& gt, const SensorCalibration::TOptions& o, TCalibrationResult& r)
+{
+    const GroundTruthRow* prevAction = nullptr;
+    std::unique_ptr<SemanticDetectorModel> model;
+    for (size_t i = 0; i < rawlog.size(); i++)
+    {
+        if (rawlog.getType(i) == mrpt::obs::CRawlog::etActionCollection)
+        {
+            const auto acts = rawlog.getAsAction(i);
+            const auto act = acts->getBestMovementEstimation();
+            if (!act)
+            {
+                continue;
+            }
+            const GroundTruthRow& row = rowAt(gt, act->timestamp, o.gtTolerance_s, rawlogName, i);
+            if (prevAction != nullptr)
+            {
+                addIncrement(*act, *prevAction, row, r);
+            }
+            prevAction = &row;
+            continue;
+        }
+        mrpt::obs::CSensoryFrame::Ptr sf;
+        if (rawlog.getType(i) == mrpt::obs::CRawlog::etSensoryFrame)
+        {
+            sf = rawlog.getAsObservations(i);
+        }
+        else
+        {
+            sf = std::make_shared<CSensoryFrame>();
+            sf->insert(rawlog.getAsObservation(i));
+        }
+        for (size_t k = 0; k < sf->size(); k++)
+        {
+            const auto obs =
+                std::dynamic_pointer_cast<CObservationSemantic>(sf->getObservationByIndex(k));
+            if (obs)
+            {
+                const GroundTruthRow& row =
+                    rowAt(gt, obs->timestamp, o.gtTolerance_s, rawlogName, i);
+                addScan(*obs, row.pose(), world, modelFor(*obs, world, model), o.gate_m, r);
+            }
+        }
+    }
+}
+}  // namespace
+
+TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
+                                               const std::string& rawlogName, const World& world,
+                                               const std::vector<GroundTruthRow>& groundTruth,
+                                               const TOptions& options)
+{
+    if (!(options.gate_m > 0) || !(options.gtTolerance_s >= 0))
+    {
+        throw std::invalid_argument("calibration: the gate must be > 0 and the tolerance >= 0");
+    }
+    const GroundTruth gt(groundTruth);
+    TCalibrationResult r;
+    collect(rawlog, rawlogName, world, gt, options, r);
+    if (r.scans == 0)
+    {
+        throw std::runtime_error("rawlog '" + rawlogName +
+                                 "': no semantic observation (CObservationSemantic) to calibrate");
+    }
+    detail::fitDetector(r);
+    detail::fitOdometry(r);
+    return r;
+}
+
+}  // namespace semloc

@@ -1,0 +1,227 @@
+/* semloc tests — SensorCalibration: the simulator's known noise recovered from its datasets
+ * (misses, clutter and confusion injected), the fits' building blocks, the output ini. */
+#include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <semloc/calibration/SensorCalibration.h>
+#include <semloc/simulator/Simulator.h>
+
+#include <cmath>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "calibration/CalibrationFits.h"
+
+using semloc::SensorCalibration;
+using semloc::Simulator;
+using semloc::TCalibrationResult;
+using semloc::TSimulatorOptions;
+using semloc::World;
+
+namespace
+{
+const std::string kPaper = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
+const std::string kSemanticIni = SEMLOC_SOURCE_DIR "/config/semantic.ini";
+
+std::string readFile(const std::string& path)
+{
+    std::ifstream f(path);
+    std::stringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+/** The paper world's whole trajectory with a short time step (many scans). */
+TSimulatorOptions paperRun(uint32_t seed)
+{
+    TSimulatorOptions o;
+    o.simulation.world_file = kPaper;
+    o.simulation.seed = seed;
+    o.simulation.time_step_s = 0.5;
+    return o;
+}
+
+TCalibrationResult calibrate(const TSimulatorOptions& o)
+{
+    const Simulator sim(o);
+    const auto res = sim.run();
+    return SensorCalibration::Estimate(res.rawlog, "sim.rawlog", sim.world(), res.groundTruth,
+                                       SensorCalibration::TOptions());
+}
+
+/** The stated tolerances: sigmas 10 %, detection probabilities 0.05, clutter 20 %. */
+void expectRecovered(const TSimulatorOptions& o, const TCalibrationResult& r)
+{
+    const auto& d = o.detector;
+    std::cout << "fitted: sigma_range_m " << r.sigma_range_m.value << ", sigma_bearing_deg "
+              << r.sigma_bearing_deg.value << ", p_detect " << r.p_detect_near.value << " .. "
+              << r.p_detect_far.value << ", clutter_per_scan " << r.clutter_per_scan.value
+              << ", p_confusion " << r.p_confusion.value << ", minStdXY " << r.minStdXY.value
+              << ", a1 " << r.a1.value << ", a2 " << r.a2.value << ", minStdPHI "
+              << r.minStdPHI.value << ", a3 " << r.a3.value << ", a4 " << r.a4.value << " ("
+              << r.scans << " scans, " << r.matched << " matched, " << r.confused << " confused, "
+              << r.clutter << " clutter, " << r.increments << " increments)\n";
+    EXPECT_NEAR(r.sigma_range_m.value, d.range_noise_std_m, 0.1 * d.range_noise_std_m);
+    EXPECT_NEAR(r.sigma_bearing_deg.value, d.bearing_noise_std_deg, 0.1 * d.bearing_noise_std_deg);
+    EXPECT_NEAR(r.p_detect_near.value, d.p_detect_near, 0.05);
+    EXPECT_NEAR(r.p_detect_far.value, d.p_detect_far, 0.05);
+    EXPECT_NEAR(r.clutter_per_scan.value, d.false_positives_per_scan,
+                0.2 * d.false_positives_per_scan);
+    EXPECT_NEAR(r.p_confusion.value, d.p_confusion, 0.03);
+    // The odometry: the fitted standard deviation of a typical straight step within 15 %.
+    const auto& m = o.odometry;
+    const double step = 0.5 * o.simulation.time_step_s;  // the paper trajectory's 0.5 m/s
+    const double trueXY = m.min_xy_std_m + m.xy_std_per_m * step;
+    const double truePhi = m.min_phi_std_deg + m.phi_std_deg_per_m * step;
+    EXPECT_NEAR(r.minStdXY.value + r.a1.value * step, trueXY, 0.15 * trueXY);
+    EXPECT_NEAR(r.minStdPHI.value + r.a3.value * step, truePhi, 0.15 * truePhi);
+}
+}  // namespace
+
+TEST(SensorCalibration, RecoversTheDefaultDetectorAndOdometry)
+{
+    const auto o = paperRun(3);
+    const auto r = calibrate(o);
+    EXPECT_GT(r.scans, 500U);
+    EXPECT_GT(r.matched, 1000U);
+    expectRecovered(o, r);
+}
+
+TEST(SensorCalibration, RecoversHeavyMissesClutterAndConfusion)
+{
+    auto o = paperRun(5);
+    o.detector.range_noise_std_m = 0.3;
+    o.detector.bearing_noise_std_deg = 5.0;
+    o.detector.p_detect_near = 0.8;
+    o.detector.p_detect_far = 0.4;
+    o.detector.false_positives_per_scan = 1.0;
+    o.detector.p_confusion = 0.15;
+    o.odometry.xy_std_per_m = 0.1;
+    o.odometry.phi_std_deg_per_m = 1.0;
+    expectRecovered(o, calibrate(o));
+}
+
+TEST(SensorCalibration, RecoversACleanDetector)
+{
+    auto o = paperRun(7);
+    o.detector.range_noise_std_m = 1.0;
+    o.detector.bearing_noise_std_deg = 1.0;
+    o.detector.p_detect_near = 1.0;
+    o.detector.p_detect_far = 0.9;
+    o.detector.false_positives_per_scan = 0.5;
+    o.detector.p_confusion = 0.0;
+    expectRecovered(o, calibrate(o));
+}
+
+TEST(SensorCalibration, MadSigmaIgnoresOutliers)
+{
+    mrpt::random::CRandomGenerator rng(11);
+    std::vector<double> x;
+    for (int i = 0; i < 20000; i++)
+    {
+        x.push_back(2.0 * rng.drawGaussian1D_normalized());
+    }
+    for (int i = 0; i < 1000; i++)
+    {
+        x.push_back(1000.0 + i);  // 5 % gross outliers
+    }
+    EXPECT_NEAR(semloc::detail::madSigma(x), 2.0, 0.15);
+    EXPECT_EQ(semloc::detail::madSigma({}), 0.0);
+}
+
+TEST(SensorCalibration, NonNegativeLeastSquares)
+{
+    // y = 2 + 3 x exactly; a third column that would get a negative coefficient is dropped.
+    std::vector<double> ones, x, z, y;
+    for (int i = 0; i < 10; i++)
+    {
+        ones.push_back(1);
+        x.push_back(i);
+        z.push_back(i % 2);
+        y.push_back(2 + 3 * i - 0.5 * (i % 2));
+    }
+    std::vector<double> ci;
+    const auto c = semloc::detail::nonNegativeLeastSquares({ones, x}, y, ci);
+    ASSERT_EQ(c.size(), 2U);
+    EXPECT_GT(c[0], 1.5);
+    EXPECT_NEAR(c[1], 3.0, 0.1);
+    const auto c3 = semloc::detail::nonNegativeLeastSquares({ones, x, z}, y, ci);
+    EXPECT_EQ(c3[2], 0.0);
+}
+
+TEST(SensorCalibration, OutputIniIsTheBaseWithTheFits)
+{
+    const auto o = paperRun(3);
+    const auto r = calibrate(o);
+    const std::string base = readFile(kSemanticIni);
+    const std::string out = SensorCalibration::ApplyToIni(base, "semantic.ini", r);
+    mrpt::config::CConfigFileMemory c(out);
+    const std::string lik = "MetricMap_semanticMap_00_likelihoodOpts";
+    EXPECT_EQ(c.read_string(lik, "model", ""), "probabilistic");
+    EXPECT_NEAR(c.read_double(lik, "sigma_range_m", 0), r.sigma_range_m.value, 1e-3);
+    EXPECT_NEAR(c.read_double(lik, "p_detect_far", 0), r.p_detect_far.value, 1e-3);
+    EXPECT_NEAR(c.read_double(lik, "clutter_per_scan", 0), r.clutter_per_scan.value, 1e-3);
+    EXPECT_EQ(c.read_string("MotionModel", "source", ""), "gaussian");
+    EXPECT_NEAR(c.read_double("MotionModel", "a1", -1), r.a1.value, 1e-3);
+    // The rest of the base is kept.
+    EXPECT_EQ(c.read_int("MetricMap", "semanticMap_count", 0), 1);
+    EXPECT_EQ(c.read_string("LocalizationExperiment", "variant", ""), "semantic");
+    EXPECT_NE(out.find("// calibrated: n = "), std::string::npos);
+}
+
+TEST(SensorCalibration, OutputIniErrorsNameFileLineAndKey)
+{
+    TCalibrationResult r;
+    try
+    {
+        (void)SensorCalibration::ApplyToIni("[MetricMap]\nstructureMap_count = 1\n", "g.ini", r);
+        FAIL() << "no error";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("ini 'g.ini': [MetricMap] semanticMap_count"),
+                  std::string::npos)
+            << e.what();
+    }
+    try
+    {
+        (void)SensorCalibration::ApplyToIni(
+            "[MetricMap]\nsemanticMap_count = 1\n[MetricMap_semanticMap_00_likelihoodOpts]\n"
+            "sigma_range_m = 1\nsigma_range_m = 2\n",
+            "d.ini", r);
+        FAIL() << "no error";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("ini 'd.ini': line 5: "
+                                             "[MetricMap_semanticMap_00_likelihoodOpts] "
+                                             "sigma_range_m: set twice (first on line 4)"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+TEST(SensorCalibration, ScanWithoutGroundTruthIsAnErrorNamingTheEntry)
+{
+    auto o = paperRun(3);
+    o.simulation.max_steps = 20;
+    const Simulator sim(o);
+    const auto res = sim.run();
+    auto gt = res.groundTruth;
+    gt.resize(10);
+    try
+    {
+        (void)SensorCalibration::Estimate(res.rawlog, "x.rawlog", sim.world(), gt,
+                                          SensorCalibration::TOptions());
+        FAIL() << "no error";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("rawlog 'x.rawlog': entry 20: no ground-truth row"),
+                  std::string::npos)
+            << e.what();
+    }
+}
