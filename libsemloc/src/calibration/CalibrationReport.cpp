@@ -25,16 +25,21 @@ void writeFile(const std::string& path, const std::string& text)
     }
 }
 
-/** residuals.dat (range, bearing), detection.dat (range, detected), odometry.dat
+/** residuals_range.dat, residuals_bearing.dat, detection.dat (range, detected), odometry.dat
  *  (d, |dphi|, |e_xy|, |e_phi| in deg). */
 void writeData(const TCalibrationResult& r, const StagedDirectory& out)
 {
     const auto& s = r.samples;
-    std::ostringstream res, det, odo;
-    res << "# range_residual_m bearing_residual_deg\n";
-    for (size_t i = 0; i < s.rangeResiduals_m.size(); i++)
+    std::ostringstream rr, rb, det, odo;
+    rr << "# range_residual_m\n";
+    for (double v : s.rangeResiduals_m)
     {
-        res << s.rangeResiduals_m[i] << " " << s.bearingResiduals_deg[i] << "\n";
+        rr << v << "\n";
+    }
+    rb << "# bearing_residual_deg\n";
+    for (double v : s.bearingResiduals_deg)
+    {
+        rb << v << "\n";
     }
     det << "# range_m detected\n";
     for (size_t i = 0; i < s.visibleRanges_m.size(); i++)
@@ -47,7 +52,8 @@ void writeData(const TCalibrationResult& r, const StagedDirectory& out)
         odo << s.odomDist_m[i] << " " << s.odomTurn_rad[i] << " " << s.odomErrXY_m[i] << " "
             << s.odomErrPhi_rad[i] * 180 / M_PI << "\n";
     }
-    writeFile(out.path("residuals.dat"), res.str());
+    writeFile(out.path("residuals_range.dat"), rr.str());
+    writeFile(out.path("residuals_bearing.dat"), rb.str());
     writeFile(out.path("detection.dat"), det.str());
     writeFile(out.path("odometry.dat"), odo.str());
 }
@@ -61,14 +67,14 @@ std::string script(const TCalibrationResult& r)
       << "set terminal pngcairo size 1000,420 noenhanced\nset grid\n"
       << "bin(x, w) = w * floor(x / w) + w / 2\n"
       << "set output 'fig_residuals.png'\nset multiplot layout 1,2\n"
-      << "sr = " << sr << "\nsb = " << sb << "\nn = " << r.samples.rangeResiduals_m.size()
-      << "\nwr = sr / 4.0\nwb = sb / 4.0\n"
+      << "sr = " << sr << "\nsb = " << sb << "\nnr = " << r.samples.rangeResiduals_m.size()
+      << "\nnb = " << r.samples.bearingResiduals_deg.size() << "\nwr = sr / 4.0\nwb = sb / 4.0\n"
       << "set xlabel 'range residual [m]'\nset ylabel 'detections'\n"
-      << "plot [-4*sr:4*sr] 'residuals.dat' u (bin($1, wr)):(1) smooth freq w boxes t 'matched', "
-         "n * wr / (sr * sqrt(2*pi)) * exp(-0.5 * (x / sr)**2) lw 2 t 'fit'\n"
+      << "plot [-4*sr:4*sr] 'residuals_range.dat' u (bin($1, wr)):(1) smooth freq w boxes t "
+         "'matched', nr * wr / (sr * sqrt(2*pi)) * exp(-0.5 * (x / sr)**2) lw 2 t 'fit'\n"
       << "set xlabel 'bearing residual [deg]'\n"
-      << "plot [-4*sb:4*sb] 'residuals.dat' u (bin($2, wb)):(1) smooth freq w boxes t "
-         "'matched', n * wb / (sb * sqrt(2*pi)) * exp(-0.5 * (x / sb)**2) lw 2 t 'fit'\n"
+      << "plot [-4*sb:4*sb] 'residuals_bearing.dat' u (bin($1, wb)):(1) smooth freq w boxes t "
+         "'matched', nb * wb / (sb * sqrt(2*pi)) * exp(-0.5 * (x / sb)**2) lw 2 t 'fit'\n"
       << "unset multiplot\n"
       << "set output 'fig_detection.png'\nset xlabel 'range [m]'\n"
       << "set ylabel 'detected share of in-view objects'\nset yrange [0:1.05]\n"

@@ -40,6 +40,15 @@ SemanticDetectorModel::TOptions coverageOf(const CObservationSemantic& obs)
     return o;
 }
 
+/** The matching gate: a disc of radius `radius_m` around the object's centre, or (with
+ *  sigmas > 0) the ellipse (d_range / sigma_range)^2 + (d_bearing / sigma_bearing)^2 <= k^2. */
+struct Gate
+{
+    double radius_m = 3.0;
+    double sigmaRange_m = 0, sigmaBearing_rad = 0, k = 4.0;
+    bool normalized() const { return sigmaRange_m > 0 && sigmaBearing_rad > 0; }
+};
+
 /** Squared distance between a detection and an object in the sensor frame. */
 double distance2(const TSemanticDetection& d, const SemanticDetectorModel::TVisibleObject& v)
 {
@@ -52,7 +61,7 @@ double distance2(const TSemanticDetection& d, const SemanticDetectorModel::TVisi
  *  within the gate; `sameLabel` selects same- or other-label pairs. */
 void matchGreedy(const std::vector<TSemanticDetection>& dets,
                  const std::vector<SemanticDetectorModel::TVisibleObject>& vis, const World& world,
-                 double gate_m, bool sameLabel, std::vector<int>& detTo, std::vector<int>& visTo)
+                 const Gate& gate, bool sameLabel, std::vector<int>& detTo, std::vector<int>& visTo)
 {
     struct Pair
     {
@@ -65,8 +74,15 @@ void matchGreedy(const std::vector<TSemanticDetection>& dets,
         for (size_t v = 0; v < vis.size(); v++)
         {
             const bool same = dets[j].label == world.objects[vis[v].index].label;
-            const double d2 = distance2(dets[j], vis[v]);
-            if (detTo[j] < 0 && visTo[v] < 0 && same == sameLabel && d2 <= gate_m * gate_m)
+            double d2 = distance2(dets[j], vis[v]) / (gate.radius_m * gate.radius_m);
+            if (gate.normalized())
+            {
+                const double dr = (dets[j].range_m - vis[v].range_m) / gate.sigmaRange_m;
+                const double db = mrpt::math::wrapToPi(dets[j].bearing_rad - vis[v].bearing_rad) /
+                                  gate.sigmaBearing_rad;
+                d2 = (dr * dr + db * db) / (gate.k * gate.k);
+            }
+            if (detTo[j] < 0 && visTo[v] < 0 && same == sameLabel && d2 <= 1.0)
             {
                 pairs.push_back({d2, j, v});
             }
@@ -87,47 +103,66 @@ void matchGreedy(const std::vector<TSemanticDetection>& dets,
 }
 
 /** The share of one scan's clutter expected within the gate of object `v`: the clutter is
- *  uniform in range and bearing over the coverage (density 1 / (R fov r) per unit area),
- *  integrated over the gate's disc on a 24 x 24 grid. */
+ *  uniform in range and bearing over the coverage, so this is the area of the gate in the
+ *  (range, bearing) plane, clipped to the coverage, over R fov (a 32 x 32 grid over the
+ *  gate's bounding box). */
 double clutterInGate(const SemanticDetectorModel::TVisibleObject& v,
-                     const CObservationSemantic& obs, double gate_m)
+                     const CObservationSemantic& obs, const Gate& gate)
 {
-    constexpr int kCells = 24;
-    const double cell = 2 * gate_m / kCells;
-    const double cx = v.range_m * std::cos(v.bearing_rad), cy = v.range_m * std::sin(v.bearing_rad);
-    double sum = 0;
+    constexpr int kCells = 32;
+    // Half-extents of the bounding box in range and bearing.
+    const double hr = gate.normalized() ? gate.k * gate.sigmaRange_m : gate.radius_m;
+    const double hb = gate.normalized() ? gate.k * gate.sigmaBearing_rad
+                                        : std::asin(std::min(1.0, gate.radius_m / v.range_m));
+    double area = 0;
     for (int i = 0; i < kCells; i++)
     {
         for (int j = 0; j < kCells; j++)
         {
-            const double dx = -gate_m + (i + 0.5) * cell, dy = -gate_m + (j + 0.5) * cell;
-            const double x = cx + dx, y = cy + dy, r = std::hypot(x, y);
-            if (dx * dx + dy * dy <= gate_m * gate_m && r > 0 && r <= obs.maxRange_m &&
-                std::abs(std::atan2(y, x)) <= 0.5 * obs.fov_rad)
+            const double dr = hr * (2 * (i + 0.5) / kCells - 1);
+            const double db = hb * (2 * (j + 0.5) / kCells - 1);
+            const double r = v.range_m + dr, b = v.bearing_rad + db;
+            if (r < 0 || r > obs.maxRange_m || std::abs(b) > 0.5 * obs.fov_rad)
             {
-                sum += cell * cell / r;
+                continue;
             }
+            TSemanticDetection d;
+            d.range_m = r;
+            d.bearing_rad = b;
+            const bool inside = gate.normalized()
+                                    ? (dr * dr / (hr * hr) + db * db / (hb * hb) <= 1)
+                                    : distance2(d, v) <= gate.radius_m * gate.radius_m;
+            area += inside ? 4 * hr * hb / (kCells * kCells) : 0.0;
         }
     }
-    return sum / (obs.maxRange_m * obs.fov_rad);
+    return area / (obs.maxRange_m * obs.fov_rad);
 }
 
 /** The detector's side of one scan at true pose `pose`, seen by `model`. */
 void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& pose, const World& world,
-             const SemanticDetectorModel& model, double gate_m, TCalibrationResult& r)
+             const SemanticDetectorModel& model, const Gate& gate, TCalibrationResult& r)
 {
     const auto vis = model.visibleObjects(pose);
     std::vector<int> detTo(obs.detections.size(), -1), visTo(vis.size(), -1);
-    matchGreedy(obs.detections, vis, world, gate_m, true, detTo, visTo);
+    matchGreedy(obs.detections, vis, world, gate, true, detTo, visTo);
     size_t same = 0;
     for (size_t j = 0; j < detTo.size(); j++)
     {
         if (detTo[j] >= 0)
         {
             const auto& v = vis[static_cast<size_t>(detTo[j])];
-            r.samples.rangeResiduals_m.push_back(obs.detections[j].range_m - v.range_m);
-            r.samples.bearingResiduals_deg.push_back(
-                mrpt::RAD2DEG(mrpt::math::wrapToPi(obs.detections[j].bearing_rad - v.bearing_rad)));
+            // The detector clamps its readings to its coverage: residuals of objects within
+            // 3 sigma of its edge are truncated and left out of the sigmas.
+            if (v.range_m + 3 * gate.sigmaRange_m <= obs.maxRange_m &&
+                v.range_m >= 3 * gate.sigmaRange_m)
+            {
+                r.samples.rangeResiduals_m.push_back(obs.detections[j].range_m - v.range_m);
+            }
+            if (std::abs(v.bearing_rad) + 3 * gate.sigmaBearing_rad <= 0.5 * obs.fov_rad)
+            {
+                r.samples.bearingResiduals_deg.push_back(mrpt::RAD2DEG(
+                    mrpt::math::wrapToPi(obs.detections[j].bearing_rad - v.bearing_rad)));
+            }
             same++;
         }
     }
@@ -138,9 +173,9 @@ void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& pose, c
     for (size_t v = 0; v < vis.size(); v++)
     {
         r.samples.visibleSpurious.push_back(
-            visTo[v] < 0 ? otherLabels * clutterInGate(vis[v], obs, gate_m) : 0.0);
+            visTo[v] < 0 ? otherLabels * clutterInGate(vis[v], obs, gate) : 0.0);
     }
-    matchGreedy(obs.detections, vis, world, gate_m, false, detTo, visTo);
+    matchGreedy(obs.detections, vis, world, gate, false, detTo, visTo);
     for (size_t v = 0; v < vis.size(); v++)
     {
         r.samples.visibleRanges_m.push_back(vis[v].range_m);
@@ -210,7 +245,8 @@ const SemanticDetectorModel& modelFor(const CObservationSemantic& obs, const Wor
 
 /** Walks the rawlog: every semantic scan and every odometry action against the ground truth. */
 void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, const World& world,
-             const GroundTruth& gt, const SensorCalibration::TOptions& o, TCalibrationResult& r)
+             const GroundTruth& gt, const SensorCalibration::TOptions& o, const Gate& gate,
+             TCalibrationResult& r)
 {
     const GroundTruthRow* prevAction = nullptr;
     std::unique_ptr<SemanticDetectorModel> model;
@@ -250,7 +286,7 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
             {
                 const GroundTruthRow& row =
                     rowAt(gt, obs->timestamp, o.gtTolerance_s, rawlogName, i);
-                addScan(*obs, row.pose(), world, modelFor(*obs, world, model), o.gate_m, r);
+                addScan(*obs, row.pose(), world, modelFor(*obs, world, model), gate, r);
             }
         }
     }
@@ -262,19 +298,31 @@ TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
                                                const std::vector<GroundTruthRow>& groundTruth,
                                                const TOptions& options)
 {
-    if (!(options.gate_m > 0) || !(options.gtTolerance_s >= 0))
+    if (!(options.gate_m > 0) || !(options.gateSigmas > 0) || options.gatePasses < 0 ||
+        !(options.gtTolerance_s >= 0))
     {
         throw std::invalid_argument("calibration: the gate must be > 0 and the tolerance >= 0");
     }
     const GroundTruth gt(groundTruth);
+    // The first pass gates by distance; the next ones by the sigmas the previous one fitted.
+    Gate gate;
+    gate.radius_m = options.gate_m;
+    gate.k = options.gateSigmas;
     TCalibrationResult r;
-    collect(rawlog, rawlogName, world, gt, options, r);
-    if (r.scans == 0)
+    for (int pass = 0; pass <= options.gatePasses; pass++)
     {
-        throw std::runtime_error("rawlog '" + rawlogName +
-                                 "': no semantic observation (CObservationSemantic) to calibrate");
+        r = TCalibrationResult();
+        collect(rawlog, rawlogName, world, gt, options, gate, r);
+        if (r.scans == 0)
+        {
+            throw std::runtime_error("rawlog '" + rawlogName +
+                                     "': no semantic observation (CObservationSemantic) to "
+                                     "calibrate");
+        }
+        detail::fitDetector(r);
+        gate.sigmaRange_m = r.sigma_range_m.value;
+        gate.sigmaBearing_rad = mrpt::DEG2RAD(r.sigma_bearing_deg.value);
     }
-    detail::fitDetector(r);
     detail::fitOdometry(r);
     return r;
 }

@@ -67,15 +67,18 @@ struct TCalibrationResult
  *  (at most `gtTolerance_s` away, else an error naming the rawlog entry). The in-view objects
  *  are the world's objects the detector sees from there, occlusion included
  *  (SemanticDetectorModel::visibleObjects with the observation's max range, field of view
- *  and sensor pose). A detection is matched to an in-view object of its label whose centre
- *  lies within the **gate** `gate_m` (Euclidean distance between the detection's point and the
- *  object's centre, in the sensor frame; default 3 m = 6 sigma of the default range noise),
- *  one to one, greedily from the nearest pair. The detections left are then matched, the same
- *  way, to the in-view objects left of any other label (confusions); the rest are clutter.
- *  Clutter that falls within the gate of an object left after the first pass is counted as a
- *  confusion there: its expected number (the clutter's density, uniform in range and bearing,
- *  integrated over each such gate) is moved back from the confusions and detections to the
- *  clutter (iterated to a fixed point, as it depends on the clutter rate).
+ *  and sensor pose). A detection is matched to an in-view object of its label within the
+ *  **gate**, one to one, greedily from the nearest pair; the detections left are then
+ *  matched, the same way, to the in-view objects left of any other label (confusions); the
+ *  rest are clutter. The first pass's gate is a disc of `gate_m` (default 3 m) around the
+ *  object's centre in the sensor frame; each of the `gatePasses` next passes (default 2)
+ *  gates with the ellipse (d_range / sigma_range)^2 + (d_bearing / sigma_bearing)^2 <=
+ *  `gateSigmas`^2 (default 4) with the sigmas the previous pass fitted, so a large bearing
+ *  noise at long range is not cut by a fixed distance, and the fits are those of the last
+ *  pass. Clutter that falls within the gate of an object left after the first matching is
+ *  counted as a confusion there: its expected number (the clutter is uniform in range and
+ *  bearing: the gate's area in that plane) is moved back from the confusions and detections
+ *  to the clutter (iterated to a fixed point, as it depends on the clutter rate).
  *
  *  **Fits.** sigma_range_m, sigma_bearing_deg: 1.4826 x the median absolute deviation of the
  *  matched residuals (robust to the few clutter points the gate lets in). p_detect_near/far:
@@ -92,8 +95,12 @@ public:
     /** Tunables of the estimator. */
     struct TOptions
     {
-        /** Gate of the matching [m]. */
+        /** Gate of the first matching pass [m]. */
         double gate_m = 3.0;
+        /** Gate of the next passes, in sigmas of the range and bearing residuals. */
+        double gateSigmas = 4.0;
+        /** Number of passes after the first. */
+        int gatePasses = 2;
         /** Largest time between a scan and its ground-truth row [s]. */
         double gtTolerance_s = 0.05;
     };
