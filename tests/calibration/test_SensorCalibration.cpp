@@ -7,6 +7,7 @@
 #include <semloc/simulator/Simulator.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -225,3 +226,37 @@ TEST(SensorCalibration, ScanWithoutGroundTruthIsAnErrorNamingTheEntry)
             << e.what();
     }
 }
+
+#ifdef SEMLOC_BIN_DIR
+TEST(SensorCalibration, ToolWritesTheIniAndTheReport)
+{
+    namespace fs = std::filesystem;
+    const fs::path dir = fs::path(SEMLOC_TEST_OUT) / "calibrate_tool";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    auto o = paperRun(9);
+    o.detector.range_noise_std_m = 0.8;
+    const Simulator sim(o);
+    const std::string rawlog = (dir / "data.rawlog").string();
+    sim.writeDataset(sim.run(), rawlog);
+    const std::string cmd = std::string(SEMLOC_BIN_DIR) + "/semloc-calibrate " + rawlog +
+                            " --world " + kPaper + " --ground-truth " +
+                            Simulator::groundTruthPath(rawlog) + " --base " + kSemanticIni +
+                            " -o " + (dir / "out.ini").string() + " --report " +
+                            (dir / "report").string() + " > " + (dir / "stdout").string();
+    for (int run = 0; run < 2; run++)  // the second run replaces the first's outputs
+    {
+        ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    }
+    mrpt::config::CConfigFileMemory c(readFile((dir / "out.ini").string()));
+    EXPECT_NEAR(c.read_double("MetricMap_semanticMap_00_likelihoodOpts", "sigma_range_m", 0), 0.8,
+                0.08);
+    for (const char* f : {"report.md", "fig_residuals.png", "fig_detection.png", "fig_odometry.png",
+                          ".semloc-output"})
+    {
+        EXPECT_TRUE(fs::exists(dir / "report" / f)) << f;
+    }
+    EXPECT_NE(readFile((dir / "report" / "report.md").string()).find("| `sigma_range_m` |"),
+              std::string::npos);
+}
+#endif
