@@ -109,10 +109,13 @@ public:
             {
                 if (found < m_lines.size())
                 {
-                    throw std::runtime_error("ini '" + m_name + "': line " + std::to_string(i + 1) +
-                                             ": [" + section + "] " + key +
-                                             ": set twice (first on line " +
-                                             std::to_string(found + 1) + ")");
+                    std::string msg = "ini '" + m_name + "': line ";
+                    msg += std::to_string(i + 1);
+                    msg += ": [" + section;
+                    msg += "] " + key;
+                    msg += ": set twice (first on line " + std::to_string(found + 1);
+                    msg += ")";
+                    throw std::runtime_error(msg);
                 }
                 found = i;
             }
