@@ -67,6 +67,11 @@ std::string keyLine(const std::string& key, const std::string& value, const std:
 
 std::string fitComment(const TCalibrationFit& f)
 {
+    if (f.value == 0 && f.ci95 == 0)
+    {
+        return "calibrated: n = " + std::to_string(f.n) + ", 0: left out of the best fit (its " +
+               "regressor does not vary or its coefficient would be negative), " + f.method;
+    }
     return "calibrated: n = " + std::to_string(f.n) + ", +/- " + number(f.ci95) + " (95 %), " +
            f.method;
 }
