@@ -82,7 +82,8 @@ void run()
     const auto gt = semloc::Simulator::readGroundTruth(argGroundTruth.getValue());
     const auto rawlog = semloc::RawlogReader::Load(rawlogPath);
     const auto result = semloc::SensorCalibration::Estimate(rawlog, rawlogPath, world, gt, o);
-    const std::string ini = semloc::SensorCalibration::ApplyToIni(baseText, base, result);
+    const std::string ini =
+        semloc::SensorCalibration::ApplyToIni(baseText, base, result, argWorld.getValue());
 
     semloc::installInterruptHandlers();
     if (staged)

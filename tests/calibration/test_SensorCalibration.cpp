@@ -251,6 +251,8 @@ TEST(SensorCalibration, ToolWritesTheIniAndTheReport)
     mrpt::config::CConfigFileMemory c(readFile((dir / "out.ini").string()));
     EXPECT_NEAR(c.read_double("MetricMap_semanticMap_00_likelihoodOpts", "sigma_range_m", 0), 0.8,
                 0.08);
+    EXPECT_EQ(c.read_string("LocalizationExperiment", "map_file", ""),
+              fs::path(kPaper).lexically_normal().string());
     for (const char* f : {"report.md", "fig_residuals.png", "fig_detection.png", "fig_odometry.png",
                           ".semloc-output"})
     {

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -174,10 +175,16 @@ void SensorCalibration::CheckBase(const std::string& baseIni, const std::string&
 }
 
 std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std::string& baseName,
-                                          const TCalibrationResult& r)
+                                          const TCalibrationResult& r, const std::string& worldPath)
 {
     CheckBase(baseIni, baseName);
     IniText ini(baseIni, baseName);
+    if (!worldPath.empty())
+    {
+        ini.set("LocalizationExperiment", "map_file",
+                std::filesystem::absolute(worldPath).lexically_normal().string(),
+                "calibrated: the world the fits were made in");
+    }
     ini.set(kLikelihood, "model", "probabilistic", "calibrated: the model the fits are for");
     setFit(ini, kLikelihood, "sigma_range_m", r.sigma_range_m);
     setFit(ini, kLikelihood, "sigma_bearing_deg", r.sigma_bearing_deg);

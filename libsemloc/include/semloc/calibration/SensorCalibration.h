@@ -122,7 +122,8 @@ public:
      *  a comment giving its fit, `model = probabilistic` and `source = gaussian`. Throws naming
      *  the file and [section] key when the base has no semantic map. */
     static std::string ApplyToIni(const std::string& baseIni, const std::string& baseName,
-                                  const TCalibrationResult& result);
+                                  const TCalibrationResult& result,
+                                  const std::string& worldPath = "");
 
     /** Writes the fits into `out`'s staging directory: report.md (a table of the fits) and
      *  its figures drawn by gnuplot (fig_residuals.png: the range and bearing residuals'
