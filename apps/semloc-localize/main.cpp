@@ -27,6 +27,11 @@ TCLAP::ValueArg<int> argThreads("t", "threads", "Overrides [PF_options] threads 
 TCLAP::ValueArg<int> argParticles("n", "particles", "Overrides particles_count", false, 0, "N",
                                   cmd);
 TCLAP::ValueArg<long long> argSeed("s", "seed", "Overrides seed", false, 1, "S", cmd);
+TCLAP::ValueArg<int> argSaveParticles(
+    "", "save-particles",
+    "Write the particles of every N-th step and of the last to particles.csv "
+    "(overrides particles_save_every; 0: none)",
+    false, 0, "N", cmd);
 TCLAP::SwitchArg argQuiet("q", "quiet", "No progress bar and no summary", cmd);
 TCLAP::SwitchArg argAllowTruncated(
     "", "allow-truncated",
@@ -68,6 +73,10 @@ void run()
     if (argSeed.isSet())
     {
         ov.seed = semloc::apps::seedOption(argSeed.getValue());
+    }
+    if (argSaveParticles.isSet())
+    {
+        ov.particles_save_every = argSaveParticles.getValue();
     }
     ov.allow_truncated = argAllowTruncated.isSet();
     const auto experiment = semloc::LocalizationExperiment::FromConfigFile(argIni.getValue(), ov);

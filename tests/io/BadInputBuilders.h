@@ -121,7 +121,8 @@ std::vector<std::shared_ptr<T>> observationsOf(mrpt::obs::CRawlog& log)
 using Builder = std::function<std::vector<std::string>(const fs::path&)>;
 using Cases = std::map<std::string, Builder>;
 
-// The cases, by what is wrong (BadInputConfigCases.cpp, BadInputDataCases.cpp).
+// The cases, by what is wrong (BadInputConfigCases.cpp, BadInputDataCases.cpp,
+// BadInputFigureCases.cpp).
 Cases commandLineCases();
 Cases iniFileCases();
 Cases iniMapCases();
@@ -136,6 +137,7 @@ Cases timeCases();
 Cases observationCases();
 Cases importCases();
 Cases calibrateCases();
+Cases runPlotCases();
 
 inline std::vector<Cases> allCaseGroups()
 {
@@ -143,6 +145,6 @@ inline std::vector<Cases> allCaseGroups()
             outputDirectoryCases(), outputFileCases(), worldSyntaxCases(),
             worldContentCases(),    rawlogFileCases(), rawlogDamagedCases(),
             rawlogOdometryCases(),  timeCases(),       observationCases(),
-            importCases(),          calibrateCases()};
+            importCases(),          calibrateCases(),  runPlotCases()};
 }
 }  // namespace semloc::test::bad_input

@@ -8,11 +8,13 @@
 #include <semloc/io/Interrupt.h>
 #include <semloc/world/WorldPlot.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "experiment/BenchmarkTables.h"
+#include "experiment/RunFigures.h"
 #include "experiment/Statistics.h"
 #include "io/TextFiles.h"
 
@@ -73,14 +75,15 @@ std::string paperTable(const std::vector<Benchmark::TRunResult>& runs)
     return o.str();
 }
 
-/** Runs gnuplot on figures.gp in `out`: fig_variance.png and fig_error.png. */
-void drawFigures(const StagedDirectory& out)
+/** Runs gnuplot on `script` in `out`, which must draw `pngs`. */
+void drawScript(const StagedDirectory& out, const std::string& script,
+                const std::vector<std::string>& pngs)
 {
-    const std::string log = out.path("figures.log");
+    const std::string log = out.path(script + ".log");
     int rc = 0;
     try
     {
-        rc = runChildProcess({"gnuplot", "figures.gp"}, log, out.path(""));
+        rc = runChildProcess({"gnuplot", script}, log, out.path(""));
     }
     catch (const Interrupted&)
     {
@@ -93,44 +96,62 @@ void drawFigures(const StagedDirectory& out)
     std::ifstream f(log);
     std::stringstream msg;
     msg << f.rdbuf();
-    if (rc != 0 || !mrpt::system::fileExists(out.path("fig_variance.png")) ||
-        !mrpt::system::fileExists(out.path("fig_error.png")))
+    bool drawn = true;
+    for (const auto& png : pngs)
     {
-        THROW_EXCEPTION("gnuplot failed on figures.gp (it " + waitStatusText(rc) +
+        drawn = drawn && mrpt::system::fileExists(out.path(png));
+    }
+    if (rc != 0 || !drawn)
+    {
+        THROW_EXCEPTION("gnuplot failed on " + script + " (it " + waitStatusText(rc) +
                         "): " + msg.str());
     }
     std::filesystem::remove(log);
 }
 
-/** world_paths.png: the world, run 1's true path and each variant's estimate. */
+/** world_paths.gp and its data: one panel per variant, the world, run 1's true path and the
+ *  variant's estimate coloured by its error, where it converged; drawn as world_paths.png. */
 void drawWorldPaths(const StagedDirectory& out, const TSimulatorOptions& simulation,
                     const std::vector<Benchmark::TRunResult>& runs)
 {
     const Simulator simulator(simulation);
-    WorldPlot plot(simulator.world(), "run 1 (seed 1): true path and estimates");
-    std::vector<mrpt::math::TPoint2D> truth;
-    for (const auto& s : runs.front().records)
-    {
-        if (s.gt)
-        {
-            truth.emplace_back(s.gt->x, s.gt->y);
-        }
-    }
-    plot.addPath("true path", truth);
+    const World& world = simulator.world();
+    std::vector<const Benchmark::TRunResult*> run1;
     for (const auto& r : runs)
     {
-        if (r.run != 1)
+        if (r.run == 1)
         {
-            continue;
+            run1.push_back(&r);
         }
-        std::vector<mrpt::math::TPoint2D> est;
-        for (const auto& s : r.records)
-        {
-            est.emplace_back(s.est.x, s.est.y);
-        }
-        plot.addPath(r.variant, est);
     }
-    plot.savePng(out.path("world_paths.png"));
+    const size_t n = std::max<size_t>(run1.size(), 1), cols = std::min<size_t>(n, 3);
+    const size_t rows = (n + cols - 1) / cols;
+    const auto& b = world.bounds;
+    const double aspect = std::clamp((b.y_max - b.y_min) / (b.x_max - b.x_min), 0.3, 3.0);
+    const int panelW = 600, panelH = static_cast<int>(panelW * aspect) + 130;
+    writeFile(out.path("world_paths_world.dat"), WorldPlot(world).data());
+    std::ostringstream g;
+    g << "# semloc-benchmark: run 1 of each variant over the world (gnuplot world_paths.gp)\n"
+      << "set terminal pngcairo size " << cols * panelW << "," << rows * panelH
+      << " enhanced font 'Sans,9'\nset output 'world_paths.png'\nset multiplot layout " << rows
+      << "," << cols << "\n";
+    for (size_t k = 0; k < run1.size(); k++)
+    {
+        const auto& r = *run1[k];
+        const std::string data = "world_paths_" + std::to_string(k + 1) + ".dat";
+        writeFile(out.path(data), trackData(r.records));
+        const bool conv = r.metrics.converged;
+        WorldPlot panel(
+            world, r.variant + ", run 1: " +
+                       (conv ? "converged at step " + std::to_string(r.metrics.convergence_step)
+                             : std::string("did not converge")));
+        g << panel.settings() << errorPalette() << "plot "
+          << panel.worldLayers("world_paths_world.dat")
+          << trackLayers(data, true, conv ? r.metrics.convergence_step : -1) << "\nunset label\n";
+    }
+    g << "unset multiplot\nunset output\n";
+    writeFile(out.path("world_paths.gp"), g.str());
+    drawScript(out, "world_paths.gp", {"world_paths.png"});
 }
 
 /** report.md's title and "the experiment": scenario, runs, steps, particles, threads. */
@@ -189,7 +210,7 @@ void writeFigures(const StagedDirectory& out, const std::vector<std::string>& va
                   const std::vector<Benchmark::TRunResult>& runs)
 {
     writeFile(out.path("figures.gp"), figuresScript(variants));
-    drawFigures(out);
+    drawScript(out, "figures.gp", {"fig_variance.png", "fig_error.png"});
     drawWorldPaths(out, simulation, runs);
 }
 

@@ -63,6 +63,7 @@ const std::vector<std::string> kRunKeys = {"rawlog_file",
                                            "ground_truth_path_file",
                                            "logOutput_dir",
                                            "rawlog_offset",
+                                           "particles_save_every",
                                            "variant",
                                            "convergence_max_err_xy_m",
                                            "convergence_max_var_xy_m2",
@@ -146,6 +147,11 @@ void applyOverrides(LocalizationExperiment::TOptions& o,
             "the number of particles must be in [1, " +
                 std::to_string(Localizer::TOptions::kMaxParticles) + "]");
         o.filter.particles_count = *ov.particles_count;
+    }
+    if (ov.particles_save_every)
+    {
+        ASSERTMSG_(*ov.particles_save_every >= 0, "--save-particles must be 0 or more");
+        o.particles_save_every = *ov.particles_save_every;
     }
     if (ov.seed)
     {
@@ -284,6 +290,7 @@ void LocalizationExperiment::TOptions::loadFromConfigFile(const mrpt::config::CC
         c, trimValue(c.read_string(s, "ground_truth_path_file", ground_truth_path_file)));
     logOutput_dir = trimValue(c.read_string(s, "logOutput_dir", logOutput_dir));
     readInt(c, s, "rawlog_offset", rawlog_offset, 0, std::numeric_limits<int>::max());
+    readInt(c, s, "particles_save_every", particles_save_every, 0, std::numeric_limits<int>::max());
     variant = trimValue(c.read_string(s, "variant", variant));
     readDouble(c, s, "convergence_max_err_xy_m", convergence.max_err_xy_m, 0, 1e9);
     readDouble(c, s, "convergence_max_var_xy_m2", convergence.max_var_xy_m2, 0, 1e9);
@@ -313,6 +320,8 @@ void LocalizationExperiment::TOptions::saveToConfigFile(mrpt::config::CConfigFil
     writeText(c, s, "ground_truth_path_file", ground_truth_path_file, "t x y phi per line");
     writeText(c, s, "logOutput_dir", logOutput_dir, "outputs");
     writeText(c, s, "rawlog_offset", std::to_string(rawlog_offset), "steps skipped");
+    writeText(c, s, "particles_save_every", std::to_string(particles_save_every),
+              "particles.csv: every N-th step and the last (0: none)");
     writeText(c, s, "variant", variant, "name in summary.yaml");
     detail::writeExact(c, s, "convergence_max_err_xy_m", convergence.max_err_xy_m, "[m]");
     detail::writeExact(c, s, "convergence_max_var_xy_m2", convergence.max_var_xy_m2, "[m^2]");

@@ -10,7 +10,9 @@
 
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <optional>
+#include <utility>
 
 #include "experiment/LocalizationConfig.h"
 #include "experiment/LocalizationOutputs.h"
@@ -37,6 +39,8 @@ public:
 
     /** Entry `i` of `rawlog`. */
     void entry(const mrpt::obs::CRawlog& rawlog, size_t i);
+    /** Called after each step run with its record. */
+    void onStep(std::function<void(const TStepRecord&)> f) { m_onStep = std::move(f); }
     /** After the last entry: the frame still grouped. */
     void finish() { flush(); }
     /** "action/sensory-frame", "observations-only" or "mixed". */
@@ -60,6 +64,10 @@ private:
             r.t = detail::actionTime(*action);
         }
         m_records.push_back(r);
+        if (m_onStep)
+        {
+            m_onStep(m_records.back());
+        }
     }
     /** The observations grouped so far as one step (or one skipped). */
     void flush();
@@ -77,6 +85,7 @@ private:
     mrpt::obs::CSensoryFrame m_group;
     bool m_sawPairs = false, m_sawObservations = false;
     mrpt::obs::CActionCollection::Ptr m_action;
+    std::function<void(const TStepRecord&)> m_onStep;
 };
 
 void RawlogPlayback::flush()
@@ -208,6 +217,12 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
     res.threads = loc.threads();
 
     RawlogPlayback playback(loc, static_cast<size_t>(o.rawlog_offset), res.records);
+    std::optional<detail::ParticlesCsv> particles;
+    if (o.particles_save_every > 0)
+    {
+        particles.emplace(out.path("particles.csv"), o.particles_save_every);
+        playback.onStep([&](const TStepRecord& r) { particles->step(r, loc.pdf()); });
+    }
     const size_t n = m_rawlog.size();
     for (size_t i = 0; i < n; i++)
     {
@@ -222,6 +237,10 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
         }
     }
     playback.finish();
+    if (particles && !res.records.empty())
+    {
+        particles->finish(res.records.back(), loc.pdf());
+    }
     res.rawlogTruncatedAtEntry = m_truncatedAt;
     res.rawlogFormat = playback.format();
     matchRecords(res.records, m_groundTruth);

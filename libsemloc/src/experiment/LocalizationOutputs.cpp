@@ -3,7 +3,13 @@
 
 #include <mrpt/core/format.h>
 
+#include <mrpt/core/exceptions.h>
+
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <sstream>
 
 #include "io/Text.h"
@@ -109,6 +115,62 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "ground_truth_path_file: " << yamlString(o.ground_truth_path_file) << "\n"
       << "wall_time_s: " << yamlNum(res.wallTime_s) << "\n";
     return y.str();
+}
+
+ParticlesCsv::ParticlesCsv(const std::string& path, size_t every)
+    : m_path(path), m_out(path, std::ios::binary), m_every(std::max<size_t>(every, 1))
+{
+    m_out << "step,t,x,y,phi,weight\n";
+    if (!m_out)
+    {
+        THROW_EXCEPTION("cannot write '" + m_path + "': " + std::strerror(errno));
+    }
+}
+
+void ParticlesCsv::step(const TStepRecord& r, const CParallelMonteCarloLocalization2D& pdf)
+{
+    if (r.step % m_every == 0)
+    {
+        write(r, pdf);
+    }
+}
+
+void ParticlesCsv::finish(const TStepRecord& last, const CParallelMonteCarloLocalization2D& pdf)
+{
+    if (m_lastWritten != last.step)
+    {
+        write(last, pdf);
+    }
+    m_out.close();
+    if (!m_out)
+    {
+        THROW_EXCEPTION("cannot write '" + m_path + "' (disk full?)");
+    }
+}
+
+void ParticlesCsv::write(const TStepRecord& r, const CParallelMonteCarloLocalization2D& pdf)
+{
+    const auto& ps = pdf.m_particles;
+    double maxLogW = -std::numeric_limits<double>::infinity();
+    for (const auto& p : ps)
+    {
+        maxLogW = std::max(maxLogW, p.log_w);
+    }
+    double sum = 0;
+    for (const auto& p : ps)
+    {
+        sum += std::exp(p.log_w - maxLogW);
+    }
+    const std::string prefix = std::to_string(r.step) + "," + num(r.t) + ",";
+    std::string rows;
+    for (const auto& p : ps)
+    {
+        rows += prefix;
+        rows += num(p.d.x) + "," + num(p.d.y) + "," + num(p.d.phi) + ",";
+        rows += num(std::exp(p.log_w - maxLogW) / sum) + "\n";
+    }
+    m_out << rows;
+    m_lastWritten = r.step;
 }
 
 }  // namespace semloc::detail

@@ -140,21 +140,19 @@ std::string WorldPlot::data() const
     return o.str();
 }
 
-std::string WorldPlot::script(const std::string& dataPath, const std::string& pngPath, int widthPx,
-                              int heightPx) const
+std::string WorldPlot::settings() const
 {
     const auto& b = m_world.bounds;
     std::ostringstream s;
     s.precision(10);
-    s << "set terminal pngcairo size " << widthPx << "," << heightPx
-      << " enhanced font 'Sans,10'\n";
-    s << "set output " << quoted(pngPath) << "\n";
     s << "set title " << quoted(m_title.empty() ? m_world.name : m_title) << " noenhanced\n";
     s << "set xrange [" << b.x_min << ":" << b.x_max << "]\nset yrange [" << b.y_min << ":"
       << b.y_max << "]\n";
     s << "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n";
-    // 5 m blocks, as in the paper's Fig. 1.
-    s << "set xtics 5\nset ytics 5\nset grid xtics ytics lc rgb '#dddddd'\n";
+    // 5 m blocks, as in the paper's Fig. 1, while they stay readable; gnuplot's own beyond.
+    const double span = std::max(b.x_max - b.x_min, b.y_max - b.y_min);
+    s << (span <= 120 ? "set xtics 5\nset ytics 5\n" : "set xtics autofreq\nset ytics autofreq\n");
+    s << "set grid xtics ytics lc rgb '#dddddd'\n";
     s << "set key outside bottom center horizontal noenhanced\n";
     for (const auto& ob : m_world.objects)
     {
@@ -169,9 +167,25 @@ std::string WorldPlot::script(const std::string& dataPath, const std::string& pn
         s << "set label " << quoted(ob.label + " #" + std::to_string(ob.id)) << " at "
           << ob.center.x << "," << y << " center font 'Sans,7' noenhanced\n";
     }
-    s << "plot " << quoted(dataPath)
-      << " index 0 with lines lw 2 lc rgb '#333333' title 'structures (sonar)', \\\n";
-    s << "  '' index 1 with points pt 7 ps 0.8 lc rgb '#cc6600' title 'point objects'";
+    return s.str();
+}
+
+std::string WorldPlot::worldLayers(const std::string& dataPath) const
+{
+    return quoted(dataPath) +
+           " index 0 with lines lw 2 lc rgb '#333333' title 'structures (sonar)', \\\n"
+           "  '' index 1 with points pt 7 ps 0.8 lc rgb '#cc6600' title 'point objects'";
+}
+
+std::string WorldPlot::script(const std::string& dataPath, const std::string& pngPath, int widthPx,
+                              int heightPx) const
+{
+    std::ostringstream s;
+    s << "set terminal pngcairo size " << widthPx << "," << heightPx
+      << " enhanced font 'Sans,10'\n";
+    s << "set output " << quoted(pngPath) << "\n";
+    s << settings();
+    s << "plot " << worldLayers(dataPath);
     const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#17becf"};
     for (size_t i = 0; i < m_paths.size(); i++)
     {

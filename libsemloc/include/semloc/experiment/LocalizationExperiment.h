@@ -60,6 +60,9 @@ public:
         /** Steps skipped at the start (pf-localization's meaning: action / sensory-frame
          *  pairs, or observation frames). */
         int rawlog_offset = 0;
+        /** Write the particles of every N-th step (step 0, N, 2N, ... and the last step) to
+         *  particles.csv; 0: not written. */
+        int particles_save_every = 0;
         /** Name of the variant in summary.yaml; empty: from the maps (LocalizationMap). */
         std::string variant;
         /** Convergence criterion (docs/design.md). */
@@ -88,6 +91,8 @@ public:
         std::optional<int> particles_count;
         /** seed (-s). */
         std::optional<uint32_t> seed;
+        /** particles_save_every (--save-particles). */
+        std::optional<int> particles_save_every;
         /** Use the intact entries before a truncated or corrupted one (--allow-truncated)
          *  instead of refusing the rawlog. */
         bool allow_truncated = false;

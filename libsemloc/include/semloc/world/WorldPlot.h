@@ -35,6 +35,13 @@ public:
     /** Adds the world's own trajectory (waypoints) as a path named "trajectory". */
     void addWorldTrajectory();
 
+    /** gnuplot settings of the world's figure (title, ranges, equal axes, tics, object labels),
+     *  for a script that draws more over the world. */
+    std::string settings() const;
+    /** The `plot` clauses of the world (outlines, point objects) reading blocks 0 and 1 of
+     *  `dataPath`, a file holding data() (without `plot`, for more clauses after it). */
+    std::string worldLayers(const std::string& dataPath) const;
+
     /** The gnuplot script that draws into `pngPath` reading `dataPath`. */
     std::string script(const std::string& dataPath, const std::string& pngPath, int widthPx,
                        int heightPx) const;
