@@ -1,8 +1,9 @@
 /* semloc-simulate: a dataset for the paper's experiment (rawlog + ground truth + effective ini).
- *   semloc-simulate config/simulate.ini -o dataset.rawlog --seed 7 */
+ *   semloc-simulate config/simulate.ini -o dataset.rawlog --seed 7 [--csv dataset_csv] */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/io/OutputPaths.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <iostream>
@@ -18,6 +19,9 @@ TCLAP::ValueArg<std::string> argOut(
     "o", "output",
     "Output rawlog (default: [Simulation] output_rawlog); also writes <stem>_gt.txt and <stem>.ini",
     false, "", "dataset.rawlog", cmd);
+TCLAP::ValueArg<std::string> argCsv(
+    "", "csv", "Also write the dataset as semloc-import's CSV files into this directory", false, "",
+    "dir", cmd);
 TCLAP::ValueArg<long long> argSeed("", "seed", "Random seed (default: [Simulation] seed)", false,
                                    -1, "N", cmd);
 
@@ -33,12 +37,24 @@ void run()
         options.simulation.output_rawlog = argOut.getValue();
     }
     // Before any work: the outputs replace neither an input nor a file of the user's.
-    semloc::Simulator::checkDatasetPaths(options.simulation.output_rawlog,
-                                         {argIni.getValue(), options.simulation.world_file});
+    const std::vector<std::string> inputs = {argIni.getValue(), options.simulation.world_file};
+    semloc::Simulator::checkDatasetPaths(options.simulation.output_rawlog, inputs);
+    if (argCsv.isSet())
+    {
+        auto csvInputs = inputs;
+        csvInputs.push_back(options.simulation.output_rawlog);
+        semloc::checkOutputDirectory(argCsv.getValue(), csvInputs);
+    }
     semloc::installInterruptHandlers();  // Ctrl-C: exit 130, no file written or half-written
     const semloc::Simulator simulator(options);
     const auto result = simulator.run();
     simulator.writeDataset(result, options.simulation.output_rawlog);
+    if (argCsv.isSet())
+    {
+        simulator.writeCsvDataset(
+            result, argCsv.getValue(),
+            {argIni.getValue(), options.simulation.world_file, options.simulation.output_rawlog});
+    }
     std::cout << "semloc-simulate: " << options.simulation.output_rawlog << ": " << result.summary()
               << "\n";
 }

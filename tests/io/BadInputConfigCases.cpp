@@ -257,6 +257,19 @@ Cases outputFileCases()
              return std::vector<std::string>{"semloc-simulate", (d / "sim.ini").string(), "-o",
                                              (d / "sim.rawlog").string()};
          }},
+        {"simulate-csv-holds-input",
+         [](const fs::path& d)
+         {
+             fs::create_directory(d / "cfg");
+             writeText(d / "cfg" / "sim.ini",
+                       "[Simulation]\nworld_file = " + kSrc + "/maps/paper_50x50.yaml\n");
+             return std::vector<std::string>{"semloc-simulate",
+                                             (d / "cfg" / "sim.ini").string(),
+                                             "-o",
+                                             (d / "s.rawlog").string(),
+                                             "--csv",
+                                             (d / "cfg").string()};
+         }},
         {"simulate-out-is-a-directory",
          [](const fs::path& d)
          {

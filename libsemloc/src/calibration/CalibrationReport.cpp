@@ -92,11 +92,22 @@ std::string script(const TCalibrationResult& r)
     return g.str();
 }
 
+/** `text` for a markdown table cell: its `|` escaped. */
+std::string cell(const std::string& text)
+{
+    std::string out;
+    for (const char c : text)
+    {
+        out += (c == '|') ? std::string("\\|") : std::string(1, c);
+    }
+    return out;
+}
+
 std::string row(const char* key, const TCalibrationFit& f)
 {
     std::ostringstream s;
-    s << "| `" << key << "` | " << f.value << " | ±" << f.ci95 << " | " << f.n << " | " << f.method
-      << " |\n";
+    s << "| `" << key << "` | " << f.value << " | ±" << f.ci95 << " | " << f.n << " | "
+      << cell(f.method) << " |\n";
     return s.str();
 }
 

@@ -71,7 +71,7 @@ std::string trackLayers(const std::string& trackFile, bool groundTruth, long con
     if (groundTruth)
     {
         s += ", \\\n  " + file + rows +
-             " using 3:4 with lines lw 2.5 lc rgb '#555555' title 'true path'";
+             " using 3:4 with lines lw 1.5 dt 2 lc rgb '#000000' title 'true path'";
         s += ", \\\n  " + file + rows +
              " using 5:6:7 with lines lw 1.5 lc palette title 'estimate (colour: error)'";
     }

@@ -172,9 +172,16 @@ std::string WorldPlot::settings() const
 
 std::string WorldPlot::worldLayers(const std::string& dataPath) const
 {
-    return quoted(dataPath) +
-           " index 0 with lines lw 2 lc rgb '#333333' title 'structures (sonar)', \\\n"
-           "  '' index 1 with points pt 7 ps 0.8 lc rgb '#cc6600' title 'point objects'";
+    // Legend entries only for what the world has.
+    bool outlines = false, points = false;
+    for (const auto& ob : m_world.objects)
+    {
+        (ob.shape == ShapeType::Point ? points : outlines) = true;
+    }
+    return quoted(dataPath) + " index 0 with lines lw 2 lc rgb '#333333' " +
+           (outlines ? "title 'structures (sonar)'" : "notitle") +
+           ", \\\n  '' index 1 with points pt 7 ps 0.8 lc rgb '#cc6600' " +
+           (points ? "title 'point objects'" : "notitle");
 }
 
 std::string WorldPlot::script(const std::string& dataPath, const std::string& pngPath, int widthPx,

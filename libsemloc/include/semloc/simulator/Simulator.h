@@ -156,6 +156,18 @@ public:
      *  and the error is thrown. */
     void writeDataset(const SimulationResult& result, const std::string& rawlogPath) const;
 
+    /** Writes the dataset in semloc-import's CSV format (docs/tools.md, "semloc-import") into
+     *  the directory `dir` (a new directory or a previous output of semloc, replaced as a
+     *  whole at the end, never half-written; refused if it holds one of `inputs`):
+     *  `odometry.csv` (`t,x,y,phi`: the odometry increments composed from (0, 0, 0), a
+     *  dead-reckoned pose), `detections.csv` (`t,label,range_m,bearing_rad,id,confidence`;
+     *  `id` empty unless the detector reports ids; a scan without detections is a row with
+     *  only `t`; a comment gives semloc-import's detector options), `ground_truth.csv`
+     *  (`t,x,y,phi`) and `landmarks.csv` (`id,label,x,y`: every object of the world at its
+     *  centre). semloc-import of these files gives back the rawlog's steps. */
+    void writeCsvDataset(const SimulationResult& result, const std::string& dir,
+                         const std::vector<std::string>& inputs = {}) const;
+
     /** Checks, before any work, that writeDataset() may write `rawlogPath` and its two
      *  companions (checkOutputFile): none is a directory or one of `inputs`, the directory
      *  exists, and an existing ground-truth or ini companion is a previous output of

@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Runs docs/your-own-data.md as written: every ```sh block, in order, from a scratch copy of the
+# repository's layout (build/bin -> the built tools; config/, maps/ linked; data/ copied), and
+# checks that
+# - every command succeeds;
+# - each line of the plain ``` block that follows a ```sh block appears in that block's output;
+# - the example dataset the walkthrough makes again equals the shipped data/example/;
+# - the outputs the page shows exist (calibrated ini with its fits, report, figures).
+# Usage: check_walkthrough.sh <source dir> <bin dir> <scratch dir>
+set -euo pipefail
+src=$1 bin=$2 scratch=$3
+doc="$src/docs/your-own-data.md"
+rm -rf "$scratch"
+mkdir -p "$scratch/build"
+ln -s "$bin" "$scratch/build/bin"
+ln -s "$src/config" "$scratch/config"
+ln -s "$src/maps" "$scratch/maps"
+cp -a "$src/data" "$scratch/data"
+
+# Split the page: block k's commands into cmd_k.sh, the expected output after it into exp_k.txt.
+awk -v dir="$scratch" '
+  /^```sh$/ { k++; out = dir "/cmd_" k ".sh"; printf "" > out; inblock = 1; next }
+  /^```$/ && !inblock && k > 0 && !seen[k] { out = dir "/exp_" k ".txt"; printf "" > out; inblock = 2; seen[k] = 1; next }
+  /^```/ { if (inblock) { inblock = 0; next } else { inblock = 3; next } }
+  inblock == 1 || inblock == 2 { print >> out }
+' "$doc"
+
+n=$(ls "$scratch"/cmd_*.sh | wc -l)
+if [ "$n" -lt 5 ]; then
+  echo "FAIL: $doc has only $n sh blocks"; exit 1
+fi
+fail=0
+for k in $(seq 1 "$n"); do
+  echo "== block $k"
+  cat "$scratch/cmd_$k.sh"
+  if ! (cd "$scratch" && bash -euo pipefail "cmd_$k.sh") > "$scratch/out_$k.txt" 2> "$scratch/err_$k.txt"; then
+    echo "FAIL: block $k failed:"; cat "$scratch/out_$k.txt" "$scratch/err_$k.txt"; exit 1
+  fi
+  cat "$scratch/out_$k.txt"
+  if [ -f "$scratch/exp_$k.txt" ]; then
+    while IFS= read -r line; do
+      [ -z "$line" ] && continue
+      if ! grep -qxF -- "$line" "$scratch/out_$k.txt"; then
+        echo "FAIL: block $k did not print: $line"; fail=1
+      fi
+    done < "$scratch/exp_$k.txt"
+  fi
+done
+
+if ! diff -r "$src/data" "$scratch/data"; then
+  echo "FAIL: the walkthrough's commands do not make the shipped data/ again"; fail=1
+fi
+own="$scratch/build/own"
+for f in calibrated.ini calibration/report.md calibration/fig_residuals.png \
+         calibration/fig_detection.png calibration/fig_odometry.png run2_calibrated/particles.csv \
+         run2_figures/run.png run2_figures/error.png run2_figures/run.gif; do
+  [ -s "$own/$f" ] || { echo "FAIL: $own/$f missing or empty"; fail=1; }
+done
+for key in sigma_range_m sigma_bearing_deg p_detect_near p_detect_far clutter_per_scan p_confusion; do
+  grep -Eq "^$key +=.*// calibrated: " "$own/calibrated.ini" || { echo "FAIL: $key is not calibrated"; fail=1; }
+done
+# The figures the page shows are the ones these commands draw (same size in pixels).
+for f in fig_residuals.png fig_detection.png fig_odometry.png; do
+  cmp -s <(head -c 24 "$src/docs/figures/own-data/$f") <(head -c 24 "$own/calibration/$f") ||
+    { echo "FAIL: docs/figures/own-data/$f is not a figure of this size"; fail=1; }
+done
+[ "$fail" -eq 0 ] && echo "walkthrough OK"
+exit "$fail"
