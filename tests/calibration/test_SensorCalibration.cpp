@@ -117,6 +117,19 @@ TEST(SensorCalibration, RecoversACleanDetector)
     expectRecovered(o, calibrate(o));
 }
 
+TEST(SensorCalibration, DenseClutterIsNotTakenForConfusion)
+{
+    // Three false detections per scan and no confusion at all: the clutter that falls into
+    // the gate of an undetected object of another label must be counted as clutter (the
+    // expected share is moved back), not as confusion.
+    auto o = paperRun(9);
+    o.detector.false_positives_per_scan = 3.0;
+    o.detector.p_confusion = 0.0;
+    const auto r = calibrate(o);
+    expectRecovered(o, r);
+    EXPECT_LT(r.p_confusion.value, 0.02);
+}
+
 TEST(SensorCalibration, MadSigmaIgnoresOutliers)
 {
     mrpt::random::CRandomGenerator rng(11);
@@ -258,7 +271,26 @@ TEST(SensorCalibration, ToolWritesTheIniAndTheReport)
     {
         EXPECT_TRUE(fs::exists(dir / "report" / f)) << f;
     }
-    EXPECT_NE(readFile((dir / "report" / "report.md").string()).find("| `sigma_range_m` |"),
-              std::string::npos);
+    const std::string md = readFile((dir / "report" / "report.md").string());
+    EXPECT_NE(md.find("| `sigma_range_m` |"), std::string::npos);
+    // Every row of the table has its five cells: a '|' inside a cell is escaped.
+    std::istringstream rows(md);
+    std::string line;
+    size_t tableRows = 0;
+    while (std::getline(rows, line))
+    {
+        if (line.rfind("| `", 0) != 0)
+        {
+            continue;
+        }
+        size_t bars = 0;
+        for (size_t i = 0; i < line.size(); i++)
+        {
+            bars += (line[i] == '|' && (i == 0 || line[i - 1] != '\\')) ? 1 : 0;
+        }
+        EXPECT_EQ(bars, 6U) << line;
+        tableRows++;
+    }
+    EXPECT_EQ(tableRows, 12U);
 }
 #endif

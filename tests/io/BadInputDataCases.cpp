@@ -459,6 +459,13 @@ Cases calibrateCases()
          [](const fs::path& d) { return calibrate(d, 100, "geometric", "out.ini"); }},
         {"calibrate-ground-truth-short",
          [](const fs::path& d) { return calibrate(d, 2, "semantic", "out.ini"); }},
+        {"calibrate-gate-not-positive",
+         [](const fs::path& d)
+         {
+             auto a = calibrate(d, 100, "semantic", "out.ini");
+             a.insert(a.end(), {"--gate-m", "0"});
+             return a;
+         }},
         {"calibrate-out-is-input",
          [](const fs::path& d) { return calibrate(d, 100, "semantic", "base.ini"); }},
     };
