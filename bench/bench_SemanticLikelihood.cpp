@@ -103,10 +103,12 @@ void runSingle(benchmark::State& state, CSemanticMap::Model model)
 
 /** All 4096 particles per call (computeLogLikelihoods, the localizer's path).
  *  Counter per_particle = time of one call / 4096. */
-void runBatch(benchmark::State& state, CSemanticMap::Model model)
+void runBatch(benchmark::State& state, CSemanticMap::Model model,
+              CSemanticMap::Association association = CSemanticMap::Association::Greedy)
 {
-    const Setup s =
+    Setup s =
         makeSetup(static_cast<int>(state.range(0)), static_cast<size_t>(state.range(1)), model);
+    s.map.likelihoodOptions.association = association;
     std::vector<double> out(s.particles.size());
     for (auto _ : state)
     {
@@ -152,12 +154,22 @@ void BM_ProbabilisticBatch(benchmark::State& s)
 {
     runBatch(s, CSemanticMap::Model::Probabilistic);
 }
+/** The probabilistic model summed over every association (association = marginal): compare
+ *  with BM_ProbabilisticBatch of the same arguments in the same run
+ *  (--benchmark_enable_random_interleaving=true). */
+void BM_MarginalBatch(benchmark::State& s)
+{
+    runBatch(s, CSemanticMap::Model::Probabilistic, CSemanticMap::Association::Marginal);
+}
 
 // The reference point: 50 objects, 5 detections.
 BENCHMARK(BM_PaperSingle)->Args({50, 5});
 BENCHMARK(BM_PaperBatch)->Args({50, 5});
 BENCHMARK(BM_ProbabilisticSingle)->Args({50, 5});
 BENCHMARK(BM_ProbabilisticBatch)->Args({50, 5});
+// The marginal association against the greedy one, 5 and 10 detections.
+BENCHMARK(BM_MarginalBatch)->Args({50, 5})->Args({50, 10});
+BENCHMARK(BM_ProbabilisticBatch)->Args({50, 10});
 // Particles per call (10^2 .. 10^5).
 BENCHMARK(BM_PaperBatchParticles)
     ->ArgName("particles")

@@ -117,3 +117,24 @@ TEST(Benchmark, InterruptStopsTheRunsAndWritesNothing)
             << e.path();
     }
 }
+
+TEST(Benchmark, ShippedAssociationIniComparesTheTwoAssociationsInTheirWorlds)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "association.ini");
+    ASSERT_EQ(b.scenarios().size(), 3u);
+    for (const auto& sc : b.scenarios())
+    {
+        ASSERT_EQ(sc.variants().size(), 2u);
+        EXPECT_EQ(sc.variants()[0].name(), "semantic");
+        EXPECT_EQ(sc.variants()[1].name(), "semantic_marginal");
+        // map_from_world: the harbour's variants localize in the harbour, the others in the
+        // world of their own ini (the paper's).
+        for (const auto& v : sc.variants())
+        {
+            ASSERT_TRUE(v.maps.world.has_value());
+            EXPECT_EQ(v.maps.world->name,
+                      sc.scenario().name == "harbour" ? "harbour_symmetric" : "paper_50x50")
+                << sc.scenario().name;
+        }
+    }
+}

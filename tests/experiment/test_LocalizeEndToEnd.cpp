@@ -497,3 +497,29 @@ TEST_F(LocalizeEndToEnd, BadConfigurationsFailClearlyWithoutOutput)
             << e.path() << " left behind";
     }
 }
+
+TEST(ShippedConfigs, SemanticMarginalIsSemanticWithTheMarginalAssociation)
+{
+    // Every line after the header comment, but the association, the name and the output
+    // directory, is the same in both files.
+    auto body = [](const std::string& file)
+    {
+        std::istringstream in(readText(kConfig + file));
+        std::string line, out;
+        bool header = true;
+        while (std::getline(in, line))
+        {
+            header = header && (line.empty() || line[0] == '#');
+            const std::string key = line.substr(0, line.find_first_of(" ="));
+            if (!header && key != "association" && key != "variant" && key != "logOutput_dir")
+            {
+                out += line + "\n";
+            }
+        }
+        return out;
+    };
+    EXPECT_EQ(body("semantic_marginal.ini"), body("semantic.ini"));
+    const std::string marginal = readText(kConfig + "semantic_marginal.ini");
+    EXPECT_NE(marginal.find("\nassociation             = marginal\n"), std::string::npos);
+    EXPECT_NE(marginal.find("\nvariant                 = semantic_marginal\n"), std::string::npos);
+}

@@ -161,6 +161,14 @@ Cases iniMapCases()
              return localize(d, writeConfig(d, "grid_lf", {{"likelihoodMethod", "lmBogus"}}),
                              d / "data.rawlog");
          }},
+        {"ini-association-needs-probabilistic",
+         [](const fs::path& d)
+         {
+             saveGz(simulate().rawlog, d / "data.rawlog");
+             return localize(
+                 d, writeConfig(d, "semantic", {{"model", "paper"}, {"association", "marginal"}}),
+                 d / "data.rawlog");
+         }},
         {"ini-rawlog-offset-past-end",
          [](const fs::path& d) {
              return localizeGood(d, "", {{"rawlog_offset", "6"}});

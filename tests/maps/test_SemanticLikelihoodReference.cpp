@@ -454,3 +454,214 @@ TEST(SemanticLikelihoodReference, FastPathEqualsReferenceOnRandomScenes)
     EXPECT_LT(cov.onEdge, 500u);
     EXPECT_GT(cov.maxDiff, 0.0);  // the approximations are there: the tolerance is needed
 }
+
+namespace
+{
+/** A small map for the marginal association: 2..5 objects within 12 x 12 m in 1..2 labels
+ *  (objects of one label close together: pairs compete), the probabilistic model with
+ *  `association` and options drawn at random. */
+CSemanticMap smallMap(Rng& rng, size_t& nLabels, CSemanticMap::Association association)
+{
+    CSemanticMap m;
+    auto& o = m.likelihoodOptions;
+    o.model = CSemanticMap::Model::Probabilistic;
+    o.association = association;
+    o.sigma_range_m = rng.uniform(0.2, 2.0);
+    o.sigma_bearing_deg = rng.uniform(1.0, 15.0);
+    o.p_detect_near = rng.uniform(0.3, 0.99);
+    o.p_detect_far = rng.uniform(0.1, 0.99);
+    o.clutter_per_scan = rng.uniform(0.05, 3.0);
+    o.p_confusion = rng.pick<double>({0.0, 0.05, 0.3});
+    nLabels = 1 + rng.index(2);
+    const size_t n = 2 + rng.index(4);
+    for (size_t i = 0; i < n; i++)
+    {
+        CSemanticMap::TObject ob;
+        ob.id = static_cast<int32_t>(i + 1);
+        ob.label = kLabels[rng.index(nLabels)];
+        ob.x = rng.uniform(0.0, 12.0);
+        ob.y = rng.uniform(0.0, 12.0);
+        m.addObject(ob);
+    }
+    return m;
+}
+
+/** Detections of up to 6 rows of `dets` (the reference enumerates every association). */
+std::vector<Simulated> fewDetections(std::vector<Simulated> dets)
+{
+    if (dets.size() > 6)
+    {
+        dets.resize(6);
+    }
+    return dets;
+}
+}  // namespace
+
+TEST(SemanticLikelihoodReference, MarginalAssociationEqualsPlainEnumeration)
+{
+    Rng rng(20261124);
+    size_t scenes = 0, contested = 0, failures = 0, aboveGreedy = 0;
+    double maxDiff = 0;
+    for (int map = 0; map < 400; map++)
+    {
+        size_t nLabels = 1;
+        const uint32_t seed = static_cast<uint32_t>(rng.index(1u << 30));
+        Rng mapRng(seed), greedyRng(seed);
+        const CSemanticMap m = smallMap(mapRng, nLabels, CSemanticMap::Association::Marginal);
+        const CSemanticMap greedy =
+            smallMap(greedyRng, nLabels, CSemanticMap::Association::Greedy);  // the same map
+        for (int o = 0; o < 10; o++)
+        {
+            Sensor s = randomSensor(rng);
+            const TPose2D truth{rng.uniform(-5, 17), rng.uniform(-5, 17), rng.uniform(-M_PI, M_PI)};
+            const auto obs =
+                semanticObservation(s, fewDetections(simulate(rng, m, s, truth, nLabels)));
+            const std::vector<TPose2D> p = poses(rng, m, s, truth);
+            std::vector<double> fast(p.size()), greedyFast(p.size());
+            m.computeLogLikelihoods(obs, p.data(), p.size(), fast.data());
+            greedy.computeLogLikelihoods(obs, p.data(), p.size(), greedyFast.data());
+            for (size_t i = 0; i < p.size(); i++)
+            {
+                ref::SemanticTerms t;
+                const double want = ref::semanticLogLikelihood(m, obs, p[i], &t);
+                if (t.onEdge > 0)
+                {
+                    continue;  // in z^k or not by rounding (see the random-scenes test)
+                }
+                const double diff = std::abs(fast[i] - want);
+                const bool ok = (want == -1e300 || want == 0.0)
+                                    ? fast[i] == want
+                                    : diff <= kTolerancePerPair * std::max<double>(1, t.m);
+                if (!ok && ++failures <= 10)
+                {
+                    ADD_FAILURE() << "map " << map << " obs " << o << " pose " << i << ": fast "
+                                  << fast[i] << ", enumeration " << want << " (l=" << t.l
+                                  << " q=" << t.q << ", " << t.m << " pairs)";
+                }
+                maxDiff = std::isfinite(diff) ? std::max(maxDiff, diff) : maxDiff;
+                // The greedy association's product is one term of the sum.
+                EXPECT_GE(fast[i], greedyFast[i] - 1e-9) << "map " << map << " pose " << i;
+                aboveGreedy += fast[i] > greedyFast[i] + 1e-6 ? 1 : 0;
+                contested += t.m > std::min(t.l, t.q) ? 1 : 0;
+                scenes++;
+            }
+        }
+        EXPECT_EQ(m.associationsApproximated(), 0u);  // small scenes: exact
+    }
+    std::cout << "scenes " << scenes << ", with more pairs than a one-to-one association holds "
+              << contested << ", marginal above greedy " << aboveGreedy
+              << "; largest |fast - enumeration| " << maxDiff << "\n";
+    EXPECT_EQ(failures, 0u);
+    EXPECT_GT(scenes, 30000u);
+    EXPECT_GT(contested, 3000u);
+    EXPECT_GT(aboveGreedy, 10000u);
+}
+
+/** log of the sum over every association of a dense scene's pairs by a plain subset DP over
+ *  the objects (independent of the library's): dp[S] sums the associations of the first
+ *  detections that use exactly the objects of S. */
+double denseLogSum(const std::vector<std::vector<double>>& logW)
+{
+    const size_t objs = logW.empty() ? 0 : logW[0].size();
+    std::vector<double> dp(size_t{1} << objs, 0.0);
+    dp[0] = 1.0;
+    double scale = 0;  // dp holds exp(log - scale) to stay in range
+    for (const auto& row : logW)
+    {
+        const double rowMax = *std::max_element(row.begin(), row.end());
+        const double shift = std::max(0.0, rowMax);
+        std::vector<double> next(dp.size(), 0.0);
+        for (size_t S = 0; S < dp.size(); S++)
+        {
+            next[S] += dp[S] * std::exp(-shift);
+            for (size_t o = 0; o < objs; o++)
+            {
+                if ((S & (size_t{1} << o)) == 0)
+                {
+                    next[S | (size_t{1} << o)] += dp[S] * std::exp(row[o] - shift);
+                }
+            }
+        }
+        dp.swap(next);
+        scale += shift;
+    }
+    double sum = 0;
+    for (const double v : dp)
+    {
+        sum += v;
+    }
+    return std::log(sum) + scale;
+}
+
+TEST(SemanticLikelihoodReference, MarginalAssociationBeyondItsBudgetIsALowerBoundAndCounted)
+{
+    // Fourteen objects of one label close together, fourteen detections among them: one group
+    // of 196 pairs, 2^14 x 196 work, beyond the budget.
+    CSemanticMap m;
+    auto& o = m.likelihoodOptions;
+    o.model = CSemanticMap::Model::Probabilistic;
+    o.association = CSemanticMap::Association::Marginal;
+    o.sigma_range_m = 3.0;
+    o.sigma_bearing_deg = 30.0;
+    o.p_confusion = 0;
+    const size_t n = 14;
+    for (size_t i = 0; i < n; i++)
+    {
+        CSemanticMap::TObject ob;
+        ob.id = static_cast<int32_t>(i + 1);
+        ob.label = "buoy";
+        ob.x = 10.0 + 0.3 * static_cast<double>(i);
+        ob.y = 0.2 * static_cast<double>(i % 3);
+        m.addObject(ob);
+    }
+    CObservationSemantic obs;
+    obs.maxRange_m = 30;
+    obs.fov_rad = M_PI;
+    for (size_t j = 0; j < n; j++)
+    {
+        TSemanticDetection d;
+        d.label = "buoy";
+        d.range_m = 10.1 + 0.31 * static_cast<double>(j);
+        d.bearing_rad = 0.005 * static_cast<double>(j);
+        obs.detections.push_back(d);
+    }
+    const TPose2D pose{0, 0, 0};
+    // The exact value: the model's terms as the reference writes them, summed by denseLogSum.
+    const double R = 30, fov = M_PI;
+    const double logKappa = std::log(o.clutter_per_scan / (R * fov));
+    const double sr = o.sigma_range_m, sb = o.sigma_bearing_deg * M_PI / 180;
+    double base = -o.clutter_per_scan + static_cast<double>(n) * logKappa;
+    std::vector<std::vector<double>> logW(n, std::vector<double>(n));
+    for (size_t v = 0; v < n; v++)
+    {
+        const auto& ob = m.objects()[v];
+        const double rho = std::hypot(ob.x, ob.y), theta = std::atan2(ob.y, ob.x);
+        const double pd = std::clamp(o.p_detect_near + (o.p_detect_far - o.p_detect_near) * rho / R,
+                                     1e-6, 1 - 1e-6);
+        base += std::log(1 - pd);
+        for (size_t j = 0; j < n; j++)
+        {
+            const auto& d = obs.detections[j];
+            const double dr = (d.range_m - rho) / sr, db = (d.bearing_rad - theta) / sb;
+            logW[j][v] = std::log(pd / (1 - pd)) + std::log(1 - o.p_confusion) - 0.5 * dr * dr -
+                         0.5 * db * db - std::log(2 * M_PI * sr * sb) - logKappa;
+        }
+    }
+    const double exact = base + denseLogSum(logW);
+    const double fast = m.computeLogLikelihood(obs, pose);
+    EXPECT_EQ(m.associationsApproximated(), 1u);
+    EXPECT_LE(fast, exact + 1e-6);  // the pairs left out make it a lower bound
+    EXPECT_GT(fast, exact - 0.1);   // ... of the heaviest partial associations: most of it
+    std::cout << "dense scene: exact " << exact << ", approximated " << fast << "\n";
+    m.resetAssociationCount();
+    EXPECT_EQ(m.associationsApproximated(), 0u);
+    // With ids each detection names its object: groups of one pair, exact.
+    for (size_t j = 0; j < n; j++)
+    {
+        obs.detections[j].object_id = static_cast<int32_t>(j + 1);
+    }
+    ref::SemanticTerms t;
+    EXPECT_NEAR(m.computeLogLikelihood(obs, pose), ref::semanticLogLikelihood(m, obs, pose, &t),
+                1e-4 * static_cast<double>(n));
+    EXPECT_EQ(m.associationsApproximated(), 0u);
+}

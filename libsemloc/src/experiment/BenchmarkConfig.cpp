@@ -35,7 +35,8 @@ const std::vector<std::string> kScenarioKeys = {"name",
                                                 "recovery",
                                                 "recovery_alpha_slow",
                                                 "recovery_alpha_fast",
-                                                "recovery_max_steps"};
+                                                "recovery_max_steps",
+                                                "map_from_world"};
 
 std::vector<std::string> splitList(const std::string& s)
 {
@@ -124,9 +125,11 @@ void readScenarioFile(const std::string& path, int maxSteps, Benchmark::TScenari
 }
 
 /** The variant `name` of [Benchmark] variants: its ini (`<name>.ini`, or a path ending in
- *  .ini, resolved next to `ini`) and its maps; throws naming the variant. */
+ *  .ini, resolved next to `ini`) and its maps (of `mapFile` instead of its map_file when
+ *  given); throws naming the variant. */
 Benchmark::TVariant readVariant(const mrpt::config::CConfigFileBase& ini,
-                                const std::string& iniPath, const std::string& name)
+                                const std::string& iniPath, const std::string& name,
+                                const std::string& mapFile)
 {
     const bool isFile = name.size() > 4 && name.substr(name.size() - 4) == ".ini";
     Benchmark::TVariant v;
@@ -136,6 +139,10 @@ Benchmark::TVariant readVariant(const mrpt::config::CConfigFileBase& ini,
         config::checkIniFile(v.iniPath);
         mrpt::config::CConfigFile vini(v.iniPath);
         v.options.loadFromConfigFile(vini, "LocalizationExperiment");
+        if (!mapFile.empty())
+        {
+            v.options.map_file = mapFile;  // the scenario's world (map_from_world)
+        }
         v.maps = LocalizationMap::FromConfig(vini, v.options.map_file);
     }
     catch (const std::exception& e)
@@ -215,6 +222,7 @@ void Benchmark::TScenario::loadFromConfigFile(const mrpt::config::CConfigFileBas
     readDouble(c, s, "recovery_alpha_slow", recovery_alpha_slow, 0, 1);
     readDouble(c, s, "recovery_alpha_fast", recovery_alpha_fast, 0, 1);
     readInt(c, s, "recovery_max_steps", recovery_max_steps, 0, std::numeric_limits<int>::max());
+    readBool(c, s, "map_from_world", map_from_world);
     if (name.find_first_of("/\\ \t") != std::string::npos || name == "." || name == "..")
     {
         THROW_EXCEPTION("ini [" + s + "] name: '" + name + "' is not a directory name");
@@ -238,6 +246,7 @@ void Benchmark::TScenario::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     detail::writeExact(c, s, "recovery_alpha_slow", recovery_alpha_slow, "");
     detail::writeExact(c, s, "recovery_alpha_fast", recovery_alpha_fast, "");
     c.write(s, "recovery_max_steps", recovery_max_steps);
+    c.write(s, "map_from_world", map_from_world ? "true" : "false");
 }
 
 // ------------------------------------------------------------------ setup
@@ -326,7 +335,9 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
     const auto& o = m_options;
     for (const auto& name : o.variants)
     {
-        TVariant v = readVariant(ini, m_iniPath, name);
+        TVariant v = readVariant(
+            ini, m_iniPath, name,
+            m_scenario.map_from_world ? m_simulation.simulation.world_file : std::string());
         for (const auto& w : m_variants)
         {
             if (w.name() == v.name())

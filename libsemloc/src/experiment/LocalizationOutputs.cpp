@@ -92,6 +92,7 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "detections_invalid: " << res.likelihood.detections_invalid << "\n"
       << "detections_unknown: " << res.likelihood.detections_unknown << "\n"
       << "nonfinite_likelihoods: " << res.likelihood.nonfinite_likelihoods << "\n"
+      << "associations_approximated: " << res.likelihood.associations_approximated << "\n"
       << "# every weight zero: particles re-initialized over the free space\n"
       << "reinitializations: " << res.recovery.reinitializations << "\n"
       << "reinitialized_from_detections: " << res.recovery.reinitialized_from_detections << "\n"

@@ -9,6 +9,7 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/Localizer.h>
 #include <semloc/filter/ParallelExecutor.h>
+#include <semloc/maps/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 #include <algorithm>
@@ -399,6 +400,13 @@ SensoryFrameLikelihood::TStats Localizer::likelihoodStats() const
     auto s = m_pdf->likelihoodStats();
     s.beams_invalid = m_beamsInvalid;
     s.observations_invalid = m_observationsInvalid;
+    for (const auto& m : m_map->maps)
+    {
+        if (const auto* sem = dynamic_cast<const CSemanticMap*>(m.get()))
+        {
+            s.associations_approximated += sem->associationsApproximated();
+        }
+    }
     return s;
 }
 

@@ -102,6 +102,16 @@ void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CC
     std::string m = modelName(model);
     config::readChoice(c, s, "model", m, {"paper", "probabilistic"});
     model = (m == "paper") ? Model::Paper : Model::Probabilistic;
+    std::string a = association == Association::Marginal ? "marginal" : "greedy";
+    config::readChoice(c, s, "association", a, {"greedy", "marginal"});
+    association = (a == "marginal") ? Association::Marginal : Association::Greedy;
+    if (association == Association::Marginal && model != Model::Probabilistic)
+    {
+        THROW_EXCEPTION(
+            "ini [" + s +
+            "] association: 'marginal' sums the probabilistic model over every "
+            "association; set model = probabilistic (the paper model matches greedily)");
+    }
     config::readDouble(c, s, "sigma_range_m", sigma_range_m, 1e-6, 1e6);
     config::readDouble(c, s, "sigma_bearing_deg", sigma_bearing_deg, 1e-6, 360);
     config::readDouble(c, s, "unmatched_penalty", unmatched_penalty, 1e-12, 0.999999);
@@ -119,6 +129,9 @@ void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFil
                                                         const std::string& s) const
 {
     c.write(s, "model", std::string(modelName(model)), 24, 24, "paper | probabilistic");
+    c.write(s, "association",
+            std::string(association == Association::Marginal ? "marginal" : "greedy"), 24, 24,
+            "probabilistic: greedy (best association) | marginal (sum over all)");
     detail::writeExact(c, s, "sigma_range_m", sigma_range_m, "range noise sigma_rho [m]");
     detail::writeExact(c, s, "sigma_bearing_deg", sigma_bearing_deg,
                        "bearing noise sigma_theta [deg]");
@@ -192,6 +205,16 @@ CSemanticMap& CSemanticMap::operator=(const CSemanticMap& o)
         rebuildIndex();
     }
     return *this;
+}
+
+size_t CSemanticMap::associationsApproximated() const
+{
+    return m_approximated.load();
+}
+
+void CSemanticMap::resetAssociationCount()
+{
+    m_approximated = 0;
 }
 
 size_t CSemanticMap::labelCount() const

@@ -258,8 +258,9 @@ GainParts gainParts(const CSemanticMap::Index& ix, const Scratch& sc)
 }
 
 /** A candidate pair's gain less log q, q = P_D / (1 - P_D), and whether its gain is
- *  positive: decided without log q when log q's range over the FOV decides it by more than
- *  1e-9 (rounding: ~1e-14), else with log q: the same pairs as gain = log q + rest > 0. */
+ *  above k.gainFloor (0 for the greedy association: positive): decided without log q when
+ *  log q's range over the FOV decides it by more than 1e-9 (rounding: ~1e-14), else with
+ *  log q: the same pairs as gain = log q + rest > gainFloor. */
 struct PairGain
 {
     double rest, q;
@@ -271,10 +272,10 @@ PairGain pairGain(const ModelConsts& k, double rest, double q)
     PairGain g;
     g.rest = rest;
     g.q = q;
-    g.gains = g.rest + k.logQLo > 0;
-    if (!g.gains && g.rest + k.logQHi >= 0)
+    g.gains = g.rest + k.logQLo > k.gainFloor;
+    if (!g.gains && g.rest + k.logQHi >= k.gainFloor)
     {
-        g.gains = std::log(g.q) + g.rest > 0;
+        g.gains = std::log(g.q) + g.rest > k.gainFloor;
     }
     return g;
 }
@@ -371,6 +372,47 @@ bool disjointPairs(const Pair* pairs, size_t c)
  *  kFoldPairs of them, their q join the product (one log for the particle) and their gains
  *  less log q are summed in pair order; otherwise each pair's gain log q + rest goes to the
  *  assignment. */
+/** Stage 5 of the marginal association: per particle, missBlock's terms and the log of the
+ *  sum over its associations (marginalAssociation; pairs that share no detection and no
+ *  object: the product of their 1 + w, w = q e^rest). */
+void marginalTotalsBlock(Scratch& sc, size_t m, double* out)
+{
+    const size_t nd = sc.dets.size();
+    const uint32_t* blockVis = sc.blockVis.data();
+    const uint32_t* pairCount = sc.pairCount.data();
+    const Pair* pairs = sc.pairs.data();
+    size_t t = 0;
+    for (uint32_t i = 0; i < m; i++)
+    {
+        if (blockVis[i] == kNoPose)
+        {
+            out[i] = kMinLogLik;
+            continue;
+        }
+        const uint32_t c = pairCount[i];
+        double sum = 0;
+        if (disjointPairs(pairs + t, c))
+        {
+            // The product of the 1 + w (w = q e^rest: rest <= log(1 / (2 pi sigma_rho
+            // sigma_theta kappa)), q <= 1e6; c <= 8), one log.
+            double prod = 1;
+            for (size_t u = t; u < t + c; u++)
+            {
+                prod *= 1 + pairs[u].q * std::exp(pairs[u].gain);
+            }
+            sum = std::log(prod);
+        }
+        else
+        {
+            bool approximated = false;
+            sum = marginalAssociation(pairs + t, c, nd, sc.marginal, approximated);
+            sc.approximated += approximated ? 1 : 0;
+        }
+        t += c;
+        out[i] = finite(sc.bBase[i] + std::log(sc.bMiss[i]) + sum);
+    }
+}
+
 void totalsBlock(Scratch& sc, size_t m, double* out)
 {
     const size_t nd = sc.dets.size();
@@ -442,6 +484,11 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
     missBlock(sc, k, m, ne);
     const size_t nc = gateBlock(ix, sc, k, ne);
     gainBlock(ix, sc, k, m, nc);
+    if (k.marginal)
+    {
+        marginalTotalsBlock(sc, m, out);
+        return;
+    }
     totalsBlock(sc, m, out);
 }
 }  // namespace semloc::semantic

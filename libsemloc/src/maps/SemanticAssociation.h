@@ -135,4 +135,13 @@ inline double assignGreedy(Pair* pairs, size_t np, size_t nd, uint8_t* used)
     }
     return sum;
 }
+/** log of the sum over every one-to-one association of the np pairs of one particle (nd
+ *  detections; pair u's weight is exp(pairs[u].gain + log pairs[u].q)) of the product of its
+ *  pairs' weights, the empty association counting 1: the marginal association of the
+ *  probabilistic model (CSemanticMap). Exact per group of detections and objects linked by
+ *  pairs while a group reaches at most CSemanticMap::kMarginalMaxStates sets of taken
+ *  objects; beyond, the heaviest sets are kept and `approximated` is set. */
+double marginalAssociation(const Pair* pairs, size_t np, size_t nd, MarginalScratch& ms,
+                           bool& approximated);
+
 }  // namespace semloc::semantic

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -268,6 +269,40 @@ double paper(const CSemanticMap& map, const Scan& s, const TPose2D& pose, Semant
     return static_cast<double>(t.q + t.l - 2 * t.m) * logPu + sum;
 }
 
+/** Pairs whose weight w = e^gain is below e^-50 change a sum over associations (>= 1: the
+ *  empty association) by less than a double's rounding: the reference leaves them out. */
+constexpr double kNegligibleLogWeight = -50;
+
+/** log of the sum over every one-to-one association of the `pairs` (detection j, object v,
+ *  log w_jv = gain) of the product of its pairs' w, the empty association counting 1: each
+ *  detection in turn is clutter or one of its objects not yet taken. Plain enumeration. */
+double sumOverAssociations(const std::vector<Pair>& pairs, size_t detections)
+{
+    // In logarithms: a product of a few w can exceed a double's range.
+    auto logAdd = [](double a, double b)
+    { return std::max(a, b) + std::log1p(std::exp(-std::abs(a - b))); };
+    std::set<size_t> taken;
+    std::function<double(size_t)> logFrom = [&](size_t j) -> double
+    {
+        if (j == detections)
+        {
+            return 0.0;
+        }
+        double logSum = logFrom(j + 1);  // detection j is clutter
+        for (const Pair& p : pairs)
+        {
+            if (p.j == j && taken.count(p.v) == 0)
+            {
+                taken.insert(p.v);
+                logSum = logAdd(logSum, p.gain + logFrom(j + 1));
+                taken.erase(p.v);
+            }
+        }
+        return logSum;
+    };
+    return logFrom(0);
+}
+
 /** The probabilistic model: each object of z^k is detected with
  *      P_D(rho) = clamp(p_detect_near + (p_detect_far - p_detect_near) rho / R, 1e-6, 1 - 1e-6),
  *  a detection is labelled right with C = 1 - p_c, as any other of the K map labels with
@@ -283,7 +318,12 @@ double paper(const CSemanticMap& map, const Scan& s, const TPose2D& pose, Semant
  *
  *  A pair's gain (what matching it adds over leaving both unmatched) is
  *  log P_D - log(1 - P_D) + log C + log N + log N - log kappa; A takes the pairs that gain,
- *  greedily. With class confusion (p_c > 0, K > 1) a detection may be an object of any label. */
+ *  greedily. With class confusion (p_c > 0, K > 1) a detection may be an object of any label.
+ *
+ *  With association = marginal, the sum over every association A of p(z, A | x):
+ *
+ *      log p(z | x) = -lambda + l log kappa + sum_v log(1 - P_D(rho_v))
+ *                   + log sum_A prod_{(j,v) in A} exp(gain_jv)                          */
 double probabilistic(const CSemanticMap& map, const Scan& s, const TPose2D& pose, SemanticTerms& t)
 {
     const Options& opt = map.likelihoodOptions;
@@ -319,6 +359,7 @@ double probabilistic(const CSemanticMap& map, const Scan& s, const TPose2D& pose
         return std::log(pD(v)) + logC(d, v) + logN(d.rho - v.rho, sigmaRho) +
                logN(bearingDiff(d, v), sigmaTheta);
     };
+    const bool marginal = opt.association == CSemanticMap::Association::Marginal;
     std::vector<Pair> pairs;
     for (size_t j = 0; j < s.z_r.size(); j++)
     {
@@ -329,11 +370,25 @@ double probabilistic(const CSemanticMap& map, const Scan& s, const TPose2D& pose
                 continue;
             }
             const double gain = matchedTerm(s.z_r[j], z_k[v]) - std::log(1 - pD(z_k[v])) - logKappa;
-            if (gain > 0)
+            if (gain > (marginal ? kNegligibleLogWeight : 0.0))
             {
                 pairs.push_back({gain, j, v});
             }
         }
+    }
+    t.l = s.z_r.size();
+    t.q = z_k.size();
+    if (marginal)
+    {
+        // Every association at once: the terms of a detection matched to object v differ from
+        // those of both left unmatched by the pair's gain, log w_jv.
+        double logP = -lambda + static_cast<double>(t.l) * logKappa;
+        for (const Predicted& v : z_k)
+        {
+            logP += std::log(1 - pD(v));
+        }
+        t.m = pairs.size();
+        return logP + sumOverAssociations(pairs, s.z_r.size());
     }
     const std::vector<Pair> matched = associate(pairs);
     std::vector<bool> detMatched(s.z_r.size(), false), objMatched(z_k.size(), false);
@@ -351,8 +406,6 @@ double probabilistic(const CSemanticMap& map, const Scan& s, const TPose2D& pose
     {
         logP += detMatched[j] ? 0.0 : logKappa;
     }
-    t.l = s.z_r.size();
-    t.q = z_k.size();
     t.m = matched.size();
     return logP;
 }

@@ -45,6 +45,29 @@ struct Pair
     double q = 0;  // probabilistic: P_D / (1 - P_D) of the pair's object (totalsBlock)
 };
 
+/** The workspace of marginalAssociation() (SemanticAssociation.h): grown, never shrunk. */
+struct MarginalScratch
+{
+    /** A pair in a group's local numbering: detection, object, gain log w. */
+    struct Edge
+    {
+        uint32_t det, obj;
+        double logW;
+    };
+    std::vector<int32_t> objLocal;  // -1 between calls
+    std::vector<uint32_t> parent;   // union-find over the local nodes
+    /** The partial associations that take the objects of `taken`: log of their sum. */
+    struct State
+    {
+        uint64_t taken;
+        double logSum;
+    };
+    std::vector<Edge> edges, group, kept, local;
+    std::vector<uint32_t> root, start;
+    std::vector<size_t> order;
+    std::vector<State> states, nextStates;
+};
+
 /** A detection as one of a label's slots (planPairs). */
 struct Slot
 {
@@ -132,5 +155,9 @@ struct Scratch
     /** assignGreedy's marks: all zero between calls (it clears what it set). */
     std::vector<uint8_t> used;
     SensorTrig trig;
+    /** marginalAssociation's workspace. */
+    MarginalScratch marginal;
+    /** Particle evaluations of this call whose marginal association was approximated. */
+    size_t approximated = 0;
 };
 }  // namespace semloc::semantic

@@ -163,6 +163,11 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
         semantic::scoreProbabilisticBlock(*m_index, likelihoodOptions, k, sc, geoms, poses + i0, m,
                                           out + i0);
     }
+    if (sc.approximated > 0)
+    {
+        m_approximated += sc.approximated;
+        sc.approximated = 0;
+    }
 }
 
 double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs,

@@ -39,7 +39,10 @@ double probabilisticConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t n
     // Gain > 0 needs the Gaussian terms to cost less than the best the rest can give:
     // P_D at its largest, a label term <= 0.
     const double pmax = std::clamp(std::max(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
-    k.budget = 2 * (std::log(pmax) - std::log1p(-pmax) + k.logNorm - k.logKappa);
+    // With the marginal association a pair is kept down to a gain of log kMarginalMinWeight.
+    k.marginal = opt.association == CSemanticMap::Association::Marginal;
+    k.gainFloor = k.marginal ? std::log(CSemanticMap::kMarginalMinWeight) : 0.0;
+    k.budget = 2 * (std::log(pmax) - std::log1p(-pmax) + k.logNorm - k.logKappa - k.gainFloor);
     const double pmin = std::clamp(std::min(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
     k.logQLo = std::log(pmin / (1 - pmin)) - 1e-9;
     k.logQHi = std::log(pmax / (1 - pmax)) + 1e-9;
@@ -62,7 +65,8 @@ ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLab
 const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels,
                                      double R, double fov, ModelConstsCache& cache)
 {
-    const std::array<double, 11> key = {static_cast<double>(opt.model),
+    const std::array<double, 12> key = {static_cast<double>(opt.model),
+                                        static_cast<double>(opt.association),
                                         opt.sigma_range_m,
                                         opt.sigma_bearing_deg,
                                         opt.unmatched_penalty,

@@ -24,13 +24,18 @@ struct ModelConsts
     /** log(P_D / (1 - P_D)) at P_D's smallest and largest, widened by 1e-9 (gainBlock). */
     double logQLo = 0, logQHi = 0;
     bool confusable = false;
+    /** association = marginal (probabilistic model): the sum over every association. */
+    bool marginal = false;
+    /** The smallest gain log w of a pair that is kept: 0 for the greedy association (a pair
+     *  is taken only if it gains), log kMarginalMinWeight for the marginal one. */
+    double gainFloor = 0;
 };
 
 /** The constants of the last call, kept while their inputs stay the same (MRPT's
  *  per-particle path makes one call per particle). */
 struct ModelConstsCache
 {
-    std::array<double, 11> key{};
+    std::array<double, 12> key{};
     ModelConsts consts;
     bool valid = false;
 };

@@ -101,6 +101,10 @@ public:
         /** With a kidnapping: a run succeeds if it recovers (RunMetrics::recovery_steps)
          *  within this many steps of the kidnapping. */
         int recovery_max_steps = 100;
+        /** true: every variant localizes in the scenario's simulated world (its map_file
+         *  replaced by the simulation's [Simulation] world_file), for scenarios in another
+         *  world than the variants' own. */
+        bool map_from_world = false;
 
         /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,

@@ -8,6 +8,7 @@
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -68,6 +69,25 @@ class LabelIndex;
  *                                 + log N(d_rho; sigma_rho) + log N(d_theta; sigma_theta)]
  *                   + sum_{v unmatched} log(1 - P_D(rho_v)) + sum_{j unmatched} log kappa
  *
+ *  With `association = marginal` (probabilistic model only) the likelihood is instead the
+ *  sum over every one-to-one association A of the detections to z^k (each detection an
+ *  object or clutter, each object detected or missed), as in Atanasov, Zhu, Daniilidis &
+ *  Pappas, "Localization from semantic observations via the matrix permanent" (IJRR 2016):
+ *
+ *      p(z | x) = e^-lambda kappa^l prod_v (1 - P_D(rho_v)) sum_A prod_{(j,v) in A} w_jv,
+ *      w_jv = P_D(rho_v) C(L_j | L_v) N(d_rho) N(d_theta) / ((1 - P_D(rho_v)) kappa)
+ *
+ *  (the permanent of the detections x (objects + clutter) matrix). It is computed exactly
+ *  per group of detections and objects linked by pairs (the sum factors over such groups),
+ *  leaving out pairs with w_jv < kMarginalMinWeight (leaving out a pair of weight w makes the
+ *  sum low by a factor of at most 1 + w). A group is summed detection by detection over the
+ *  sets of objects its partial associations take: exact while there are at most
+ *  kMarginalMaxStates such sets (always for up to 12 objects); beyond, only the heaviest
+ *  kMarginalMaxStates sets are carried on (a beam: a lower bound of the sum, counted in
+ *  associationsApproximated(), as is a group of more than 64 objects, whose lightest pairs
+ *  are left out).
+ *  Greedy's value is one term of the sum: the exact marginal is never below it.
+ *
  *  Both models are evaluated without allocation, through a uniform-grid index over the
  *  objects (cost independent of map size at fixed density), and are safe to call from
  *  many threads at once. */
@@ -102,11 +122,29 @@ public:
         Probabilistic
     };
 
+    /** How the probabilistic model associates detections with objects (see the class
+     *  documentation). */
+    enum class Association
+    {
+        /** One one-to-one association, greedily from the best pair. */
+        Greedy,
+        /** The sum over every one-to-one association. */
+        Marginal
+    };
+
+    /** `association = marginal`: pairs of a smaller weight w_jv are left out of the sum. */
+    static constexpr double kMarginalMinWeight = 1e-9;
+    /** `association = marginal`: the most sets of taken objects the sum over one group of
+     *  linked detections and objects keeps; beyond, the heaviest are kept. */
+    static constexpr size_t kMarginalMaxStates = 4096;
+
     /** Parameters of the likelihood models; defaults are the documented ones. */
     struct TLikelihoodOptions : public mrpt::config::CLoadableOptions
     {
         /** "paper" or "probabilistic". */
         Model model = Model::Paper;
+        /** "greedy" or "marginal" (probabilistic model only). */
+        Association association = Association::Greedy;
         /** Range noise of a detection, sigma_rho [m]. */
         double sigma_range_m = 0.5;
         /** Bearing noise of a detection, sigma_theta [deg]. */
@@ -227,6 +265,13 @@ public:
     bool isEmpty() const override { return m_objects.empty(); }
     /** Writes `<prefix>_semantic.yaml`, a world file of point objects that loads back. */
     void saveMetricMapRepresentationToFile(const std::string& filNamePrefix) const override;
+    /** Particle evaluations with `association = marginal` whose association sum was
+     *  approximated (a group beyond kMarginalMaxStates), since construction or
+     *  resetAssociationCount(); the same for any thread count. */
+    size_t associationsApproximated() const;
+    /** Sets associationsApproximated() to 0. */
+    void resetAssociationCount();
+
     /** One line: object and label counts, likelihood model. */
     std::string asString() const override;
     /** A cylinder and a "label #id" text per object (coloured by label). */
@@ -269,6 +314,7 @@ public:
 private:
     std::unique_ptr<LabelIndex> m_labels;
     std::unique_ptr<Index> m_index;
+    mutable std::atomic<size_t> m_approximated{0};
 };
 
 }  // namespace semloc
