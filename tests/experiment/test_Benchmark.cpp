@@ -138,3 +138,27 @@ TEST(Benchmark, ShippedAssociationIniComparesTheTwoAssociationsInTheirWorlds)
         }
     }
 }
+
+TEST(Benchmark, ScenarioSetsTheInitialCloudOfEveryVariant)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "global_start.ini");
+    ASSERT_EQ(b.scenarios().size(), 2u);
+    using Mode = semloc::Localizer::InitMode;
+    for (const auto& sc : b.scenarios())
+    {
+        const Mode want =
+            sc.scenario().name == "detections" ? Mode::FromDetections : Mode::FreeSpace;
+        ASSERT_EQ(sc.variants().size(), 3u);
+        for (const auto& v : sc.variants())
+        {
+            EXPECT_EQ(v.options.filter.init_PDF_mode, want) << v.name();
+        }
+    }
+    // A variant without a semantic map cannot start from the detections.
+    const std::string scenario = std::string(SEMLOC_TEST_OUT) + "/bench_init3.ini";
+    std::ofstream(scenario) << "[Scenario]\nname = seeded\ninit_PDF_mode = 3\n";
+    EXPECT_NE(errorOf(writeIni("bench_init3_main.ini", "scenarios = " + scenario + "\n"))
+                  .find("variant 'geometric': init_PDF_mode = 3 (from the first detections) "
+                        "needs a semanticMap"),
+              std::string::npos);
+}

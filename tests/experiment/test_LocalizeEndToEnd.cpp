@@ -189,6 +189,28 @@ TEST_F(LocalizeEndToEnd, SemanticConvergesFromUniformStartAndWritesTheContract)
     EXPECT_EQ(stepsWithoutTiming(dir), stepsWithoutTiming(kOut / "semantic_rerun"));
 }
 
+TEST_F(LocalizeEndToEnd, StartSeededByTheFirstDetectionsConvergesAtOnceWhateverTheThreads)
+{
+    // init_PDF_mode = 3: 80 % of 2000 particles drawn from the first detections; the uniform
+    // start of the same filter converges tens of steps later (at step 121 with seed 1).
+    const std::string ini =
+        patchedConfig("semantic.ini", {{"init_PDF_mode", "3"}}, "semantic_seeded");
+    const auto one = localize(ini, rawlog, "seeded_1", 2000, 1);
+    const auto two = localize(ini, rawlog, "seeded_2", 2000, 2);
+    EXPECT_NEAR(static_cast<double>(one.initialized_from_detections), 1600.0, 60.0);
+    EXPECT_TRUE(one.metrics.converged);
+    EXPECT_LT(one.metrics.convergence_step, 20);
+    EXPECT_LT(one.metrics.mean_err_after_conv_m, 0.25);
+    EXPECT_EQ(stepsWithoutTiming(kOut / "seeded_1"), stepsWithoutTiming(kOut / "seeded_2"));
+    EXPECT_EQ(two.initialized_from_detections, one.initialized_from_detections);
+    const auto uniform = localize(patchedConfig("semantic.ini", {}, "semantic_uniform"), rawlog,
+                                  "uniform_2000", 2000, 1);
+    EXPECT_EQ(uniform.initialized_from_detections, 0u);
+    EXPECT_GT(uniform.metrics.convergence_step, one.metrics.convergence_step + 20);
+    EXPECT_NE(readText(kOut / "seeded_1" / "summary.yaml").find("initialized_from_detections: "),
+              std::string::npos);
+}
+
 TEST_F(LocalizeEndToEnd, GeometricConvergesFromUniformStart)
 {
     const auto res = localize(kConfig + "geometric.ini", rawlog, "geometric", 6000);

@@ -161,6 +161,13 @@ Cases iniMapCases()
              return localize(d, writeConfig(d, "grid_lf", {{"likelihoodMethod", "lmBogus"}}),
                              d / "data.rawlog");
          }},
+        {"ini-init-detections-needs-semantic-map",
+         [](const fs::path& d)
+         {
+             saveGz(simulate().rawlog, d / "data.rawlog");
+             return localize(d, writeConfig(d, "geometric", {{"init_PDF_mode", "3"}}),
+                             d / "data.rawlog");
+         }},
         {"ini-association-needs-probabilistic",
          [](const fs::path& d)
          {

@@ -8,6 +8,7 @@
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/maps/CSemanticMap.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -36,7 +37,8 @@ const std::vector<std::string> kScenarioKeys = {"name",
                                                 "recovery_alpha_slow",
                                                 "recovery_alpha_fast",
                                                 "recovery_max_steps",
-                                                "map_from_world"};
+                                                "map_from_world",
+                                                "init_PDF_mode"};
 
 std::vector<std::string> splitList(const std::string& s)
 {
@@ -223,6 +225,7 @@ void Benchmark::TScenario::loadFromConfigFile(const mrpt::config::CConfigFileBas
     readDouble(c, s, "recovery_alpha_fast", recovery_alpha_fast, 0, 1);
     readInt(c, s, "recovery_max_steps", recovery_max_steps, 0, std::numeric_limits<int>::max());
     readBool(c, s, "map_from_world", map_from_world);
+    readInt(c, s, "init_PDF_mode", init_PDF_mode, -1, 3);
     if (name.find_first_of("/\\ \t") != std::string::npos || name == "." || name == "..")
     {
         THROW_EXCEPTION("ini [" + s + "] name: '" + name + "' is not a directory name");
@@ -247,6 +250,7 @@ void Benchmark::TScenario::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     detail::writeExact(c, s, "recovery_alpha_fast", recovery_alpha_fast, "");
     c.write(s, "recovery_max_steps", recovery_max_steps);
     c.write(s, "map_from_world", map_from_world ? "true" : "false");
+    c.write(s, "init_PDF_mode", init_PDF_mode);
 }
 
 // ------------------------------------------------------------------ setup
@@ -375,6 +379,18 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
         {
             v.options.filter.recovery.alpha_slow = m_scenario.recovery_alpha_slow;
             v.options.filter.recovery.alpha_fast = m_scenario.recovery_alpha_fast;
+        }
+        if (m_scenario.init_PDF_mode >= 0)
+        {
+            v.options.filter.init_PDF_mode =
+                static_cast<Localizer::InitMode>(m_scenario.init_PDF_mode);
+        }
+        if (v.options.filter.init_PDF_mode == Localizer::InitMode::FromDetections &&
+            !v.maps.map->mapByClass<CSemanticMap>())
+        {
+            THROW_EXCEPTION("variant '" + v.name() +
+                            "': init_PDF_mode = 3 (from the first detections) needs a "
+                            "semanticMap in its [MetricMap]");
         }
     }
 }

@@ -248,6 +248,7 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
     res.metrics = RunMetrics::compute(res.records, o.convergence);
     res.likelihood = loc.likelihoodStats();
     res.recovery = loc.recoveryStats();
+    res.initialized_from_detections = loc.initializedFromDetections();
 
     res.outputDir = out.target();
     res.wallTime_s =

@@ -93,6 +93,8 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "detections_unknown: " << res.likelihood.detections_unknown << "\n"
       << "nonfinite_likelihoods: " << res.likelihood.nonfinite_likelihoods << "\n"
       << "associations_approximated: " << res.likelihood.associations_approximated << "\n"
+      << "# init_PDF_mode = 3: particles drawn from the first detections\n"
+      << "initialized_from_detections: " << res.initialized_from_detections << "\n"
       << "# every weight zero: particles re-initialized over the free space\n"
       << "reinitializations: " << res.recovery.reinitializations << "\n"
       << "reinitialized_from_detections: " << res.recovery.reinitialized_from_detections << "\n"

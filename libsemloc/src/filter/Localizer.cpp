@@ -7,6 +7,7 @@
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/random/RandomGenerators.h>
+#include <semloc/filter/DetectionPoseSampler.h>
 #include <semloc/filter/Localizer.h>
 #include <semloc/filter/ParallelExecutor.h>
 #include <semloc/maps/CSemanticMap.h>
@@ -286,11 +287,18 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
     {
         THROW_EXCEPTION("init_PDF_mode = 1 (uniform in a box) needs a non-empty init_PDF box");
     }
-    if (!m_freeSpace && o.init_PDF_mode == InitMode::FreeSpace)
+    if (!m_freeSpace &&
+        (o.init_PDF_mode == InitMode::FreeSpace || o.init_PDF_mode == InitMode::FromDetections))
+    {
+        THROW_EXCEPTION("init_PDF_mode = " + std::to_string(static_cast<int>(o.init_PDF_mode)) +
+                        " (uniform over the free space) needs a world (map_file *.yaml), an "
+                        "occupancyGrid map or an init_PDF_min/max_x/y box");
+    }
+    if (o.init_PDF_mode == InitMode::FromDetections && !m_map->mapByClass<CSemanticMap>())
     {
         THROW_EXCEPTION(
-            "init_PDF_mode = 0 (uniform over the free space) needs a world (map_file *.yaml), an "
-            "occupancyGrid map or an init_PDF_min/max_x/y box");
+            "init_PDF_mode = 3 (from the first detections) needs a semanticMap in "
+            "[MetricMap]");
     }
     m_pdf->setFreeSpaceSampler(m_freeSpace);
     m_pdf->prepareLikelihood();
@@ -309,9 +317,12 @@ void Localizer::reset()
     const auto& o = m_options;
     const auto M = static_cast<size_t>(o.particles_count);
     auto& rng = mrpt::random::getRandomGenerator();
+    m_seededFromDetections = false;
+    m_initializedFromDetections = 0;
     switch (o.init_PDF_mode)
     {
         case InitMode::FreeSpace:
+        case InitMode::FromDetections:
         {
             auto& parts = m_pdf->m_particles;
             parts.resize(M);
@@ -360,6 +371,10 @@ void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs
     // executeOn for TParticleFilterStats there would read 1 and cost two exp() and two
     // virtual calls per particle (its weight variance). The other algorithms run MRPT's
     // step: their ESS comes from the stats.
+    if (m_options.init_PDF_mode == InitMode::FromDetections && !m_seededFromDetections)
+    {
+        seedFromDetections(acts, replaced ? checked : sf);
+    }
     const bool ours = m_pf.m_options.PF_algorithm == CParticleFilter::pfStandardProposal;
     CParticleFilter::TParticleFilterStats stats;
     const auto t0 = std::chrono::steady_clock::now();
@@ -369,6 +384,52 @@ void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs
     m_last.ess_before_resampling = ours ? m_pdf->essBeforeResampling() : stats.ESS_beforeResample;
     m_last.particles = m_pdf->size();
     m_steps++;
+}
+
+void Localizer::seedFromDetections(const mrpt::obs::CActionCollection& action,
+                                   const mrpt::obs::CSensoryFrame& sf)
+{
+    const auto semMap = m_map->mapByClass<CSemanticMap>();
+    const auto obs = sf.getObservationByClass<CObservationSemantic>();
+    if (!semMap || !obs)
+    {
+        return;
+    }
+    const DetectionPoseSampler sampler(*semMap, *obs);
+    if (sampler.empty())
+    {
+        return;  // nothing the map can place: wait for the next frame
+    }
+    m_seededFromDetections = true;
+    // A pose q drawn for the detection's time is placed at q (+) increment^-1: this step's
+    // prediction moves it by the increment (with its noise) to about q before the frame
+    // weighs it.
+    mrpt::poses::CPose2D back;
+    if (const auto move = action.getBestMovementEstimation())
+    {
+        back = -move->poseChange->getMeanVal();
+    }
+    auto& rng = mrpt::random::getRandomGenerator();
+    size_t drawn = 0;
+    for (auto& p : m_pdf->m_particles)
+    {
+        p.log_w = 0;
+        if (rng.drawUniform(0.0, 1.0) >= m_options.init_PDF_from_detections)
+        {
+            continue;  // stays where the uniform start put it
+        }
+        for (int tries = 0; tries < 10; tries++)
+        {
+            const mrpt::math::TPose2D q = sampler.draw(rng);
+            if (m_initSpace->contains(q.x, q.y))
+            {
+                p.d = (mrpt::poses::CPose2D(q) + back).asTPose();
+                drawn++;
+                break;
+            }
+        }
+    }
+    m_initializedFromDetections = drawn;
 }
 
 void Localizer::setOdometry(const mrpt::obs::CObservationOdometry& odo)

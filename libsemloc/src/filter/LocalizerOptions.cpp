@@ -100,7 +100,7 @@ void loadInitialCloud(const mrpt::config::CConfigFileBase& c, const std::string&
             }
             else
             {
-                readInt(c, s, "init_PDF_mode", mode, 0, 2);
+                readInt(c, s, "init_PDF_mode", mode, 0, 3);
             }
         }
         o.init_PDF_mode = static_cast<Localizer::InitMode>(mode);
@@ -117,6 +117,7 @@ void loadInitialCloud(const mrpt::config::CConfigFileBase& c, const std::string&
     readDouble(c, s, "init_PDF_mean_yaw_deg", o.init_PDF_mean_yaw_deg, -360, 360);
     readDouble(c, s, "init_PDF_std_xy", o.init_PDF_std_xy, 0, kBig);
     readDouble(c, s, "init_PDF_std_yaw_deg", o.init_PDF_std_yaw_deg, 0, 360);
+    readDouble(c, s, "init_PDF_from_detections", o.init_PDF_from_detections, 0, 1);
     {
         int sd = static_cast<int>(o.seed);
         readInt(c, s, "seed", sd, 0, std::numeric_limits<int>::max());
@@ -256,13 +257,21 @@ Localizer::TOptions::TOptions()
 
 std::vector<std::string> Localizer::TOptions::experimentKeys()
 {
-    return {"particles_count",       "init_PDF_mode",
-            "init_PDF_min_x",        "init_PDF_max_x",
-            "init_PDF_min_y",        "init_PDF_max_y",
-            "init_PDF_min_yaw_deg",  "init_PDF_max_yaw_deg",
-            "init_PDF_mean_x",       "init_PDF_mean_y",
-            "init_PDF_mean_yaw_deg", "init_PDF_std_xy",
-            "init_PDF_std_yaw_deg",  "seed"};
+    return {"particles_count",
+            "init_PDF_mode",
+            "init_PDF_min_x",
+            "init_PDF_max_x",
+            "init_PDF_min_y",
+            "init_PDF_max_y",
+            "init_PDF_min_yaw_deg",
+            "init_PDF_max_yaw_deg",
+            "init_PDF_mean_x",
+            "init_PDF_mean_y",
+            "init_PDF_mean_yaw_deg",
+            "init_PDF_std_xy",
+            "init_PDF_std_yaw_deg",
+            "init_PDF_from_detections",
+            "seed"};
 }
 
 size_t Localizer::TOptions::effectiveThreads() const
@@ -297,7 +306,8 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 {
     put(c, s, "particles_count", std::to_string(particles_count), "number of particles");
     put(c, s, "init_PDF_mode", std::to_string(static_cast<int>(init_PDF_mode)),
-        "0: uniform over the free space, 1: uniform in the box, 2: Gaussian");
+        "0: uniform over the free space, 1: uniform in the box, 2: Gaussian, 3: 0 then the "
+        "first detections");
     put(c, s, "init_PDF_min_x", init_PDF_min_x, "box [m] (mode 0: empty = whole free space)");
     put(c, s, "init_PDF_max_x", init_PDF_max_x, "");
     put(c, s, "init_PDF_min_y", init_PDF_min_y, "");
@@ -309,6 +319,8 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     put(c, s, "init_PDF_mean_yaw_deg", init_PDF_mean_yaw_deg, "mode 2: mean heading [deg]");
     put(c, s, "init_PDF_std_xy", init_PDF_std_xy, "mode 2: std of x and y [m]");
     put(c, s, "init_PDF_std_yaw_deg", init_PDF_std_yaw_deg, "mode 2: std of the heading [deg]");
+    put(c, s, "init_PDF_from_detections", init_PDF_from_detections,
+        "mode 3: share of the particles drawn from the first detections");
     put(c, s, "seed", std::to_string(seed), "seed of MRPT's random generator");
 
     put(c, kPF, "PF_algorithm", std::to_string(static_cast<int>(pf.PF_algorithm)),

@@ -303,6 +303,84 @@ double sumOverAssociations(const std::vector<Pair>& pairs, size_t detections)
     return logFrom(0);
 }
 
+/** The terms of the probabilistic model for one scan (see probabilistic()). */
+class ProbabilisticTerms
+{
+public:
+    ProbabilisticTerms(const CSemanticMap& map, const Scan& s)
+        : m_opt(map.likelihoodOptions),
+          m_s(s),
+          m_objs(map.objects()),
+          m_sigmaRho(m_opt.sigma_range_m),
+          m_sigmaTheta(m_opt.sigma_bearing_deg * M_PI / 180),
+          m_K(std::max<double>(1, static_cast<double>(labelsOf(map).size()))),
+          m_confusion(m_opt.p_confusion > 0 && m_K > 1)
+    {
+        logKappa = std::log(m_opt.clutter_per_scan / (s.R * std::min(s.fov, 2 * M_PI) * m_K));
+    }
+    /** log kappa, the clutter density. */
+    double logKappa = 0;
+
+    double pD(const Predicted& v) const
+    {
+        const double p =
+            m_opt.p_detect_near + (m_opt.p_detect_far - m_opt.p_detect_near) * v.rho / m_s.R;
+        return std::clamp(p, 1e-6, 1 - 1e-6);
+    }
+    /** log P_D + log C + log N + log N of a matched pair. */
+    double matchedTerm(const Detection& d, const Predicted& v) const
+    {
+        return std::log(pD(v)) + logC(d, v) + logN(d.rho - v.rho, m_sigmaRho) +
+               logN(bearingDiff(d, v), m_sigmaTheta);
+    }
+    /** The pairs that may pair (by id, label, confusion) whose gain exceeds `floor`. */
+    std::vector<Pair> pairs(const std::vector<Predicted>& z_k, double floor) const
+    {
+        std::vector<Pair> out;
+        for (size_t j = 0; j < m_s.z_r.size(); j++)
+        {
+            for (size_t v = 0; v < z_k.size(); v++)
+            {
+                if (!mayPair(m_s.z_r[j], z_k[v].object, m_objs[z_k[v].object].label, m_confusion))
+                {
+                    continue;
+                }
+                const double gain =
+                    matchedTerm(m_s.z_r[j], z_k[v]) - std::log(1 - pD(z_k[v])) - logKappa;
+                if (gain > floor)
+                {
+                    out.push_back({gain, j, v});
+                }
+            }
+        }
+        return out;
+    }
+
+private:
+    static double logN(double d, double sigma)
+    {
+        return -0.5 * (d / sigma) * (d / sigma) - std::log(std::sqrt(2 * M_PI) * sigma);
+    }
+    double logC(const Detection& d, const Predicted& v) const
+    {
+        if (d.label.empty())
+        {
+            return 0.0;
+        }
+        if (d.label == m_objs[v.object].label)
+        {
+            return std::log(1 - m_opt.p_confusion);
+        }
+        return m_confusion ? std::log(m_opt.p_confusion / (m_K - 1)) : 0.0;
+    }
+
+    const Options& m_opt;
+    const Scan& m_s;
+    const std::vector<CSemanticMap::TObject>& m_objs;
+    double m_sigmaRho, m_sigmaTheta, m_K;
+    bool m_confusion;
+};
+
 /** The probabilistic model: each object of z^k is detected with
  *      P_D(rho) = clamp(p_detect_near + (p_detect_far - p_detect_near) rho / R, 1e-6, 1 - 1e-6),
  *  a detection is labelled right with C = 1 - p_c, as any other of the K map labels with
@@ -326,66 +404,21 @@ double sumOverAssociations(const std::vector<Pair>& pairs, size_t detections)
  *                   + log sum_A prod_{(j,v) in A} exp(gain_jv)                          */
 double probabilistic(const CSemanticMap& map, const Scan& s, const TPose2D& pose, SemanticTerms& t)
 {
-    const Options& opt = map.likelihoodOptions;
-    const double sigmaRho = opt.sigma_range_m, sigmaTheta = opt.sigma_bearing_deg * M_PI / 180;
-    const double K = std::max<double>(1, static_cast<double>(labelsOf(map).size()));
-    const double lambda = opt.clutter_per_scan, pc = opt.p_confusion;
-    const double logKappa = std::log(lambda / (s.R * std::min(s.fov, 2 * M_PI) * K));
-    const bool confusion = pc > 0 && K > 1;
+    const ProbabilisticTerms terms(map, s);
+    const double lambda = map.likelihoodOptions.clutter_per_scan;
     const std::vector<Predicted> z_k = predict(map, s, pose, t.onEdge);
-    const auto& objs = map.objects();
-    auto pD = [&](const Predicted& v)
-    {
-        const double p = opt.p_detect_near + (opt.p_detect_far - opt.p_detect_near) * v.rho / s.R;
-        return std::clamp(p, 1e-6, 1 - 1e-6);
-    };
-    auto logN = [](double d, double sigma)
-    { return -0.5 * (d / sigma) * (d / sigma) - std::log(std::sqrt(2 * M_PI) * sigma); };
-    auto logC = [&](const Detection& d, const Predicted& v)
-    {
-        if (d.label.empty())
-        {
-            return 0.0;
-        }
-        if (d.label == objs[v.object].label)
-        {
-            return std::log(1 - pc);
-        }
-        return confusion ? std::log(pc / (K - 1)) : 0.0;
-    };
-    // log P_D + log C + log N + log N of a matched pair.
-    auto matchedTerm = [&](const Detection& d, const Predicted& v)
-    {
-        return std::log(pD(v)) + logC(d, v) + logN(d.rho - v.rho, sigmaRho) +
-               logN(bearingDiff(d, v), sigmaTheta);
-    };
-    const bool marginal = opt.association == CSemanticMap::Association::Marginal;
-    std::vector<Pair> pairs;
-    for (size_t j = 0; j < s.z_r.size(); j++)
-    {
-        for (size_t v = 0; v < z_k.size(); v++)
-        {
-            if (!mayPair(s.z_r[j], z_k[v].object, objs[z_k[v].object].label, confusion))
-            {
-                continue;
-            }
-            const double gain = matchedTerm(s.z_r[j], z_k[v]) - std::log(1 - pD(z_k[v])) - logKappa;
-            if (gain > (marginal ? kNegligibleLogWeight : 0.0))
-            {
-                pairs.push_back({gain, j, v});
-            }
-        }
-    }
+    const bool marginal = map.likelihoodOptions.association == CSemanticMap::Association::Marginal;
+    const std::vector<Pair> pairs = terms.pairs(z_k, marginal ? kNegligibleLogWeight : 0.0);
     t.l = s.z_r.size();
     t.q = z_k.size();
     if (marginal)
     {
         // Every association at once: the terms of a detection matched to object v differ from
         // those of both left unmatched by the pair's gain, log w_jv.
-        double logP = -lambda + static_cast<double>(t.l) * logKappa;
+        double logP = -lambda + static_cast<double>(t.l) * terms.logKappa;
         for (const Predicted& v : z_k)
         {
-            logP += std::log(1 - pD(v));
+            logP += std::log(1 - terms.pD(v));
         }
         t.m = pairs.size();
         return logP + sumOverAssociations(pairs, s.z_r.size());
@@ -395,16 +428,16 @@ double probabilistic(const CSemanticMap& map, const Scan& s, const TPose2D& pose
     double logP = -lambda;
     for (const Pair& p : matched)
     {
-        logP += matchedTerm(s.z_r[p.j], z_k[p.v]);
+        logP += terms.matchedTerm(s.z_r[p.j], z_k[p.v]);
         detMatched[p.j] = objMatched[p.v] = true;
     }
     for (size_t v = 0; v < z_k.size(); v++)
     {
-        logP += objMatched[v] ? 0.0 : std::log(1 - pD(z_k[v]));
+        logP += objMatched[v] ? 0.0 : std::log(1 - terms.pD(z_k[v]));
     }
     for (size_t j = 0; j < s.z_r.size(); j++)
     {
-        logP += detMatched[j] ? 0.0 : logKappa;
+        logP += detMatched[j] ? 0.0 : terms.logKappa;
     }
     t.m = matched.size();
     return logP;

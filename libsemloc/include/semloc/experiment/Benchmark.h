@@ -105,6 +105,8 @@ public:
          *  replaced by the simulation's [Simulation] world_file), for scenarios in another
          *  world than the variants' own. */
         bool map_from_world = false;
+        /** Every variant's init_PDF_mode (0..3, Localizer::InitMode); -1: their own. */
+        int init_PDF_mode = -1;
 
         /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,

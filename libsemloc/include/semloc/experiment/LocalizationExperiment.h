@@ -113,6 +113,8 @@ public:
         SensoryFrameLikelihood::TStats likelihood;
         /** Re-initializations, injected particles. */
         CParallelMonteCarloLocalization2D::TRecoveryStats recovery;
+        /** init_PDF_mode = 3: the particles drawn from the first detections. */
+        size_t initialized_from_detections = 0;
         /** Threads of the per-particle work. */
         size_t threads = 1;
         /** "action/sensory-frame", "observations-only" or "mixed". */

@@ -50,7 +50,14 @@ public:
         /** 1: uniform in the init_PDF box (MRPT's resetUniform). */
         Box = 1,
         /** 2: Gaussian around init_PDF_mean_x/y/yaw_deg. */
-        Gaussian = 2
+        Gaussian = 2,
+        /** 3: as 0, then, at the first frame with a semantic detection the map can
+         *  associate, a share init_PDF_from_detections of the particles drawn from that
+         *  frame's detections (DetectionPoseSampler: poses from which the detection could
+         *  have been seen, placed one odometry increment back so that this step's prediction
+         *  brings them to the detection's time) before the frame weighs them. Needs a
+         *  semantic map. */
+        FromDetections = 3
     };
 
     /** The filter's settings, in the sections of MRPT's pf-localization plus ours.
@@ -68,7 +75,7 @@ public:
         static constexpr int kMaxParticles = 100000000, kMaxThreads = 1024;
         /** Number of particles (the initial number with KLD), 1..kMaxParticles. */
         int particles_count = 10000;
-        /** init_PDF_mode: 0 free space, 1 box, 2 Gaussian. */
+        /** init_PDF_mode: 0 free space, 1 box, 2 Gaussian, 3 free space then detections. */
         InitMode init_PDF_mode = InitMode::FreeSpace;
         /** The box of modes 0 and 1: min x [m]; for mode 0 an empty box (min >= max, the
          *  default) means the whole free space. */
@@ -93,6 +100,8 @@ public:
         double init_PDF_std_xy = 1.0;
         /** Mode 2: standard deviation of the heading [deg]. */
         double init_PDF_std_yaw_deg = 10.0;
+        /** Mode 3: the share of the particles drawn from the first detections, in [0, 1]. */
+        double init_PDF_from_detections = 0.8;
         /** Seed of MRPT's global random generator. */
         uint32_t seed = 1;
         /** @} */
@@ -248,6 +257,8 @@ public:
     }
     /** What the free space is (for logs). */
     std::string freeSpaceDescription() const;
+    /** init_PDF_mode = 3: the particles drawn from the first detections (0 before them). */
+    size_t initializedFromDetections() const { return m_initializedFromDetections; }
     /** @} */
 
 private:
@@ -258,6 +269,11 @@ private:
     mrpt::bayes::CParticleFilter m_pf;
     std::shared_ptr<const FreeSpaceSampler> m_freeSpace, m_initSpace;
     std::optional<mrpt::poses::CPose2D> m_lastOdometry, m_pendingOdometry;
+    bool m_seededFromDetections = false;
+    size_t m_initializedFromDetections = 0;
+    /** init_PDF_mode = 3 at the first frame whose detections the map can place. */
+    void seedFromDetections(const mrpt::obs::CActionCollection& action,
+                            const mrpt::obs::CSensoryFrame& sf);
     TStepInfo m_last;
     size_t m_steps = 0;
     /** Scan beams with impossible ranges, made invalid before the update. */
