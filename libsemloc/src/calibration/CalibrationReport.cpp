@@ -1,29 +1,18 @@
 /* semloc — semloc-calibrate's report: the fits as a markdown page with gnuplot figures. */
 #include <mrpt/core/exceptions.h>
-#include <mrpt/system/filesystem.h>
 #include <semloc/calibration/SensorCalibration.h>
-#include <semloc/io/ErrorMessage.h>
-#include <semloc/io/Interrupt.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
-#include <stdexcept>
+
+#include "io/Gnuplot.h"
+#include "io/TextFiles.h"
 
 namespace semloc
 {
 namespace
 {
-void writeFile(const std::string& path, const std::string& text)
-{
-    std::ofstream f(path);
-    f << text;
-    if (!f.flush())
-    {
-        throw std::runtime_error("cannot write '" + path + "'");
-    }
-}
+using detail::writeFile;
 
 /** residuals_range.dat, residuals_bearing.dat, detection.dat (range, detected), odometry.dat
  *  (d, |dphi|, |e_xy|, |e_phi| in deg). */
@@ -135,32 +124,8 @@ void SensorCalibration::WriteReport(const TCalibrationResult& r, const StagedDir
     writeData(r, out);
     writeFile(out.path("figures.gp"), script(r));
     writeFile(out.path("report.md"), markdown(r));
-    const std::string log = out.path("figures.log");
-    int rc = 0;
-    try
-    {
-        rc = runChildProcess({"gnuplot", "figures.gp"}, log, out.path(""));
-    }
-    catch (const Interrupted&)
-    {
-        throw;
-    }
-    catch (const std::exception& e)
-    {
-        THROW_EXCEPTION(errorMessage(e) + " (is the Debian package gnuplot-nox installed?)");
-    }
-    std::ifstream f(log);
-    std::stringstream msg;
-    msg << f.rdbuf();
-    for (const char* png : {"fig_residuals.png", "fig_detection.png", "fig_odometry.png"})
-    {
-        if (rc != 0 || !mrpt::system::fileExists(out.path(png)))
-        {
-            THROW_EXCEPTION("gnuplot failed on figures.gp (it " + waitStatusText(rc) +
-                            "): " + msg.str());
-        }
-    }
-    std::filesystem::remove(log);
+    detail::runGnuplot(out, "figures.gp",
+                       {"fig_residuals.png", "fig_detection.png", "fig_odometry.png"});
 }
 
 }  // namespace semloc

@@ -3,19 +3,15 @@
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
-#include <mrpt/system/filesystem.h>
-#include <semloc/io/ErrorMessage.h>
-#include <semloc/io/Interrupt.h>
 #include <semloc/world/WorldPlot.h>
 
 #include <algorithm>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "experiment/BenchmarkTables.h"
 #include "experiment/RunFigures.h"
 #include "experiment/Statistics.h"
+#include "io/Gnuplot.h"
 #include "io/TextFiles.h"
 
 namespace semloc::detail
@@ -75,40 +71,6 @@ std::string paperTable(const std::vector<Benchmark::TRunResult>& runs)
     return o.str();
 }
 
-/** Runs gnuplot on `script` in `out`, which must draw `pngs`. */
-void drawScript(const StagedDirectory& out, const std::string& script,
-                const std::vector<std::string>& pngs)
-{
-    const std::string log = out.path(script + ".log");
-    int rc = 0;
-    try
-    {
-        rc = runChildProcess({"gnuplot", script}, log, out.path(""));
-    }
-    catch (const Interrupted&)
-    {
-        throw;
-    }
-    catch (const std::exception& e)
-    {
-        THROW_EXCEPTION(errorMessage(e) + " (is the Debian package gnuplot-nox installed?)");
-    }
-    std::ifstream f(log);
-    std::stringstream msg;
-    msg << f.rdbuf();
-    bool drawn = true;
-    for (const auto& png : pngs)
-    {
-        drawn = drawn && mrpt::system::fileExists(out.path(png));
-    }
-    if (rc != 0 || !drawn)
-    {
-        THROW_EXCEPTION("gnuplot failed on " + script + " (it " + waitStatusText(rc) +
-                        "): " + msg.str());
-    }
-    std::filesystem::remove(log);
-}
-
 /** world_paths.gp and its data: one panel per variant, the world, run 1's true path and the
  *  variant's estimate coloured by its error, where it converged; drawn as world_paths.png. */
 void drawWorldPaths(const StagedDirectory& out, const TSimulatorOptions& simulation,
@@ -151,7 +113,7 @@ void drawWorldPaths(const StagedDirectory& out, const TSimulatorOptions& simulat
     }
     g << "unset multiplot\nunset output\n";
     writeFile(out.path("world_paths.gp"), g.str());
-    drawScript(out, "world_paths.gp", {"world_paths.png"});
+    runGnuplot(out, "world_paths.gp", {"world_paths.png"});
 }
 
 /** report.md's title and "the experiment": scenario, runs, steps, particles, threads. */
@@ -210,7 +172,7 @@ void writeFigures(const StagedDirectory& out, const std::vector<std::string>& va
                   const std::vector<Benchmark::TRunResult>& runs)
 {
     writeFile(out.path("figures.gp"), figuresScript(variants));
-    drawScript(out, "figures.gp", {"fig_variance.png", "fig_error.png"});
+    runGnuplot(out, "figures.gp", {"fig_variance.png", "fig_error.png"});
     drawWorldPaths(out, simulation, runs);
 }
 

@@ -1,17 +1,16 @@
 /* semloc — RunPlot: the figures of a run (run.png, error.png, run.gif) drawn by gnuplot. */
 #include <mrpt/core/exceptions.h>
 #include <semloc/experiment/RunPlot.h>
-#include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/StagedDirectory.h>
 #include <semloc/world/WorldPlot.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <sstream>
 
 #include "experiment/RunFigures.h"
+#include "io/Gnuplot.h"
 #include "io/Text.h"
 #include "io/TextFiles.h"
 
@@ -211,31 +210,12 @@ void RunPlot::save(const std::string& outDir, const TOptions& o) const
     detail::writeFile(out.path("track.dat"), detail::trackData(m_records));
     detail::writeFile(out.path("clouds.dat"), cloudsData());
     detail::writeFile(out.path("run.gp"), script(o, shown));
-    const std::string log = out.path("gnuplot.log");
-    int rc = 0;
-    try
+    std::vector<std::string> outputs = {"run.png", "error.png"};
+    if (o.gif && !m_clouds.empty())
     {
-        rc = runChildProcess({"gnuplot", "run.gp"}, log, out.path(""));
+        outputs.emplace_back("run.gif");
     }
-    catch (const Interrupted&)
-    {
-        throw;
-    }
-    catch (const std::exception& e)
-    {
-        THROW_EXCEPTION(errorMessage(e) + " (is the Debian package gnuplot-nox installed?)");
-    }
-    std::ifstream f(log);
-    std::stringstream msg;
-    msg << f.rdbuf();
-    const bool gif = o.gif && !m_clouds.empty();
-    if (rc != 0 || !std::ifstream(out.path("run.png")) || !std::ifstream(out.path("error.png")) ||
-        (gif && !std::ifstream(out.path("run.gif"))))
-    {
-        THROW_EXCEPTION("gnuplot failed on run.gp (it " + waitStatusText(rc) + "): " + msg.str());
-    }
-    f.close();
-    std::remove(log.c_str());
+    detail::runGnuplot(out, "run.gp", outputs);
     if (interruptRequested())
     {
         throw Interrupted();
