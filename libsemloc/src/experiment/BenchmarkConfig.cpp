@@ -385,6 +385,14 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
             v.options.filter.init_PDF_mode =
                 static_cast<Localizer::InitMode>(m_scenario.init_PDF_mode);
         }
+        const auto& f = v.options.filter;
+        if (f.init_PDF_mode == Localizer::InitMode::Box &&
+            !(f.init_PDF_min_x < f.init_PDF_max_x && f.init_PDF_min_y < f.init_PDF_max_y))
+        {
+            THROW_EXCEPTION("variant '" + v.name() +
+                            "': init_PDF_mode = 1 (uniform in a box) needs a non-empty "
+                            "init_PDF box");
+        }
         if (v.options.filter.init_PDF_mode == Localizer::InitMode::FromDetections &&
             !v.maps.map->mapByClass<CSemanticMap>())
         {

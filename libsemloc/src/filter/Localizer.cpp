@@ -319,6 +319,8 @@ void Localizer::reset()
     auto& rng = mrpt::random::getRandomGenerator();
     m_seededFromDetections = false;
     m_initializedFromDetections = 0;
+    // The maps count for every user: this filter's share is what it adds from here.
+    m_approximatedBefore = associationsApproximatedNow();
     switch (o.init_PDF_mode)
     {
         case InitMode::FreeSpace:
@@ -456,18 +458,25 @@ void Localizer::step(const mrpt::obs::CSensoryFrame& sf)
     step(acts, sf);
 }
 
+size_t Localizer::associationsApproximatedNow() const
+{
+    size_t n = 0;
+    for (const auto& m : m_map->maps)
+    {
+        if (const auto* sem = dynamic_cast<const CSemanticMap*>(m.get()))
+        {
+            n += sem->associationsApproximated();
+        }
+    }
+    return n;
+}
+
 SensoryFrameLikelihood::TStats Localizer::likelihoodStats() const
 {
     auto s = m_pdf->likelihoodStats();
     s.beams_invalid = m_beamsInvalid;
     s.observations_invalid = m_observationsInvalid;
-    for (const auto& m : m_map->maps)
-    {
-        if (const auto* sem = dynamic_cast<const CSemanticMap*>(m.get()))
-        {
-            s.associations_approximated += sem->associationsApproximated();
-        }
-    }
+    s.associations_approximated = associationsApproximatedNow() - m_approximatedBefore;
     return s;
 }
 

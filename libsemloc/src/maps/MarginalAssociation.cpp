@@ -253,6 +253,7 @@ double marginalAssociation(const Pair* pairs, size_t np, size_t nd, MarginalScra
     // eighth at a time, until none is left (approximated).
     size_t keep = np;
     double total = 0;
+    bool sorted = false;
     while (true)
     {
         ms.group.assign(ms.edges.begin(), ms.edges.begin() + static_cast<std::ptrdiff_t>(keep));
@@ -260,8 +261,9 @@ double marginalAssociation(const Pair* pairs, size_t np, size_t nd, MarginalScra
         {
             return total;
         }
-        if (!approximated)
+        if (!sorted)
         {
+            sorted = true;
             // The edges heaviest first (ties by detection and object: a fixed order).
             std::sort(ms.edges.begin(), ms.edges.end(),
                       [](const Edge& a, const Edge& b) {

@@ -366,12 +366,6 @@ bool disjointPairs(const Pair* pairs, size_t c)
     return assignGreedy(pairs, np, nd, used);
 }
 
-/** Stage 5: per particle, missBlock's terms (sum_v log(1 - P_D(rho_v)) as the log of the
- *  product: one log instead of one per visible object) and the association. Pairs that
- *  share no detection and no object are all taken by the greedy assignment: up to
- *  kFoldPairs of them, their q join the product (one log for the particle) and their gains
- *  less log q are summed in pair order; otherwise each pair's gain log q + rest goes to the
- *  assignment. */
 /** Stage 5 of the marginal association: per particle, missBlock's terms and the log of the
  *  sum over its associations (marginalAssociation; pairs that share no detection and no
  *  object: the product of their 1 + w, w = q e^rest). */
@@ -393,14 +387,25 @@ void marginalTotalsBlock(Scratch& sc, size_t m, double* out)
         double sum = 0;
         if (disjointPairs(pairs + t, c))
         {
-            // The product of the 1 + w (w = q e^rest: rest <= log(1 / (2 pi sigma_rho
-            // sigma_theta kappa)), q <= 1e6; c <= 8), one log.
+            // The product of the 1 + w (w = q e^rest, c <= 8), one log; with extreme options
+            // (tiny sigmas and clutter) a w can approach 1e300: then log(1 + w) pair by pair.
             double prod = 1;
             for (size_t u = t; u < t + c; u++)
             {
                 prod *= 1 + pairs[u].q * std::exp(pairs[u].gain);
             }
-            sum = std::log(prod);
+            if (prod < 1e300)
+            {
+                sum = std::log(prod);
+            }
+            else
+            {
+                for (size_t u = t; u < t + c; u++)
+                {
+                    const double x = pairs[u].gain + std::log(pairs[u].q);
+                    sum += x > 0 ? x + std::log1p(std::exp(-x)) : std::log1p(std::exp(x));
+                }
+            }
         }
         else
         {
@@ -413,6 +418,12 @@ void marginalTotalsBlock(Scratch& sc, size_t m, double* out)
     }
 }
 
+/** Stage 5: per particle, missBlock's terms (sum_v log(1 - P_D(rho_v)) as the log of the
+ *  product: one log instead of one per visible object) and the association. Pairs that
+ *  share no detection and no object are all taken by the greedy assignment: up to
+ *  kFoldPairs of them, their q join the product (one log for the particle) and their gains
+ *  less log q are summed in pair order; otherwise each pair's gain log q + rest goes to the
+ *  assignment. */
 void totalsBlock(Scratch& sc, size_t m, double* out)
 {
     const size_t nd = sc.dets.size();

@@ -271,6 +271,9 @@ private:
     std::optional<mrpt::poses::CPose2D> m_lastOdometry, m_pendingOdometry;
     bool m_seededFromDetections = false;
     size_t m_initializedFromDetections = 0;
+    /** The semantic maps' associationsApproximated() when the particles were last drawn. */
+    size_t m_approximatedBefore = 0;
+    size_t associationsApproximatedNow() const;
     /** init_PDF_mode = 3 at the first frame whose detections the map can place. */
     void seedFromDetections(const mrpt::obs::CActionCollection& action,
                             const mrpt::obs::CSensoryFrame& sf);

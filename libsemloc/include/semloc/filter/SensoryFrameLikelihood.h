@@ -50,8 +50,8 @@ public:
         /** Particle evaluations that were not finite (set to -inf). */
         size_t nonfinite_likelihoods = 0;
         /** Particle evaluations of a semantic map with `association = marginal` whose sum
-         *  over associations was approximated (CSemanticMap::associationsApproximated();
-         *  counted by Localizer, 0 here). */
+         *  over associations was approximated (CSemanticMap::associationsApproximated() since
+         *  the Localizer last drew its particles; counted by Localizer, 0 here). */
         size_t associations_approximated = 0;
         /** Range-scan beams flagged valid whose range is NaN, +-inf, negative or beyond the
          *  scan's maxRange: marked invalid before any map sees the scan (counted by
