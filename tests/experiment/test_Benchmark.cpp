@@ -162,3 +162,15 @@ TEST(Benchmark, ScenarioSetsTheInitialCloudOfEveryVariant)
                         "needs a semanticMap"),
               std::string::npos);
 }
+
+TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "realdata.ini");
+    ASSERT_EQ(b.scenarios().size(), 4u);
+    const auto& all = b.scenarios().back();
+    EXPECT_EQ(all.scenario().name, "all");
+    EXPECT_EQ(all.simulation().odometry.heading_drift_deg_per_min, 15.0);
+    EXPECT_EQ(all.simulation().detector.p_detect_near, 0.3);
+    EXPECT_EQ(all.simulation().detector.gap_every_s, 120.0);
+    EXPECT_EQ(b.scenarios().front().simulation().odometry.heading_drift_deg_per_min, 0.0);
+}

@@ -272,6 +272,15 @@ Cases outputFileCases()
              return std::vector<std::string>{"semloc-simulate", (d / "sim.ini").string(), "-o",
                                              (d / "sim.rawlog").string()};
          }},
+        {"simulate-gap-min-above-max",
+         [](const fs::path& d)
+         {
+             writeText(d / "sim.ini", "[Simulation]\nworld_file = " + kSrc +
+                                          "/maps/paper_50x50.yaml\n[SemanticDetector]\n"
+                                          "gap_min_s = 90\ngap_max_s = 60\n");
+             return std::vector<std::string>{"semloc-simulate", (d / "sim.ini").string(), "-o",
+                                             (d / "sim.rawlog").string()};
+         }},
         {"simulate-csv-holds-input",
          [](const fs::path& d)
          {

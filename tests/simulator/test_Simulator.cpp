@@ -923,3 +923,80 @@ TEST(Simulator, NeedsATrajectory)
         "name: empty\nbounds: {x_min: 0, x_max: 10, y_min: 0, y_max: 10}\nobjects: []\n", "e");
     EXPECT_THROW(Simulator(w, TSimulatorOptions()), std::exception);
 }
+
+TEST(Simulator, HeadingDriftBiasesEveryOdometryReadingOnly)
+{
+    // Noise-free odometry with a drift of 15 deg/min: each 1 s increment's heading is the
+    // true one plus 0.25 deg; the action's Gaussian (what the filter knows) stays the model's.
+    auto o = noiseFree();
+    o.simulation.max_steps = 120;
+    o.odometry.heading_drift_deg_per_min = 15;
+    const auto r = Simulator(o).run();
+    auto plain = noiseFree();
+    plain.simulation.max_steps = 120;
+    const auto p = Simulator(plain).run();
+    for (size_t k = 1; k < r.steps; k++)
+    {
+        const auto& drifted = stepOf(r, k).odometry->rawOdometryIncrementReading;
+        const auto& exact = stepOf(p, k).odometry->rawOdometryIncrementReading;
+        ASSERT_NEAR(mrpt::math::wrapToPi(drifted.phi() - exact.phi()), mrpt::DEG2RAD(0.25), 1e-12)
+            << "step " << k;
+        ASSERT_NEAR(drifted.x(), exact.x(), 1e-12);
+        ASSERT_EQ(stepOf(r, k).odometry->poseChange->getCovariance(),
+                  stepOf(p, k).odometry->poseChange->getCovariance());
+    }
+    // The ground truth and the other sensors do not change.
+    EXPECT_EQ(r.groundTruth.back().x, p.groundTruth.back().x);
+    EXPECT_EQ(stepOf(r, 60).semantic->detections.size(),
+              stepOf(p, 60).semantic->detections.size());
+}
+
+TEST(Simulator, DetectorSilencesLastFromTheShortestToTheLongest)
+{
+    // Twelve false detections per scan: a scan is empty only inside a silence (e^-12).
+    auto o = paperRun(0);
+    o.detector.false_positives_per_scan = 12;
+    o.detector.gap_every_s = 30;
+    o.detector.gap_min_s = 20;
+    o.detector.gap_max_s = 40;
+    const auto r = Simulator(o).run();
+    std::vector<size_t> silences;  // lengths of the runs of empty scans [steps of 1 s]
+    size_t run = 0;
+    for (size_t k = 0; k < r.steps; k++)
+    {
+        if (stepOf(r, k).semantic->detections.empty())
+        {
+            run++;
+        }
+        else if (run > 0)
+        {
+            silences.push_back(run);
+            run = 0;
+        }
+    }
+    ASSERT_GE(silences.size(), 3u);  // 431 s at one silence about every 60 s
+    for (const size_t len : silences)
+    {
+        EXPECT_GE(len, 20u);
+        EXPECT_LE(len, 41u);
+    }
+    // The same seed gives the same silences; none without gap_every_s; the other steps
+    // keep their detections.
+    const auto again = Simulator(o).run();
+    auto none = o;
+    none.detector.gap_every_s = 0;
+    const auto loud = Simulator(none).run();
+    size_t emptyLoud = 0;
+    for (size_t k = 0; k < r.steps; k++)
+    {
+        EXPECT_EQ(stepOf(again, k).semantic->detections.size(),
+                  stepOf(r, k).semantic->detections.size());
+        emptyLoud += stepOf(loud, k).semantic->detections.empty() ? 1 : 0;
+        if (!stepOf(r, k).semantic->detections.empty())
+        {
+            EXPECT_EQ(stepOf(r, k).semantic->detections.size(),
+                      stepOf(loud, k).semantic->detections.size());
+        }
+    }
+    EXPECT_EQ(emptyLoud, 0u);
+}

@@ -21,6 +21,7 @@ void OdometryModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFile
     config::readDouble(c, s, "phi_std_per_rad", phi_std_per_rad, 0, 1e3);
     config::readDouble(c, s, "min_xy_std_m", min_xy_std_m, 0, 1e3);
     config::readDouble(c, s, "min_phi_std_deg", min_phi_std_deg, 0, 1e3);
+    config::readDouble(c, s, "heading_drift_deg_per_min", heading_drift_deg_per_min, -1e4, 1e4);
 }
 
 void OdometryModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -33,6 +34,8 @@ void OdometryModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     writeExact(c, s, "phi_std_per_rad", phi_std_per_rad, "heading std per radian turned");
     writeExact(c, s, "min_xy_std_m", min_xy_std_m, "minimum position std per step [m]");
     writeExact(c, s, "min_phi_std_deg", min_phi_std_deg, "minimum heading std per step [deg]");
+    writeExact(c, s, "heading_drift_deg_per_min", heading_drift_deg_per_min,
+               "heading bias unknown to the filter [deg/min]");
 }
 
 mrpt::obs::CActionRobotMovement2D::TMotionModelOptions OdometryModel::TOptions::motionModel() const
@@ -54,7 +57,8 @@ OdometryModel::OdometryModel(const TOptions& options)
 }
 
 mrpt::obs::CActionRobotMovement2D OdometryModel::measure(const mrpt::poses::CPose2D& trueIncrement,
-                                                         mrpt::random::CRandomGenerator& rng) const
+                                                         mrpt::random::CRandomGenerator& rng,
+                                                         double dt_s) const
 {
     // The model's covariance at the true increment, computed by MRPT itself.
     mrpt::obs::CActionRobotMovement2D truth;
@@ -71,8 +75,10 @@ mrpt::obs::CActionRobotMovement2D OdometryModel::measure(const mrpt::poses::CPos
     }
     const Eigen::Vector3d noise = eig.eigenvectors() * n;
 
-    mrpt::poses::CPose2D reading(trueIncrement.x() + noise[0], trueIncrement.y() + noise[1],
-                                 trueIncrement.phi() + noise[2]);
+    mrpt::poses::CPose2D reading(
+        trueIncrement.x() + noise[0], trueIncrement.y() + noise[1],
+        trueIncrement.phi() + noise[2] +
+            mrpt::DEG2RAD(m_options.heading_drift_deg_per_min) * dt_s / 60.0);
     reading.normalizePhi();
     mrpt::obs::CActionRobotMovement2D action;
     action.computeFromOdometry(reading, m_model);

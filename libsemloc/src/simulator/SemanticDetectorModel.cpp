@@ -1,5 +1,6 @@
 /* semloc — SemanticDetectorModel: visibility by ray casting, detector error model. */
 #include <mrpt/core/bits_math.h>
+#include <mrpt/core/format.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/io/ConfigHelpers.h>
@@ -27,6 +28,16 @@ void SemanticDetectorModel::TOptions::loadFromConfigFile(const mrpt::config::CCo
     config::readDouble(c, s, "false_positives_per_scan", false_positives_per_scan, 0, 100);
     config::readDouble(c, s, "p_confusion", p_confusion, 0, 1);
     config::readBool(c, s, "report_ids", report_ids);
+    config::readDouble(c, s, "gap_every_s", gap_every_s, 0, 1e9);
+    config::readDouble(c, s, "gap_min_s", gap_min_s, 0, 1e9);
+    config::readDouble(c, s, "gap_max_s", gap_max_s, 0, 1e9);
+    if (gap_min_s > gap_max_s)
+    {
+        THROW_EXCEPTION(
+            mrpt::format("ini [%s] gap_min_s, gap_max_s: the shortest silence (%g s) "
+                         "is longer than the longest (%g s)",
+                         s.c_str(), gap_min_s, gap_max_s));
+    }
     detail::readSensorMount(c, s, sensor_x_m, sensor_y_m, sensor_yaw_deg);
 }
 
@@ -44,6 +55,10 @@ void SemanticDetectorModel::TOptions::saveToConfigFile(mrpt::config::CConfigFile
                "Poisson mean of false positives per scan");
     writeExact(c, s, "p_confusion", p_confusion, "P(label swapped to another world label)");
     c.write(s, "report_ids", report_ids, 24, 24, "report map object ids (else -1)");
+    writeExact(c, s, "gap_every_s", gap_every_s,
+               "mean time between silences (nothing reported) [s]; 0: none");
+    writeExact(c, s, "gap_min_s", gap_min_s, "shortest silence [s]");
+    writeExact(c, s, "gap_max_s", gap_max_s, "longest silence [s]");
     detail::writeSensorMount(c, s, "detector", sensor_x_m, sensor_y_m, sensor_yaw_deg);
 }
 

@@ -214,15 +214,55 @@ namespace
 /** The random streams of a run, one per source of noise (SimRandom.h). */
 struct SimStreams
 {
-    mrpt::random::CRandomGenerator odometry, sonar, detector, kidnap;
+    mrpt::random::CRandomGenerator odometry, sonar, detector, kidnap, gaps;
 
     explicit SimStreams(uint32_t seed)
         : odometry(detail::streamSeed(seed, detail::SimStream::Odometry)),
           sonar(detail::streamSeed(seed, detail::SimStream::Sonar)),
           detector(detail::streamSeed(seed, detail::SimStream::Detector)),
-          kidnap(detail::streamSeed(seed, detail::SimStream::Kidnapping))
+          kidnap(detail::streamSeed(seed, detail::SimStream::Kidnapping)),
+          gaps(detail::streamSeed(seed, detail::SimStream::DetectorGaps))
     {
     }
+};
+
+/** The detector's silences ([SemanticDetector] gap_every_s, gap_min_s, gap_max_s): starts
+ *  an exponential time apart (from the end of the previous one), lengths uniform. */
+class Silences
+{
+public:
+    Silences(const SemanticDetectorModel::TOptions& o, double t0,
+             mrpt::random::CRandomGenerator& rng)
+        : m_o(o), m_rng(rng)
+    {
+        m_start = m_end = t0;
+        next();
+    }
+    /** True if the detector is silent at time t (times must not decrease). */
+    bool silent(double t)
+    {
+        while (m_o.gap_every_s > 0 && t >= m_end)
+        {
+            next();
+        }
+        return m_o.gap_every_s > 0 && t >= m_start && t < m_end;
+    }
+
+private:
+    void next()
+    {
+        if (m_o.gap_every_s <= 0)
+        {
+            return;
+        }
+        const double wait = -m_o.gap_every_s * std::log(1.0 - detail::uniform01(m_rng));
+        m_start = m_end + wait;
+        m_end =
+            m_start + m_o.gap_min_s + (m_o.gap_max_s - m_o.gap_min_s) * detail::uniform01(m_rng);
+    }
+    const SemanticDetectorModel::TOptions& m_o;
+    mrpt::random::CRandomGenerator& m_rng;
+    double m_start = 0, m_end = 0;
 };
 
 /** The sensor models of a run. */
@@ -243,10 +283,10 @@ struct StepCounts
  *  the detections at the true `pose` as the sensory frame, appended to the rawlog with the
  *  pose as ground truth. Draws odometry, sonar and detector noise in that order. */
 void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPose2D& increment,
-                const mrpt::math::TPose2D& pose, mrpt::Clock::time_point stamp,
-                SimulationResult& res, StepCounts& counts)
+                const mrpt::math::TPose2D& pose, mrpt::Clock::time_point stamp, double dt,
+                bool silent, SimulationResult& res, StepCounts& counts)
 {
-    auto action = sensors.odometry.measure(increment, rng.odometry);
+    auto action = sensors.odometry.measure(increment, rng.odometry, dt);
     action.timestamp = stamp;
     auto actions = mrpt::obs::CActionCollection::Create();
     actions->insert(action);
@@ -255,6 +295,10 @@ void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPos
     scan->timestamp = stamp;
     auto semantic = sensors.detector.measure(pose, rng.detector);
     semantic->timestamp = stamp;
+    if (silent)
+    {
+        semantic->detections.clear();  // drawn all the same: the other steps keep their noise
+    }
     for (size_t b = 0; b < scan->getScanSize(); b++)
     {
         counts.validBeams += scan->getScanRangeValidity(b) ? 1 : 0;
@@ -296,6 +340,7 @@ SimulationResult Simulator::run() const
     res.beamsPerScan = static_cast<size_t>(o.sonar.beam_count);
     StepCounts counts;
     bool kidnapped = false;
+    Silences silences(o.detector, o.simulation.start_time_s, rng.gaps);
     mrpt::poses::CPose2D previous(vehicle.pose());
     for (size_t k = 0;; k++)
     {
@@ -317,7 +362,9 @@ SimulationResult Simulator::run() const
         const mrpt::math::TPose2D pose = vehicle.pose();
         const auto stamp =
             mrpt::Clock::fromDouble(o.simulation.start_time_s + static_cast<double>(k) * dt);
-        recordStep(sensors, rng, increment, pose, stamp, res, counts);
+        const double t = o.simulation.start_time_s + static_cast<double>(k) * dt;
+        recordStep(sensors, rng, increment, pose, stamp, k > 0 ? dt : 0.0, silences.silent(t), res,
+                   counts);
         previous = mrpt::poses::CPose2D(pose);
         if (vehicle.finished() || (maxSteps > 0 && k + 1 >= maxSteps))
         {

@@ -54,6 +54,10 @@ public:
         /** Minimum heading std [deg] (MRPT's minStdPHI). */
         double min_phi_std_deg = 0.2;
         /** @} */
+        /** A bias of the heading increments [deg/min] (a gyro or compass that drifts): added
+         *  to every reading, not to the Gaussian the action carries (the filter does not
+         *  know it). */
+        double heading_drift_deg_per_min = 0.0;
 
         /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
@@ -71,9 +75,11 @@ public:
 
     /** The odometry action of one step whose true pose increment (vehicle frame) is
      *  `trueIncrement`: reading = trueIncrement + noise ~ N(0, Sigma(trueIncrement)),
-     *  heading wrapped to [-pi, pi]; timestamp left unset. */
+     *  plus the heading drift over `dt_s` seconds, heading wrapped to [-pi, pi]; timestamp
+     *  left unset. */
     mrpt::obs::CActionRobotMovement2D measure(const mrpt::poses::CPose2D& trueIncrement,
-                                              mrpt::random::CRandomGenerator& rng) const;
+                                              mrpt::random::CRandomGenerator& rng,
+                                              double dt_s = 0) const;
 
     /** The parameters. */
     const TOptions& options() const { return m_options; }

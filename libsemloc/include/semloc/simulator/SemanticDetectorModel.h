@@ -68,6 +68,14 @@ public:
         double p_confusion = 0.05;
         /** Report the map object id of each true detection (else -1: label only). */
         bool report_ids = false;
+        /** @name Silences: stretches in which the detector reports nothing (empty scans)
+         *  @{ */
+        /** Mean time between the starts of two silences [s] (exponential); 0: none. */
+        double gap_every_s = 0.0;
+        /** Shortest and longest silence [s] (uniform in between). */
+        double gap_min_s = 60.0;
+        double gap_max_s = 120.0;
+        /** @} */
         /** @name Pose of the detector on the vehicle
          *  @{ */
         double sensor_x_m = 0.0;      //!< [m] forward
