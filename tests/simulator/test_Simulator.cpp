@@ -947,8 +947,7 @@ TEST(Simulator, HeadingDriftBiasesEveryOdometryReadingOnly)
     }
     // The ground truth and the other sensors do not change.
     EXPECT_EQ(r.groundTruth.back().x, p.groundTruth.back().x);
-    EXPECT_EQ(stepOf(r, 60).semantic->detections.size(),
-              stepOf(p, 60).semantic->detections.size());
+    EXPECT_EQ(stepOf(r, 60).semantic->detections.size(), stepOf(p, 60).semantic->detections.size());
 }
 
 TEST(Simulator, DetectorSilencesLastFromTheShortestToTheLongest)
