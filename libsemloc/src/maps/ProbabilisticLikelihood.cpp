@@ -366,73 +366,17 @@ bool disjointPairs(const Pair* pairs, size_t c)
     return assignGreedy(pairs, np, nd, used);
 }
 
-/** Stage 5 of the marginal association: per particle, missBlock's terms and the log of the
- *  sum over its associations (marginalAssociation; pairs that share no detection and no
- *  object: the product of their 1 + w, w = q e^rest). */
-void marginalTotalsBlock(Scratch& sc, size_t m, double* out)
+/** Stage 5's loop: per particle, missBlock's terms and `association(pairs, c, miss)`, the log
+ *  of the association's part of its c pairs (it may fold factors into `miss`, the product of
+ *  the 1 - P_D: one log for the particle). */
+template <typename Association>
+void totalsLoop(Scratch& sc, size_t m, double* out, Association association)
 {
-    const size_t nd = sc.dets.size();
-    const uint32_t* blockVis = sc.blockVis.data();
-    const uint32_t* pairCount = sc.pairCount.data();
-    const Pair* pairs = sc.pairs.data();
-    size_t t = 0;
-    for (uint32_t i = 0; i < m; i++)
-    {
-        if (blockVis[i] == kNoPose)
-        {
-            out[i] = kMinLogLik;
-            continue;
-        }
-        const uint32_t c = pairCount[i];
-        double sum = 0;
-        if (disjointPairs(pairs + t, c))
-        {
-            // The product of the 1 + w (w = q e^rest, c <= 8), one log; with extreme options
-            // (tiny sigmas and clutter) a w can approach 1e300: then log(1 + w) pair by pair.
-            double prod = 1;
-            for (size_t u = t; u < t + c; u++)
-            {
-                prod *= 1 + pairs[u].q * std::exp(pairs[u].gain);
-            }
-            if (prod < 1e300)
-            {
-                sum = std::log(prod);
-            }
-            else
-            {
-                for (size_t u = t; u < t + c; u++)
-                {
-                    const double x = pairs[u].gain + std::log(pairs[u].q);
-                    sum += x > 0 ? x + std::log1p(std::exp(-x)) : std::log1p(std::exp(x));
-                }
-            }
-        }
-        else
-        {
-            bool approximated = false;
-            sum = marginalAssociation(pairs + t, c, nd, sc.marginal, approximated);
-            sc.approximated += approximated ? 1 : 0;
-        }
-        t += c;
-        out[i] = finite(sc.bBase[i] + std::log(sc.bMiss[i]) + sum);
-    }
-}
-
-/** Stage 5: per particle, missBlock's terms (sum_v log(1 - P_D(rho_v)) as the log of the
- *  product: one log instead of one per visible object) and the association. Pairs that
- *  share no detection and no object are all taken by the greedy assignment: up to
- *  kFoldPairs of them, their q join the product (one log for the particle) and their gains
- *  less log q are summed in pair order; otherwise each pair's gain log q + rest goes to the
- *  assignment. */
-void totalsBlock(Scratch& sc, size_t m, double* out)
-{
-    const size_t nd = sc.dets.size();
     const uint32_t* blockVis = sc.blockVis.data();
     const uint32_t* pairCount = sc.pairCount.data();
     const double* bMiss = sc.bMiss.data();
     const double* bBase = sc.bBase.data();
     Pair* pairs = sc.pairs.data();
-    uint8_t* used = sc.used.data();
     size_t t = 0;
     for (uint32_t i = 0; i < m; i++)
     {
@@ -443,29 +387,81 @@ void totalsBlock(Scratch& sc, size_t m, double* out)
         }
         const uint32_t c = pairCount[i];
         double miss = bMiss[i];
-        double gains = 0;
-        if (disjointPairs(pairs + t, c))
-        {
-            // q in [1e-6, 1e6]: a product >= 1e-250 times q^c (c <= 8) stays a normal number.
-            double qProd = 1;
-            for (size_t u = t; u < t + c; u++)
-            {
-                gains += pairs[u].gain;
-                qProd *= pairs[u].q;
-            }
-            miss *= qProd;
-        }
-        else
-        {
-            for (size_t u = t; u < t + c; u++)
-            {
-                pairs[u].gain += std::log(pairs[u].q);
-            }
-            gains = assignCompeting(pairs + t, c, nd, used);
-        }
+        const double gains = association(pairs + t, c, miss);
         t += c;
         out[i] = finite(bBase[i] + std::log(miss) + gains);
     }
+}
+
+/** Stage 5, greedy association. Pairs that share no detection and no object are all taken by
+ *  the greedy assignment: up to kFoldPairs of them, their q join the product (one log for the
+ *  particle) and their gains less log q are summed in pair order; otherwise each pair's gain
+ *  log q + rest goes to the assignment. */
+void totalsBlock(Scratch& sc, size_t m, double* out)
+{
+    const size_t nd = sc.dets.size();
+    uint8_t* used = sc.used.data();
+    totalsLoop(sc, m, out,
+               [&](Pair* pairs, uint32_t c, double& miss)
+               {
+                   double gains = 0;
+                   if (disjointPairs(pairs, c))
+                   {
+                       // q in [1e-6, 1e6]: a product >= 1e-250 times q^c (c <= 8) stays a
+                       // normal number.
+                       double qProd = 1;
+                       for (size_t u = 0; u < c; u++)
+                       {
+                           gains += pairs[u].gain;
+                           qProd *= pairs[u].q;
+                       }
+                       miss *= qProd;
+                       return gains;
+                   }
+                   for (size_t u = 0; u < c; u++)
+                   {
+                       pairs[u].gain += std::log(pairs[u].q);
+                   }
+                   return assignCompeting(pairs, c, nd, used);
+               });
+}
+
+/** Stage 5, marginal association: the log of the sum over the particle's associations
+ *  (marginalAssociation; pairs that share no detection and no object: the product of their
+ *  1 + w, w = q e^rest). */
+void marginalTotalsBlock(Scratch& sc, size_t m, double* out)
+{
+    const size_t nd = sc.dets.size();
+    totalsLoop(sc, m, out,
+               [&](const Pair* pairs, uint32_t c, double& /*miss*/)
+               {
+                   if (!disjointPairs(pairs, c))
+                   {
+                       bool approximated = false;
+                       const double sum =
+                           marginalAssociation(pairs, c, nd, sc.marginal, approximated);
+                       sc.approximated += approximated ? 1 : 0;
+                       return sum;
+                   }
+                   // The product of the 1 + w (c <= 8), one log; with extreme options (tiny
+                   // sigmas and clutter) a w can approach 1e300: then log(1 + w) pair by pair.
+                   double prod = 1;
+                   for (size_t u = 0; u < c; u++)
+                   {
+                       prod *= 1 + pairs[u].q * std::exp(pairs[u].gain);
+                   }
+                   if (prod < 1e300)
+                   {
+                       return std::log(prod);
+                   }
+                   double sum = 0;
+                   for (size_t u = 0; u < c; u++)
+                   {
+                       const double x = pairs[u].gain + std::log(pairs[u].q);
+                       sum += x > 0 ? x + std::log1p(std::exp(-x)) : std::log1p(std::exp(x));
+                   }
+                   return sum;
+               });
 }
 }  // namespace
 
