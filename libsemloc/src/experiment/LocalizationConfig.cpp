@@ -292,6 +292,21 @@ void LocalizationExperiment::TOptions::loadFromConfigFile(const mrpt::config::CC
     readInt(c, s, "rawlog_offset", rawlog_offset, 0, std::numeric_limits<int>::max());
     readInt(c, s, "particles_save_every", particles_save_every, 0, std::numeric_limits<int>::max());
     variant = trimValue(c.read_string(s, "variant", variant));
+    // MRPT's ini reader ends a value at "//" inconsistently (an inline comment): such a value
+    // would not read back from the effective config.ini.
+    for (const auto& [key, value] :
+         {std::pair<const char*, const std::string*>{"rawlog_file", &rawlog_file},
+          {"map_file", &map_file},
+          {"ground_truth_path_file", &ground_truth_path_file},
+          {"logOutput_dir", &logOutput_dir},
+          {"variant", &variant}})
+    {
+        if (value->find("//") != std::string::npos)
+        {
+            THROW_EXCEPTION("ini [" + s + "] " + key + ": '" + *value +
+                            "' holds '//', which starts a comment in an ini file");
+        }
+    }
     readDouble(c, s, "convergence_max_err_xy_m", convergence.max_err_xy_m, 0, 1e9);
     readDouble(c, s, "convergence_max_var_xy_m2", convergence.max_var_xy_m2, 0, 1e9);
     readInt(c, s, "convergence_min_steps", convergence.min_steps, 1,
