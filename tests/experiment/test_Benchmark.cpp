@@ -173,4 +173,8 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.simulation().detector.p_detect_near, 0.3);
     EXPECT_EQ(all.simulation().detector.gap_every_s, 120.0);
     EXPECT_EQ(b.scenarios().front().simulation().odometry.heading_drift_deg_per_min, 0.0);
+    // The shipped filter against the same with the detector outage model.
+    ASSERT_EQ(all.variants().size(), 2u);
+    EXPECT_EQ(all.variants()[0].name(), "semantic");
+    EXPECT_EQ(all.variants()[1].name(), "semantic_outage");
 }

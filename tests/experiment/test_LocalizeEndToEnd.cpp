@@ -14,12 +14,14 @@
 #include <semloc/simulator/Simulator.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <thread>
+#include <vector>
 
 #include <unistd.h>
 
@@ -520,11 +522,11 @@ TEST_F(LocalizeEndToEnd, BadConfigurationsFailClearlyWithoutOutput)
     }
 }
 
-TEST(ShippedConfigs, SemanticMarginalIsSemanticWithTheMarginalAssociation)
+TEST(ShippedConfigs, SemanticVariantsDifferFromSemanticInTheirOneKey)
 {
-    // Every line after the header comment, but the association, the name and the output
-    // directory, is the same in both files.
-    auto body = [](const std::string& file)
+    // Every line after the header comment, but the variant's key, the name and the output
+    // directory, is the same in the files.
+    auto body = [](const std::string& file, const std::string& own)
     {
         std::istringstream in(readText(kConfig + file));
         std::string line, out;
@@ -533,15 +535,26 @@ TEST(ShippedConfigs, SemanticMarginalIsSemanticWithTheMarginalAssociation)
         {
             header = header && (line.empty() || line[0] == '#');
             const std::string key = line.substr(0, line.find_first_of(" ="));
-            if (!header && key != "association" && key != "variant" && key != "logOutput_dir")
+            if (!header && key != own && key != "variant" && key != "logOutput_dir")
             {
                 out += line + "\n";
             }
         }
         return out;
     };
-    EXPECT_EQ(body("semantic_marginal.ini"), body("semantic.ini"));
-    const std::string marginal = readText(kConfig + "semantic_marginal.ini");
-    EXPECT_NE(marginal.find("\nassociation             = marginal\n"), std::string::npos);
-    EXPECT_NE(marginal.find("\nvariant                 = semantic_marginal\n"), std::string::npos);
+    const std::vector<std::array<std::string, 3>> variants = {
+        {"semantic_marginal", "association", "marginal"},
+        {"semantic_outage", "outage_every_s",
+         "600       // mean time between outages [s]; 0: "
+         "no outage model"}};
+    for (const auto& [name, key, value] : variants)
+    {
+        EXPECT_EQ(body(name + ".ini", key), body("semantic.ini", key)) << name;
+        const std::string text = readText(kConfig + name + ".ini");
+        EXPECT_NE(text.find("\n" + key + std::string(24 - key.size(), ' ') + "= " + value + "\n"),
+                  std::string::npos)
+            << name;
+        EXPECT_NE(text.find("\nvariant                 = " + name + "\n"), std::string::npos)
+            << name;
+    }
 }

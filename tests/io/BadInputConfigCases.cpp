@@ -176,6 +176,25 @@ Cases iniMapCases()
                  d, writeConfig(d, "semantic", {{"model", "paper"}, {"association", "marginal"}}),
                  d / "data.rawlog");
          }},
+        {"ini-outage-needs-probabilistic",
+         [](const fs::path& d)
+         {
+             saveGz(simulate().rawlog, d / "data.rawlog");
+             return localize(
+                 d, writeConfig(d, "semantic", {{"model", "paper"}, {"outage_every_s", "300"}}),
+                 d / "data.rawlog");
+         }},
+        {"ini-outage-mean-out-of-range",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"outage_every_s", "300"}, {"outage_mean_s", "0"}});
+         }},
+        {"ini-outage-needs-standard-proposal",
+         [](const fs::path& d)
+         {
+             return localizeGood(
+                 d, "",
+                 {{"outage_every_s", "300"}, {"PF_algorithm", "1"}, {"free_space_prior", "0"}});
+         }},
         {"ini-rawlog-offset-past-end",
          [](const fs::path& d) {
              return localizeGood(d, "", {{"rawlog_offset", "6"}});

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <optional>
 
+#include "filter/DetectorOutage.h"
 #include "filter/Estimate.h"
 #include "filter/MotionSampling.h"
 #include "filter/ParticleRuns.h"
@@ -73,7 +74,9 @@ struct UpdatePass
     const detail::GaussianIncrementDrawer* drawer;
     uint64_t key;
     const SensoryFrameLikelihood* likelihood;
-    const FreeSpaceSampler* prior;  ///< the free-space prior's, or nullptr
+    const FreeSpaceSampler* prior;    ///< the free-space prior's, or nullptr
+    const detail::OutageMix* outage;  ///< the outage mixture, or nullptr
+    double* outageLik;                ///< its per-particle terms (with outage)
     double pow;
     std::vector<PassPartial>& partial;
 
@@ -100,7 +103,12 @@ struct UpdatePass
     void weigh(size_t b, size_t e, size_t thread) const
     {
         PassPartial& acc = partial[thread];
-        acc.nonfinite += likelihood->evaluateChunk(poses, b, e, logLik);
+        acc.nonfinite +=
+            likelihood->evaluateChunk(poses, b, e, logLik, outage ? outageLik : nullptr);
+        if (outage)
+        {
+            detail::DetectorOutage::apply(*outage, logLik + b, outageLik + b, e - b);
+        }
         if (prior)
         {
             acc.outside += prior->excludeOutside(poses + b, e - b, logLik + b);
@@ -142,7 +150,8 @@ struct UpdatePass
 CParallelMonteCarloLocalization2D::CParallelMonteCarloLocalization2D(size_t M)
     : CMonteCarloLocalization2D(M),
       m_executor(std::make_shared<ParallelExecutor>(1)),
-      m_systematic(std::make_unique<detail::SystematicResampling>())
+      m_systematic(std::make_unique<detail::SystematicResampling>()),
+      m_outage(std::make_unique<detail::DetectorOutage>())
 {
     setLoggerName("CParallelMonteCarloLocalization2D");
 }
@@ -164,6 +173,16 @@ void CParallelMonteCarloLocalization2D::setFreeSpaceSampler(
 void CParallelMonteCarloLocalization2D::setRecoveryOptions(const AugmentedMCL::TOptions& o)
 {
     m_augmented = AugmentedMCL(o);
+}
+
+double CParallelMonteCarloLocalization2D::detectorOutageProbability() const
+{
+    return m_outage->probability();
+}
+
+void CParallelMonteCarloLocalization2D::resetDetectorOutage()
+{
+    m_outage->reset();
 }
 
 SensoryFrameLikelihood::TStats CParallelMonteCarloLocalization2D::likelihoodStats() const
@@ -323,7 +342,18 @@ bool CParallelMonteCarloLocalization2D::predictAndUpdate(
     const bool recovery = m_augmented.options().enabled();
     const double lsePrior = recovery ? detail::logSumExpWeights(m_particles, *m_executor) : 0;
     m_logLik.resize(M);
-    range = updateParticles(drawer, key, true, chunkwise, PF_options.powFactor);
+    std::optional<detail::OutageMix> mix;
+    if (m_likelihood->outageTerms().present)
+    {
+        mix = m_outage->predict(m_likelihood->outageTerms());
+        m_outageLik.resize(mix ? M : 0);
+    }
+    range =
+        updateParticles(drawer, key, true, chunkwise, PF_options.powFactor, mix ? &*mix : nullptr);
+    if (mix)
+    {
+        m_outage->update(m_particles, m_outageLik.data());
+    }
     if (!std::isfinite(range.max))
     {
         // Every weight vanished: nothing left to normalize. Start over from the free space.
@@ -349,7 +379,7 @@ bool CParallelMonteCarloLocalization2D::predictAndUpdate(
 
 WeightRange CParallelMonteCarloLocalization2D::updateParticles(
     const detail::GaussianIncrementDrawer* drawer, uint64_t key, bool weigh, bool chunkwise,
-    double powFactor)
+    double powFactor, const detail::OutageMix* outage)
 {
     // One pass per particle range: the prediction (or the poses' copy), the likelihood and
     // the weight update. A likelihood that needs every pose first (generic MRPT maps) takes
@@ -364,6 +394,8 @@ WeightRange CParallelMonteCarloLocalization2D::updateParticles(
                           key,
                           m_likelihood.get(),
                           m_freeSpacePrior ? m_sampler.get() : nullptr,
+                          outage,
+                          m_outageLik.data(),
                           powFactor,
                           partial};
     if (!weigh)

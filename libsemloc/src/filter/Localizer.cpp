@@ -300,6 +300,14 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
             "init_PDF_mode = 3 (from the first detections) needs a semanticMap in "
             "[MetricMap]");
     }
+    if (const auto sem = m_map->mapByClass<CSemanticMap>();
+        sem && sem->likelihoodOptions.outage_every_s > 0 &&
+        o.pf.PF_algorithm != mrpt::bayes::CParticleFilter::pfStandardProposal)
+    {
+        THROW_EXCEPTION(
+            "the semantic map's outage_every_s > 0 (detector outage model) needs [PF_options] "
+            "PF_algorithm = 0 (pfStandardProposal)");
+    }
     m_pdf->setFreeSpaceSampler(m_freeSpace);
     m_pdf->prepareLikelihood();
 
@@ -319,6 +327,7 @@ void Localizer::reset()
     auto& rng = mrpt::random::getRandomGenerator();
     m_seededFromDetections = false;
     m_initializedFromDetections = 0;
+    m_pdf->resetDetectorOutage();
     // The maps count for every user: this filter's share is what it adds from here.
     m_approximatedBefore = associationsApproximatedNow();
     switch (o.init_PDF_mode)

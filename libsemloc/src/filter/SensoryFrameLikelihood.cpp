@@ -185,6 +185,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
     // One term per (observation, map) pair that can contribute, in MRPT's order.
     m_terms.clear();
     m_nSerial = 0;
+    m_outage = TOutageTerms();
     bool anyParallelGeneric = false;
     for (const auto& o : sf)
     {
@@ -217,6 +218,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
                 t.serialIndex = m_nSerial++;
             }
             anyParallelGeneric = anyParallelGeneric || path == Path::GenericParallel;
+            t.outage = planOutage(t);
             m_terms.push_back(t);
         }
         (usable ? m_stats.observations_used : m_stats.observations_skipped)++;
@@ -233,6 +235,33 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
         prepare(executor);
     }
     return m_nSerial == 0 && !anyParallelGeneric;
+}
+
+bool SensoryFrameLikelihood::planOutage(const Term& t)
+{
+    if (t.path != Path::Semantic && t.path != Path::SemanticBearingRange)
+    {
+        return false;
+    }
+    const auto& map = static_cast<const CSemanticMap&>(*t.map);
+    const auto& lo = map.likelihoodOptions;
+    if (!(lo.outage_every_s > 0) || lo.model != CSemanticMap::Model::Probabilistic)
+    {
+        return false;
+    }
+    const bool silent =
+        t.path == Path::Semantic
+            ? static_cast<const CObservationSemantic&>(*t.obs).detections.empty()
+            : static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs).sensedData.empty();
+    m_outage.silent = m_outage.silent && silent;
+    if (!m_outage.present)
+    {
+        m_outage.present = true;
+        m_outage.t = t.obs->timestamp;
+        m_outage.every_s = lo.outage_every_s;
+        m_outage.mean_s = lo.outage_mean_s;
+    }
+    return true;
 }
 
 void SensoryFrameLikelihood::preEvaluate(const TPose2D* poses, size_t n)
@@ -258,8 +287,47 @@ void SensoryFrameLikelihood::preEvaluate(const TPose2D* poses, size_t n)
     }
 }
 
-size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, size_t e,
-                                             double* out) const
+void SensoryFrameLikelihood::evaluateTerm(const Term& t, const TPose2D* poses, size_t b, size_t m,
+                                          double* term) const
+{
+    switch (t.path)
+    {
+        case Path::Semantic:
+            static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
+                static_cast<const CObservationSemantic&>(*t.obs), poses + b, m, term);
+            break;
+        case Path::SemanticBearingRange:
+            static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
+                static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs), poses + b, m,
+                term);
+            break;
+        case Path::Structure:
+        {
+            const auto& st = static_cast<const CStructureMap&>(*t.map);
+            const auto& scan = static_cast<const mrpt::obs::CObservation2DRangeScan&>(*t.obs);
+            for (size_t i = 0; i < m; i++)
+            {
+                term[i] = st.computeLogLikelihood(scan, poses[b + i]);
+            }
+            break;
+        }
+        case Path::GenericParallel:
+            for (size_t i = 0; i < m; i++)
+            {
+                term[i] = t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[b + i]));
+            }
+            break;
+        case Path::GenericSerial:
+            std::copy_n(m_serial[t.serialIndex].begin() + static_cast<ptrdiff_t>(b), m, term);
+            break;
+        case Path::Zero:
+            std::fill_n(term, m, 0.0);
+            break;
+    }
+}
+
+size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, size_t e, double* out,
+                                             double* outageOut) const
 {
     const size_t m = e - b;
     // Per-thread scratch, grown only (no allocation or clearing per chunk).
@@ -278,43 +346,21 @@ size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, siz
     }
     bool firstSum = true;
     size_t nonfinite = 0;
+    if (outageOut)
+    {
+        std::fill_n(outageOut + b, m, 0.0);
+    }
     for (size_t k = 0; k < m_terms.size(); k++)
     {
         const Term& t = m_terms[k];
         const bool lastOfObservation = k + 1 == m_terms.size() || m_terms[k + 1].firstOfObservation;
-        switch (t.path)
+        evaluateTerm(t, poses, b, m, term);
+        if (outageOut && t.outage)
         {
-            case Path::Semantic:
-                static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
-                    static_cast<const CObservationSemantic&>(*t.obs), poses + b, m, term);
-                break;
-            case Path::SemanticBearingRange:
-                static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
-                    static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs), poses + b, m,
-                    term);
-                break;
-            case Path::Structure:
+            for (size_t i = 0; i < m; i++)
             {
-                const auto& st = static_cast<const CStructureMap&>(*t.map);
-                const auto& scan = static_cast<const mrpt::obs::CObservation2DRangeScan&>(*t.obs);
-                for (size_t i = 0; i < m; i++)
-                {
-                    term[i] = st.computeLogLikelihood(scan, poses[b + i]);
-                }
-                break;
+                outageOut[b + i] += term[i];
             }
-            case Path::GenericParallel:
-                for (size_t i = 0; i < m; i++)
-                {
-                    term[i] = t.map->computeObservationLikelihood(*t.obs, mrptPose(poses[b + i]));
-                }
-                break;
-            case Path::GenericSerial:
-                std::copy_n(m_serial[t.serialIndex].begin() + static_cast<ptrdiff_t>(b), m, term);
-                break;
-            case Path::Zero:
-                std::fill_n(term, m, 0.0);
-                break;
         }
         if (t.firstOfObservation && lastOfObservation)
         {

@@ -123,6 +123,14 @@ void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CC
     config::readDouble(c, s, "max_range_m", max_range_m, 0, 1e6);
     config::readDouble(c, s, "fov_deg", fov_deg, 0, 360);
     config::readDouble(c, s, "index_cell_m", index_cell_m, 0.01, 1e6);
+    config::readDouble(c, s, "outage_every_s", outage_every_s, 0, 1e9);
+    config::readDouble(c, s, "outage_mean_s", outage_mean_s, 1e-3, 1e9);
+    if (outage_every_s > 0 && model != Model::Probabilistic)
+    {
+        THROW_EXCEPTION("ini [" + s +
+                        "] outage_every_s: the detector outage model is part of the "
+                        "probabilistic model; set model = probabilistic or outage_every_s = 0");
+    }
 }
 
 void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -147,6 +155,10 @@ void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFil
                        ">0 overrides the observation's max range");
     detail::writeExact(c, s, "fov_deg", fov_deg, ">0 overrides the observation's field of view");
     detail::writeExact(c, s, "index_cell_m", index_cell_m, "cell of the object index [m]");
+    detail::writeExact(c, s, "outage_every_s", outage_every_s,
+                       "probabilistic: mean time between detector outages [s], 0 = none");
+    detail::writeExact(c, s, "outage_mean_s", outage_mean_s,
+                       "probabilistic: mean length of an outage [s]");
 }
 
 void CSemanticMap::TInsertionOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,

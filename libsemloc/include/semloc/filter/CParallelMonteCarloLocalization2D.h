@@ -26,6 +26,8 @@ namespace detail
 {
 class GaussianIncrementDrawer;
 class SystematicResampling;
+class DetectorOutage;
+struct OutageMix;
 struct WeightRange;
 }  // namespace detail
 
@@ -139,6 +141,11 @@ public:
     const TRecoveryStats& recoveryStats() const { return m_recoveryStats; }
     /** Augmented MCL's p_inject at the last update (0 when off). */
     double lastInjectionProbability() const { return m_lastPInject; }
+    /** The probability that the semantic detector is out after the last frame (the outage
+     *  model, CSemanticMap's outage_every_s > 0; 0 while it has seen no frame). */
+    double detectorOutageProbability() const;
+    /** Forgets the detector's outage state (a new run). */
+    void resetDetectorOutage();
     /** ESS() at the end of the last step, before its resampling (see "Resampling"). */
     double essBeforeResampling() const { return m_essBeforeResampling; }
     /** @} */
@@ -200,7 +207,8 @@ private:
      *  frame planned in m_likelihood (`chunkwise`: the likelihood per range of particles);
      *  the log-weights' extremes (with `weigh`). */
     detail::WeightRange updateParticles(const detail::GaussianIncrementDrawer* drawer, uint64_t key,
-                                        bool weigh, bool chunkwise, double powFactor);
+                                        bool weigh, bool chunkwise, double powFactor,
+                                        const detail::OutageMix* outage = nullptr);
     /** Every weight vanished: the particles re-drawn over the free space (with recovery on,
      *  from the frame's detections too), log-weights 0. */
     void reinitialize(const mrpt::obs::CSensoryFrame& sf);
@@ -228,6 +236,8 @@ private:
     /** Per-step buffers, reused (no allocation per step once sized). */
     std::vector<mrpt::math::TPose2D> m_poses;
     std::vector<double> m_logLik;
+    /** The outage terms per particle, then log P(out | z, x_i) (DetectorOutage). */
+    std::vector<double> m_outageLik;
     CParticleList m_resampled;
     std::vector<size_t> m_resampleIdx;
     /** Systematic resampling's buffers. */
@@ -235,6 +245,8 @@ private:
     /** The weights relative to the largest, of the last ESS (the systematic resampling's). */
     std::vector<double> m_linW;
     double m_essBeforeResampling = 1;
+    /** The detector's outage state. */
+    std::unique_ptr<detail::DetectorOutage> m_outage;
 };
 
 }  // namespace semloc

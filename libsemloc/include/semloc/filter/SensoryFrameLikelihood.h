@@ -5,6 +5,7 @@
 #include <mrpt/maps/CMetricMap.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/system/datetime.h>
 
 #include <cstddef>
 #include <vector>
@@ -64,6 +65,21 @@ public:
         size_t observations_invalid = 0;
     };
 
+    /** The terms of the planned frame that a detector outage silences: the semantic maps
+     *  with the outage model on (CSemanticMap's outage_every_s > 0), one detector for the
+     *  filter. */
+    struct TOutageTerms
+    {
+        /** The frame has at least one such term. */
+        bool present = false;
+        /** None of their observations holds a detection (usable or not). */
+        bool silent = true;
+        /** The first such observation's timestamp. */
+        mrpt::Clock::time_point t{};
+        /** The model's rates (the first such map's options) [s]. */
+        double every_s = 0, mean_s = 0;
+    };
+
     /** `map` is the filter's map (usually a CMultiMetricMap); it must outlive this object. */
     explicit SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map);
 
@@ -88,11 +104,17 @@ public:
     /** The terms that need every pose before any chunk (generic maps). */
     void preEvaluate(const mrpt::math::TPose2D* poses, size_t n);
     /** out[i] = log p(sf | poses[i]) for i in [b, e) (a non-finite value becomes -inf); the
-     *  number of non-finite values. Safe from several threads on disjoint chunks. */
-    size_t evaluateChunk(const mrpt::math::TPose2D* poses, size_t b, size_t e, double* out) const;
+     *  number of non-finite values. With `outageOut`, outageOut[i] = the sum of the
+     *  outage terms (outageTerms()) at poses[i], part of out[i]. Safe from several threads
+     *  on disjoint chunks. */
+    size_t evaluateChunk(const mrpt::math::TPose2D* poses, size_t b, size_t e, double* out,
+                         double* outageOut = nullptr) const;
     /** Counts non-finite evaluations (TStats::nonfinite_likelihoods). */
     void addNonfinite(size_t count) { m_stats.nonfinite_likelihoods += count; }
     /** @} */
+
+    /** The outage terms of the frame of the last plan(). */
+    const TOutageTerms& outageTerms() const { return m_outage; }
 
     /** Counters accumulated over every evaluate() call. */
     const TStats& stats() const { return m_stats; }
@@ -116,9 +138,16 @@ private:
         size_t serialIndex = 0;
         /** First term of a new observation (the per-observation sum restarts). */
         bool firstOfObservation = false;
+        /** One of outageTerms(). */
+        bool outage = false;
     };
 
     Path choosePath(const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map) const;
+    /** term[0..m) = term `t` at poses[b..b+m). */
+    void evaluateTerm(const Term& t, const mrpt::math::TPose2D* poses, size_t b, size_t m,
+                      double* term) const;
+    /** Adds term `t` to m_outage if it is an outage term; true if so. */
+    bool planOutage(const Term& t);
     void prepareGridCaches();
 
     std::vector<const mrpt::maps::CMetricMap*> m_maps;
@@ -127,6 +156,7 @@ private:
     std::vector<Term> m_terms;
     /** Terms of the GenericSerial path in m_terms. */
     size_t m_nSerial = 0;
+    TOutageTerms m_outage;
     std::vector<std::vector<double>> m_serial;
     TStats m_stats;
 };

@@ -167,6 +167,12 @@ public:
         double fov_deg = 0.0;
         /** Cell size of the object index [m]; a quarter of the detector range is about best. */
         double index_cell_m = 5.0;
+        /** probabilistic: mean time between detector outages [s] (spells in which the
+         *  detector reports nothing at all, whatever is in view); 0: no outage model. The
+         *  filter (CParallelMonteCarloLocalization2D) keeps the probability of an outage. */
+        double outage_every_s = 0.0;
+        /** probabilistic: mean length of an outage [s] (with outage_every_s > 0). */
+        double outage_mean_s = 60.0;
 
         /** Reads `section` strictly (unknown keys and bad values are errors). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
