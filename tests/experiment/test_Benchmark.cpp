@@ -173,8 +173,30 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.simulation().detector.p_detect_near, 0.3);
     EXPECT_EQ(all.simulation().detector.gap_every_s, 120.0);
     EXPECT_EQ(b.scenarios().front().simulation().odometry.heading_drift_deg_per_min, 0.0);
-    // The shipped filter against the same with the detector outage model.
-    ASSERT_EQ(all.variants().size(), 2u);
+    // The shipped filter, the same with the detector outage model, and that with recovery.
+    ASSERT_EQ(all.variants().size(), 3u);
     EXPECT_EQ(all.variants()[0].name(), "semantic");
     EXPECT_EQ(all.variants()[1].name(), "semantic_outage");
+    EXPECT_EQ(all.variants()[2].name(), "semantic_recovery");
+    EXPECT_FALSE(all.variants()[1].options.filter.recovery.enabled());
+    EXPECT_TRUE(all.variants()[2].options.filter.recovery.enabled());
+}
+
+TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "recovery.ini");
+    ASSERT_EQ(b.scenarios().size(), 2u);
+    EXPECT_EQ(b.scenarios()[0].scenario().name, "nominal");
+    EXPECT_FALSE(b.scenarios()[0].simulation().kidnapping.enabled);
+    EXPECT_EQ(b.scenarios()[1].scenario().name, "kidnapping");
+    EXPECT_TRUE(b.scenarios()[1].simulation().kidnapping.enabled);
+    for (const auto& sc : b.scenarios())
+    {
+        ASSERT_EQ(sc.variants().size(), 2u);
+        // No scenario turns recovery on: semantic_outage runs without, semantic_recovery with
+        // injected particles at 1e-4 of a resampled one's weight.
+        EXPECT_FALSE(sc.variants()[0].options.filter.recovery.enabled());
+        EXPECT_TRUE(sc.variants()[1].options.filter.recovery.enabled());
+        EXPECT_EQ(sc.variants()[1].options.filter.recovery.injected_weight, 1e-4);
+    }
 }

@@ -14,7 +14,6 @@
 #include <semloc/simulator/Simulator.h>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -522,11 +521,12 @@ TEST_F(LocalizeEndToEnd, BadConfigurationsFailClearlyWithoutOutput)
     }
 }
 
-TEST(ShippedConfigs, SemanticVariantsDifferFromSemanticInTheirOneKey)
+TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
 {
-    // Every line after the header comment, but the variant's key, the name and the output
-    // directory, is the same in the files.
-    auto body = [](const std::string& file, const std::string& own)
+    // Every line after the header comment, but the variant's own keys, the name and the output
+    // directory, is the same in a variant and its base.
+    using Keys = std::map<std::string, std::string>;
+    auto body = [](const std::string& file, const Keys& own)
     {
         std::istringstream in(readText(kConfig + file));
         std::string line, out;
@@ -535,26 +535,40 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromSemanticInTheirOneKey)
         {
             header = header && (line.empty() || line[0] == '#');
             const std::string key = line.substr(0, line.find_first_of(" ="));
-            if (!header && key != own && key != "variant" && key != "logOutput_dir")
+            if (!header && !own.count(key) && key != "variant" && key != "logOutput_dir")
             {
                 out += line + "\n";
             }
         }
         return out;
     };
-    const std::vector<std::array<std::string, 3>> variants = {
-        {"semantic_marginal", "association", "marginal"},
-        {"semantic_outage", "outage_every_s",
-         "600       // mean time between outages [s]; 0: "
-         "no outage model"}};
-    for (const auto& [name, key, value] : variants)
+    struct Variant
     {
-        EXPECT_EQ(body(name + ".ini", key), body("semantic.ini", key)) << name;
-        const std::string text = readText(kConfig + name + ".ini");
-        EXPECT_NE(text.find("\n" + key + std::string(24 - key.size(), ' ') + "= " + value + "\n"),
-                  std::string::npos)
-            << name;
-        EXPECT_NE(text.find("\nvariant                 = " + name + "\n"), std::string::npos)
-            << name;
+        std::string name, base;
+        Keys own;  // key -> the text after "= " up to any comment
+    };
+    const std::vector<Variant> variants = {
+        {"semantic_marginal", "semantic", {{"association", "marginal"}}},
+        {"semantic_outage", "semantic", {{"outage_every_s", "600"}}},
+        {"semantic_recovery",
+         "semantic_outage",
+         {{"recovery_alpha_slow", "0.001"},
+          {"recovery_alpha_fast", "0.1"},
+          {"recovery_injected_weight", "0.0001"}}}};
+    for (const auto& v : variants)
+    {
+        EXPECT_EQ(body(v.name + ".ini", v.own), body(v.base + ".ini", v.own)) << v.name;
+        const std::string text = readText(kConfig + v.name + ".ini");
+        for (const auto& [key, value] : v.own)
+        {
+            const auto at = text.find("\n" + key + " ");
+            ASSERT_NE(at, std::string::npos) << v.name << " " << key;
+            const auto eq = text.find("= ", at);
+            EXPECT_EQ(text.substr(eq + 2, value.size()), value) << v.name << " " << key;
+            const char after = text[eq + 2 + value.size()];
+            EXPECT_TRUE(after == ' ' || after == '\n') << v.name << " " << key;
+        }
+        EXPECT_NE(text.find("\nvariant                 = " + v.name + "\n"), std::string::npos)
+            << v.name;
     }
 }

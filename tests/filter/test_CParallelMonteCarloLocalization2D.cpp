@@ -386,6 +386,75 @@ TEST(CParallelMonteCarloLocalization2D, AugmentedMclInjectsWhenTheLikelihoodColl
     EXPECT_EQ(pdf.recoveryStats().reinitializations, 0u);
 }
 
+TEST(CParallelMonteCarloLocalization2D, InjectedParticlesEarnTheirWeightAndStillRecover)
+{
+    const Maps maps(false);
+    mrpt::bayes::CParticleFilter pf;
+    pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
+    CParallelMonteCarloLocalization2D pdf;
+    pdf.options.metricMap = maps.multi;
+    pdf.setExecutor(std::make_shared<ParallelExecutor>(2));
+    pdf.setFreeSpaceSampler(std::make_shared<semloc::FreeSpaceSampler>(
+        semloc::FreeSpaceSampler::FromWorld(maps.world)));
+    semloc::AugmentedMCL::TOptions rec{0.001, 0.1};
+    rec.injected_weight = 1e-4;
+    pdf.setRecoveryOptions(rec);
+    mrpt::random::getRandomGenerator().randomize(2);
+    pdf.resetUniform(4.5, 5.5, 3.5, 4.5, -0.05, 0.05, 3000);
+
+    size_t checkedSteps = 0;
+    auto step = [&](TPose2D& truth, double dx)
+    {
+        truth.x += dx;
+        const auto acts = odometry(mrpt::poses::CPose2D(0.5, 0, 0));
+        const auto sf = maps.frame(truth);
+        const size_t before = pdf.recoveryStats().injected_particles;
+        pf.executeOn(pdf, &acts, &sf);
+        const size_t injected = pdf.recoveryStats().injected_particles - before;
+        if (injected == 0 || pdf.ESS() == 1.0)
+        {
+            return;  // no injection, or CParticleFilter resampled the set afterwards
+        }
+        // Right after the injection: the injected particles hold 1e-4 of a resampled one's
+        // weight, whatever their number.
+        double maxW = -INFINITY;
+        for (const auto& p : pdf.m_particles)
+        {
+            maxW = std::max(maxW, p.log_w);
+        }
+        size_t light = 0;
+        double lightW = 0, sumW = 0;
+        for (const auto& p : pdf.m_particles)
+        {
+            const double w = std::exp(p.log_w - maxW);
+            sumW += w;
+            if (w < 2e-4)
+            {
+                light++;
+                lightW += w;
+                EXPECT_NEAR(w, 1e-4, 1e-12);
+            }
+        }
+        EXPECT_EQ(light, injected);
+        EXPECT_LE(lightW / sumW, 1e-4 * static_cast<double>(injected) /
+                                     static_cast<double>(pdf.size() - injected));
+        checkedSteps++;
+    };
+    TPose2D truth(5, 4, 0);
+    for (int k = 0; k < 60; k++)
+    {
+        step(truth, 0.5);
+    }
+    truth = TPose2D(45, 30, M_PI);  // kidnapped to the third leg, the odometry unaware
+    for (int k = 0; k < 60; k++)
+    {
+        step(truth, -0.5);
+    }
+    EXPECT_GT(checkedSteps, 0u);
+    // The injected particles earned their weight where the vehicle is.
+    EXPECT_LT(std::hypot(pdf.getMeanVal().x() - truth.x, pdf.getMeanVal().y() - truth.y), 1.0);
+}
+
 TEST(CParallelMonteCarloLocalization2D, SensorResettingInjectsTheSameOnOneAndTwoThreads)
 {
     // Kidnapped after tracking (w_slow starts at 0, Table 8.3: the first injections come

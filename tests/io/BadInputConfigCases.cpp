@@ -195,6 +195,10 @@ Cases iniMapCases()
                  d, "",
                  {{"outage_every_s", "300"}, {"PF_algorithm", "1"}, {"free_space_prior", "0"}});
          }},
+        {"ini-recovery-injected-weight-zero",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"recovery_injected_weight", "0"}});
+         }},
         {"ini-rawlog-offset-past-end",
          [](const fs::path& d) {
              return localizeGood(d, "", {{"rawlog_offset", "6"}});

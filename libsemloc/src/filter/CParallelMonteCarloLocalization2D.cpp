@@ -502,12 +502,14 @@ void CParallelMonteCarloLocalization2D::injectRandomParticles(
     auto& rng = mrpt::random::getRandomGenerator();
     const auto detections = detectionSampler(sf);
     size_t injected = 0, fromDet = 0;
+    const double logW = std::log(m_augmented.options().injected_weight);
     for (auto& p : m_particles)
     {
         if (rng.drawUniform(0.0, 1.0) < pInject)
         {
             injected++;
             fromDet += drawRecoveryPose(detections, p.d) ? 1 : 0;
+            p.log_w = logW;  // the resampled ones have 0
         }
     }
     if (injected > 0)

@@ -142,8 +142,9 @@ void loadParticleFilter(const mrpt::config::CConfigFileBase& c, Localizer::TOpti
     // [PF_options]: MRPT's TParticleFilterOptions, strictly, plus ours.
     {
         auto known = keysOf(o.pf);
-        known.insert(known.end(), {"threads", "recovery_alpha_slow", "recovery_alpha_fast",
-                                   "recovery_from_detections", "free_space_prior"});
+        known.insert(known.end(),
+                     {"threads", "recovery_alpha_slow", "recovery_alpha_fast",
+                      "recovery_from_detections", "recovery_injected_weight", "free_space_prior"});
         rejectUnknownKeys(c, kPF, known);
     }
     o.pf.PF_algorithm = static_cast<CParticleFilter::TParticleFilterAlgorithm>(
@@ -169,6 +170,7 @@ void loadParticleFilter(const mrpt::config::CConfigFileBase& c, Localizer::TOpti
     readDouble(c, kPF, "recovery_alpha_slow", o.recovery.alpha_slow, 0, 1);
     readDouble(c, kPF, "recovery_alpha_fast", o.recovery.alpha_fast, 0, 1);
     readDouble(c, kPF, "recovery_from_detections", o.recovery.from_detections, 0, 1);
+    readDouble(c, kPF, "recovery_injected_weight", o.recovery.injected_weight, 1e-12, 1);
     readBool(c, kPF, "free_space_prior", o.free_space_prior);
 }
 
@@ -342,6 +344,8 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     put(c, kPF, "recovery_alpha_fast", recovery.alpha_fast, "");
     put(c, kPF, "recovery_from_detections", recovery.from_detections,
         "fraction of injected particles drawn from the detections");
+    put(c, kPF, "recovery_injected_weight", recovery.injected_weight,
+        "weight of an injected particle relative to a resampled one, (0, 1]");
     put(c, kPF, "free_space_prior", free_space_prior ? "1" : "0",
         "weight 0 outside the free space");
 

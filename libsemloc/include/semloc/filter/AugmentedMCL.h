@@ -17,7 +17,8 @@ namespace semloc
  *  A sudden drop of the likelihood (kidnapping, a wrong convergence) makes w_fast fall
  *  below w_slow, and a fraction p_inject of the particles is replaced by random poses:
  *  `from_detections` of them drawn from the current detections (sensor-resetting, Lenser &
- *  Veloso 2000), the rest uniform over the free space. */
+ *  Veloso 2000), the rest uniform over the free space, each with `injected_weight` times a
+ *  resampled particle's weight. */
 class AugmentedMCL
 {
 public:
@@ -33,6 +34,12 @@ public:
          *  uniformly over the free space; 0 = all uniform. Without a semantic map or a
          *  usable detection, every injected particle is uniform. */
         double from_detections = 0.8;
+        /** Weight in (0, 1] of an injected particle relative to a resampled one: 1 is
+         *  Thrun's (an injected particle counts in the estimate at once); below, it must earn
+         *  its weight from the next frames first (a detection-consistent pose after a
+         *  kidnapping gains orders of magnitude per frame; one beside a well-localized cloud
+         *  does not), so injections that were not needed barely move the estimate. */
+        double injected_weight = 1;
 
         /** True when 0 < alpha_slow < alpha_fast. */
         bool enabled() const { return alpha_slow > 0 && alpha_fast > alpha_slow; }

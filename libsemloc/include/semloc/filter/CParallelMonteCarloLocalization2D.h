@@ -76,6 +76,7 @@ struct WeightRange;
  *  Uniform injection over a 50 x 50 m map almost never lands within a metre and a few degrees
  *  of the truth; a detection of an object at range r leaves a circle of radius r per
  *  candidate object, so after a kidnapping some injected particles start near the truth.
+ *  An injected particle's log-weight is log(`injected_weight`), a resampled one's 0.
  *  All draws come from MRPT's global generator on the calling thread: deterministic, the
  *  same for any thread count.
  *
