@@ -166,8 +166,11 @@ TEST(Benchmark, ScenarioSetsTheInitialCloudOfEveryVariant)
 TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
 {
     const auto b = semloc::Benchmark::FromConfigFile(kConfig + "realdata.ini");
-    ASSERT_EQ(b.scenarios().size(), 4u);
+    ASSERT_EQ(b.scenarios().size(), 5u);
     const auto& all = b.scenarios().back();
+    EXPECT_EQ(all.simulation().detector.distractors, 4);
+    EXPECT_EQ(b.scenarios()[3].scenario().name, "distractors");
+    EXPECT_EQ(b.scenarios()[3].simulation().detector.distractors, 4);
     EXPECT_EQ(all.scenario().name, "all");
     EXPECT_EQ(all.simulation().odometry.heading_drift_deg_per_min, 15.0);
     EXPECT_EQ(all.simulation().detector.p_detect_near, 0.3);

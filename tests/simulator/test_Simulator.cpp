@@ -9,7 +9,9 @@
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPoint3D.h>
 #include <mrpt/poses/CPose2D.h>
+#include <mrpt/poses/CPose3D.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/Interrupt.h>
@@ -998,4 +1000,71 @@ TEST(Simulator, DetectorSilencesLastFromTheShortestToTheLongest)
         }
     }
     EXPECT_EQ(emptyLoud, 0u);
+}
+
+TEST(Simulator, DistractorsAreUnmappedObjectsMovingUnderTheWorldsLabels)
+{
+    // Noise free with ids: a detection without an id is a distractor, placed exactly.
+    auto o = noiseFree();
+    o.simulation.max_steps = 300;
+    o.detector.distractors = 1;
+    o.detector.distractor_speed_mps = 0.5;
+    const auto r = Simulator(o).run();
+    auto quiet = o;
+    quiet.detector.distractors = 0;
+    const auto none = Simulator(quiet).run();
+    const World w = World::FromFile(kPaper);
+    std::set<std::string> labels;
+    for (const auto& obj : w.objects)
+    {
+        labels.insert(obj.label);
+    }
+    std::vector<std::pair<size_t, mrpt::math::TPoint2D>> seen;  // step, where
+    std::set<std::string> distractorLabels;
+    for (size_t k = 0; k < r.steps; k++)
+    {
+        const auto s = stepOf(r, k);
+        const auto plain = stepOf(none, k);
+        size_t mapped = 0;
+        for (const auto& d : s.semantic->detections)
+        {
+            if (d.object_id >= 0)
+            {
+                // The map objects' detections are those without distractors.
+                ASSERT_LT(mapped, plain.semantic->detections.size()) << k;
+                EXPECT_EQ(d.object_id, plain.semantic->detections[mapped].object_id) << k;
+                EXPECT_EQ(d.range_m, plain.semantic->detections[mapped].range_m) << k;
+                mapped++;
+                continue;
+            }
+            distractorLabels.insert(d.label);
+            const auto& gt = r.groundTruth[k];
+            const mrpt::poses::CPose3D sensor =
+                mrpt::poses::CPose3D(mrpt::math::TPose3D(gt.pose())) + s.semantic->sensorPose;
+            const auto p = sensor + mrpt::poses::CPoint3D(d.range_m * std::cos(d.bearing_rad),
+                                                          d.range_m * std::sin(d.bearing_rad), 0);
+            EXPECT_TRUE(w.bounds.contains(p.x(), p.y())) << k;
+            seen.emplace_back(k, mrpt::math::TPoint2D(p.x(), p.y()));
+        }
+        EXPECT_EQ(mapped, plain.semantic->detections.size()) << k;
+    }
+    ASSERT_GE(seen.size(), 5u);  // seen on the way at least a few times
+    ASSERT_EQ(distractorLabels.size(), 1u);
+    EXPECT_EQ(labels.count(*distractorLabels.begin()), 1u);
+    // It moves at 0.5 m/s: never farther than that per second between two sightings, and
+    // exactly that between consecutive steps away from the bounds.
+    size_t consecutive = 0;
+    for (size_t i = 1; i < seen.size(); i++)
+    {
+        const double dist = std::hypot(seen[i].second.x - seen[i - 1].second.x,
+                                       seen[i].second.y - seen[i - 1].second.y);
+        const double dt =
+            static_cast<double>(seen[i].first - seen[i - 1].first) * o.simulation.time_step_s;
+        EXPECT_LE(dist, 0.5 * dt + 1e-6) << i;
+        if (seen[i].first == seen[i - 1].first + 1 && std::abs(dist - 0.5 * dt) < 1e-6)
+        {
+            consecutive++;
+        }
+    }
+    EXPECT_GE(consecutive, 3u);
 }

@@ -38,6 +38,8 @@ void SemanticDetectorModel::TOptions::loadFromConfigFile(const mrpt::config::CCo
                          "is longer than the longest (%g s)",
                          s.c_str(), gap_min_s, gap_max_s));
     }
+    config::readInt(c, s, "distractors", distractors, 0, 100000);
+    config::readDouble(c, s, "distractor_speed_mps", distractor_speed_mps, 0, 1e3);
     detail::readSensorMount(c, s, sensor_x_m, sensor_y_m, sensor_yaw_deg);
 }
 
@@ -59,6 +61,9 @@ void SemanticDetectorModel::TOptions::saveToConfigFile(mrpt::config::CConfigFile
                "mean time between silences (nothing reported) [s]; 0: none");
     writeExact(c, s, "gap_min_s", gap_min_s, "shortest silence [s]");
     writeExact(c, s, "gap_max_s", gap_max_s, "longest silence [s]");
+    c.write(s, "distractors", distractors, 24, 24,
+            "unmapped moving objects under the world's labels");
+    writeExact(c, s, "distractor_speed_mps", distractor_speed_mps, "their speed [m/s]");
     detail::writeSensorMount(c, s, "detector", sensor_x_m, sensor_y_m, sensor_yaw_deg);
 }
 
@@ -133,8 +138,53 @@ std::vector<SemanticDetectorModel::TVisibleObject> SemanticDetectorModel::visibl
     return out;
 }
 
-CObservationSemantic::Ptr SemanticDetectorModel::measure(const mrpt::math::TPose2D& vehicle,
-                                                         mrpt::random::CRandomGenerator& rng) const
+void SemanticDetectorModel::detect(double range, double bearing, size_t label, int32_t id,
+                                   mrpt::random::CRandomGenerator& rng,
+                                   CObservationSemantic& obs) const
+{
+    const TOptions& o = m_options;
+    if (!detail::bernoulli(rng, detectionProbability(range)))
+    {
+        return;
+    }
+    const double halfFov = 0.5 * obs.fov_rad;
+    TSemanticDetection d;
+    d.range_m = std::clamp(range + o.range_noise_std_m * rng.drawGaussian1D_normalized(), 0.0,
+                           o.max_range_m);
+    d.bearing_rad =
+        std::clamp(mrpt::math::wrapToPi(bearing + mrpt::DEG2RAD(o.bearing_noise_std_deg) *
+                                                      rng.drawGaussian1D_normalized()),
+                   -halfFov, halfFov);
+    const size_t nLabels = m_labels.size();
+    if (nLabels > 1 && detail::bernoulli(rng, o.p_confusion))
+    {
+        // Uniform over the K - 1 other labels.
+        const size_t k = detail::uniformIndex(rng, nLabels - 1);
+        label = k >= label ? k + 1 : k;
+    }
+    d.label = m_labels[label];
+    d.object_id = id;
+    obs.detections.push_back(std::move(d));
+}
+
+bool SemanticDetectorModel::distractorVisible(const mrpt::math::TPose2D& vehicle,
+                                              const TDistractor& d, double& range,
+                                              double& bearing) const
+{
+    const TOptions& o = m_options;
+    const double c = std::cos(vehicle.phi), s = std::sin(vehicle.phi);
+    const double sx = vehicle.x + c * o.sensor_x_m - s * o.sensor_y_m;
+    const double sy = vehicle.y + s * o.sensor_x_m + c * o.sensor_y_m;
+    range = std::hypot(d.x - sx, d.y - sy);
+    const double angle = std::atan2(d.y - sy, d.x - sx);
+    bearing = mrpt::math::wrapToPi(angle - vehicle.phi - mrpt::DEG2RAD(o.sensor_yaw_deg));
+    return range <= o.max_range_m && std::abs(bearing) <= 0.5 * mrpt::DEG2RAD(o.fov_deg) &&
+           !(m_all.cast(sx, sy, angle, range) < range);
+}
+
+CObservationSemantic::Ptr SemanticDetectorModel::measure(
+    const mrpt::math::TPose2D& vehicle, mrpt::random::CRandomGenerator& rng,
+    const std::vector<TDistractor>& distractors) const
 {
     const TOptions& o = m_options;
     auto obs = CObservationSemantic::Create();
@@ -143,31 +193,20 @@ CObservationSemantic::Ptr SemanticDetectorModel::measure(const mrpt::math::TPose
     obs->maxRange_m = o.max_range_m;
     obs->fov_rad = mrpt::DEG2RAD(o.fov_deg);
     const double halfFov = 0.5 * obs->fov_rad;
-    const double sigmaBearing = mrpt::DEG2RAD(o.bearing_noise_std_deg);
     const size_t nLabels = m_labels.size();
 
     for (const auto& v : visibleObjects(vehicle))
     {
-        if (!detail::bernoulli(rng, detectionProbability(v.range_m)))
+        detect(v.range_m, v.bearing_rad, m_labelOf[v.index],
+               o.report_ids ? m_objects[v.index].id : -1, rng, *obs);
+    }
+    for (const auto& d : distractors)
+    {
+        double range = 0, bearing = 0;
+        if (distractorVisible(vehicle, d, range, bearing))
         {
-            continue;
+            detect(range, bearing, d.label, -1, rng, *obs);
         }
-        TSemanticDetection d;
-        d.range_m = std::clamp(v.range_m + o.range_noise_std_m * rng.drawGaussian1D_normalized(),
-                               0.0, o.max_range_m);
-        d.bearing_rad = std::clamp(
-            mrpt::math::wrapToPi(v.bearing_rad + sigmaBearing * rng.drawGaussian1D_normalized()),
-            -halfFov, halfFov);
-        size_t label = m_labelOf[v.index];
-        if (nLabels > 1 && detail::bernoulli(rng, o.p_confusion))
-        {
-            // Uniform over the K - 1 other labels.
-            const size_t k = detail::uniformIndex(rng, nLabels - 1);
-            label = k >= label ? k + 1 : k;
-        }
-        d.label = m_labels[label];
-        d.object_id = o.report_ids ? m_objects[v.index].id : -1;
-        obs->detections.push_back(std::move(d));
     }
 
     const unsigned nFalse = nLabels > 0 ? detail::poisson(rng, o.false_positives_per_scan) : 0;

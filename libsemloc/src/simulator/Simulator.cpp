@@ -32,6 +32,7 @@
 #include "io/ExactConfigWrite.h"
 #include "io/Text.h"
 #include "io/TextFiles.h"
+#include "simulator/Distractors.h"
 #include "simulator/SimRandom.h"
 
 namespace semloc
@@ -214,14 +215,15 @@ namespace
 /** The random streams of a run, one per source of noise (SimRandom.h). */
 struct SimStreams
 {
-    mrpt::random::CRandomGenerator odometry, sonar, detector, kidnap, gaps;
+    mrpt::random::CRandomGenerator odometry, sonar, detector, kidnap, gaps, distractors;
 
     explicit SimStreams(uint32_t seed)
         : odometry(detail::streamSeed(seed, detail::SimStream::Odometry)),
           sonar(detail::streamSeed(seed, detail::SimStream::Sonar)),
           detector(detail::streamSeed(seed, detail::SimStream::Detector)),
           kidnap(detail::streamSeed(seed, detail::SimStream::Kidnapping)),
-          gaps(detail::streamSeed(seed, detail::SimStream::DetectorGaps))
+          gaps(detail::streamSeed(seed, detail::SimStream::DetectorGaps)),
+          distractors(detail::streamSeed(seed, detail::SimStream::Distractors))
     {
     }
 };
@@ -284,7 +286,8 @@ struct StepCounts
  *  pose as ground truth. Draws odometry, sonar and detector noise in that order. */
 void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPose2D& increment,
                 const mrpt::math::TPose2D& pose, mrpt::Clock::time_point stamp, double dt,
-                bool silent, SimulationResult& res, StepCounts& counts)
+                bool silent, const detail::Distractors& distractors, SimulationResult& res,
+                StepCounts& counts)
 {
     auto action = sensors.odometry.measure(increment, rng.odometry, dt);
     action.timestamp = stamp;
@@ -293,7 +296,7 @@ void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPos
 
     auto scan = sensors.sonar.measure(pose, rng.sonar);
     scan->timestamp = stamp;
-    auto semantic = sensors.detector.measure(pose, rng.detector);
+    auto semantic = sensors.detector.measure(pose, rng.detector, distractors.now());
     semantic->timestamp = stamp;
     if (silent)
     {
@@ -341,6 +344,7 @@ SimulationResult Simulator::run() const
     StepCounts counts;
     bool kidnapped = false;
     Silences silences(o.detector, o.simulation.start_time_s, rng.gaps);
+    detail::Distractors distractors(m_world, sensors.detector, rng.distractors);
     mrpt::poses::CPose2D previous(vehicle.pose());
     for (size_t k = 0;; k++)
     {
@@ -351,6 +355,7 @@ SimulationResult Simulator::run() const
         if (k > 0)
         {
             vehicle.step();
+            distractors.step(dt);
         }
         const mrpt::poses::CPose2D increment = mrpt::poses::CPose2D(vehicle.pose()) - previous;
         if (kidnap.enabled && k == static_cast<size_t>(kidnap.step))
@@ -363,8 +368,8 @@ SimulationResult Simulator::run() const
         const auto stamp =
             mrpt::Clock::fromDouble(o.simulation.start_time_s + static_cast<double>(k) * dt);
         const double t = o.simulation.start_time_s + static_cast<double>(k) * dt;
-        recordStep(sensors, rng, increment, pose, stamp, k > 0 ? dt : 0.0, silences.silent(t), res,
-                   counts);
+        recordStep(sensors, rng, increment, pose, stamp, k > 0 ? dt : 0.0, silences.silent(t),
+                   distractors, res, counts);
         previous = mrpt::poses::CPose2D(pose);
         if (vehicle.finished() || (maxSteps > 0 && k + 1 >= maxSteps))
         {

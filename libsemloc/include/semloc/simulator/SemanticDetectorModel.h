@@ -40,10 +40,17 @@ namespace semloc
  *    its own; object_id is the object's id when report_ids (also when the label is
  *    confused: the id is the truth the detector could not classify), else -1;
  *  - confidence 1.
+ *  **Distractors**: objects that are not in the map but carry one of its labels (other
+ *  vehicles, divers, moored buoys since moved), `distractors` of them, each moving in a
+ *  straight line at `distractor_speed_mps`, reflected at the world's bounds (the Simulator
+ *  moves them; TDistractor). One is visible as a point object is (range, field of view, no
+ *  outline in front of it) and detected as a map object is (P_D, noise, confusion), with
+ *  object_id -1.
  *  **False positives**: Poisson(false_positives_per_scan) per scan, each with a label
  *  uniform over the world's labels, range uniform in [0, max_range_m] and bearing uniform
  *  in the field of view (the density CSemanticMap assumes), object_id -1.
- *  Detections are listed in world-object order, false positives last. */
+ *  Detections are listed in world-object order, then the distractors', false positives
+ *  last. */
 class SemanticDetectorModel
 {
 public:
@@ -76,6 +83,13 @@ public:
         double gap_min_s = 60.0;
         double gap_max_s = 120.0;
         /** @} */
+        /** @name Distractors: unmapped moving objects under the world's labels
+         *  @{ */
+        /** How many (0: none). */
+        int distractors = 0;
+        /** Their speed [m/s]. */
+        double distractor_speed_mps = 0.5;
+        /** @} */
         /** @name Pose of the detector on the vehicle
          *  @{ */
         double sensor_x_m = 0.0;      //!< [m] forward
@@ -92,6 +106,14 @@ public:
 
         /** The sensor pose on the vehicle. */
         mrpt::poses::CPose3D sensorPose() const;
+    };
+
+    /** A distractor where it is at one step: position [m] and its label's index in
+     *  labels(). */
+    struct TDistractor
+    {
+        double x = 0, y = 0;
+        size_t label = 0;
     };
 
     /** An object the sensor sees (before detection noise and misses). */
@@ -111,9 +133,11 @@ public:
     /** The objects visible from vehicle pose `vehicle` (class documentation), world order. */
     std::vector<TVisibleObject> visibleObjects(const mrpt::math::TPose2D& vehicle) const;
 
-    /** One detector output from vehicle pose `vehicle` (label "SEMANTIC", timestamp unset). */
+    /** One detector output from vehicle pose `vehicle` (label "SEMANTIC", timestamp unset),
+     *  the `distractors` where they are now included. */
     CObservationSemantic::Ptr measure(const mrpt::math::TPose2D& vehicle,
-                                      mrpt::random::CRandomGenerator& rng) const;
+                                      mrpt::random::CRandomGenerator& rng,
+                                      const std::vector<TDistractor>& distractors = {}) const;
 
     /** P_D(r): detection probability of a visible object at range `range_m`. */
     double detectionProbability(double range_m) const;
@@ -123,6 +147,14 @@ public:
     const TOptions& options() const { return m_options; }
 
 private:
+    /** Appends the detection of a visible object or distractor of label `label` at `range`,
+     *  `bearing` (or nothing, missed). */
+    void detect(double range, double bearing, size_t label, int32_t id,
+                mrpt::random::CRandomGenerator& rng, CObservationSemantic& obs) const;
+    /** Range and bearing [rad] of the distractor `d` seen from `vehicle`, if visible. */
+    bool distractorVisible(const mrpt::math::TPose2D& vehicle, const TDistractor& d, double& range,
+                           double& bearing) const;
+
     TOptions m_options;
     std::vector<WorldObject> m_objects;
     std::vector<size_t> m_labelOf;      // per object: index into m_labels
