@@ -6,6 +6,7 @@
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/poses/CPose2D.h>
+#include <mrpt/random/RandomGenerators.h>
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/maps/CSemanticMap.h>
 
@@ -224,6 +225,30 @@ TEST(CSemanticMap, PaperFormulaExactly)
     obs.detections[0].range_m = 9.5;
     EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), 3 * std::log(o.unmatched_penalty),
                 1e-9);
+}
+
+TEST(CSemanticMap, AFullCircleSeesAnObjectStraightBehind)
+{
+    // fov = 2 pi sees every direction: an object straight behind the sensor, where the
+    // sensor-frame test lx^2 <= d2 may fail by a rounding, is predicted at every pose.
+    mrpt::random::CRandomGenerator rng(7);
+    CObservationSemantic obs;
+    obs.maxRange_m = 20;
+    obs.fov_rad = 2 * M_PI;
+    size_t counted = 0;
+    for (int k = 0; k < 2000; k++)
+    {
+        const TPose2D pose(rng.drawUniform(-50.0, 50.0), rng.drawUniform(-50.0, 50.0),
+                           rng.drawUniform(-M_PI, M_PI));
+        const double r = rng.drawUniform(1.0, 19.0);
+        CSemanticMap m;  // paper model: an empty scan costs log(p_u) per predicted object
+        m.addObject({1, "pillar", pose.x - r * std::cos(pose.phi), pose.y - r * std::sin(pose.phi),
+                     0, 0.3, 1});
+        const double ll = m.computeLogLikelihood(obs, pose);
+        EXPECT_NEAR(ll, std::log(m.likelihoodOptions.unmatched_penalty), 1e-12) << k;
+        counted += ll < 0 ? 1 : 0;
+    }
+    EXPECT_EQ(counted, 2000u);
 }
 
 /** The probabilistic model written out pair by pair as the class documentation states it:

@@ -120,6 +120,17 @@ struct WideFov
     }
 };
 
+/** The FOV test of a full circle (fov >= 2 pi, as the reference's): every direction. The
+ *  wide test would leave out, by a rounding, an object straight behind (lx^2 > d2 by an
+ *  ulp). d2 >= 0 always holds (a finite pose, finite objects). */
+struct FullFov
+{
+    Vec2 operator()(Vec2 /*lx*/, Vec2 d2) const
+    {
+        return detail::greaterEqualMask(d2, Vec2{0.0, 0.0});
+    }
+};
+
 /** Where scanVisible() writes z^k, compacted: sorted indices and squared ranges and, with
  *  kFrame, the positions in the sensor frame (lx ahead, ly to the left) and `partId` (the
  *  particle's index in its block) in `part`. Every array must have room for the number of
@@ -217,6 +228,10 @@ inline size_t scanVisible(const CSemanticMap::Index& ix, const Geom& g, const Vi
     }
     const double ch2 = g.cosHalf * g.cosHalf;
     // One loop per FOV kind (the test inlined, not selected at every candidate).
+    if (g.fov >= 2 * M_PI)
+    {
+        return scanCandidates<kFrame>(ix, g, vo, vt, lr, FullFov{});
+    }
     if (g.cosHalf >= 0)  // FOV <= 180 deg
     {
         return scanCandidates<kFrame>(ix, g, vo, vt, lr, NarrowFov{Vec2{ch2, ch2}});
