@@ -203,3 +203,15 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
         EXPECT_EQ(sc.variants()[1].options.filter.recovery.injected_weight, 1e-4);
     }
 }
+
+TEST(Benchmark, ShippedPaperModelIniRunsThePaperLikelihoodEverywhere)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "paper_model.ini");
+    ASSERT_EQ(b.scenarios().size(), 6u);
+    for (const auto& sc : b.scenarios())
+    {
+        ASSERT_EQ(sc.variants().size(), 1u);
+        EXPECT_EQ(sc.variants()[0].name(), "semantic_paper");
+    }
+    EXPECT_EQ(b.scenarios().back().simulation().detector.distractors, 4);
+}

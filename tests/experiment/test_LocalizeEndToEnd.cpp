@@ -554,7 +554,10 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
          "semantic_outage",
          {{"recovery_alpha_slow", "0.001"},
           {"recovery_alpha_fast", "0.1"},
-          {"recovery_injected_weight", "0.0001"}}}};
+          {"recovery_injected_weight", "0.0001"}}},
+        {"semantic_paper",
+         "semantic",
+         {{"model", "paper"}, {"init_PDF_mode", "3"}, {"missed_object_penalty", "0.9"}}}};
     for (const auto& v : variants)
     {
         EXPECT_EQ(body(v.name + ".ini", v.own), body(v.base + ".ini", v.own)) << v.name;

@@ -126,6 +126,7 @@ using Cases = std::map<std::string, Builder>;
 Cases commandLineCases();
 Cases iniFileCases();
 Cases iniMapCases();
+Cases iniModelCases();
 Cases outputDirectoryCases();
 Cases outputFileCases();
 Cases worldSyntaxCases();
@@ -141,10 +142,10 @@ Cases runPlotCases();
 
 inline std::vector<Cases> allCaseGroups()
 {
-    return {commandLineCases(),     iniFileCases(),    iniMapCases(),
-            outputDirectoryCases(), outputFileCases(), worldSyntaxCases(),
-            worldContentCases(),    rawlogFileCases(), rawlogDamagedCases(),
-            rawlogOdometryCases(),  timeCases(),       observationCases(),
-            importCases(),          calibrateCases(),  runPlotCases()};
+    return {
+        commandLineCases(),     iniFileCases(),       iniMapCases(),         iniModelCases(),
+        outputDirectoryCases(), outputFileCases(),    worldSyntaxCases(),    worldContentCases(),
+        rawlogFileCases(),      rawlogDamagedCases(), rawlogOdometryCases(), timeCases(),
+        observationCases(),     importCases(),        calibrateCases(),      runPlotCases()};
 }
 }  // namespace semloc::test::bad_input

@@ -141,33 +141,11 @@ Cases iniFileCases()
     };
 }
 
-/** The maps of an ini, and the other tools' sections. */
-Cases iniMapCases()
+/** The semantic model's and the recovery's options that only fail together with others or
+ *  out of their range. */
+Cases iniModelCases()
 {
     return {
-        {"ini-unknown-map",
-         [](const fs::path& d) { return localizeGood(d, "[MetricMap]\nsemantikMap_count = 1"); }},
-        {"ini-map-inf",
-         [](const fs::path& d)
-         {
-             saveGz(simulate().rawlog, d / "data.rawlog");
-             return localize(d, writeConfig(d, "grid_lf", {{"LF_stdHit", "inf"}}),
-                             d / "data.rawlog");
-         }},
-        {"ini-map-enum-unknown",
-         [](const fs::path& d)
-         {
-             saveGz(simulate().rawlog, d / "data.rawlog");
-             return localize(d, writeConfig(d, "grid_lf", {{"likelihoodMethod", "lmBogus"}}),
-                             d / "data.rawlog");
-         }},
-        {"ini-init-detections-needs-semantic-map",
-         [](const fs::path& d)
-         {
-             saveGz(simulate().rawlog, d / "data.rawlog");
-             return localize(d, writeConfig(d, "geometric", {{"init_PDF_mode", "3"}}),
-                             d / "data.rawlog");
-         }},
         {"ini-association-needs-probabilistic",
          [](const fs::path& d)
          {
@@ -198,6 +176,40 @@ Cases iniMapCases()
         {"ini-recovery-injected-weight-zero",
          [](const fs::path& d) {
              return localizeGood(d, "", {{"recovery_injected_weight", "0"}});
+         }},
+        {"ini-missed-object-penalty-out-of-range",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"missed_object_penalty", "1.5"}});
+         }},
+    };
+}
+
+/** The maps of an ini, and the other tools' sections. */
+Cases iniMapCases()
+{
+    return {
+        {"ini-unknown-map",
+         [](const fs::path& d) { return localizeGood(d, "[MetricMap]\nsemantikMap_count = 1"); }},
+        {"ini-map-inf",
+         [](const fs::path& d)
+         {
+             saveGz(simulate().rawlog, d / "data.rawlog");
+             return localize(d, writeConfig(d, "grid_lf", {{"LF_stdHit", "inf"}}),
+                             d / "data.rawlog");
+         }},
+        {"ini-map-enum-unknown",
+         [](const fs::path& d)
+         {
+             saveGz(simulate().rawlog, d / "data.rawlog");
+             return localize(d, writeConfig(d, "grid_lf", {{"likelihoodMethod", "lmBogus"}}),
+                             d / "data.rawlog");
+         }},
+        {"ini-init-detections-needs-semantic-map",
+         [](const fs::path& d)
+         {
+             saveGz(simulate().rawlog, d / "data.rawlog");
+             return localize(d, writeConfig(d, "geometric", {{"init_PDF_mode", "3"}}),
+                             d / "data.rawlog");
          }},
         {"ini-rawlog-offset-past-end",
          [](const fs::path& d) {

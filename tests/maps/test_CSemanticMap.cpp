@@ -251,6 +251,38 @@ TEST(CSemanticMap, AFullCircleSeesAnObjectStraightBehind)
     EXPECT_EQ(counted, 2000u);
 }
 
+TEST(CSemanticMap, PaperMissedObjectPenaltySplitsTheUnmatchedTerms)
+{
+    // The scene of PaperFormulaExactly with p_o for the objects no detection matched.
+    CSemanticMap m;
+    m.addObject({1, "pillar", 5, 0, 0, 0.3, 1});
+    m.addObject({2, "anchor", 7, 1, 0, 0.3, 1});
+    auto& o = m.likelihoodOptions;
+    o.missed_object_penalty = 0.9;
+    CObservationSemantic obs;
+    obs.maxRange_m = 10;
+    obs.fov_rad = M_PI;
+    const double dr = 0.3, db = 2.0 * M_PI / 180;
+    obs.detections.push_back(detection("pillar", 5 + dr, db));
+    const double sb = o.sigma_bearing_deg * M_PI / 180;
+    const double matched = -0.5 * std::pow(dr / o.sigma_range_m, 2) - 0.5 * std::pow(db / sb, 2);
+    const double logPu = std::log(o.unmatched_penalty), logPo = std::log(0.9);
+    // One pair, the anchor missed: (l - m) log p_u + (q - m) log p_o = log p_o.
+    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), matched + logPo, 1e-6);
+    // Too far off to match: the detection unmatched, both objects missed.
+    obs.detections[0].range_m = 9.5;
+    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), logPu + 2 * logPo, 1e-9);
+    // A pose that predicts nothing no longer beats the true one on an empty scan by p_u per
+    // object: with p_o = 1 missing objects costs nothing.
+    obs.detections.clear();
+    o.missed_object_penalty = 1;
+    EXPECT_EQ(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)),
+              m.computeLogLikelihood(obs, TPose2D(0, 0, M_PI)));
+    // 0: §III's single p_u.
+    o.missed_object_penalty = 0;
+    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), 2 * logPu, 1e-9);
+}
+
 /** The probabilistic model written out pair by pair as the class documentation states it:
  *  every pair's gain over leaving both unmatched, log P_D - log(1 - P_D) + log C + log N(d_rho)
  *  + log N(d_theta) - log kappa, the pairs that gain, the greedy one-to-one association (best

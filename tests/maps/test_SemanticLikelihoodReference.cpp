@@ -73,6 +73,7 @@ CSemanticMap randomMap(Rng& rng, size_t& nLabels)
     o.sigma_range_m = rng.uniform(0.2, 2.0);
     o.sigma_bearing_deg = rng.uniform(1.0, 10.0);
     o.unmatched_penalty = rng.uniform(0.02, 0.6);
+    o.missed_object_penalty = rng.pick<double>({0.0, 0.0, 0.3, 0.9, 1.0});
     o.p_detect_near = rng.uniform(0.3, 0.99);
     o.p_detect_far = rng.uniform(0.1, 0.99);
     o.clutter_per_scan = rng.uniform(0.05, 3.0);

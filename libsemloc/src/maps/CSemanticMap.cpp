@@ -115,6 +115,13 @@ void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CC
     config::readDouble(c, s, "sigma_range_m", sigma_range_m, 1e-6, 1e6);
     config::readDouble(c, s, "sigma_bearing_deg", sigma_bearing_deg, 1e-6, 360);
     config::readDouble(c, s, "unmatched_penalty", unmatched_penalty, 1e-12, 0.999999);
+    config::readDouble(c, s, "missed_object_penalty", missed_object_penalty, 0, 1);
+    if (missed_object_penalty > 0 && missed_object_penalty < 1e-12)
+    {
+        THROW_EXCEPTION("ini [" + s +
+                        "] missed_object_penalty: must be 0 (unmatched_penalty) or "
+                        "at least 1e-12");
+    }
     config::readDouble(c, s, "p_detect_near", p_detect_near, 1e-6, 0.999999);
     config::readDouble(c, s, "p_detect_far", p_detect_far, 1e-6, 0.999999);
     config::readDouble(c, s, "clutter_per_scan", clutter_per_scan, 1e-9, 1e6);
@@ -145,6 +152,8 @@ void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFil
                        "bearing noise sigma_theta [deg]");
     detail::writeExact(c, s, "unmatched_penalty", unmatched_penalty,
                        "paper: factor per object in one observation only, (0,1)");
+    detail::writeExact(c, s, "missed_object_penalty", missed_object_penalty,
+                       "paper: factor per predicted object not detected; 0: unmatched_penalty");
     detail::writeExact(c, s, "p_detect_near", p_detect_near, "probabilistic: P_D at range 0");
     detail::writeExact(c, s, "p_detect_far", p_detect_far, "probabilistic: P_D at max range");
     detail::writeExact(c, s, "clutter_per_scan", clutter_per_scan,

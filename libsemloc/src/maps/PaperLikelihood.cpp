@@ -134,7 +134,7 @@ void gainBlock(const ModelConsts& k, Scratch& sc, size_t nc)
     {
         sc.pairs.resize(2 * nc + 1);  // at least one: read (not used) when a particle has none
     }
-    const double ir = k.ir, ib = k.ib, logPu = k.logPu;
+    const double ir = k.ir, ib = k.ib, unmatchedPair = k.logPu + k.logPo;
     const Cand* cands = sc.cands.data();
     const Gated* gated = sc.gated.data();
     Pair* pairs = sc.pairs.data();
@@ -147,7 +147,8 @@ void gainBlock(const ModelConsts& k, Scratch& sc, size_t nc)
         const Gated& q = gated[cands[t].e];
         const double dr = d.r - q.o.r;
         const double db = absBearingDiff(d, q.o.lx, q.o.ly);
-        const double gain = -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - 2 * logPu;
+        const double gain =
+            -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - unmatchedPair;
         pairs[np] = {gain, cands[t].j, q.v};  // written always, kept if it gains
         pairCount[q.p] += static_cast<uint32_t>(gain > 0);
         np += static_cast<size_t>(gain > 0);
@@ -155,7 +156,8 @@ void gainBlock(const ModelConsts& k, Scratch& sc, size_t nc)
 }
 
 /** Stage 4: per particle, the assignment and
- *  sum(s_i) + d log p_u  with d = q + l - 2m  ==  (q + l) log p_u + sum(gain_i). */
+ *  sum(s_i) + (l - m) log p_u + (q - m) log p_o  ==  l log p_u + q log p_o + sum(gain_i)
+ *  (§III: p_o = p_u, d = q + l - 2m unmatched). */
 void totalsBlock(const ModelConsts& k, Scratch& sc, size_t m, double* out)
 {
     const size_t nd = sc.dets.size();
@@ -172,7 +174,8 @@ void totalsBlock(const ModelConsts& k, Scratch& sc, size_t m, double* out)
         t += c;
         out[i] = blockVis[i] == kNoPose
                      ? kMinLogLik
-                     : finite(static_cast<double>(nd + blockVis[i]) * k.logPu + gains);
+                     : finite(static_cast<double>(nd) * k.logPu +
+                              static_cast<double>(blockVis[i]) * k.logPo + gains);
     }
 }
 }  // namespace

@@ -226,13 +226,16 @@ std::vector<Pair> associate(std::vector<Pair> pairs)
  *                             -1/2 ((theta^r_i - theta^k_i) / sigma_theta)^2 ]
  *              + d log(p_u),          d = q + l - 2m
  *
- *  Matching a pair gains its Gaussian terms s_i less the 2 log(p_u) it saves: pairs that may
- *  pair (mayPair, by label) with gain s_i - 2 log(p_u) > 0, associated greedily. */
+ *  (with missed_object_penalty p_o > 0: (l - m) log(p_u) + (q - m) log(p_o) instead).
+ *  Matching a pair gains its Gaussian terms s_i less the log(p_u) + log(p_o) it saves: pairs
+ *  that may pair (mayPair, by label) with a positive gain, associated greedily. */
 double paper(const CSemanticMap& map, const Scan& s, const TPose2D& pose, SemanticTerms& t)
 {
     const Options& opt = map.likelihoodOptions;
     const double sigmaRho = opt.sigma_range_m, sigmaTheta = opt.sigma_bearing_deg * M_PI / 180;
     const double logPu = std::log(opt.unmatched_penalty);
+    const double logPo =
+        opt.missed_object_penalty > 0 ? std::log(opt.missed_object_penalty) : logPu;
     const std::vector<Predicted> z_k = predict(map, s, pose, t.onEdge);
     const auto& objs = map.objects();
     auto gaussians = [&](const Detection& d, const Predicted& v)
@@ -250,7 +253,7 @@ double paper(const CSemanticMap& map, const Scan& s, const TPose2D& pose, Semant
             {
                 continue;
             }
-            const double gain = gaussians(s.z_r[j], z_k[v]) - 2 * logPu;
+            const double gain = gaussians(s.z_r[j], z_k[v]) - logPu - logPo;
             if (gain > 0)
             {
                 pairs.push_back({gain, j, v});
@@ -266,7 +269,7 @@ double paper(const CSemanticMap& map, const Scan& s, const TPose2D& pose, Semant
     t.l = s.z_r.size();
     t.q = z_k.size();
     t.m = matched.size();
-    return static_cast<double>(t.q + t.l - 2 * t.m) * logPu + sum;
+    return static_cast<double>(t.l - t.m) * logPu + static_cast<double>(t.q - t.m) * logPo + sum;
 }
 
 /** Pairs whose weight w = e^gain is below e^-50 change a sum over associations (>= 1: the

@@ -15,9 +15,11 @@ double paperConsts(const CSemanticMap::TLikelihoodOptions& opt, ModelConsts& k)
     k.ir = 1.0 / opt.sigma_range_m;
     k.ib = 1.0 / (opt.sigma_bearing_deg * M_PI / 180.0);
     k.logPu = std::log(opt.unmatched_penalty);
-    // Matching a pair instead of leaving both unmatched gains s - 2 log(p_u) (> 0 to
-    // match). Gain > 0 needs (dr/sr)^2 + (db/sb)^2 < -4 log(p_u).
-    k.budget = -4 * k.logPu;
+    k.logPo = opt.missed_object_penalty > 0 ? std::log(opt.missed_object_penalty) : k.logPu;
+    // Matching a pair instead of leaving both unmatched gains s - log(p_u) - log(p_o) (> 0
+    // to match; §III: s - 2 log(p_u)). Gain > 0 needs (dr/sr)^2 + (db/sb)^2 <
+    // -2 (log(p_u) + log(p_o)).
+    k.budget = -2 * (k.logPu + k.logPo);
     return 1.0 / k.ib;
 }
 
@@ -65,11 +67,12 @@ ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLab
 const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels,
                                      double R, double fov, ModelConstsCache& cache)
 {
-    const std::array<double, 12> key = {static_cast<double>(opt.model),
+    const std::array<double, 13> key = {static_cast<double>(opt.model),
                                         static_cast<double>(opt.association),
                                         opt.sigma_range_m,
                                         opt.sigma_bearing_deg,
                                         opt.unmatched_penalty,
+                                        opt.missed_object_penalty,
                                         opt.p_detect_near,
                                         opt.p_detect_far,
                                         opt.clutter_per_scan,

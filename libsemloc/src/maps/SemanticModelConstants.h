@@ -18,7 +18,8 @@ struct ModelConsts
     double budget = 0;
     /** cos of the largest |dtheta| the budget allows (-2: no bearing gate). */
     double cosGate = -2;
-    double logPu = 0;  // paper: log p_u
+    double logPu = 0;  // paper: log p_u, per unmatched detection
+    double logPo = 0;  // paper: log of the factor per unmatched (missed) object
     // probabilistic
     double sb = 0, logNorm = 0, logKappa = 0, logSame = 0, logOther = 0, lambda = 0;
     /** log(P_D / (1 - P_D)) at P_D's smallest and largest, widened by 1e-9 (gainBlock). */
@@ -35,7 +36,7 @@ struct ModelConsts
  *  per-particle path makes one call per particle). */
 struct ModelConstsCache
 {
-    std::array<double, 12> key{};
+    std::array<double, 13> key{};
     ModelConsts consts;
     bool valid = false;
 };

@@ -151,6 +151,11 @@ public:
         double sigma_bearing_deg = 3.0;
         /** paper: factor p_u in (0, 1] per object present in one observation only. */
         double unmatched_penalty = 0.2;
+        /** paper: the factor per predicted object no detection matched, in [0, 1]; 0: the
+         *  same as unmatched_penalty (§III's single p_u). 1: a missed object costs nothing,
+         *  so a pose that predicts objects the detector missed no longer loses to poses that
+         *  predict fewer (a detector that misses objects; docs/design.md). */
+        double missed_object_penalty = 0.0;
         /** probabilistic: detection probability of an object at zero range. */
         double p_detect_near = 0.95;
         /** probabilistic: detection probability of an object at max range. */
