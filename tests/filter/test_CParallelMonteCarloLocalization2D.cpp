@@ -345,16 +345,26 @@ TEST(CParallelMonteCarloLocalization2D, AllWeightsZeroReinitializesInsteadOfNaN)
     EXPECT_TRUE(std::isfinite(pdf.getMeanVal().x()));
 }
 
+namespace
+{
+/** `pdf` over the semantic and structure maps of `maps`, on two threads, with a free-space
+ *  sampler of its world (where recovery draws from). */
+void withFreeSpace(CParallelMonteCarloLocalization2D& pdf, const Maps& maps)
+{
+    pdf.options.metricMap = maps.multi;
+    pdf.setExecutor(std::make_shared<ParallelExecutor>(2));
+    pdf.setFreeSpaceSampler(std::make_shared<semloc::FreeSpaceSampler>(
+        semloc::FreeSpaceSampler::FromWorld(maps.world)));
+}
+}  // namespace
+
 TEST(CParallelMonteCarloLocalization2D, AugmentedMclInjectsWhenTheLikelihoodCollapses)
 {
     const Maps maps(false);
     mrpt::bayes::CParticleFilter pf;
     pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
     CParallelMonteCarloLocalization2D pdf;
-    pdf.options.metricMap = maps.multi;
-    pdf.setExecutor(std::make_shared<ParallelExecutor>(2));
-    pdf.setFreeSpaceSampler(std::make_shared<semloc::FreeSpaceSampler>(
-        semloc::FreeSpaceSampler::FromWorld(maps.world)));
+    withFreeSpace(pdf, maps);
     // AMCL's usual rates. w_slow starts at 0 (Table 8.3), so it needs a few 1 / alpha_slow
     // steps before an ordinary dip of the likelihood can bring w_fast below it.
     pdf.setRecoveryOptions({0.001, 0.1});
@@ -392,10 +402,7 @@ TEST(CParallelMonteCarloLocalization2D, InjectedParticlesEarnTheirWeightAndStill
     mrpt::bayes::CParticleFilter pf;
     pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
     CParallelMonteCarloLocalization2D pdf;
-    pdf.options.metricMap = maps.multi;
-    pdf.setExecutor(std::make_shared<ParallelExecutor>(2));
-    pdf.setFreeSpaceSampler(std::make_shared<semloc::FreeSpaceSampler>(
-        semloc::FreeSpaceSampler::FromWorld(maps.world)));
+    withFreeSpace(pdf, maps);
     semloc::AugmentedMCL::TOptions rec{0.001, 0.1};
     rec.injected_weight = 1e-4;
     pdf.setRecoveryOptions(rec);
