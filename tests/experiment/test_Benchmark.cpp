@@ -215,3 +215,23 @@ TEST(Benchmark, ShippedPaperModelIniRunsThePaperLikelihoodEverywhere)
     }
     EXPECT_EQ(b.scenarios().back().simulation().detector.distractors, 4);
 }
+
+TEST(Benchmark, ShippedChangedWorldIniSimulatesInAChangedWorld)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "changed_world.ini");
+    ASSERT_EQ(b.scenarios().size(), 4u);
+    const auto& all = b.scenarios().back().scenario();
+    EXPECT_EQ(all.name, "all");
+    EXPECT_EQ(all.world_changes.shift_sigma_m, 0.5);
+    EXPECT_EQ(all.world_changes.removed_share, 0.2);
+    EXPECT_EQ(all.world_changes.added, 5);
+    EXPECT_EQ(b.scenarios()[0].scenario().world_changes.removed_share, 0.0);
+    // The variants carry the world file's map, all of it.
+    for (const auto& v : b.scenarios().back().variants())
+    {
+        ASSERT_TRUE(v.maps.world.has_value());
+        EXPECT_EQ(
+            v.maps.world->objects.size(),
+            semloc::World::FromFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml").objects.size());
+    }
+}

@@ -227,6 +227,17 @@ Cases iniMapCases()
              return std::vector<std::string>{"semloc-simulate", (d / "sim.ini").string(), "-o",
                                              (d / "sim.rawlog").string()};
          }},
+        {"benchmark-world-removed-share-out-of-range",
+         [](const fs::path& d)
+         {
+             writeText(d / "gone.ini", "[Scenario]\nname = gone\nworld_removed_share = 1.5\n");
+             writeText(d / "bench.ini",
+                       "[Benchmark]\nruns = 1\nvariants = " + kSrc +
+                           "/config/semantic.ini\nsimulate_ini = " + kSrc +
+                           "/config/simulate.ini\nscenarios = " + (d / "gone.ini").string() +
+                           "\noutput_dir = " + (d / "results").string() + "\n");
+             return std::vector<std::string>{"semloc-benchmark", (d / "bench.ini").string()};
+         }},
         {"benchmark-unknown-key",
          [](const fs::path& d)
          {

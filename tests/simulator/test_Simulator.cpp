@@ -18,10 +18,12 @@
 #include <semloc/maps/CStructureMap.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/simulator/TrajectoryFollower.h>
+#include <semloc/simulator/WorldChanges.h>
 
 #include <unistd.h>
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -1067,4 +1069,75 @@ TEST(Simulator, DistractorsAreUnmappedObjectsMovingUnderTheWorldsLabels)
         }
     }
     EXPECT_GE(consecutive, 3u);
+}
+
+TEST(WorldChanges, ObjectsMovedGoneAndNewAsAsked)
+{
+    const World w = World::FromFile(kPaper);
+    const size_t n = w.objects.size();
+    ASSERT_GE(n, 10u);
+    // Nothing asked: the same world.
+    EXPECT_EQ(semloc::changeWorld(w, {}).objects.size(), n);
+    EXPECT_FALSE(semloc::TWorldChanges{}.any());
+
+    // Moved: each object and its outline by one offset, about sigma along each axis.
+    semloc::TWorldChanges moved;
+    moved.shift_sigma_m = 0.5;
+    const World m = semloc::changeWorld(w, moved);
+    ASSERT_EQ(m.objects.size(), n);
+    double sum2 = 0;
+    for (size_t i = 0; i < n; i++)
+    {
+        const double dx = m.objects[i].center.x - w.objects[i].center.x;
+        const double dy = m.objects[i].center.y - w.objects[i].center.y;
+        EXPECT_EQ(m.objects[i].id, w.objects[i].id);
+        for (size_t k = 0; k < w.objects[i].points.size(); k++)
+        {
+            EXPECT_NEAR(m.objects[i].points[k].x - w.objects[i].points[k].x, dx, 1e-12);
+            EXPECT_NEAR(m.objects[i].points[k].y - w.objects[i].points[k].y, dy, 1e-12);
+        }
+        sum2 += dx * dx + dy * dy;
+    }
+    const double rms = std::sqrt(sum2 / (2.0 * static_cast<double>(n)));
+    EXPECT_GT(rms, 0.25);
+    EXPECT_LT(rms, 0.9);
+
+    // Gone: round(share n) of them, the others as they were; new ones with new ids, labels
+    // and shapes of the world's, in its free space.
+    semloc::TWorldChanges changed;
+    changed.removed_share = 0.2;
+    changed.added = 5;
+    const World c = semloc::changeWorld(w, changed);
+    const auto gone = static_cast<size_t>(std::lround(0.2 * static_cast<double>(n)));
+    ASSERT_EQ(c.objects.size(), n - gone + 5);
+    int maxId = 0;
+    std::map<int, const semloc::WorldObject*> byId;
+    for (const auto& o : w.objects)
+    {
+        maxId = std::max(maxId, o.id);
+        byId[o.id] = &o;
+    }
+    std::set<int> ids;
+    for (size_t i = 0; i < c.objects.size(); i++)
+    {
+        const auto& o = c.objects[i];
+        EXPECT_TRUE(ids.insert(o.id).second) << o.id;
+        if (i < n - gone)
+        {
+            ASSERT_EQ(byId.count(o.id), 1u);
+            EXPECT_EQ(o.center.x, byId[o.id]->center.x);
+            continue;
+        }
+        EXPECT_GT(o.id, maxId);
+        EXPECT_TRUE(std::any_of(w.objects.begin(), w.objects.end(),
+                                [&](const auto& k)
+                                { return k.label == o.label && k.shape == o.shape; }));
+        EXPECT_TRUE(w.bounds.contains(o.center.x, o.center.y));
+    }
+    // One changed world per seed.
+    const World again = semloc::changeWorld(w, changed);
+    changed.seed = 2;
+    const World other = semloc::changeWorld(w, changed);
+    EXPECT_EQ(again.objects.back().center.x, c.objects.back().center.x);
+    EXPECT_NE(other.objects.back().center.x, c.objects.back().center.x);
 }

@@ -53,8 +53,8 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
 {
     auto simOptions = m_simulation;
     simOptions.simulation.seed = static_cast<uint32_t>(run);
-    const Simulator simulator(simOptions);
-    const SimulationResult data = simulator.run();
+    const SimulationResult data =
+        m_changedWorld ? Simulator(*m_changedWorld, simOptions).run() : Simulator(simOptions).run();
     const GroundTruth gt(data.groundTruth);
     const double tolerance = 0.5 * simOptions.simulation.time_step_s;
 

@@ -38,7 +38,11 @@ const std::vector<std::string> kScenarioKeys = {"name",
                                                 "recovery_alpha_fast",
                                                 "recovery_max_steps",
                                                 "map_from_world",
-                                                "init_PDF_mode"};
+                                                "init_PDF_mode",
+                                                "world_shift_sigma_m",
+                                                "world_removed_share",
+                                                "world_added",
+                                                "world_changes_seed"};
 
 std::vector<std::string> splitList(const std::string& s)
 {
@@ -226,6 +230,12 @@ void Benchmark::TScenario::loadFromConfigFile(const mrpt::config::CConfigFileBas
     readInt(c, s, "recovery_max_steps", recovery_max_steps, 0, std::numeric_limits<int>::max());
     readBool(c, s, "map_from_world", map_from_world);
     readInt(c, s, "init_PDF_mode", init_PDF_mode, -1, 3);
+    readDouble(c, s, "world_shift_sigma_m", world_changes.shift_sigma_m, 0, 1e3);
+    readDouble(c, s, "world_removed_share", world_changes.removed_share, 0, 1);
+    readInt(c, s, "world_added", world_changes.added, 0, 100000);
+    int seed = static_cast<int>(world_changes.seed);
+    readInt(c, s, "world_changes_seed", seed, 0, std::numeric_limits<int>::max());
+    world_changes.seed = static_cast<uint32_t>(seed);
     if (name.find_first_of("/\\ \t") != std::string::npos || name == "." || name == "..")
     {
         THROW_EXCEPTION("ini [" + s + "] name: '" + name + "' is not a directory name");
@@ -251,6 +261,14 @@ void Benchmark::TScenario::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     c.write(s, "recovery_max_steps", recovery_max_steps);
     c.write(s, "map_from_world", map_from_world ? "true" : "false");
     c.write(s, "init_PDF_mode", init_PDF_mode);
+    detail::writeExact(c, s, "world_shift_sigma_m", world_changes.shift_sigma_m,
+                       "simulated world: objects moved by N(0, this) along x, y [m]");
+    detail::writeExact(c, s, "world_removed_share", world_changes.removed_share,
+                       "simulated world: share of the map's objects gone");
+    c.write(s, "world_added", world_changes.added, 24, 24,
+            "simulated world: objects the map does not have");
+    c.write(s, "world_changes_seed", static_cast<int>(world_changes.seed), 24, 24,
+            "seed of those changes (the maps stay the file's)");
 }
 
 // ------------------------------------------------------------------ setup
@@ -296,6 +314,12 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::strin
         const std::string path = resolveFile(ini, iniPath, kSection, "scenarios", file);
         readScenarioFile(path, o.max_steps, sc.m_scenario, sc.m_simulation);
         const auto& s = sc.m_scenario;
+        if (s.world_changes.any())
+        {
+            // One changed world for every run of the scenario; the maps stay the file's.
+            sc.m_changedWorld = std::make_shared<const World>(changeWorld(
+                World::FromFile(sc.m_simulation.simulation.world_file), s.world_changes));
+        }
         for (const auto& other : b.m_scenarios)
         {
             if (other.m_scenario.name == s.name)

@@ -7,8 +7,10 @@
 #include <semloc/experiment/RunMetrics.h>
 #include <semloc/maps/LocalizationMap.h>
 #include <semloc/simulator/Simulator.h>
+#include <semloc/simulator/WorldChanges.h>
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -107,6 +109,10 @@ public:
         bool map_from_world = false;
         /** Every variant's init_PDF_mode (0..3, Localizer::InitMode); -1: their own. */
         int init_PDF_mode = -1;
+        /** The world the runs are simulated in, changed from the world file (the maps the
+         *  variants carry stay the file's): world_shift_sigma_m, world_removed_share,
+         *  world_added, world_changes_seed (TWorldChanges). */
+        TWorldChanges world_changes;
 
         /** Reads the section strictly: an unknown key or a bad value is an error naming it. */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
@@ -254,6 +260,8 @@ private:
     std::string m_iniPath;
     TOptions m_options;
     TSimulatorOptions m_simulation;
+    /** The changed world the runs are simulated in (TScenario::world_changes), if any. */
+    std::shared_ptr<const World> m_changedWorld;
     std::vector<TVariant> m_variants;
     TScenario m_scenario;
     std::vector<Benchmark> m_scenarios;
