@@ -5,6 +5,7 @@
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/maps/CSemanticMap.h>
 
 #include <csignal>
 #include <filesystem>
@@ -234,4 +235,33 @@ TEST(Benchmark, ShippedChangedWorldIniSimulatesInAChangedWorld)
             v.maps.world->objects.size(),
             semloc::World::FromFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml").objects.size());
     }
+}
+
+TEST(Benchmark, ScenarioSectionsOverlayTheVariantsOwn)
+{
+    // config/sensitivity.ini: each scenario replaces one key of the variants' semantic model,
+    // in memory (the shipped files stay as they are).
+    const std::string before = semloc::test::readText(kConfig + "semantic.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "sensitivity.ini");
+    ASSERT_EQ(b.scenarios().size(), 13u);
+    auto model = [](const semloc::Benchmark& sc, size_t v)
+    { return sc.variants()[v].maps.map->mapByClass<semloc::CSemanticMap>()->likelihoodOptions; };
+    EXPECT_EQ(model(b.scenarios()[0], 0).sigma_range_m, 0.5);  // nominal: the file's
+    EXPECT_EQ(b.scenarios()[1].scenario().name, "sigma_range_m_half");
+    for (size_t v = 0; v < 2; v++)
+    {
+        EXPECT_EQ(model(b.scenarios()[1], v).sigma_range_m, 0.25) << v;
+        EXPECT_EQ(model(b.scenarios()[1], v).sigma_bearing_deg, 3.0) << v;
+        EXPECT_EQ(model(b.scenarios()[8], v).p_detect_far, 0.2) << v;
+    }
+    // The rest of a variant is its own: semantic_recovery keeps its recovery.
+    EXPECT_TRUE(b.scenarios()[1].variants()[1].options.filter.recovery.enabled());
+    EXPECT_EQ(semloc::test::readText(kConfig + "semantic.ini"), before);
+
+    // A key the variants do not know is an error naming it.
+    const std::string scenario = std::string(SEMLOC_TEST_OUT) + "/bench_overlay.ini";
+    std::ofstream(scenario)
+        << "[Scenario]\nname = typo\n[MetricMap_semanticMap_00_likelihoodOpts]\nsigma_rnge_m = 1\n";
+    const auto msg = errorOf(writeIni("bench_overlay_main.ini", "scenarios = " + scenario + "\n"));
+    EXPECT_NE(msg.find("sigma_rnge_m"), std::string::npos) << msg;
 }

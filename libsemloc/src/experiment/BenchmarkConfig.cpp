@@ -11,6 +11,7 @@
 #include <semloc/maps/CSemanticMap.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
 #include <limits>
 #include <sstream>
@@ -98,10 +99,17 @@ std::string joinList(const std::vector<std::string>& v)
     return s;
 }
 
-/** Reads scenario file `path` (resolved) into `scenario` and its overlay into `simulation`,
- *  whose max_steps `maxSteps` > 0 replaces; throws naming the file. */
+/** The sections of a scenario file that overlay the simulation; every other section but
+ *  [Scenario] overlays the variants' inis. */
+const std::vector<std::string> kSimulationSections = {"Simulation", "Odometry", "Sonar",
+                                                      "SemanticDetector", "Kidnapping"};
+
+/** Reads scenario file `path` (resolved) into `scenario`, its simulation overlay into
+ *  `simulation` (whose max_steps `maxSteps` > 0 replaces) and its variants' overlay (section,
+ *  key, value) into `variantOverlay`; throws naming the file. */
 void readScenarioFile(const std::string& path, int maxSteps, Benchmark::TScenario& scenario,
-                      TSimulatorOptions& simulation)
+                      TSimulatorOptions& simulation,
+                      std::vector<std::array<std::string, 3>>& variantOverlay)
 {
     try
     {
@@ -112,6 +120,23 @@ void readScenarioFile(const std::string& path, int maxSteps, Benchmark::TScenari
             THROW_EXCEPTION("no [" + kScenarioSection + "] section");
         }
         scenario.loadFromConfigFile(sini, kScenarioSection);
+        std::vector<std::string> sections;
+        sini.getAllSections(sections);
+        for (const auto& sec : sections)
+        {
+            if (sec == kScenarioSection ||
+                std::find(kSimulationSections.begin(), kSimulationSections.end(), sec) !=
+                    kSimulationSections.end())
+            {
+                continue;
+            }
+            std::vector<std::string> keys;
+            sini.getAllKeys(sec, keys);
+            for (const auto& k : keys)
+            {
+                variantOverlay.push_back({sec, trim(k), sini.read_string(sec, trim(k), "")});
+            }
+        }
         // The overlay: its keys replace the base simulation's.
         simulation.loadFromConfigFile(sini);
         if (maxSteps > 0)
@@ -135,7 +160,8 @@ void readScenarioFile(const std::string& path, int maxSteps, Benchmark::TScenari
  *  given); throws naming the variant. */
 Benchmark::TVariant readVariant(const mrpt::config::CConfigFileBase& ini,
                                 const std::string& iniPath, const std::string& name,
-                                const std::string& mapFile)
+                                const std::string& mapFile,
+                                const std::vector<std::array<std::string, 3>>& overlay)
 {
     const bool isFile = name.size() > 4 && name.substr(name.size() - 4) == ".ini";
     Benchmark::TVariant v;
@@ -143,7 +169,12 @@ Benchmark::TVariant readVariant(const mrpt::config::CConfigFileBase& ini,
     try
     {
         config::checkIniFile(v.iniPath);
-        mrpt::config::CConfigFile vini(v.iniPath);
+        // The scenario's keys replace the variant's (in memory: the file stays as it is).
+        config::IniFileInMemory vini(v.iniPath);
+        for (const auto& [section, key, value] : overlay)
+        {
+            vini.write(section, key, value);
+        }
         v.options.loadFromConfigFile(vini, "LocalizationExperiment");
         if (!mapFile.empty())
         {
@@ -312,7 +343,7 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::strin
     {
         Benchmark sc = b;
         const std::string path = resolveFile(ini, iniPath, kSection, "scenarios", file);
-        readScenarioFile(path, o.max_steps, sc.m_scenario, sc.m_simulation);
+        readScenarioFile(path, o.max_steps, sc.m_scenario, sc.m_simulation, sc.m_variantOverlay);
         const auto& s = sc.m_scenario;
         if (s.world_changes.any())
         {
@@ -365,7 +396,8 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
     {
         TVariant v = readVariant(
             ini, m_iniPath, name,
-            m_scenario.map_from_world ? m_simulation.simulation.world_file : std::string());
+            m_scenario.map_from_world ? m_simulation.simulation.world_file : std::string(),
+            m_variantOverlay);
         for (const auto& w : m_variants)
         {
             if (w.name() == v.name())

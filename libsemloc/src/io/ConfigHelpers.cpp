@@ -252,16 +252,37 @@ void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string
     }
 }
 
+IniFileInMemory::IniFileInMemory(const std::string& path) : m_path(path)
+{
+    std::ifstream in(path, std::ios::binary);
+    if (!in)
+    {
+        THROW_EXCEPTION("cannot read ini file '" + path + "'");
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    setContent(text.str());
+}
+
 std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file)
 {
     if (file.empty() || file[0] == '/' || mrpt::system::fileExists(file))
     {
         return file;
     }
+    std::string origin;
     if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
     {
+        origin = f->getAssociatedFile();
+    }
+    else if (const auto* m = dynamic_cast<const IniFileInMemory*>(&source))
+    {
+        origin = m->path();
+    }
+    if (!origin.empty())
+    {
         // MRPT 2.5's extractFileDirectory() drops the trailing separator: join explicitly.
-        const std::string dir = mrpt::system::extractFileDirectory(f->getAssociatedFile());
+        const std::string dir = mrpt::system::extractFileDirectory(origin);
         std::string joined = mrpt::system::pathJoin({dir.empty() ? "." : dir, file});
         if (mrpt::system::fileExists(joined))
         {

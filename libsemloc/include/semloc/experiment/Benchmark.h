@@ -9,6 +9,7 @@
 #include <semloc/simulator/Simulator.h>
 #include <semloc/simulator/WorldChanges.h>
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <string>
@@ -260,6 +261,9 @@ private:
     std::string m_iniPath;
     TOptions m_options;
     TSimulatorOptions m_simulation;
+    /** The scenario file's sections other than [Scenario] and the simulation's: (section,
+     *  key, value) replacing the variants' own. */
+    std::vector<std::array<std::string, 3>> m_variantOverlay;
     /** The changed world the runs are simulated in (TScenario::world_changes), if any. */
     std::shared_ptr<const World> m_changedWorld;
     std::vector<TVariant> m_variants;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/config/CLoadableOptions.h>
 
 #include <string>
@@ -46,9 +47,25 @@ void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& secti
 void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string& section,
                        const std::vector<std::string>& known);
 
+/** An ini file's text held (and changed) in memory that remembers the file it came from:
+ *  relative paths in it resolve next to that file, as in the file itself
+ *  (resolveNextToIni). */
+class IniFileInMemory : public mrpt::config::CConfigFileMemory
+{
+public:
+    /** The text of `path` (read here; throws if it cannot be). */
+    explicit IniFileInMemory(const std::string& path);
+    /** The file it came from. */
+    const std::string& path() const { return m_path; }
+
+private:
+    std::string m_path;
+};
+
 /** `file` as given if it exists (or is absolute or empty), else resolved next to the ini
- *  file `source` was read from, if it exists there: ini files name their maps relative to
- *  themselves, as users expect, while MRPT's own tools resolve from the working directory. */
+ *  file `source` was read from (a CConfigFile or an IniFileInMemory), if it exists there: ini
+ *  files name their maps relative to themselves, as users expect, while MRPT's own tools
+ *  resolve from the working directory. */
 std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file);
 
 /** The keys an options struct writes in saveToConfigFile (its complete key set). */
