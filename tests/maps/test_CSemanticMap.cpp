@@ -783,6 +783,42 @@ TEST(CSemanticMap, SerializationAndSavedYamlRoundTrip)
     EXPECT_NE(m.asString().find("12 objects"), std::string::npos);
 }
 
+TEST(CSemanticMap, FlagBytesOtherThanZeroOrOneAreRejected)
+{
+    // MRPT writes a bool as one byte and reads it back as is: a corrupted byte must be refused,
+    // not copied into a bool. Layout: ... "mrpt::maps::TMapGenericParams", version, three
+    // flags, end-of-object marker, then the map's bounds flag.
+    const CSemanticMap m = smallMap();
+    mrpt::io::CMemoryStream mem;
+    mrpt::serialization::archiveFrom(mem) << m;
+    const std::string bytes(static_cast<const char*>(mem.getRawBufferData()),
+                            mem.getTotalBytesCount());
+    const std::string params = "TMapGenericParams";
+    const size_t at = bytes.find(params);
+    ASSERT_NE(at, std::string::npos);
+    const size_t firstFlag = at + params.size() + 1;
+    const size_t boundsFlag = firstFlag + 4;
+    ASSERT_LT(boundsFlag, bytes.size());
+    ASSERT_LE(static_cast<unsigned char>(bytes[boundsFlag]), 1);
+    for (const size_t i : {firstFlag, firstFlag + 2, boundsFlag})
+    {
+        std::string spoiled = bytes;
+        spoiled[i] = 2;
+        mrpt::io::CMemoryStream in;
+        in.assignMemoryNotOwn(spoiled.data(), spoiled.size());
+        CSemanticMap target = smallMap();
+        const std::string e = errorOf([&] { mrpt::serialization::archiveFrom(in) >> target; });
+        EXPECT_NE(e.find("corrupted data"), std::string::npos) << "byte " << i << ": " << e;
+        EXPECT_EQ(target.objects().size(), m.objects().size());
+    }
+    // The unspoiled bytes still read.
+    mrpt::io::CMemoryStream in;
+    in.assignMemoryNotOwn(bytes.data(), bytes.size());
+    CSemanticMap back;
+    EXPECT_EQ(errorOf([&] { mrpt::serialization::archiveFrom(in) >> back; }), "");
+    EXPECT_EQ(back.objects().size(), m.objects().size());
+}
+
 TEST(CSemanticMap, AcceptsMrptGenericMapKeysInCreationOpts)
 {
     // MRPT reads enableObservationLikelihood & co. from the creationOpts section.

@@ -3,10 +3,12 @@
 #pragma once
 
 #include <mrpt/core/exceptions.h>
+#include <mrpt/maps/metric_map_types.h>
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/observation/Labels.h>
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 
 namespace semloc::detail
@@ -40,5 +42,41 @@ inline void readString(mrpt::serialization::CArchive& in, std::string& s, const 
     {
         THROW_EXCEPTION_FMT("%s: corrupted data: string truncated", what);
     }
+}
+
+/** Reads a bool written by MRPT's `operator<<(CArchive&, bool)` (one byte, 0 or 1). MRPT's
+ *  `operator>>` copies the byte into the bool as is: any other value makes the bool invalid. */
+inline bool readBool(mrpt::serialization::CArchive& in, const char* what)
+{
+    const auto b = in.ReadAs<uint8_t>();
+    if (b > 1)
+    {
+        THROW_EXCEPTION_FMT("%s: corrupted data: a flag byte is %u (0 or 1 expected)", what,
+                            static_cast<unsigned>(b));
+    }
+    return b == 1;
+}
+
+/** True when the bool's byte is 0 or 1: inspects the bytes, never loads an invalid bool. */
+inline bool validBoolBytes(const bool& b)
+{
+    unsigned char byte = 0;
+    std::memcpy(&byte, &b, 1);
+    return byte <= 1;
+}
+
+/** Reads MRPT's generic map parameters (three flags MRPT reads byte for byte) and checks that
+ *  each flag is 0 or 1; `what` names the map class in the message. */
+inline mrpt::maps::TMapGenericParams readGenericMapParams(mrpt::serialization::CArchive& in,
+                                                          const char* what)
+{
+    mrpt::maps::TMapGenericParams p;
+    in >> p;
+    if (!validBoolBytes(p.enableSaveAs3DObject) || !validBoolBytes(p.enableObservationLikelihood) ||
+        !validBoolBytes(p.enableObservationInsertion))
+    {
+        THROW_EXCEPTION_FMT("%s: corrupted data: a generic map flag is neither 0 nor 1", what);
+    }
+    return p;
 }
 }  // namespace semloc::detail

@@ -26,7 +26,7 @@ std::string iniReference()
     detail::writeExact(c, st + "_creationOpts", "cylinder_tolerance_m", sdef.cylinder_tolerance_m,
                        "max gap between a cylinder and its polygon [m]");
     detail::writeExact(c, st + "_creationOpts", "raycast_cell_m", sdef.raycast_cell_m,
-                       "ray-casting grid cell [m], 0 = automatic");
+                       "ray-casting grid cell [m] (>= 0.01), 0 = automatic");
     CStructureMap::TLikelihoodOptions().saveToConfigFile(c, st + "_likelihoodOpts");
     // semloc-localize: [LocalizationExperiment], [PF_options], [KLD_options],
     // [DummyOdometryParams], [MotionModel]; the maps are the [MetricMap_*] sections above

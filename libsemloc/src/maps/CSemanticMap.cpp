@@ -365,10 +365,10 @@ void CSemanticMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t vers
         case 0:
         {
             // Read into locals: a throw leaves the map as it was, objects and index consistent.
-            bool hasBounds = false;
             WorldBounds bounds;
-            in >> genericMapParams;
-            in >> hasBounds >> bounds.x_min >> bounds.x_max >> bounds.y_min >> bounds.y_max;
+            const auto params = detail::readGenericMapParams(in, "CSemanticMap");
+            const bool hasBounds = detail::readBool(in, "CSemanticMap bounds flag");
+            in >> bounds.x_min >> bounds.x_max >> bounds.y_min >> bounds.y_max;
             const uint32_t n = detail::readCount(in, 1u << 24, "CSemanticMap objects");
             std::vector<TObject> objects;
             std::unordered_set<int32_t> ids;
@@ -386,6 +386,7 @@ void CSemanticMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t vers
                 }
                 objects.push_back(std::move(o));
             }
+            genericMapParams = params;
             m_hasBounds = hasBounds;
             m_bounds = bounds;
             m_objects = std::move(objects);

@@ -334,10 +334,9 @@ void CStructureMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t ver
         case 0:
         {
             // Read into locals and check: a throw leaves the map as it was.
-            mrpt::maps::TMapGenericParams params;
+            const auto params = detail::readGenericMapParams(in, "CStructureMap");
             TLikelihoodOptions o;
             int32_t decimation = 1;
-            in >> params;
             in >> o.sigma_hit_m >> o.z_hit >> o.z_short >> o.lambda_short >> o.z_max >> o.z_rand >>
                 decimation >> o.max_range_m >> o.min_beam_likelihood;
             o.decimation = decimation;

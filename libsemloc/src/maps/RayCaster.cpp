@@ -25,6 +25,9 @@ constexpr double kCollinear_m = 1e-9;
 constexpr double kCellInflate_m = 1e-6;
 /** Most cells the grid may have. */
 constexpr double kMaxCells = 1 << 20;
+/** Smallest cell side [m]: a finer grid casts the same rays (bucketing is conservative) but a
+ *  segment may then touch every cell of a small map, costing time and memory for nothing. */
+constexpr double kMinCell_m = 0.01;
 
 /** First t >= 0 at which p + t d (|d| = 1) meets segment s, or +inf.
  *  Solves p + t d = a + u e with 2D cross products: t = (w x e) / (d x e),
@@ -88,7 +91,8 @@ struct GridGeometry
 };
 
 /** The grid over the segments' bounding box (padded by twice the cell inflation): cells of
- *  `cellSize_m`, or autoCellSize() if it is <= 0, doubled until at most kMaxCells fit. */
+ *  `cellSize_m` (at least kMinCell_m), or autoCellSize() if it is <= 0, doubled until at most
+ *  kMaxCells fit. */
 GridGeometry gridOver(const std::vector<mrpt::math::TSegment2D>& segments, double cellSize_m)
 {
     double xmin = kInf, ymin = kInf, xmax = -kInf, ymax = -kInf;
@@ -101,7 +105,7 @@ GridGeometry gridOver(const std::vector<mrpt::math::TSegment2D>& segments, doubl
     }
     GridGeometry g{};
     g.cell = cellSize_m > 0
-                 ? cellSize_m
+                 ? std::max(cellSize_m, kMinCell_m)
                  : autoCellSize(std::max(xmax - xmin, 1e-3) * std::max(ymax - ymin, 1e-3),
                                 segments.size());
     const double pad = 2 * kCellInflate_m;

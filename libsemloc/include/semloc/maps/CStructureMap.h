@@ -122,7 +122,8 @@ public:
     std::string world_file;
     /** [creationOpts] chord tolerance of cylinder polygons [m]. */
     double cylinder_tolerance_m = kDefaultCylinderTolerance_m;
-    /** [creationOpts] ray-casting grid cell [m]; 0 chooses it automatically. */
+    /** [creationOpts] ray-casting grid cell [m]; 0 chooses it automatically; a smaller value
+     *  than 0.01 is raised to it (the rays cast the same, only faster). */
     double raycast_cell_m = 0;
     /** [likelihoodOpts] */
     CStructureMap::TLikelihoodOptions likelihoodOpts;
