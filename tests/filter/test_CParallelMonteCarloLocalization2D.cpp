@@ -396,6 +396,49 @@ TEST(CParallelMonteCarloLocalization2D, AugmentedMclInjectsWhenTheLikelihoodColl
     EXPECT_EQ(pdf.recoveryStats().reinitializations, 0u);
 }
 
+TEST(CParallelMonteCarloLocalization2D, FramesThatMeasureNothingLeaveTheRecoveryAlone)
+{
+    // An imported log has odometry-only steps between scans. Such a frame scores nothing, so
+    // augmented MCL must not average it in (as a perfect fit it would hold w_fast above w_slow
+    // and no kidnapping would ever be noticed): the same run with an empty frame after every
+    // scan injects exactly as without.
+    const Maps maps(false);
+    mrpt::bayes::CParticleFilter pf;
+    pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
+    auto run = [&](bool emptyFrames)
+    {
+        CParallelMonteCarloLocalization2D pdf;
+        withFreeSpace(pdf, maps);
+        pdf.setRecoveryOptions({0.001, 0.1});
+        mrpt::random::getRandomGenerator().randomize(2);
+        pdf.resetUniform(4.5, 5.5, 3.5, 4.5, -0.05, 0.05, 3000);
+        const mrpt::obs::CSensoryFrame nothing;
+        TPose2D truth(5, 4, 0);
+        for (int k = 0; k < 100; k++)
+        {
+            if (k == 60)
+            {
+                truth = TPose2D(45, 30, M_PI);  // kidnapped to the third leg
+            }
+            truth.x += k < 60 ? 0.5 : -0.5;
+            const auto acts = odometry(mrpt::poses::CPose2D(0.5, 0, 0));
+            const auto sf = maps.frame(truth);
+            pf.executeOn(pdf, &acts, &sf);
+            if (emptyFrames)
+            {
+                pf.executeOn(pdf, nullptr, &nothing);
+            }
+        }
+        return std::make_pair(pdf.recoveryStats(), pdf.getMeanVal().asTPose());
+    };
+    const auto [plain, plainMean] = run(false);
+    const auto [interleaved, interleavedMean] = run(true);
+    EXPECT_GT(plain.injection_steps, 0u);
+    EXPECT_EQ(interleaved.injection_steps, plain.injection_steps);
+    EXPECT_EQ(interleaved.injected_particles, plain.injected_particles);
+    EXPECT_EQ(interleavedMean, plainMean);
+}
+
 TEST(CParallelMonteCarloLocalization2D, InjectedParticlesEarnTheirWeightAndStillRecover)
 {
     const Maps maps(false);

@@ -339,7 +339,9 @@ bool CParallelMonteCarloLocalization2D::predictAndUpdate(
     ASSERTMSG_(M > 0, "the particle set is empty");
     prepareLikelihood();
     const bool chunkwise = m_likelihood->plan(*sf, *m_executor);
-    const bool recovery = m_augmented.options().enabled();
+    // Augmented MCL averages the likelihood of measurements: a frame that measures nothing
+    // (an odometry-only step of an imported log) would count as a perfect fit.
+    const bool recovery = m_augmented.options().enabled() && m_likelihood->measures();
     const double lsePrior = recovery ? detail::logSumExpWeights(m_particles, *m_executor) : 0;
     m_logLik.resize(M);
     std::optional<detail::OutageMix> mix;

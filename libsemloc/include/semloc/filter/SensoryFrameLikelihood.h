@@ -113,6 +113,10 @@ public:
     void addNonfinite(size_t count) { m_stats.nonfinite_likelihoods += count; }
     /** @} */
 
+    /** True when the frame of the last plan() holds an observation some map scores: a frame
+     *  without (odometry only, or only observations no map understands) measures nothing. */
+    bool measures() const { return !m_terms.empty(); }
+
     /** The outage terms of the frame of the last plan(). */
     const TOutageTerms& outageTerms() const { return m_outage; }
 
