@@ -42,24 +42,41 @@ std::string errorOf(const std::string& path)
 }
 }  // namespace
 
-TEST(Benchmark, ShippedIniIsThePapersExperimentWithOneFilterForAllVariants)
+TEST(Benchmark, ShippedIniIsThePapersExperimentWithOneParticleBudgetForAllVariants)
 {
     const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark.ini");
     EXPECT_EQ(b.options().runs, 100);
+    EXPECT_FALSE(b.options().same_filter);
     ASSERT_EQ(b.variants().size(), 5u);
-    const auto& ref = b.variants().front().options.filter;
+    using Mode = semloc::Localizer::InitMode;
     for (const auto& v : b.variants())
     {
         const auto& f = v.options.filter;
-        EXPECT_EQ(f.particles_count, ref.particles_count) << v.name();
-        EXPECT_EQ(f.init_PDF_mode, ref.init_PDF_mode) << v.name();
-        EXPECT_EQ(f.pf.resamplingMethod, ref.pf.resamplingMethod) << v.name();
-        EXPECT_EQ(f.pf.PF_algorithm, ref.pf.PF_algorithm) << v.name();
-        EXPECT_EQ(f.pf.adaptiveSampleSize, ref.pf.adaptiveSampleSize) << v.name();
+        EXPECT_EQ(f.particles_count, 2000) << v.name();
         EXPECT_EQ(f.threads, 1) << v.name();
+        // Each variant's own filter: the ones with a semantic map start from the detections,
+        // the others uniform; only semantic recovers.
+        const bool seeded = v.name() == "semantic" || v.name() == "fused";
+        EXPECT_EQ(f.init_PDF_mode, seeded ? Mode::FromDetections : Mode::FreeSpace) << v.name();
+        EXPECT_EQ(f.recovery.enabled(), v.name() == "semantic") << v.name();
     }
     EXPECT_EQ(b.variants()[0].name(), "semantic");
     EXPECT_EQ(b.variants()[4].name(), "fused");
+}
+
+TEST(Benchmark, SameFilterStartsVariantsWithoutSemanticMapUniformly)
+{
+    // semantic.ini starts from the first detections; with same_filter the geometric variant
+    // runs its filter but, with no semantic map to place a detection, from the uniform start.
+    const auto b = semloc::Benchmark::FromConfigFile(writeIni("bench_same.ini", ""));
+    ASSERT_TRUE(b.options().same_filter);
+    ASSERT_EQ(b.variants().size(), 2u);
+    using Mode = semloc::Localizer::InitMode;
+    EXPECT_EQ(b.variants()[0].options.filter.init_PDF_mode, Mode::FromDetections);
+    EXPECT_EQ(b.variants()[1].options.filter.init_PDF_mode, Mode::FreeSpace);
+    EXPECT_TRUE(b.variants()[1].options.filter.recovery.enabled());
+    EXPECT_EQ(b.variants()[1].options.filter.particles_count,
+              b.variants()[0].options.filter.particles_count);
 }
 
 TEST(Benchmark, ErrorsNameTheKey)
@@ -153,6 +170,8 @@ TEST(Benchmark, ScenarioSetsTheInitialCloudOfEveryVariant)
         for (const auto& v : sc.variants())
         {
             EXPECT_EQ(v.options.filter.init_PDF_mode, want) << v.name();
+            // semantic_norecovery.ini's filter for all: the start alone differs.
+            EXPECT_FALSE(v.options.filter.recovery.enabled()) << v.name();
         }
     }
     // A variant without a semantic map cannot start from the detections.
@@ -177,11 +196,13 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.simulation().detector.p_detect_near, 0.3);
     EXPECT_EQ(all.simulation().detector.gap_every_s, 120.0);
     EXPECT_EQ(b.scenarios().front().simulation().odometry.heading_drift_deg_per_min, 0.0);
-    // The shipped filter, the same with the detector outage model, and that with recovery.
+    // The filter without defences for real data, the shipped one without recovery, and the
+    // shipped one.
     ASSERT_EQ(all.variants().size(), 3u);
-    EXPECT_EQ(all.variants()[0].name(), "semantic");
-    EXPECT_EQ(all.variants()[1].name(), "semantic_outage");
-    EXPECT_EQ(all.variants()[2].name(), "semantic_recovery");
+    EXPECT_EQ(all.variants()[0].name(), "semantic_basic");
+    EXPECT_EQ(all.variants()[1].name(), "semantic_norecovery");
+    EXPECT_EQ(all.variants()[2].name(), "semantic");
+    EXPECT_FALSE(all.variants()[0].options.filter.recovery.enabled());
     EXPECT_FALSE(all.variants()[1].options.filter.recovery.enabled());
     EXPECT_TRUE(all.variants()[2].options.filter.recovery.enabled());
 }
@@ -197,11 +218,12 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
     for (const auto& sc : b.scenarios())
     {
         ASSERT_EQ(sc.variants().size(), 2u);
-        // No scenario turns recovery on: semantic_outage runs without, semantic_recovery with
-        // injected particles at 1e-4 of a resampled one's weight.
+        // No scenario turns recovery on: semantic_norecovery runs without, semantic (shipped)
+        // with injected particles at 3e-6 of a resampled one's weight.
+        EXPECT_EQ(sc.variants()[1].name(), "semantic");
         EXPECT_FALSE(sc.variants()[0].options.filter.recovery.enabled());
         EXPECT_TRUE(sc.variants()[1].options.filter.recovery.enabled());
-        EXPECT_EQ(sc.variants()[1].options.filter.recovery.injected_weight, 1e-4);
+        EXPECT_EQ(sc.variants()[1].options.filter.recovery.injected_weight, 3e-6);
     }
 }
 
@@ -254,7 +276,8 @@ TEST(Benchmark, ScenarioSectionsOverlayTheVariantsOwn)
         EXPECT_EQ(model(b.scenarios()[1], v).sigma_bearing_deg, 3.0) << v;
         EXPECT_EQ(model(b.scenarios()[8], v).p_detect_far, 0.2) << v;
     }
-    // The rest of a variant is its own: semantic_recovery keeps its recovery.
+    // The rest of a variant is its own: semantic_basic runs without recovery, semantic with.
+    EXPECT_FALSE(b.scenarios()[1].variants()[0].options.filter.recovery.enabled());
     EXPECT_TRUE(b.scenarios()[1].variants()[1].options.filter.recovery.enabled());
     EXPECT_EQ(semloc::test::readText(kConfig + "semantic.ini"), before);
 

@@ -192,10 +192,9 @@ TEST_F(LocalizeEndToEnd, SemanticConvergesFromUniformStartAndWritesTheContract)
 
 TEST_F(LocalizeEndToEnd, StartSeededByTheFirstDetectionsConvergesAtOnceWhateverTheThreads)
 {
-    // init_PDF_mode = 3: 80 % of 2000 particles drawn from the first detections; the uniform
-    // start of the same filter converges tens of steps later (at step 121 with seed 1).
-    const std::string ini =
-        patchedConfig("semantic.ini", {{"init_PDF_mode", "3"}}, "semantic_seeded");
+    // semantic.ini as shipped (init_PDF_mode = 3): 80 % of 2000 particles drawn from the first
+    // detections; the uniform start of the same filter converges tens of steps later.
+    const std::string ini = patchedConfig("semantic.ini", {}, "semantic_seeded");
     const auto one = localize(ini, rawlog, "seeded_1", 2000, 1);
     const auto two = localize(ini, rawlog, "seeded_2", 2000, 2);
     EXPECT_NEAR(static_cast<double>(one.initialized_from_detections), 1600.0, 60.0);
@@ -204,8 +203,9 @@ TEST_F(LocalizeEndToEnd, StartSeededByTheFirstDetectionsConvergesAtOnceWhateverT
     EXPECT_LT(one.metrics.mean_err_after_conv_m, 0.25);
     EXPECT_EQ(stepsWithoutTiming(kOut / "seeded_1"), stepsWithoutTiming(kOut / "seeded_2"));
     EXPECT_EQ(two.initialized_from_detections, one.initialized_from_detections);
-    const auto uniform = localize(patchedConfig("semantic.ini", {}, "semantic_uniform"), rawlog,
-                                  "uniform_2000", 2000, 1);
+    const auto uniform =
+        localize(patchedConfig("semantic.ini", {{"init_PDF_mode", "0"}}, "semantic_uniform"),
+                 rawlog, "uniform_2000", 2000, 1);
     EXPECT_EQ(uniform.initialized_from_detections, 0u);
     EXPECT_GT(uniform.metrics.convergence_step, one.metrics.convergence_step + 20);
     EXPECT_NE(readText(kOut / "seeded_1" / "summary.yaml").find("initialized_from_detections: "),
@@ -273,12 +273,8 @@ TEST_F(LocalizeEndToEnd, KidnappedVehicleIsRelocalizedWithRecovery)
     const std::string kidnapped = (kOut / "kidnapped.rawlog").string();
     sim.writeDataset(sim.run(), kidnapped);
 
-    // Recovery time is random: with seeds 2..7 the filter is back within 19..27 steps, with
-    // seed 1 (semantic.ini's) only after 100 (a wrong cluster wins first).
-    const auto ini = patchedConfig(
-        "semantic.ini",
-        {{"recovery_alpha_slow", "0.001"}, {"recovery_alpha_fast", "0.1"}, {"seed", "2"}},
-        "semantic_recovery");
+    // semantic.ini as shipped (augmented MCL recovery on), with seed 2.
+    const auto ini = patchedConfig("semantic.ini", {{"seed", "2"}}, "semantic_kidnapped");
     const auto res = localize(ini, kidnapped, "kidnapped", 10000);
     const size_t kidnap = static_cast<size_t>(so.kidnapping.step);
     ASSERT_GT(res.records.size(), kidnap + 100);
@@ -549,14 +545,18 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
     };
     const std::vector<Variant> variants = {
         {"semantic_marginal", "semantic", {{"association", "marginal"}}},
-        {"semantic_outage", "semantic", {{"outage_every_s", "600"}}},
-        {"semantic_recovery",
-         "semantic_outage",
-         {{"recovery_alpha_slow", "0.001"},
-          {"recovery_alpha_fast", "0.1"},
-          {"recovery_injected_weight", "0.0001"}}},
-        {"semantic_paper",
+        {"semantic_norecovery",
          "semantic",
+         {{"recovery_alpha_slow", "0"}, {"recovery_alpha_fast", "0"}}},
+        {"semantic_basic",
+         "semantic",
+         {{"init_PDF_mode", "0"},
+          {"recovery_alpha_slow", "0"},
+          {"recovery_alpha_fast", "0"},
+          {"recovery_injected_weight", "1"},
+          {"outage_every_s", "0"}}},
+        {"semantic_paper",
+         "semantic_basic",
          {{"model", "paper"}, {"init_PDF_mode", "3"}, {"missed_object_penalty", "0.9"}}}};
     for (const auto& v : variants)
     {
@@ -573,5 +573,52 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
         }
         EXPECT_NE(text.find("\nvariant                 = " + v.name + "\n"), std::string::npos)
             << v.name;
+    }
+}
+
+TEST(ShippedConfigs, MapVariantsDifferFromTheirFilterInTheMapsOnly)
+{
+    // Every key outside the [MetricMap*] sections, but the name and the output directory, has
+    // the same value in a map variant and in the file of its filter. Only the semantic files
+    // spell out [MotionModel]; its source = rawlog, the default, uses none of its other keys.
+    auto outsideMaps = [](const std::string& file)
+    {
+        std::istringstream in(readText(kConfig + file));
+        std::map<std::string, std::string> keys;  // "[section] key" -> value and comment
+        std::string line, section;
+        while (std::getline(in, line))
+        {
+            if (line.empty() || line[0] == '#')
+            {
+                continue;
+            }
+            if (line[0] == '[')
+            {
+                section = line;
+                continue;
+            }
+            const std::string key = line.substr(0, line.find_first_of(" ="));
+            if (section.rfind("[MetricMap", 0) != 0 && section != "[MotionModel]" &&
+                key != "variant" && key != "logOutput_dir")
+            {
+                keys[section + " " + key] = line;
+            }
+        }
+        return keys;
+    };
+    const std::vector<std::pair<std::string, std::string>> pairs = {
+        {"fused.ini", "semantic_norecovery.ini"},
+        {"geometric.ini", "semantic_basic.ini"},
+        {"grid_lf.ini", "semantic_basic.ini"},
+        {"grid_rt.ini", "semantic_basic.ini"}};
+    for (const auto& [variant, filter] : pairs)
+    {
+        const auto v = outsideMaps(variant);
+        EXPECT_GT(v.size(), 30u) << variant;
+        EXPECT_EQ(v, outsideMaps(filter)) << variant << " vs " << filter;
+        EXPECT_EQ(readText(kConfig + variant).find("[MotionModel]"), std::string::npos) << variant;
+        EXPECT_NE(readText(kConfig + filter).find("\nsource                  = rawlog "),
+                  std::string::npos)
+            << filter;
     }
 }

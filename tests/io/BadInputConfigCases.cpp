@@ -169,9 +169,12 @@ Cases iniModelCases()
         {"ini-outage-needs-standard-proposal",
          [](const fs::path& d)
          {
-             return localizeGood(
-                 d, "",
-                 {{"outage_every_s", "300"}, {"PF_algorithm", "1"}, {"free_space_prior", "0"}});
+             return localizeGood(d, "",
+                                 {{"outage_every_s", "300"},
+                                  {"PF_algorithm", "1"},
+                                  {"free_space_prior", "0"},
+                                  {"recovery_alpha_slow", "0"},
+                                  {"recovery_alpha_fast", "0"}});
          }},
         {"ini-recovery-injected-weight-zero",
          [](const fs::path& d) {

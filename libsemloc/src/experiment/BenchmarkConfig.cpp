@@ -421,6 +421,13 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
         {
             v.options.filter = reference.filter;
             v.options.convergence = reference.convergence;
+            // Mode 3 is mode 0 until a detection the semantic map places: without that map,
+            // the filter's start is the uniform one it would come to.
+            if (v.options.filter.init_PDF_mode == Localizer::InitMode::FromDetections &&
+                !v.maps.map->mapByClass<CSemanticMap>())
+            {
+                v.options.filter.init_PDF_mode = Localizer::InitMode::FreeSpace;
+            }
         }
         if (o.particles > 0)
         {
