@@ -102,13 +102,19 @@ double SemanticDetectorModel::detectionProbability(double range_m) const
     return o.p_detect_near + (o.p_detect_far - o.p_detect_near) * range_m / o.max_range_m;
 }
 
+mrpt::math::TPoint2D SemanticDetectorModel::sensorPosition(const mrpt::math::TPose2D& vehicle) const
+{
+    const TOptions& o = m_options;
+    const double c = std::cos(vehicle.phi), s = std::sin(vehicle.phi);
+    return {vehicle.x + c * o.sensor_x_m - s * o.sensor_y_m,
+            vehicle.y + s * o.sensor_x_m + c * o.sensor_y_m};
+}
+
 std::vector<SemanticDetectorModel::TVisibleObject> SemanticDetectorModel::visibleObjects(
     const mrpt::math::TPose2D& vehicle) const
 {
     const TOptions& o = m_options;
-    const double c = std::cos(vehicle.phi), s = std::sin(vehicle.phi);
-    const double sx = vehicle.x + c * o.sensor_x_m - s * o.sensor_y_m;
-    const double sy = vehicle.y + s * o.sensor_x_m + c * o.sensor_y_m;
+    const auto [sx, sy] = sensorPosition(vehicle);
     const double sphi = vehicle.phi + mrpt::DEG2RAD(o.sensor_yaw_deg);
     const double halfFov = 0.5 * mrpt::DEG2RAD(o.fov_deg);
 
@@ -172,9 +178,7 @@ bool SemanticDetectorModel::distractorVisible(const mrpt::math::TPose2D& vehicle
                                               double& bearing) const
 {
     const TOptions& o = m_options;
-    const double c = std::cos(vehicle.phi), s = std::sin(vehicle.phi);
-    const double sx = vehicle.x + c * o.sensor_x_m - s * o.sensor_y_m;
-    const double sy = vehicle.y + s * o.sensor_x_m + c * o.sensor_y_m;
+    const auto [sx, sy] = sensorPosition(vehicle);
     range = std::hypot(d.x - sx, d.y - sy);
     const double angle = std::atan2(d.y - sy, d.x - sx);
     bearing = mrpt::math::wrapToPi(angle - vehicle.phi - mrpt::DEG2RAD(o.sensor_yaw_deg));

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <mrpt/math/TPoint2D.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/poses/CPose3D.h>
 #include <semloc/maps/RayCaster.h>
@@ -151,6 +152,8 @@ private:
      *  `bearing` (or nothing, missed). */
     void detect(double range, double bearing, size_t label, int32_t id,
                 mrpt::random::CRandomGenerator& rng, CObservationSemantic& obs) const;
+    /** The sensor's position in the world when the vehicle is at `vehicle`. */
+    mrpt::math::TPoint2D sensorPosition(const mrpt::math::TPose2D& vehicle) const;
     /** Range and bearing [rad] of the distractor `d` seen from `vehicle`, if visible. */
     bool distractorVisible(const mrpt::math::TPose2D& vehicle, const TDistractor& d, double& range,
                            double& bearing) const;
