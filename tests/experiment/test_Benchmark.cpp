@@ -227,6 +227,25 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
     }
 }
 
+TEST(Benchmark, ShippedKldIniComparesTheFixedCountWithKld)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "kld.ini");
+    ASSERT_EQ(b.scenarios().size(), 7u);
+    EXPECT_TRUE(b.scenarios().back().simulation().kidnapping.enabled);
+    for (const auto& sc : b.scenarios())
+    {
+        ASSERT_EQ(sc.variants().size(), 2u);
+        // particles = 0: each its own count, the KLD filter its own sample size.
+        const auto& fixed = sc.variants()[0].options.filter;
+        const auto& kld = sc.variants()[1].options.filter;
+        EXPECT_EQ(fixed.particles_count, 10000);
+        EXPECT_EQ(kld.particles_count, 10000);
+        EXPECT_FALSE(fixed.pf.adaptiveSampleSize);
+        EXPECT_TRUE(kld.pf.adaptiveSampleSize);
+        EXPECT_TRUE(kld.recovery.enabled());
+    }
+}
+
 TEST(Benchmark, ShippedPaperModelIniRunsThePaperLikelihoodEverywhere)
 {
     const auto b = semloc::Benchmark::FromConfigFile(kConfig + "paper_model.ini");

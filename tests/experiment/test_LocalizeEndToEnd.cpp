@@ -555,6 +555,7 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
           {"recovery_alpha_fast", "0"},
           {"recovery_injected_weight", "1"},
           {"outage_every_s", "0"}}},
+        {"semantic_kld", "semantic", {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}}},
         {"semantic_paper",
          "semantic_basic",
          {{"model", "paper"}, {"init_PDF_mode", "3"}, {"missed_object_penalty", "0.9"}}}};
