@@ -2,9 +2,11 @@
 #pragma once
 
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/io/CMemoryStream.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/random/RandomGenerators.h>
+#include <mrpt/serialization/CArchive.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/maps/CSemanticMap.h>
@@ -147,4 +149,29 @@ inline std::function<void(size_t, size_t)> interruptAt(size_t at, size_t& seen)
     };
 }
 
+/** The bytes `o` takes in an MRPT archive (CArchive::WriteObject). */
+inline std::string archiveBytes(const mrpt::serialization::CSerializable& o)
+{
+    mrpt::io::CMemoryStream mem;
+    mrpt::serialization::archiveFrom(mem).WriteObject(&o);
+    return std::string(static_cast<const char*>(mem.getRawBufferData()), mem.getTotalBytesCount());
+}
+
+/** Offset in `bytes` of the first of the three flags of a serialized map's
+ *  mrpt::maps::TMapGenericParams (after its class name and version byte), or npos. */
+inline size_t genericMapFlagsAt(const std::string& bytes)
+{
+    const std::string params = "TMapGenericParams";
+    const size_t at = bytes.find(params);
+    return at == std::string::npos ? at : at + params.size() + 1;
+}
+
+/** The message of reading `bytes` into `target` from an MRPT archive ("" if it reads). */
+inline std::string readArchiveInto(const std::string& bytes,
+                                   mrpt::serialization::CSerializable& target)
+{
+    mrpt::io::CMemoryStream in;
+    in.assignMemoryNotOwn(bytes.data(), bytes.size());
+    return errorOf([&] { mrpt::serialization::archiveFrom(in).ReadObject(&target); });
+}
 }  // namespace semloc::test

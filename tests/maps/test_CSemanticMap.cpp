@@ -789,14 +789,9 @@ TEST(CSemanticMap, FlagBytesOtherThanZeroOrOneAreRejected)
     // not copied into a bool. Layout: ... "mrpt::maps::TMapGenericParams", version, three
     // flags, end-of-object marker, then the map's bounds flag.
     const CSemanticMap m = smallMap();
-    mrpt::io::CMemoryStream mem;
-    mrpt::serialization::archiveFrom(mem) << m;
-    const std::string bytes(static_cast<const char*>(mem.getRawBufferData()),
-                            mem.getTotalBytesCount());
-    const std::string params = "TMapGenericParams";
-    const size_t at = bytes.find(params);
-    ASSERT_NE(at, std::string::npos);
-    const size_t firstFlag = at + params.size() + 1;
+    const std::string bytes = archiveBytes(m);
+    const size_t firstFlag = genericMapFlagsAt(bytes);
+    ASSERT_NE(firstFlag, std::string::npos);
     const size_t boundsFlag = firstFlag + 4;
     ASSERT_LT(boundsFlag, bytes.size());
     ASSERT_LE(static_cast<unsigned char>(bytes[boundsFlag]), 1);
@@ -804,18 +799,14 @@ TEST(CSemanticMap, FlagBytesOtherThanZeroOrOneAreRejected)
     {
         std::string spoiled = bytes;
         spoiled[i] = 2;
-        mrpt::io::CMemoryStream in;
-        in.assignMemoryNotOwn(spoiled.data(), spoiled.size());
         CSemanticMap target = smallMap();
-        const std::string e = errorOf([&] { mrpt::serialization::archiveFrom(in) >> target; });
+        const std::string e = readArchiveInto(spoiled, target);
         EXPECT_NE(e.find("corrupted data"), std::string::npos) << "byte " << i << ": " << e;
         EXPECT_EQ(target.objects().size(), m.objects().size());
     }
     // The unspoiled bytes still read.
-    mrpt::io::CMemoryStream in;
-    in.assignMemoryNotOwn(bytes.data(), bytes.size());
     CSemanticMap back;
-    EXPECT_EQ(errorOf([&] { mrpt::serialization::archiveFrom(in) >> back; }), "");
+    EXPECT_EQ(readArchiveInto(bytes, back), "");
     EXPECT_EQ(back.objects().size(), m.objects().size());
 }
 

@@ -392,24 +392,17 @@ TEST(CStructureMap, GenericMapFlagBytesOtherThanZeroOrOneAreRejected)
     // MRPT reads TMapGenericParams' three flags byte for byte: a corrupted one is refused,
     // and the map read into is left as it was.
     const CStructureMap good = paperMap();
-    mrpt::io::CMemoryStream mem;
-    mrpt::serialization::archiveFrom(mem) << good;
-    const std::string bytes(static_cast<const char*>(mem.getRawBufferData()),
-                            mem.getTotalBytesCount());
-    const std::string params = "TMapGenericParams";
-    const size_t at = bytes.find(params);
-    ASSERT_NE(at, std::string::npos);
-    const size_t firstFlag = at + params.size() + 1;  // after the class version byte
+    const std::string bytes = semloc::test::archiveBytes(good);
+    const size_t firstFlag = semloc::test::genericMapFlagsAt(bytes);
+    ASSERT_NE(firstFlag, std::string::npos);
     for (size_t i = firstFlag; i < firstFlag + 3; i++)
     {
         ASSERT_LE(static_cast<unsigned char>(bytes[i]), 1) << i;
         std::string spoiled = bytes;
         spoiled[i] = 7;
-        mrpt::io::CMemoryStream in;
-        in.assignMemoryNotOwn(spoiled.data(), spoiled.size());
         CStructureMap target = paperMap();
         target.genericMapParams.enableSaveAs3DObject = false;
-        const std::string e = errorOf([&] { mrpt::serialization::archiveFrom(in) >> target; });
+        const std::string e = semloc::test::readArchiveInto(spoiled, target);
         EXPECT_NE(e.find("CStructureMap: corrupted data"), std::string::npos) << i << ": " << e;
         EXPECT_FALSE(target.genericMapParams.enableSaveAs3DObject) << i;
         EXPECT_EQ(target.segments().size(), good.segments().size()) << i;
