@@ -95,6 +95,11 @@ TEST(CSemanticMap, IniErrorsNameSectionAndKey)
     EXPECT_NE(e.find("sigma_range_m"), std::string::npos) << e;
     e = errorOf([&] { mapFromIni(head + "sigma_range_m=nan\n"); });
     EXPECT_NE(e.find("sigma_range_m"), std::string::npos) << e;
+    for (const char* bad : {"1", "-0.1", "nan"})
+    {
+        e = errorOf([&] { mapFromIni(head + "p_range_outlier=" + bad + "\n"); });
+        EXPECT_NE(e.find("p_range_outlier"), std::string::npos) << bad << ": " << e;
+    }
     e = errorOf(
         [&]
         {
@@ -113,6 +118,7 @@ TEST(CSemanticMap, OptionsWrittenToIniReadBackToTheBit)
     a.sigma_range_m = 0.123456789012345;
     a.sigma_bearing_deg = 2.718281828459045;
     a.p_confusion = 1.2345678901234567e-7;
+    a.p_range_outlier = 0.031415926535897934;
     a.clutter_per_scan = 1.0 / 3.0;
     CSemanticMap::TInsertionOptions ia;
     ia.merge_distance_m = 2.0 / 3.0;
@@ -128,6 +134,7 @@ TEST(CSemanticMap, OptionsWrittenToIniReadBackToTheBit)
     EXPECT_EQ(b.sigma_range_m, a.sigma_range_m);
     EXPECT_EQ(b.sigma_bearing_deg, a.sigma_bearing_deg);
     EXPECT_EQ(b.p_confusion, a.p_confusion);
+    EXPECT_EQ(b.p_range_outlier, a.p_range_outlier);
     EXPECT_EQ(b.clutter_per_scan, a.clutter_per_scan);
     EXPECT_EQ(b.p_detect_near, a.p_detect_near);
     EXPECT_EQ(ib.merge_distance_m, ia.merge_distance_m);
@@ -197,6 +204,47 @@ TEST_P(BothModels, UnmatchedObjectsLowerTheLikelihoodMonotonically)
     }
 }
 
+TEST_P(BothModels, AMisreadRangeCostsAtMostTheUniformsShare)
+{
+    CSemanticMap m = smallMap(GetParam());
+    m.likelihoodOptions.sigma_range_m = 0.2;
+    const World w = smallWorld();
+    mrpt::random::CRandomGenerator rng(11);
+    DetectorSim ds;
+    ds.sigma_range_m = 0.1;
+    ds.sigma_bearing_rad = 0.01;
+    const auto clean = observe(w, kTrue, ds, &rng);
+    ASSERT_GE(clean.detections.size(), 3u);
+    const double R = clean.maxRange_m, sr = m.likelihoodOptions.sigma_range_m;
+    int checked = 0;
+    for (const double eps : {0.01, 0.1, 0.3})
+    {
+        m.likelihoodOptions.p_range_outlier = eps;
+        const double lClean = m.computeLogLikelihood(clean, kTrue);
+        // Whatever range a detection reports, matching it as a misread costs at most the
+        // Gaussian's peak over the uniform's density: (1 - eps) N(0) + eps / R over eps / R.
+        const double bound = std::log1p((1 - eps) * R / (eps * std::sqrt(2 * M_PI) * sr));
+        for (size_t j = 0; j < clean.detections.size(); j++)
+        {
+            for (const double range : {0.3, 4.0, 11.9})
+            {
+                auto misread = clean;
+                misread.detections[j].range_m = range;
+                const double l = m.computeLogLikelihood(misread, kTrue);
+                EXPECT_GE(l, lClean - bound - 1e-9) << "eps " << eps << " detection " << j;
+                // ... and one misread range leaves the true pose ahead of displaced ones.
+                for (const double d : {1.0, 2.0, 4.0})
+                {
+                    const TPose2D moved(kTrue.x + d, kTrue.y - d, kTrue.phi);
+                    EXPECT_GT(l, m.computeLogLikelihood(misread, moved)) << "eps " << eps;
+                }
+                checked++;
+            }
+        }
+    }
+    EXPECT_EQ(checked, 9 * static_cast<int>(clean.detections.size()));
+}
+
 INSTANTIATE_TEST_SUITE_P(
     Models, BothModels,
     ::testing::Values(CSemanticMap::Model::Paper, CSemanticMap::Model::Probabilistic),
@@ -225,6 +273,49 @@ TEST(CSemanticMap, PaperFormulaExactly)
     obs.detections[0].range_m = 9.5;
     EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), 3 * std::log(o.unmatched_penalty),
                 1e-9);
+}
+
+TEST(CSemanticMap, MisreadRangeMixtureExactly)
+{
+    // One object straight ahead at 5 m; one detection off by d_rho, d_theta.
+    for (const auto model : {CSemanticMap::Model::Paper, CSemanticMap::Model::Probabilistic})
+    {
+        CSemanticMap m;
+        m.addObject({1, "pillar", 5, 0, 0, 0.3, 1});
+        auto& o = m.likelihoodOptions;
+        o.model = model;
+        o.p_range_outlier = 0.2;
+        o.unmatched_penalty = 0.05;  // the misread (d_rho = 4 m) is matched, not left unmatched
+        CObservationSemantic obs;
+        obs.maxRange_m = 10;
+        obs.fov_rad = M_PI;
+        const double R = obs.maxRange_m, sr = o.sigma_range_m, eps = o.p_range_outlier;
+        const double sb = o.sigma_bearing_deg * M_PI / 180, db = 2.0 * M_PI / 180;
+        const double logNr = -std::log(std::sqrt(2 * M_PI) * sr);
+        for (const double dr : {0.3, 4.0})
+        {
+            obs.detections = {detection("pillar", 5 + dr, db)};
+            const double gauss = -0.5 * std::pow(dr / sr, 2);
+            double expected = 0;
+            if (model == CSemanticMap::Model::Paper)
+            {
+                // (1 - eps) N0 + eps sqrt(2 pi) sigma / R, the bearing's N0.
+                expected = std::log((1 - eps) * std::exp(gauss) + eps / R / std::exp(logNr)) -
+                           0.5 * std::pow(db / sb, 2);
+            }
+            else
+            {
+                // -lambda + log P_D + log C + log((1 - eps) N + eps / R) + log N.
+                const double pd = o.p_detect_near + (o.p_detect_far - o.p_detect_near) * 5 / R;
+                expected = -o.clutter_per_scan + std::log(pd) + std::log(1 - o.p_confusion) +
+                           std::log((1 - eps) * std::exp(gauss + logNr) + eps / R) -
+                           std::log(std::sqrt(2 * M_PI) * sb) - 0.5 * std::pow(db / sb, 2);
+            }
+            EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), expected, 1e-6)
+                << (model == CSemanticMap::Model::Paper ? "paper" : "probabilistic") << " d_rho "
+                << dr;
+        }
+    }
 }
 
 TEST(CSemanticMap, AFullCircleSeesAnObjectStraightBehind)

@@ -114,6 +114,7 @@ void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CC
     }
     config::readDouble(c, s, "sigma_range_m", sigma_range_m, 1e-6, 1e6);
     config::readDouble(c, s, "sigma_bearing_deg", sigma_bearing_deg, 1e-6, 360);
+    config::readDouble(c, s, "p_range_outlier", p_range_outlier, 0, 0.999999);
     config::readDouble(c, s, "unmatched_penalty", unmatched_penalty, 1e-12, 0.999999);
     config::readDouble(c, s, "missed_object_penalty", missed_object_penalty, 0, 1);
     if (missed_object_penalty > 0 && missed_object_penalty < 1e-12)
@@ -150,6 +151,8 @@ void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFil
     detail::writeExact(c, s, "sigma_range_m", sigma_range_m, "range noise sigma_rho [m]");
     detail::writeExact(c, s, "sigma_bearing_deg", sigma_bearing_deg,
                        "bearing noise sigma_theta [deg]");
+    detail::writeExact(c, s, "p_range_outlier", p_range_outlier,
+                       "P(range misread: uniform over [0, max range]), [0,1)");
     detail::writeExact(c, s, "unmatched_penalty", unmatched_penalty,
                        "paper: factor per object in one observation only, (0,1)");
     detail::writeExact(c, s, "missed_object_penalty", missed_object_penalty,

@@ -93,7 +93,7 @@ size_t gateBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratch& s
                  const Geom* geoms, size_t ne, IdTest idTest)
 {
     const size_t ns = sc.slotCount;
-    const double ir = k.ir, maxBudget = k.budget, cosGate = k.cosGate;
+    const double ir = k.ir, maxBudget = k.rangeBudget, cosGate = k.cosGate;
     const double* X = ix.x.data();
     const double* Y = ix.y.data();
     const int32_t* L = ix.label.data();
@@ -135,6 +135,7 @@ void gainBlock(const ModelConsts& k, Scratch& sc, size_t nc)
         sc.pairs.resize(2 * nc + 1);  // at least one: read (not used) when a particle has none
     }
     const double ir = k.ir, ib = k.ib, unmatchedPair = k.logPu + k.logPo;
+    const bool outliers = k.rangeOutliers;
     const Cand* cands = sc.cands.data();
     const Gated* gated = sc.gated.data();
     Pair* pairs = sc.pairs.data();
@@ -147,8 +148,9 @@ void gainBlock(const ModelConsts& k, Scratch& sc, size_t nc)
         const Gated& q = gated[cands[t].e];
         const double dr = d.r - q.o.r;
         const double db = absBearingDiff(d, q.o.lx, q.o.ly);
+        const double h = -0.5 * (dr * ir) * (dr * ir);
         const double gain =
-            -0.5 * (dr * ir) * (dr * ir) - 0.5 * (db * ib) * (db * ib) - unmatchedPair;
+            (outliers ? rangeTerm(k, h) : h) - 0.5 * (db * ib) * (db * ib) - unmatchedPair;
         pairs[np] = {gain, cands[t].j, q.v};  // written always, kept if it gains
         pairCount[q.p] += static_cast<uint32_t>(gain > 0);
         np += static_cast<size_t>(gain > 0);

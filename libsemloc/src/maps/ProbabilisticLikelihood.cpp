@@ -174,7 +174,7 @@ size_t gateBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& 
     const uint32_t* binSpan = sc.binSpan.data();
     const size_t nb = sc.binCount;
     const double binInv = sc.binInv, lastBin = static_cast<double>(nb - 1);
-    const double ir = k.ir, budget = k.budget, cosGate = k.cosGate;
+    const double ir = k.ir, budget = k.rangeBudget, cosGate = k.cosGate;
     auto spanOf = [&](uint32_t e)
     {
         const auto b = static_cast<size_t>(std::min(RR[e] * binInv, lastBin));
@@ -245,6 +245,11 @@ struct GainParts
         if (d.label >= 0)
         {
             logC = (d.label == L[hit[e]]) ? k.logSame : k.logOther;
+        }
+        if (k.rangeOutliers)
+        {
+            return logC + k.logNormBearing + rangeTerm(k, -0.5 * (dr * k.ir) * (dr * k.ir)) -
+                   0.5 * (db * k.ib) * (db * k.ib) - k.logKappa;
         }
         return logC + k.logNorm - 0.5 * (dr * k.ir) * (dr * k.ir) -
                0.5 * (db * k.ib) * (db * k.ib) - k.logKappa;

@@ -160,7 +160,7 @@ void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const
 {
     listByLabel(sc, ix, nLabels, k.confusable);
     fillSlots(sc, nLabels);
-    const double reach = k.ir > 0 ? std::sqrt(std::max(0.0, k.budget)) / k.ir : kInf;
+    const double reach = k.ir > 0 ? std::sqrt(std::max(0.0, k.rangeBudget)) / k.ir : kInf;
     rangeHulls(sc, nLabels, reach);
     planRangeBins(sc, nLabels, reach);
 }
@@ -168,7 +168,7 @@ void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const
 void planPairsOnce(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const ModelConsts& k)
 {
     const std::array<double, 4> planKey = {static_cast<double>(ix.stamp),
-                                           static_cast<double>(nLabels), k.budget, k.ir};
+                                           static_cast<double>(nLabels), k.rangeBudget, k.ir};
     auto sameDet = [](const Det& a, const Det& b) {
         return a.r == b.r && a.uc == b.uc && a.us == b.us && a.label == b.label &&
                a.fixed == b.fixed;

@@ -20,7 +20,7 @@ namespace semloc::semantic
  *  (they pair with that object only: Det::fixed); the same as slots padded to one count
  *  per label, sorted by range into range bins (planRangeBins). Also the range hull of each
  *  label: a pair passes the range gate (passesGates) only if |rho^r - rho^k| <= sigma_rho
- *  sqrt(budget), so an object of label l whose squared range is outside [gateLo2[l],
+ *  sqrt(rangeBudget), so an object of label l whose squared range is outside [gateLo2[l],
  *  gateHi2[l]] pairs with none of them (bounds widened by a relative 1e-9 for rounding: a
  *  necessary condition). */
 void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const ModelConsts& k);
@@ -32,9 +32,10 @@ void planPairsOnce(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels,
                    const ModelConsts& k);
 
 /** The exact gates of the pair (detection d, visible object at (lx, ly) in the sensor frame,
- *  range r): `k.budget` bounds what the two Gaussian terms may cost for its gain to stay
- *  positive, so (dr/sigma_r)^2 <= budget and |dtheta| <= sigma_theta sqrt(budget) are
- *  necessary conditions, checked before any atan2 (most candidates fail them); the bearing
+ *  range r): `k.rangeBudget` and `k.bearingBudget` bound what the range and bearing terms may
+ *  cost for its gain to stay positive, so (dr/sigma_r)^2 <= rangeBudget (passed as `budget`)
+ *  and u . v >= cosGate |v| (|dtheta| <= sigma_theta sqrt(bearingBudget)) are necessary
+ *  conditions, checked before any atan2 (most candidates fail them); the bearing
  *  one as u . v >= cos(max dtheta) |v| with the detection's unit vector u. Branch-free. */
 inline bool passesGates(const Det& d, double r, double lx, double ly, double ir, double budget,
                         double cosGate)

@@ -238,11 +238,17 @@ double paper(const CSemanticMap& map, const Scan& s, const TPose2D& pose, Semant
         opt.missed_object_penalty > 0 ? std::log(opt.missed_object_penalty) : logPu;
     const std::vector<Predicted> z_k = predict(map, s, pose, t.onEdge);
     const auto& objs = map.objects();
+    // With misread ranges (eps > 0) the range factor is (1 - eps) N0 + eps sqrt(2 pi) sigma / R.
+    const double eps = opt.p_range_outlier;
+    const double outlierFactor = eps * std::sqrt(2 * M_PI) * sigmaRho / s.R;
     auto gaussians = [&](const Detection& d, const Predicted& v)
     {
         const double dRho = (d.rho - v.rho) / sigmaRho;
         const double dTheta = bearingDiff(d, v) / sigmaTheta;
-        return -0.5 * dRho * dRho - 0.5 * dTheta * dTheta;
+        const double rangeTerm =
+            eps > 0 ? std::log((1 - eps) * std::exp(-0.5 * dRho * dRho) + outlierFactor)
+                    : -0.5 * dRho * dRho;
+        return rangeTerm - 0.5 * dTheta * dTheta;
     };
     std::vector<Pair> pairs;
     for (size_t j = 0; j < s.z_r.size(); j++)
@@ -330,11 +336,15 @@ public:
             m_opt.p_detect_near + (m_opt.p_detect_far - m_opt.p_detect_near) * v.rho / m_s.R;
         return std::clamp(p, 1e-6, 1 - 1e-6);
     }
-    /** log P_D + log C + log N + log N of a matched pair. */
+    /** log P_D + log C + log(range density) + log N of a matched pair; the range density is
+     *  N(d_rho; sigma_rho), or with misread ranges (eps > 0) (1 - eps) N + eps / R. */
     double matchedTerm(const Detection& d, const Predicted& v) const
     {
-        return std::log(pD(v)) + logC(d, v) + logN(d.rho - v.rho, m_sigmaRho) +
-               logN(bearingDiff(d, v), m_sigmaTheta);
+        const double eps = m_opt.p_range_outlier;
+        const double range =
+            eps > 0 ? std::log((1 - eps) * std::exp(logN(d.rho - v.rho, m_sigmaRho)) + eps / m_s.R)
+                    : logN(d.rho - v.rho, m_sigmaRho);
+        return std::log(pD(v)) + logC(d, v) + range + logN(bearingDiff(d, v), m_sigmaTheta);
     }
     /** The pairs that may pair (by id, label, confusion) whose gain exceeds `floor`. */
     std::vector<Pair> pairs(const std::vector<Predicted>& z_k, double floor) const

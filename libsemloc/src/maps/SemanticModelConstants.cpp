@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace semloc::semantic
 {
@@ -19,7 +20,7 @@ double paperConsts(const CSemanticMap::TLikelihoodOptions& opt, ModelConsts& k)
     // Matching a pair instead of leaving both unmatched gains s - log(p_u) - log(p_o) (> 0
     // to match; §III: s - 2 log(p_u)). Gain > 0 needs (dr/sr)^2 + (db/sb)^2 <
     // -2 (log(p_u) + log(p_o)).
-    k.budget = -2 * (k.logPu + k.logPo);
+    k.rangeBudget = k.bearingBudget = -2 * (k.logPu + k.logPo);
     return 1.0 / k.ib;
 }
 
@@ -44,11 +45,44 @@ double probabilisticConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t n
     // With the marginal association a pair is kept down to a gain of log kMarginalMinWeight.
     k.marginal = opt.association == CSemanticMap::Association::Marginal;
     k.gainFloor = k.marginal ? std::log(CSemanticMap::kMarginalMinWeight) : 0.0;
-    k.budget = 2 * (std::log(pmax) - std::log1p(-pmax) + k.logNorm - k.logKappa - k.gainFloor);
+    k.rangeBudget = k.bearingBudget =
+        2 * (std::log(pmax) - std::log1p(-pmax) + k.logNorm - k.logKappa - k.gainFloor);
     const double pmin = std::clamp(std::min(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
     k.logQLo = std::log(pmin / (1 - pmin)) - 1e-9;
     k.logQHi = std::log(pmax / (1 - pmax)) + 1e-9;
     return sb;
+}
+/** p_range_outlier > 0: the range term becomes the mixture (1 - eps) N(dr; sigma_rho) + eps / R
+ *  (paper model: the same over the Gaussian's peak, so a perfect match still costs ~0), and
+ *  the gates those of the gain C0 + rangeTerm - (db/sigma_b)^2 / 2 with the model's best
+ *  other terms C0. */
+void rangeOutlierConsts(const CSemanticMap::TLikelihoodOptions& opt, double R, ModelConsts& k)
+{
+    const double eps = opt.p_range_outlier;
+    const double logPeak = -std::log(std::sqrt(2 * M_PI) * opt.sigma_range_m);  // log N(0)
+    const bool paper = opt.model == CSemanticMap::Model::Paper;
+    k.rangeOutliers = true;
+    k.mixA = std::log1p(-eps) + (paper ? 0.0 : logPeak);
+    k.mixB = std::log(eps / R) - (paper ? logPeak : 0.0);
+    double c0 = 0;
+    if (paper)
+    {
+        c0 = -(k.logPu + k.logPo);
+    }
+    else
+    {
+        k.logNormBearing = -std::log(std::sqrt(2 * M_PI) * k.sb);
+        c0 = k.logQHi + k.logNormBearing - k.logKappa - k.gainFloor;
+    }
+    const double rangeMax = rangeTerm(k, 0.0);
+    // Widened by a relative 1e-9 (the gates are necessary conditions; rounding ~1e-14).
+    k.bearingBudget = 2 * (c0 + rangeMax) * (1 + 1e-9) + 1e-9;
+    // rangeTerm(h) > -c0 needs e^(mixA + h) > e^-c0 - e^mixB: any h when a misread range
+    // alone gains.
+    k.rangeBudget =
+        k.mixB + c0 >= -1e-9
+            ? std::numeric_limits<double>::infinity()
+            : 2 * (k.mixA + c0 - std::log1p(-std::exp(k.mixB + c0))) * (1 + 1e-9) + 1e-9;
 }
 }  // namespace
 
@@ -59,7 +93,11 @@ ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLab
     const double sigmaB = opt.model == CSemanticMap::Model::Paper
                               ? paperConsts(opt, k)
                               : probabilisticConsts(opt, nLabels, R, fov, k);
-    const double maxAbsDb = sigmaB * std::sqrt(std::max(0.0, k.budget));
+    if (opt.p_range_outlier > 0)
+    {
+        rangeOutlierConsts(opt, R, k);
+    }
+    const double maxAbsDb = sigmaB * std::sqrt(std::max(0.0, k.bearingBudget));
     k.cosGate = maxAbsDb >= M_PI ? -2.0 : std::cos(maxAbsDb);
     return k;
 }
@@ -67,7 +105,7 @@ ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLab
 const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels,
                                      double R, double fov, ModelConstsCache& cache)
 {
-    const std::array<double, 13> key = {static_cast<double>(opt.model),
+    const std::array<double, 14> key = {static_cast<double>(opt.model),
                                         static_cast<double>(opt.association),
                                         opt.sigma_range_m,
                                         opt.sigma_bearing_deg,
@@ -77,6 +115,7 @@ const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt
                                         opt.p_detect_far,
                                         opt.clutter_per_scan,
                                         opt.p_confusion,
+                                        opt.p_range_outlier,
                                         static_cast<double>(nLabels),
                                         R,
                                         fov};

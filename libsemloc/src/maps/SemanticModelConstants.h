@@ -4,7 +4,9 @@
 
 #include <semloc/maps/CSemanticMap.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 
 namespace semloc::semantic
@@ -14,10 +16,20 @@ namespace semloc::semantic
 struct ModelConsts
 {
     double ir = 0, ib = 0;  // 1 / sigma_rho, 1 / sigma_theta [1/m, 1/rad]
-    /** Largest (dr/sigma_r)^2 + (db/sigma_b)^2 a pair may cost and still gain. */
-    double budget = 0;
-    /** cos of the largest |dtheta| the budget allows (-2: no bearing gate). */
+    /** Largest (dr/sigma_r)^2 a pair may cost and still gain (infinite when a misread range
+     *  alone gains: p_range_outlier). */
+    double rangeBudget = 0;
+    /** Largest (db/sigma_b)^2 a pair may cost and still gain. */
+    double bearingBudget = 0;
+    /** cos of the largest |dtheta| bearingBudget allows (-2: no bearing gate). */
     double cosGate = -2;
+    /** p_range_outlier > 0: a pair's range term is rangeTerm(), the mixture of the Gaussian
+     *  (log weight and normalisation mixA) and the uniform misread range (log density mixB);
+     *  else the Gaussian's -(dr/sigma_r)^2 / 2 alone (normalisation in logNorm). */
+    bool rangeOutliers = false;
+    double mixA = 0, mixB = 0;
+    /** probabilistic, with rangeOutliers: the bearing Gaussian's normalisation alone. */
+    double logNormBearing = 0;
     double logPu = 0;  // paper: log p_u, per unmatched detection
     double logPo = 0;  // paper: log of the factor per unmatched (missed) object
     // probabilistic
@@ -36,10 +48,18 @@ struct ModelConsts
  *  per-particle path makes one call per particle). */
 struct ModelConstsCache
 {
-    std::array<double, 13> key{};
+    std::array<double, 14> key{};
     ModelConsts consts;
     bool valid = false;
 };
+
+/** The range term of a pair with h = -(dr/sigma_r)^2 / 2 when k.rangeOutliers:
+ *  log(e^(mixA + h) + e^mixB), evaluated without overflow. */
+inline double rangeTerm(const ModelConsts& k, double h)
+{
+    const double a = k.mixA + h;
+    return std::max(a, k.mixB) + std::log1p(std::exp(-std::abs(a - k.mixB)));
+}
 
 /** The constants of options `opt` for a map of nLabels labels and a sensor of range R and
  *  field of view fov. */

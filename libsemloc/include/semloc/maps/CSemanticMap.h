@@ -88,6 +88,20 @@ class LabelIndex;
  *  are left out).
  *  Greedy's value is one term of the sum: the exact marginal is never below it.
  *
+ *  **Misread ranges** (`p_range_outlier` = eps > 0, both models): a detection of an object
+ *  reports, with probability eps, a range uniform over [0, R] (R: the detector's max range)
+ *  instead of a Gaussian one; its bearing stays Gaussian. The range factor of a matched pair
+ *  becomes the mixture
+ *
+ *      probabilistic:  (1 - eps) N(d_rho; sigma_rho) + eps / R
+ *      paper:          (1 - eps) N0(d_rho) + eps sqrt(2 pi) sigma_rho / R
+ *
+ *  (the paper's is the same over the Gaussian's peak). A detection at the object's bearing
+ *  but far from its range is then a detection of the object with a misread range, not a
+ *  missed object plus clutter, and no range error costs more than the uniform's share: one
+ *  misread range cannot outweigh the other detections of the true pose. The gates follow
+ *  (with a large enough eps any range passes; the bearing gate stays).
+ *
  *  Both models are evaluated without allocation, through a uniform-grid index over the
  *  objects (cost independent of map size at fixed density), and are safe to call from
  *  many threads at once. */
@@ -149,6 +163,10 @@ public:
         double sigma_range_m = 0.5;
         /** Bearing noise of a detection, sigma_theta [deg]. */
         double sigma_bearing_deg = 3.0;
+        /** Probability that a detection's range is misread (a reflection, a partly hidden
+         *  object): uniform over [0, max range] instead of Gaussian around the object's, its
+         *  bearing still Gaussian (see the class documentation); in [0, 1), 0: none. */
+        double p_range_outlier = 0.0;
         /** paper: factor p_u in (0, 1] per object present in one observation only. */
         double unmatched_penalty = 0.2;
         /** paper: the factor per predicted object no detection matched, in [0, 1]; 0: the
