@@ -428,6 +428,49 @@ objects:
 
 // ------------------------------------------------------------------ error statistics
 
+TEST(SemanticDetectorModel, MisreadRangesAreUniformAndKeepTheBearing)
+{
+    const World w = World::FromText(R"(
+name: misread
+bounds: {x_min: -30, x_max: 30, y_min: -30, y_max: 30}
+objects:
+  - {id: 1, label: a, shape: point, center: [10, 0]}
+)",
+                                    "misread");
+    SemanticDetectorModel::TOptions o;
+    o.max_range_m = 20;
+    o.p_detect_near = o.p_detect_far = 1;
+    o.false_positives_per_scan = 0;
+    o.range_noise_std_m = 0.1;
+    o.bearing_noise_std_deg = 1;
+    o.p_range_outlier = 0.25;
+    const SemanticDetectorModel det(w, o);
+    mrpt::random::CRandomGenerator rng(5);
+    const int n = 8000;
+    int far = 0;
+    double farMean = 0, maxBearing = 0;
+    for (int i = 0; i < n; i++)
+    {
+        const auto obs = det.measure({0, 0, 0}, rng);
+        ASSERT_EQ(obs->detections.size(), 1u);
+        const auto& d = obs->detections[0];
+        ASSERT_TRUE(obs->isValid(d));
+        maxBearing = std::max(maxBearing, std::abs(d.bearing_rad));
+        if (std::abs(d.range_m - 10) > 1)  // 10 sigma: a misread
+        {
+            far++;
+            farMean += d.range_m;
+        }
+    }
+    // A misread lands outside 10 +- 1 m with probability 18 / 20.
+    const double share = static_cast<double>(far) / n, expected = 0.25 * 0.9;
+    EXPECT_NEAR(share, expected, 4 * std::sqrt(expected * (1 - expected) / n));
+    // Uniform over [0, 20] outside the middle: mean 10, std 5.8 / sqrt(far).
+    EXPECT_NEAR(farMean / far, 10.0, 4 * 5.8 / std::sqrt(static_cast<double>(far)));
+    // The bearing keeps its Gaussian noise (1 deg): nothing beyond 5 sigma.
+    EXPECT_LT(maxBearing, mrpt::DEG2RAD(5.0));
+}
+
 TEST(SemanticDetectorModel, StatisticsMatchTheConfiguredModel)
 {
     // Three point objects (no occlusion) at ranges 2, 10, 18 m, 4 labels in the world.
@@ -833,6 +876,8 @@ TEST(TSimulatorOptions, StrictLoadingNamesSectionAndKey)
               std::string::npos);
     EXPECT_NE(loadError("[SemanticDetector]\nrange_noise_std_m=-1\n")
                   .find("[SemanticDetector] range_noise_std_m"),
+              std::string::npos);
+    EXPECT_NE(loadError("[SemanticDetector]\np_range_outlier=-0.5\n").find("p_range_outlier"),
               std::string::npos);
     EXPECT_NE(loadError("[SemanticDetector]\np_confusion=1.5\n").find("p_confusion"),
               std::string::npos);

@@ -27,6 +27,7 @@ void SemanticDetectorModel::TOptions::loadFromConfigFile(const mrpt::config::CCo
     config::readDouble(c, s, "p_detect_far", p_detect_far, 0, 1);
     config::readDouble(c, s, "false_positives_per_scan", false_positives_per_scan, 0, 100);
     config::readDouble(c, s, "p_confusion", p_confusion, 0, 1);
+    config::readDouble(c, s, "p_range_outlier", p_range_outlier, 0, 1);
     config::readBool(c, s, "report_ids", report_ids);
     config::readDouble(c, s, "gap_every_s", gap_every_s, 0, 1e9);
     config::readDouble(c, s, "gap_min_s", gap_min_s, 0, 1e9);
@@ -56,6 +57,8 @@ void SemanticDetectorModel::TOptions::saveToConfigFile(mrpt::config::CConfigFile
     writeExact(c, s, "false_positives_per_scan", false_positives_per_scan,
                "Poisson mean of false positives per scan");
     writeExact(c, s, "p_confusion", p_confusion, "P(label swapped to another world label)");
+    writeExact(c, s, "p_range_outlier", p_range_outlier,
+               "P(range misread: uniform over [0, max_range_m])");
     c.write(s, "report_ids", report_ids, 24, 24, "report map object ids (else -1)");
     writeExact(c, s, "gap_every_s", gap_every_s,
                "mean time between silences (nothing reported) [s]; 0: none");
@@ -161,6 +164,11 @@ void SemanticDetectorModel::detect(double range, double bearing, size_t label, i
         std::clamp(mrpt::math::wrapToPi(bearing + mrpt::DEG2RAD(o.bearing_noise_std_deg) *
                                                       rng.drawGaussian1D_normalized()),
                    -halfFov, halfFov);
+    // Drawn only when enabled: datasets without misreads keep their random streams.
+    if (o.p_range_outlier > 0 && detail::bernoulli(rng, o.p_range_outlier))
+    {
+        d.range_m = o.max_range_m * detail::uniform01(rng);
+    }
     const size_t nLabels = m_labels.size();
     if (nLabels > 1 && detail::bernoulli(rng, o.p_confusion))
     {

@@ -37,6 +37,8 @@ namespace semloc
  *  - range r + N(0, range_noise_std_m^2) clamped to [0, max_range_m], bearing
  *    b + N(0, bearing_noise_std_deg^2) wrapped and clamped to the field of view (so every
  *    detection is valid for CObservationSemantic::isValid);
+ *  - misread range: with probability p_range_outlier the range is instead uniform over
+ *    [0, max_range_m] (a reflection, a partly hidden object), the bearing kept;
  *  - label: with probability p_confusion one of the world's other labels (uniform), else
  *    its own; object_id is the object's id when report_ids (also when the label is
  *    confused: the id is the truth the detector could not classify), else -1;
@@ -74,6 +76,8 @@ public:
         double false_positives_per_scan = 0.2;
         /** Probability that a detection carries another label of the world. */
         double p_confusion = 0.05;
+        /** Probability that a detection's range is misread: uniform over [0, max_range_m]. */
+        double p_range_outlier = 0.0;
         /** Report the map object id of each true detection (else -1: label only). */
         bool report_ids = false;
         /** @name Silences: stretches in which the detector reports nothing (empty scans)
