@@ -60,11 +60,12 @@ void expectRecovered(const TSimulatorOptions& o, const TCalibrationResult& r)
     std::cout << "fitted: sigma_range_m " << r.sigma_range_m.value << ", sigma_bearing_deg "
               << r.sigma_bearing_deg.value << ", p_detect " << r.p_detect_near.value << " .. "
               << r.p_detect_far.value << ", clutter_per_scan " << r.clutter_per_scan.value
-              << ", p_confusion " << r.p_confusion.value << ", minStdXY " << r.minStdXY.value
-              << ", a1 " << r.a1.value << ", a2 " << r.a2.value << ", minStdPHI "
-              << r.minStdPHI.value << ", a3 " << r.a3.value << ", a4 " << r.a4.value << " ("
-              << r.scans << " scans, " << r.matched << " matched, " << r.confused << " confused, "
-              << r.clutter << " clutter, " << r.increments << " increments)\n";
+              << ", p_confusion " << r.p_confusion.value << ", p_range_outlier "
+              << r.p_range_outlier.value << ", minStdXY " << r.minStdXY.value << ", a1 "
+              << r.a1.value << ", a2 " << r.a2.value << ", minStdPHI " << r.minStdPHI.value
+              << ", a3 " << r.a3.value << ", a4 " << r.a4.value << " (" << r.scans << " scans, "
+              << r.matched << " matched, " << r.confused << " confused, " << r.misread
+              << " misread, " << r.clutter << " clutter, " << r.increments << " increments)\n";
     EXPECT_NEAR(r.sigma_range_m.value, d.range_noise_std_m, 0.1 * d.range_noise_std_m);
     EXPECT_NEAR(r.sigma_bearing_deg.value, d.bearing_noise_std_deg, 0.1 * d.bearing_noise_std_deg);
     EXPECT_NEAR(r.p_detect_near.value, d.p_detect_near, 0.05);
@@ -103,6 +104,30 @@ TEST(SensorCalibration, RecoversHeavyMissesClutterAndConfusion)
     o.odometry.xy_std_per_m = 0.1;
     o.odometry.phi_std_deg_per_m = 1.0;
     expectRecovered(o, calibrate(o));
+}
+
+TEST(SensorCalibration, RecoversMisreadRanges)
+{
+    // A fifth of the ranges misread (uniform over [0, max range]): the share is estimated
+    // (within 0.03), the detection line is not lowered by the misreads the gates refuse, and
+    // the other fits hold.
+    for (const double eps : {0.2, 0.05})
+    {
+        auto o = paperRun(eps > 0.1 ? 13 : 17);
+        o.detector.p_range_outlier = eps;
+        const auto r = calibrate(o);
+        expectRecovered(o, r);
+        EXPECT_NEAR(r.p_range_outlier.value, eps, 0.03);
+        EXPECT_GT(r.misread, 0U);
+    }
+    // None misread: none estimated, though dense clutter falls at objects' bearings (the
+    // clutter it takes for misreads is moved back to the clutter rate).
+    auto o = paperRun(19);
+    o.detector.false_positives_per_scan = 2.0;
+    const auto r = calibrate(o);
+    EXPECT_GT(r.misread, 0U);
+    EXPECT_LT(r.p_range_outlier.value, 0.01);
+    EXPECT_NEAR(r.clutter_per_scan.value, 2.0, 0.2);
 }
 
 TEST(SensorCalibration, RecoversACleanDetector)
@@ -273,6 +298,8 @@ TEST(SensorCalibration, ToolWritesTheIniAndTheReport)
     }
     const std::string md = readFile((dir / "report" / "report.md").string());
     EXPECT_NE(md.find("| `sigma_range_m` |"), std::string::npos);
+    EXPECT_NE(md.find("| `p_range_outlier` |"), std::string::npos);
+    EXPECT_TRUE(c.keyExists("MetricMap_semanticMap_00_likelihoodOpts", "p_range_outlier"));
     // Every row of the table has its five cells: a '|' inside a cell is escaped.
     std::istringstream rows(md);
     std::string line;
@@ -291,6 +318,6 @@ TEST(SensorCalibration, ToolWritesTheIniAndTheReport)
         EXPECT_EQ(bars, 6U) << line;
         tableRows++;
     }
-    EXPECT_EQ(tableRows, 12U);
+    EXPECT_EQ(tableRows, 13U);
 }
 #endif

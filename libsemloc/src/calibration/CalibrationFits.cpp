@@ -61,8 +61,8 @@ TCalibrationFit robustSigma(const std::vector<double>& x)
 }
 
 /** Least squares of y on [1, x] evaluated at x = 0 and x = 1, with their half-widths. */
-void detectionLine(const TCalibrationResult& r, double lambda, TCalibrationFit& nearFit,
-                   TCalibrationFit& farFit)
+void detectionLine(const TCalibrationResult& r, double lambda, double seen,
+                   TCalibrationFit& nearFit, TCalibrationFit& farFit)
 {
     const auto& rs = r.samples.visibleRanges_m;
     const auto& ys = r.samples.visibleDetected;
@@ -102,8 +102,13 @@ void detectionLine(const TCalibrationResult& r, double lambda, TCalibrationFit& 
     };
     const std::string how = "least-squares line of detected (0/1) against range / " +
                             text(r.maxRange_m) + " m over the in-view objects";
-    nearFit = fit(std::clamp(a, 0.0, 1.0), n, kZ95 * se(0.0), how + ", at 0 m");
-    farFit = fit(std::clamp(a + b, 0.0, 1.0), n, kZ95 * se(1.0), how + ", at max range");
+    const std::string misread =
+        seen < 1 ? ", over the " + text(seen) + " of the detections not misread out of the gate"
+                 : "";
+    nearFit =
+        fit(std::clamp(a / seen, 0.0, 1.0), n, kZ95 * se(0.0) / seen, how + ", at 0 m" + misread);
+    farFit = fit(std::clamp((a + b) / seen, 0.0, 1.0), n, kZ95 * se(1.0) / seen,
+                 how + ", at max range" + misread);
 }
 }  // namespace
 
@@ -223,30 +228,48 @@ void fitDetector(TCalibrationResult& r)
     r.sigma_range_m = robustSigma(r.samples.rangeResiduals_m);
     r.sigma_bearing_deg = robustSigma(r.samples.bearingResiduals_deg);
     // Clutter within the gate of an object without a same-label match was taken for a
-    // confusion: its expected number depends on the clutter rate (fixed point).
-    double spuriousPerRate = 0;
-    for (double v : r.samples.visibleSpurious)
+    // confusion, and within its misread strip for a misread range: their expected numbers
+    // depend on the clutter rate (fixed point).
+    double confPerRate = 0, misPerRate = 0;
+    for (size_t i = 0; i < r.samples.visibleSpurious.size(); i++)
     {
-        spuriousPerRate += v;
+        confPerRate += r.samples.visibleSpurious[i];
+        misPerRate += r.samples.visibleMisreadSpurious[i];
     }
     const double scans = static_cast<double>(r.scans);
-    double lambda = static_cast<double>(r.clutter) / scans, spurious = 0;
+    double lambda = static_cast<double>(r.clutter) / scans, spurious = 0, spuriousMis = 0;
     for (int it = 0; it < 50; it++)
     {
-        spurious = std::min(lambda * spuriousPerRate, static_cast<double>(r.confused));
-        lambda = (static_cast<double>(r.clutter) + spurious) / scans;
+        spurious = std::min(lambda * confPerRate, static_cast<double>(r.confused));
+        spuriousMis = std::min(lambda * misPerRate, static_cast<double>(r.misread));
+        lambda = (static_cast<double>(r.clutter) + spurious + spuriousMis) / scans;
     }
-    detectionLine(r, lambda, r.p_detect_near, r.p_detect_far);
-    const double clutter = static_cast<double>(r.clutter) + spurious;
+    const double clutter = static_cast<double>(r.clutter) + spurious + spuriousMis;
     r.clutter_per_scan =
         fit(lambda, r.scans, kZ95 * std::sqrt(std::max(clutter, 1.0)) / scans,
             std::to_string(r.clutter) + " detections matching no in-view object + " +
-                text(spurious) + " expected in the confusion gates, per scan");
+                text(spurious + spuriousMis) + " expected in the confusion and misread gates, " +
+                "per scan");
     const double confused = static_cast<double>(r.confused) - spurious;
     const double n = static_cast<double>(r.matched) + confused;
     const double p = n > 0 ? confused / n : 0.0;
     r.p_confusion = fit(p, r.matched + r.confused, kZ95 * std::sqrt(p * (1 - p) / std::max(n, 1.0)),
                         std::to_string(r.confused) + " matched detections of another label, less " +
                             text(spurious) + " expected clutter");
+    // A misread inside the gate was matched there: the ones seen are the share outside it.
+    const double misread = static_cast<double>(r.misread) - spuriousMis;
+    const double own = static_cast<double>(r.matched) + misread;
+    const double outside = 1 - r.misreadInGate;
+    const bool fitted = own > 0 && outside > 0;
+    const double eps = fitted ? std::clamp(misread / (own * outside), 0.0, 0.99) : 0.0;
+    r.p_range_outlier =
+        fit(eps, r.matched + r.misread,
+            fitted ? kZ95 * std::sqrt(eps * (1 - eps) / std::max(own, 1.0)) / outside : 0.0,
+            std::to_string(r.misread) + " detections at an object's bearing outside its range " +
+                "gate, less " + text(spuriousMis) + " expected clutter, over the " +
+                text(100 * outside) + " % of the range outside the gate");
+    // The detection line counted the detections the gates matched: all but the misreads
+    // outside them.
+    detectionLine(r, lambda, 1 - eps * outside, r.p_detect_near, r.p_detect_far);
 }
 }  // namespace semloc::detail

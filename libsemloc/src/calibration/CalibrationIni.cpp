@@ -192,6 +192,7 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
     setFit(ini, kLikelihood, "p_detect_far", r.p_detect_far);
     setFit(ini, kLikelihood, "clutter_per_scan", r.clutter_per_scan);
     setFit(ini, kLikelihood, "p_confusion", r.p_confusion);
+    setFit(ini, kLikelihood, "p_range_outlier", r.p_range_outlier);
     if (r.increments < 4)
     {
         return ini.text();

@@ -105,14 +105,16 @@ std::string markdown(const TCalibrationResult& r)
     std::ostringstream m;
     m << "# semloc-calibrate: the fitted noise\n\n"
       << r.scans << " semantic scans: " << r.matched << " detections matched an in-view object "
-      << "of their label, " << r.confused << " one of another label, " << r.clutter
+      << "of their label, " << r.misread << " one of their label at its bearing but outside its "
+      << "range gate (misread range), " << r.confused << " one of another label, " << r.clutter
       << " none (clutter); " << r.increments << " odometry increments.\n\n"
       << "| key | value | 95 % | n | fit |\n| --- | --- | --- | --- | --- |\n"
       << row("sigma_range_m", r.sigma_range_m) << row("sigma_bearing_deg", r.sigma_bearing_deg)
       << row("p_detect_near", r.p_detect_near) << row("p_detect_far", r.p_detect_far)
       << row("clutter_per_scan", r.clutter_per_scan) << row("p_confusion", r.p_confusion)
-      << row("a1", r.a1) << row("a2", r.a2) << row("a3", r.a3) << row("a4", r.a4)
-      << row("minStdXY", r.minStdXY) << row("minStdPHI", r.minStdPHI)
+      << row("p_range_outlier", r.p_range_outlier) << row("a1", r.a1) << row("a2", r.a2)
+      << row("a3", r.a3) << row("a4", r.a4) << row("minStdXY", r.minStdXY)
+      << row("minStdPHI", r.minStdPHI)
       << "\n![residuals](fig_residuals.png)\n\n![detection](fig_detection.png)\n\n"
       << "![odometry](fig_odometry.png)\n";
     return m.str();

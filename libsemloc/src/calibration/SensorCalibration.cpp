@@ -14,9 +14,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "calibration/CalibrationFits.h"
 
@@ -24,6 +26,7 @@ namespace semloc
 {
 namespace
 {
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 using mrpt::obs::CActionCollection;
 using mrpt::obs::CActionRobotMovement2D;
 using mrpt::obs::CSensoryFrame;
@@ -138,6 +141,109 @@ double clutterInGate(const SemanticDetectorModel::TVisibleObject& v,
     return area / (obs.maxRange_m * obs.fov_rad);
 }
 
+/** The bearing interval of the misread strip of object `v` (within gateSigmas sigma_bearing
+ *  of its bearing), clipped to the field of view; empty when lo >= hi. */
+std::pair<double, double> misreadStrip(const SemanticDetectorModel::TVisibleObject& v,
+                                       const CObservationSemantic& obs, const Gate& gate)
+{
+    const double half = 0.5 * obs.fov_rad, hb = gate.k * gate.sigmaBearing_rad;
+    return {std::max(v.bearing_rad - hb, -half), std::min(v.bearing_rad + hb, half)};
+}
+
+/** Per in-view object, the share of one scan's clutter of its label expected in its misread
+ *  strip (its bearing gate at any range, outside its gate) when `open[v]` (no detection
+ *  matched it in a gate), else 0. A clutter detection is taken once: where strips of
+ *  one label overlap, their shares are scaled down to the union's. */
+std::vector<double> clutterInMisreadStrips(
+    const std::vector<SemanticDetectorModel::TVisibleObject>& vis, const std::vector<bool>& open,
+    const World& world, const CObservationSemantic& obs, const Gate& gate)
+{
+    std::vector<double> share(vis.size(), 0.0);
+    std::vector<bool> done(vis.size(), false);
+    for (size_t a = 0; a < vis.size(); a++)
+    {
+        if (!open[a] || done[a])
+        {
+            continue;
+        }
+        // The open objects of a's label: their strips' summed width and union.
+        const std::string& label = world.objects[vis[a].index].label;
+        std::vector<std::pair<double, double>> strips;
+        std::vector<size_t> members;
+        double sum = 0;
+        for (size_t v = a; v < vis.size(); v++)
+        {
+            if (open[v] && world.objects[vis[v].index].label == label)
+            {
+                const auto st = misreadStrip(vis[v], obs, gate);
+                sum += std::max(0.0, st.second - st.first);
+                strips.push_back(st);
+                members.push_back(v);
+                done[v] = true;
+            }
+        }
+        std::sort(strips.begin(), strips.end());
+        double uni = 0, end = -kInfinity;
+        for (const auto& [lo, hi] : strips)
+        {
+            uni += std::max(0.0, hi - std::max(lo, end));
+            end = std::max(end, hi);
+        }
+        const double scale = sum > 0 ? uni / sum : 0.0;
+        for (const size_t v : members)
+        {
+            const auto st = misreadStrip(vis[v], obs, gate);
+            share[v] = std::max(0.0, std::max(0.0, st.second - st.first) * scale / obs.fov_rad -
+                                         clutterInGate(vis[v], obs, gate));
+        }
+    }
+    return share;
+}
+
+/** One-to-one greedy matching, nearest bearing first, of the detections and objects left of
+ *  the same label whose bearings are within the gate's bearing half-width: misread ranges. */
+size_t matchMisread(const std::vector<TSemanticDetection>& dets,
+                    const std::vector<SemanticDetectorModel::TVisibleObject>& vis,
+                    const World& world, const Gate& gate, std::vector<int>& detTo,
+                    std::vector<int>& visTo)
+{
+    struct Pair
+    {
+        double db;
+        size_t j, v;
+    };
+    std::vector<Pair> pairs;
+    for (size_t j = 0; j < dets.size(); j++)
+    {
+        for (size_t v = 0; v < vis.size(); v++)
+        {
+            const double db =
+                std::abs(mrpt::math::wrapToPi(dets[j].bearing_rad - vis[v].bearing_rad));
+            if (detTo[j] < 0 && visTo[v] < 0 &&
+                dets[j].label == world.objects[vis[v].index].label &&
+                db <= gate.k * gate.sigmaBearing_rad)
+            {
+                pairs.push_back({db, j, v});
+            }
+        }
+    }
+    std::sort(pairs.begin(), pairs.end(),
+              [](const Pair& a, const Pair& b) {
+                  return a.db < b.db || (a.db == b.db && (a.j < b.j || (a.j == b.j && a.v < b.v)));
+              });
+    size_t n = 0;
+    for (const auto& p : pairs)
+    {
+        if (detTo[p.j] < 0 && visTo[p.v] < 0)
+        {
+            detTo[p.j] = static_cast<int>(p.v);
+            visTo[p.v] = static_cast<int>(p.j);
+            n++;
+        }
+    }
+    return n;
+}
+
 /** The detector's side of one scan at true pose `pose`, seen by `model`. */
 void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& pose, const World& world,
              const SemanticDetectorModel& model, const Gate& gate, TCalibrationResult& r)
@@ -176,19 +282,34 @@ void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& pose, c
             visTo[v] < 0 ? otherLabels * clutterInGate(vis[v], obs, gate) : 0.0);
     }
     matchGreedy(obs.detections, vis, world, gate, false, detTo, visTo);
+    const double ownLabel = 1.0 / static_cast<double>(std::max<size_t>(1, model.labels().size()));
+    std::vector<bool> open(vis.size());
     for (size_t v = 0; v < vis.size(); v++)
     {
         r.samples.visibleRanges_m.push_back(vis[v].range_m);
         r.samples.visibleDetected.push_back(visTo[v] >= 0 ? 1 : 0);
+        open[v] = visTo[v] < 0 && gate.normalized();
     }
+    for (const double share : clutterInMisreadStrips(vis, open, world, obs, gate))
+    {
+        r.samples.visibleMisreadSpurious.push_back(ownLabel * share);
+    }
+    // Misread ranges, once the sigmas are known (the first pass's disc has no bearing width),
+    // among what the gates left: they leave the other fits as they were.
+    const size_t misread =
+        gate.normalized() ? matchMisread(obs.detections, vis, world, gate, detTo, visTo) : 0;
     const auto used = static_cast<size_t>(
         std::count_if(detTo.begin(), detTo.end(), [](int v) { return v >= 0; }));
     r.matched += same;
-    r.confused += used - same;
+    r.misread += misread;
+    r.confused += used - same - misread;
     r.clutter += obs.detections.size() - used;
     if (r.scans == 0)
     {
         r.maxRange_m = obs.maxRange_m;
+        r.misreadInGate = gate.normalized()
+                              ? std::min(1.0, 2 * gate.k * gate.sigmaRange_m / obs.maxRange_m)
+                              : 0.0;
     }
     r.scans++;
 }

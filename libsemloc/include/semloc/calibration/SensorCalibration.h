@@ -36,6 +36,10 @@ struct TCalibrationSamples
     /** ... per unit of clutter rate, the expected other-label clutter within its gate when no
      *  detection of its label matched it (else 0): what the confusion pass may take for it. */
     std::vector<double> visibleSpurious;
+    /** ... per unit of clutter rate, the expected same-label clutter within its misread strip
+     *  (its bearing gate at any range, outside its gate) when no detection matched it in a
+     *  gate (else 0): what the misread pass may take for a misread range. */
+    std::vector<double> visibleMisreadSpurious;
     std::vector<double> odomDist_m;      //!< true increment length per step
     std::vector<double> odomTurn_rad;    //!< |true increment rotation| per step
     std::vector<double> odomErrXY_m;     //!< |position error| of the odometry per step
@@ -48,13 +52,19 @@ struct TCalibrationResult
 {
     TCalibrationFit sigma_range_m, sigma_bearing_deg;
     TCalibrationFit p_detect_near, p_detect_far;
-    TCalibrationFit clutter_per_scan, p_confusion;
+    TCalibrationFit clutter_per_scan, p_confusion, p_range_outlier;
     TCalibrationFit a1, a2, a3, a4, minStdXY, minStdPHI;
     /** Semantic scans with a ground-truth pose, and the detector's max range of the first. */
     size_t scans = 0;
     double maxRange_m = 0;
     /** Detections matched to an object of their label, of another label, unmatched. */
     size_t matched = 0, confused = 0, clutter = 0;
+    /** Of the detections not matched in the gate, those taken as a misread range of an
+     *  object of their label (its bearing, any range). */
+    size_t misread = 0;
+    /** The share of [0, max range] a misread range falls into and is still matched in the
+     *  gate (2 gateSigmas sigma_range / max range, at most 1). */
+    double misreadInGate = 0;
     /** Odometry increments compared with ground-truth increments. */
     size_t increments = 0;
     TCalibrationSamples samples;
@@ -70,7 +80,10 @@ struct TCalibrationResult
  *  and sensor pose). A detection is matched to an in-view object of its label within the
  *  **gate**, one to one, greedily from the nearest pair; the detections left are then
  *  matched, the same way, to the in-view objects left of any other label (confusions); the
- *  rest are clutter. The first pass's gate is a disc of `gate_m` (default 3 m) around the
+ *  rest are clutter. From the second pass on, a detection left after that is matched to an
+ *  in-view object left of its label whose bearing is within the gate's bearing half-width
+ *  (gateSigmas sigma_bearing) at any range, greedily from the nearest bearing: a misread
+ *  range. The first pass's gate is a disc of `gate_m` (default 3 m) around the
  *  object's centre in the sensor frame; each of the `gatePasses` next passes (default 2)
  *  gates with the ellipse (d_range / sigma_range)^2 + (d_bearing / sigma_bearing)^2 <=
  *  `gateSigmas`^2 (default 4) with the sigmas the previous pass fitted, so a large bearing
@@ -84,7 +97,11 @@ struct TCalibrationResult
  *  matched residuals (robust to the few clutter points the gate lets in). p_detect_near/far:
  *  least-squares line of "detected" (0/1) against r / max_range over every in-view object,
  *  at 0 and at 1. clutter_per_scan: unmatched detections per scan (Poisson interval), corrected as
- *  above. p_confusion: confused / (matched + confused), corrected as above. Odometry: the error of
+ *  above. p_confusion: confused / (matched + confused), corrected as above. p_range_outlier:
+ *  misread ranges over the detections of an object of their label, less the same-label
+ *  clutter expected in the misread strips (uniform: the strip's area less the gate's), over
+ *  the share of [0, max range] outside the gate (a misread inside it is matched); P_D's line
+ *  is divided by 1 - p_range_outlier x that share (the misreads it did not count). Odometry: the error of
  * each odometry increment against the ground-truth increment (both in the previous true pose's
  * frame); E|e_xy| = std_xy sqrt(pi/2) for an isotropic 2D Gaussian and E|e_phi| = std_phi
  * sqrt(2/pi), so least squares of |e| against [1, d, |dphi|] gives minStdXY, a1, a2 and minStdPHI,
