@@ -109,8 +109,8 @@ void run()
               << ", sigma_bearing_deg " << result.sigma_bearing_deg.value << ", p_detect "
               << result.p_detect_near.value << " .. " << result.p_detect_far.value
               << ", clutter_per_scan " << result.clutter_per_scan.value << ", p_confusion "
-              << result.p_confusion.value << "; wrote " << out
-              << (report.empty() ? "" : " and " + report) << "\n";
+              << result.p_confusion.value << ", p_range_outlier " << result.p_range_outlier.value
+              << "; wrote " << out << (report.empty() ? "" : " and " + report) << "\n";
 }
 }  // namespace
 

@@ -186,8 +186,11 @@ TEST(Benchmark, ScenarioSetsTheInitialCloudOfEveryVariant)
 TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
 {
     const auto b = semloc::Benchmark::FromConfigFile(kConfig + "realdata.ini");
-    ASSERT_EQ(b.scenarios().size(), 5u);
+    ASSERT_EQ(b.scenarios().size(), 6u);
     const auto& all = b.scenarios().back();
+    EXPECT_EQ(b.scenarios()[4].scenario().name, "misread_ranges");
+    EXPECT_EQ(b.scenarios()[4].simulation().detector.p_range_outlier, 0.2);
+    EXPECT_EQ(all.simulation().detector.p_range_outlier, 0.0);
     EXPECT_EQ(all.simulation().detector.distractors, 4);
     EXPECT_EQ(b.scenarios()[3].scenario().name, "distractors");
     EXPECT_EQ(b.scenarios()[3].simulation().detector.distractors, 4);
@@ -243,6 +246,29 @@ TEST(Benchmark, ShippedKldIniComparesTheFixedCountWithKld)
         EXPECT_FALSE(fixed.pf.adaptiveSampleSize);
         EXPECT_TRUE(kld.pf.adaptiveSampleSize);
         EXPECT_TRUE(kld.recovery.enabled());
+    }
+}
+
+TEST(Benchmark, ShippedMisreadIniComparesTheGaussianRangeWithTheHeavyTailedOne)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "misread.ini");
+    ASSERT_EQ(b.scenarios().size(), 5u);
+    EXPECT_EQ(b.scenarios()[2].scenario().name, "misread_ranges");
+    EXPECT_EQ(b.scenarios()[2].simulation().detector.p_range_outlier, 0.2);
+    EXPECT_TRUE(b.scenarios()[1].simulation().kidnapping.enabled);
+    for (const auto& sc : b.scenarios())
+    {
+        ASSERT_EQ(sc.variants().size(), 2u);
+        std::vector<double> eps;
+        for (const auto& v : sc.variants())
+        {
+            const auto sem = v.maps.map->mapByClass<semloc::CSemanticMap>();
+            ASSERT_TRUE(sem) << v.name();
+            eps.push_back(sem->likelihoodOptions.p_range_outlier);
+        }
+        EXPECT_EQ(sc.variants()[0].name(), "semantic");
+        EXPECT_EQ(sc.variants()[1].name(), "semantic_misread");
+        EXPECT_EQ(eps, (std::vector<double>{0.0, 0.05}));
     }
 }
 

@@ -545,6 +545,7 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
     };
     const std::vector<Variant> variants = {
         {"semantic_marginal", "semantic", {{"association", "marginal"}}},
+        {"semantic_misread", "semantic", {{"p_range_outlier", "0.05"}}},
         {"semantic_norecovery",
          "semantic",
          {{"recovery_alpha_slow", "0"}, {"recovery_alpha_fast", "0"}}},
