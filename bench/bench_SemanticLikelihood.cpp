@@ -104,11 +104,13 @@ void runSingle(benchmark::State& state, CSemanticMap::Model model)
 /** All 4096 particles per call (computeLogLikelihoods, the localizer's path).
  *  Counter per_particle = time of one call / 4096. */
 void runBatch(benchmark::State& state, CSemanticMap::Model model,
-              CSemanticMap::Association association = CSemanticMap::Association::Greedy)
+              CSemanticMap::Association association = CSemanticMap::Association::Greedy,
+              double pRangeOutlier = 0)
 {
     Setup s =
         makeSetup(static_cast<int>(state.range(0)), static_cast<size_t>(state.range(1)), model);
     s.map.likelihoodOptions.association = association;
+    s.map.likelihoodOptions.p_range_outlier = pRangeOutlier;
     std::vector<double> out(s.particles.size());
     for (auto _ : state)
     {
@@ -162,6 +164,18 @@ void BM_MarginalBatch(benchmark::State& s)
     runBatch(s, CSemanticMap::Model::Probabilistic, CSemanticMap::Association::Marginal);
 }
 
+/** Misread ranges (p_range_outlier = 0.05: every range passes the range gate, each pair's
+ *  range term a mixture): compare with BM_PaperBatch / BM_ProbabilisticBatch of the same
+ *  arguments in the same run (--benchmark_enable_random_interleaving=true). */
+void BM_PaperMisreadBatch(benchmark::State& s)
+{
+    runBatch(s, CSemanticMap::Model::Paper, CSemanticMap::Association::Greedy, 0.05);
+}
+void BM_ProbabilisticMisreadBatch(benchmark::State& s)
+{
+    runBatch(s, CSemanticMap::Model::Probabilistic, CSemanticMap::Association::Greedy, 0.05);
+}
+
 // The reference point: 50 objects, 5 detections.
 BENCHMARK(BM_PaperSingle)->Args({50, 5});
 BENCHMARK(BM_PaperBatch)->Args({50, 5});
@@ -170,6 +184,9 @@ BENCHMARK(BM_ProbabilisticBatch)->Args({50, 5});
 // The marginal association against the greedy one, 5 and 10 detections.
 BENCHMARK(BM_MarginalBatch)->Args({50, 5})->Args({50, 10});
 BENCHMARK(BM_ProbabilisticBatch)->Args({50, 10});
+// Misread ranges against the Gaussian range model.
+BENCHMARK(BM_PaperMisreadBatch)->Args({50, 5});
+BENCHMARK(BM_ProbabilisticMisreadBatch)->Args({50, 5});
 // Particles per call (10^2 .. 10^5).
 BENCHMARK(BM_PaperBatchParticles)
     ->ArgName("particles")
