@@ -34,12 +34,13 @@ constexpr size_t kPoses = 10;
 /** |fast - reference| allowed per matched pair where the fast path approximates: its atan2 is
  *  within 1e-7 rad of libm's, so a pair's bearing term -1/2 (dtheta / sigma_theta)^2 may differ
  *  by |dtheta| 1e-7 / sigma_theta^2, and the gates bound |dtheta| by sigma_theta sqrt(budget)
- *  (the bearing budget, no larger with misread ranges): at most sqrt(budget) 1e-7 / sigma_theta,
- *  3.4e-5 for the options drawn here (sigma_theta >= 1 deg; budget <= 36, the probabilistic
- *  model's at sigma_rho = 0.2 m, P_D = 0.99, lambda = 0.05, R = 30 m, 4 labels). Everything else (sin/cos to 1e-15, the order of
- *  sums and logs) is ~1e-12. The test prints the largest difference and the largest per
- *  matched pair it measured (4.3e-5 and 7.5e-6 with this seed); the tolerance, m 1e-4 for m
- *  matched pairs, keeps a margin of ~3 over the bound and ~13 over the measure. */
+ *  (the bearing budget, no larger with misread ranges): at most sqrt(budget) 1e-7 /
+ *  sigma_theta, 3.4e-5 for the options drawn here (sigma_theta >= 1 deg; budget <= 36, the
+ *  probabilistic model's at sigma_rho = 0.2 m, P_D = 0.99, lambda = 0.05, R = 30 m, 4 labels).
+ *  Everything else (sin/cos to 1e-15, the order of sums and logs) is ~1e-12. The test prints
+ *  the largest difference and the largest per matched pair it measured (4.3e-5 and 7.5e-6
+ *  with this seed); the tolerance, m 1e-4 for m matched pairs, keeps a margin of ~3 over the
+ *  bound and ~13 over the measure. */
 constexpr double kTolerancePerPair = 1e-4;
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();

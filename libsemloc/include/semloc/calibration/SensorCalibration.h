@@ -96,16 +96,17 @@ struct TCalibrationResult
  *  **Fits.** sigma_range_m, sigma_bearing_deg: 1.4826 x the median absolute deviation of the
  *  matched residuals (robust to the few clutter points the gate lets in). p_detect_near/far:
  *  least-squares line of "detected" (0/1) against r / max_range over every in-view object,
- *  at 0 and at 1. clutter_per_scan: unmatched detections per scan (Poisson interval), corrected as
- *  above. p_confusion: confused / (matched + confused), corrected as above. p_range_outlier:
- *  misread ranges over the detections of an object of their label, less the same-label
- *  clutter expected in the misread strips (uniform: the strip's area less the gate's), over
- *  the share of [0, max range] outside the gate (a misread inside it is matched); P_D's line
- *  is divided by 1 - p_range_outlier x that share (the misreads it did not count). Odometry: the error of
- * each odometry increment against the ground-truth increment (both in the previous true pose's
- * frame); E|e_xy| = std_xy sqrt(pi/2) for an isotropic 2D Gaussian and E|e_phi| = std_phi
- * sqrt(2/pi), so least squares of |e| against [1, d, |dphi|] gives minStdXY, a1, a2 and minStdPHI,
- * a3, a4 (clamped at 0); a coefficient whose regressor does not vary (e.g. no turns) is 0. */
+ *  at 0 and at 1. clutter_per_scan: unmatched detections per scan (Poisson interval),
+ *  corrected as above. p_confusion: confused / (matched + confused), corrected as above.
+ *  p_range_outlier: misread ranges over the detections of an object of their label, less the
+ *  same-label clutter expected in the misread strips (uniform: the strips' area less the
+ *  gates'), over the share of [0, max range] outside the gate (a misread inside it is
+ *  matched); P_D's line is divided by 1 - p_range_outlier x that share (the misreads it did
+ *  not count). Odometry: the error of each odometry increment against the ground-truth
+ *  increment (both in the previous true pose's frame); E|e_xy| = std_xy sqrt(pi/2) for an
+ *  isotropic 2D Gaussian and E|e_phi| = std_phi sqrt(2/pi), so least squares of |e| against
+ *  [1, d, |dphi|] gives minStdXY, a1, a2 and minStdPHI, a3, a4 (clamped at 0); a coefficient
+ *  whose regressor does not vary (e.g. no turns) is 0. */
 class SensorCalibration
 {
 public:
