@@ -318,6 +318,48 @@ TEST(CSemanticMap, MisreadRangeMixtureExactly)
     }
 }
 
+TEST(CSemanticMap, UncertainObjectFormulaExactly)
+{
+    // One object straight ahead at 5 m, known to +-0.4 m, there with probability 0.6, a pillar
+    // with 0.7 and an anchor with 0.3; the map's labels: pillar and anchor (K = 2).
+    CSemanticMap m;
+    CSemanticMap::TObject ob;
+    ob.id = 1;
+    ob.label = "pillar";
+    ob.x = 5;
+    ob.sigma_m = 0.4;
+    ob.p_exist = 0.6;
+    ob.classes = {{"anchor", 0.3}, {"pillar", 0.7}};
+    m.addObject(ob);
+    auto& o = m.likelihoodOptions;
+    o.model = CSemanticMap::Model::Probabilistic;
+    CObservationSemantic obs;
+    obs.maxRange_m = 10;
+    obs.fov_rad = M_PI;
+    const double R = 10, pc = o.p_confusion, lambda = o.clutter_per_scan;
+    const double pd = 0.6 * (o.p_detect_near + (o.p_detect_far - o.p_detect_near) * 5 / R);
+    auto logN = [](double d, double var)
+    { return -0.5 * d * d / var - 0.5 * std::log(2 * M_PI * var); };
+    const double sr = o.sigma_range_m, sb = o.sigma_bearing_deg * M_PI / 180;
+    const double vr = sr * sr + 0.16, vb = sb * sb + 0.16 / 25;  // sigma_m / rho, rho = 5 m
+    const double dr = 0.3, db = 2.0 * M_PI / 180;
+    // Seen as an anchor: C = 0.3 (1 - p_c) + 0.7 p_c / (K - 1).
+    obs.detections = {detection("anchor", 5 + dr, db)};
+    const double matched =
+        -lambda + std::log(pd) + std::log(0.3 * (1 - pc) + 0.7 * pc) + logN(dr, vr) + logN(db, vb);
+    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), matched, 1e-6);
+    // Not seen: a miss of probability 1 - p_exist P_D.
+    obs.detections.clear();
+    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), -lambda + std::log(1 - pd), 1e-9);
+    // A label it cannot be is clutter, unless p_c lets any label be any other.
+    m.addObject({2, "wreck", 40, 40, 0, 0.3, 1});
+    o.p_confusion = 0;
+    obs.detections = {detection("wreck", 5 + dr, db)};
+    const double kappa = lambda / (R * M_PI * 3);  // K = 3 labels now
+    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)),
+                -lambda + std::log(kappa) + std::log(1 - pd), 1e-9);
+}
+
 TEST(CSemanticMap, AFullCircleSeesAnObjectStraightBehind)
 {
     // fov = 2 pi sees every direction: an object straight behind the sensor, where the
@@ -872,6 +914,43 @@ TEST(CSemanticMap, SerializationAndSavedYamlRoundTrip)
         EXPECT_NEAR(reloaded.objects()[i].extent_m, m.objects()[i].extent_m, 1e-12);
     }
     EXPECT_NE(m.asString().find("12 objects"), std::string::npos);
+}
+
+TEST(CSemanticMap, SerializationKeepsHowSureTheMapIs)
+{
+    CSemanticMap a;
+    CSemanticMap::TObject ob;
+    ob.id = 3;
+    ob.label = "pillar";
+    ob.x = 2;
+    ob.y = 7;
+    ob.sigma_m = 0.25;
+    ob.p_exist = 0.5;
+    ob.classes = {{"anchor", 0.125}, {"pillar", 0.875}};
+    ob.n_detected = 4;
+    ob.scatter_m2 = 0.75;
+    ob.n_in_view = 9;
+    ob.expected_detections = 6.5;
+    a.addObject(ob);
+    CSemanticMap b;
+    ASSERT_EQ(readArchiveInto(archiveBytes(a), b), "");
+    ASSERT_EQ(b.objects().size(), 1u);
+    const auto& c = b.objects()[0];
+    EXPECT_EQ(c.sigma_m, 0.25);
+    EXPECT_EQ(c.p_exist, 0.5);
+    EXPECT_EQ(c.classes, ob.classes);
+    EXPECT_EQ(c.n_detected, 4u);
+    EXPECT_EQ(c.scatter_m2, 0.75);
+    EXPECT_EQ(c.n_in_view, 9u);
+    EXPECT_EQ(c.expected_detections, 6.5);
+    // A class probability spoiled in the bytes is refused, the map left as it was.
+    std::string bytes = archiveBytes(a);
+    const double bad = 7.0, good = 0.875;
+    const size_t at = bytes.find(std::string(reinterpret_cast<const char*>(&good), sizeof good));
+    ASSERT_NE(at, std::string::npos);
+    bytes.replace(at, sizeof bad, std::string(reinterpret_cast<const char*>(&bad), sizeof bad));
+    EXPECT_NE(readArchiveInto(bytes, b), "");
+    EXPECT_EQ(b.objects()[0].classes, ob.classes);
 }
 
 TEST(CSemanticMap, FlagBytesOtherThanZeroOrOneAreRejected)

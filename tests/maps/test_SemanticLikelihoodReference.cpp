@@ -38,9 +38,9 @@ constexpr size_t kPoses = 10;
  *  sigma_theta, 3.4e-5 for the options drawn here (sigma_theta >= 1 deg; budget <= 36, the
  *  probabilistic model's at sigma_rho = 0.2 m, P_D = 0.99, lambda = 0.05, R = 30 m, 4 labels).
  *  Everything else (sin/cos to 1e-15, the order of sums and logs) is ~1e-12. The test prints
- *  the largest difference and the largest per matched pair it measured (4.3e-5 and 7.5e-6
+ *  the largest difference and the largest per matched pair it measured (4.9e-5 and 5.9e-6
  *  with this seed); the tolerance, m 1e-4 for m matched pairs, keeps a margin of ~3 over the
- *  bound and ~13 over the measure. */
+ *  bound and ~17 over the measure (wider sigmas of uncertain objects only lower the bound). */
 constexpr double kTolerancePerPair = 1e-4;
 
 const double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -65,7 +65,31 @@ struct Rng
     double gauss(double sigma) { return g.drawGaussian1D(0.0, sigma); }
 };
 
-/** A map of 0..40 objects over up to 80 x 80 m in 1..4 labels, options drawn at random. */
+/** A position sigma, a p_exist and a class distribution over the first nLabels labels (its
+ *  own among them), each drawn or left at its default. */
+void makeUncertain(Rng& rng, size_t nLabels, CSemanticMap::TObject& ob)
+{
+    ob.sigma_m = rng.pick<double>({0.0, 0.3, 2.0});
+    ob.p_exist = rng.pick<double>({1.0, 0.7, 0.2});
+    if (nLabels > 1 && rng.chance(0.5))
+    {
+        const double own = rng.uniform(0.4, 0.9);
+        const std::string& other = kLabels[rng.index(nLabels)];
+        ob.classes = {{ob.label, own}};
+        if (other != ob.label)
+        {
+            ob.classes.emplace_back(other, 1 - own);
+        }
+        else
+        {
+            ob.classes[0].second = 1;
+        }
+        std::sort(ob.classes.begin(), ob.classes.end());
+    }
+}
+
+/** A map of 0..40 objects over up to 80 x 80 m in 1..4 labels, options drawn at random; in
+ *  one map of three, half the objects uncertain (makeUncertain). */
 CSemanticMap randomMap(Rng& rng, size_t& nLabels)
 {
     CSemanticMap m;
@@ -85,6 +109,7 @@ CSemanticMap randomMap(Rng& rng, size_t& nLabels)
     o.fov_deg = rng.chance(0.2) ? rng.uniform(20.0, 360.0) : 0.0;
     o.index_cell_m = rng.pick<double>({2.0, 5.0, 3.7});
     nLabels = 1 + rng.index(4);
+    const bool uncertain = rng.chance(0.33);
     const size_t n = rng.pick<size_t>({0, 1, 3, 8, 20, 40, 40});
     const double w = rng.uniform(20.0, 80.0), h = rng.uniform(20.0, 80.0);
     for (size_t i = 0; i < n; i++)
@@ -100,6 +125,10 @@ CSemanticMap randomMap(Rng& rng, size_t& nLabels)
             ob.x = prev.x;
             ob.y = prev.y;
             ob.label = prev.label;
+        }
+        if (uncertain && rng.chance(0.5))
+        {
+            makeUncertain(rng, nLabels, ob);
         }
         m.addObject(ob);
     }
@@ -329,10 +358,17 @@ struct Coverage
 {
     size_t scenes = 0, landmark = 0, paper = 0, probabilistic = 0, exact = 0, floor = 0,
            unusable = 0, onEdge = 0, matched = 0, severalMatched = 0, contested = 0, withIds = 0,
-           misreadModel = 0;
+           misreadModel = 0, uncertainMap = 0;
     double maxDiff = 0, maxPerPair = 0;
     size_t failures = 0;
 };
+
+bool uncertainMap(const CSemanticMap& m)
+{
+    return std::any_of(m.objects().begin(), m.objects().end(),
+                       [](const CSemanticMap::TObject& o)
+                       { return o.sigma_m > 0 || o.p_exist < 1 || !o.classes.empty(); });
+}
 
 template <typename OBS>
 void compare(const CSemanticMap& m, const OBS& obs, const std::vector<TPose2D>& p, Coverage& cov,
@@ -392,6 +428,7 @@ void compare(const CSemanticMap& m, const OBS& obs, const std::vector<TPose2D>& 
         cov.severalMatched += t.m >= 2 ? 1 : 0;
         cov.contested += t.l > t.m && t.q > t.m && t.m > 0 ? 1 : 0;
         cov.misreadModel += m.likelihoodOptions.p_range_outlier > 0 && t.m > 0 ? 1 : 0;
+        cov.uncertainMap += !paper && uncertainMap(m) && t.m > 0 ? 1 : 0;
         (paper ? cov.paper : cov.probabilistic)++;
     }
 }
@@ -442,6 +479,7 @@ TEST(SemanticLikelihoodReference, FastPathEqualsReferenceOnRandomScenes)
               << cov.exact << "; with a match " << cov.matched << ", >= 2 matches "
               << cov.severalMatched << ", unmatched on both sides " << cov.contested
               << ", with a match under misread ranges " << cov.misreadModel
+              << ", probabilistic with a match in a map of uncertain objects " << cov.uncertainMap
               << "; largest |fast - reference| " << cov.maxDiff << ", per matched pair "
               << cov.maxPerPair << " (tolerance " << kTolerancePerPair << " per pair)\n";
     EXPECT_EQ(cov.failures, 0u);
@@ -453,6 +491,7 @@ TEST(SemanticLikelihoodReference, FastPathEqualsReferenceOnRandomScenes)
     EXPECT_GT(cov.withIds, 20000u);
     EXPECT_GT(cov.unusable, 1500u);
     EXPECT_GT(cov.misreadModel, 3000u);
+    EXPECT_GT(cov.uncertainMap, 2000u);
     EXPECT_GT(cov.floor, 4000u);
     EXPECT_GT(cov.matched, 10000u);
     EXPECT_GT(cov.severalMatched, 6000u);
@@ -489,6 +528,10 @@ CSemanticMap smallMap(Rng& rng, size_t& nLabels, CSemanticMap::Association assoc
         ob.label = kLabels[rng.index(nLabels)];
         ob.x = rng.uniform(0.0, 12.0);
         ob.y = rng.uniform(0.0, 12.0);
+        if (rng.chance(0.3))
+        {
+            makeUncertain(rng, nLabels, ob);
+        }
         m.addObject(ob);
     }
     return m;

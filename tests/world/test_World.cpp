@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 using semloc::ShapeType;
 using semloc::World;
@@ -79,6 +81,33 @@ TEST(World, RoundTripsThroughYamlText)
         EXPECT_NEAR(a.objects[i].center.y, b.objects[i].center.y, 1e-12);
     }
     EXPECT_EQ(a.toYamlText(), b.toYamlText());
+}
+
+TEST(World, ReadsAndWritesHowSureTheMapIsOfAnObject)
+{
+    const World a = World::FromText(
+        "bounds: {x_min: 0, x_max: 50, y_min: 0, y_max: 50}\nobjects:\n"
+        "  - {id: 1, label: pillar, shape: cylinder, center: [5, 5], radius: 0.5, sigma_m: 0.4,"
+        " p_exist: 0.8, classes: {pillar: 0.7, anchor: 0.3}}\n"
+        "  - {id: 2, label: anchor, shape: point, center: [9, 9]}\n",
+        "sure.yaml");
+    ASSERT_EQ(a.objects.size(), 2u);
+    EXPECT_EQ(a.objects[0].sigma_m, 0.4);
+    EXPECT_EQ(a.objects[0].p_exist, 0.8);
+    using Classes = std::vector<std::pair<std::string, double>>;
+    EXPECT_EQ(a.objects[0].classes, (Classes{{"anchor", 0.3}, {"pillar", 0.7}}));  // sorted
+    EXPECT_EQ(a.objects[1].sigma_m, 0.0);
+    EXPECT_EQ(a.objects[1].p_exist, 1.0);
+    EXPECT_TRUE(a.objects[1].classes.empty());
+    // Written back only where not the defaults, and read back the same.
+    const std::string text = a.toYamlText();
+    EXPECT_NE(text.find("sigma_m: 0.4, p_exist: 0.8, classes: {anchor: 0.3, pillar: 0.7}"),
+              std::string::npos)
+        << text;
+    EXPECT_EQ(text.find("p_exist", text.find("id: 2")), std::string::npos) << text;
+    const World b = World::FromText(text, "again.yaml");
+    EXPECT_EQ(b.objects[0].classes, a.objects[0].classes);
+    EXPECT_EQ(b.toYamlText(), text);
 }
 
 TEST(World, MissingFileNamesThePath)
@@ -196,6 +225,27 @@ TEST(World, RejectsEachKindOfBadFileWithFileObjectAndKey)
          "  - {id: 4, label: a, shape: point, center: [1, 1]}\n"
          "  - {id: 4, label: b, shape: point, center: [2, 2]}\n",
          {"objects[1] (id 4)", "duplicate id 4"}},
+        {"negative sigma_m",
+         withObject("{id: 1, label: a, shape: point, center: [1, 1], sigma_m: -0.1}"),
+         {"objects[0] (id 1)", "'sigma_m'", ">= 0"}},
+        {"p_exist zero",
+         withObject("{id: 1, label: a, shape: point, center: [1, 1], p_exist: 0}"),
+         {"'p_exist'", "(0, 1]"}},
+        {"p_exist above one",
+         withObject("{id: 1, label: a, shape: cylinder, center: [1, 1], radius: 1, p_exist: 1.5}"),
+         {"'p_exist'", "(0, 1]"}},
+        {"classes not a map",
+         withObject("{id: 1, label: a, shape: point, center: [1, 1], classes: [a, b]}"),
+         {"'classes'", "expected a map"}},
+        {"classes not summing to one",
+         withObject("{id: 1, label: a, shape: point, center: [1, 1], classes: {a: 0.5, b: 0.4}}"),
+         {"'classes'", "sum to 0.9"}},
+        {"classes without the label",
+         withObject("{id: 1, label: a, shape: point, center: [1, 1], classes: {b: 0.5, c: 0.5}}"),
+         {"'classes'", "the object's label 'a'"}},
+        {"class probability out of range",
+         withObject("{id: 1, label: a, shape: point, center: [1, 1], classes: {a: 1.2, b: -0.2}}"),
+         {"'classes'", "(0, 1]"}},
         {"bad trajectory speed",
          "bounds: {x_min: 0, x_max: 5, y_min: 0, y_max: 5}\nobjects: []\n"
          "trajectory: {speed_mps: 0, waypoints: [[1, 1], [2, 2]]}\n",

@@ -92,6 +92,43 @@ void checkObject(const CSemanticMap::TObject& o)
     ASSERT_GT_(o.id, 0);
     ASSERT_(!o.label.empty());
     ASSERT_(std::isfinite(o.x) && std::isfinite(o.y) && std::isfinite(o.z));
+    if (!(std::isfinite(o.sigma_m) && o.sigma_m >= 0 && o.sigma_m <= kMaxWorldCoordinate_m))
+    {
+        THROW_EXCEPTION_FMT("CSemanticMap: object id %d: sigma_m must be finite and >= 0", o.id);
+    }
+    if (!(o.p_exist > 0 && o.p_exist <= 1))
+    {
+        THROW_EXCEPTION_FMT("CSemanticMap: object id %d: p_exist must be in (0, 1]", o.id);
+    }
+    if (!(std::isfinite(o.scatter_m2) && o.scatter_m2 >= 0 &&
+          std::isfinite(o.expected_detections) && o.expected_detections >= 0))
+    {
+        THROW_EXCEPTION_FMT("CSemanticMap: object id %d: bad insertion counts", o.id);
+    }
+    if (o.classes.empty())
+    {
+        return;
+    }
+    double sum = 0;
+    bool own = false;
+    for (size_t i = 0; i < o.classes.size(); i++)
+    {
+        const auto& [label, p] = o.classes[i];
+        if (label.empty() || !(p > 0 && p <= 1) || (i > 0 && !(o.classes[i - 1].first < label)))
+        {
+            THROW_EXCEPTION_FMT(
+                "CSemanticMap: object id %d: classes must be distinct labels, sorted, each with "
+                "a probability in (0, 1]",
+                o.id);
+        }
+        sum += p;
+        own = own || label == o.label;
+    }
+    if (std::abs(sum - 1) > 1e-6 || !own)
+    {
+        THROW_EXCEPTION_FMT(
+            "CSemanticMap: object id %d: classes must sum to 1 and hold the object's label", o.id);
+    }
 }
 }  // namespace
 
@@ -265,6 +302,9 @@ void CSemanticMap::loadFromWorld(const World& world)
         o.y = wo.center.y;
         o.z = wo.z;
         o.extent_m = wo.extent_m;
+        o.sigma_m = wo.sigma_m;
+        o.p_exist = wo.p_exist;
+        o.classes = wo.classes;
         m_objects.push_back(std::move(o));
     }
     m_bounds = world.bounds;
@@ -330,6 +370,9 @@ World CSemanticMap::toWorld() const
         wo.center = {o.x, o.y};
         wo.z = o.z;
         wo.extent_m = o.extent_m;
+        wo.sigma_m = o.sigma_m;
+        wo.p_exist = o.p_exist;
+        wo.classes = o.classes;
         w.objects.push_back(std::move(wo));
     }
     return w;
@@ -339,7 +382,7 @@ World CSemanticMap::toWorld() const
 
 uint8_t CSemanticMap::serializeGetVersion() const
 {
-    return 0;
+    return 1;
 }
 
 void CSemanticMap::serializeTo(mrpt::serialization::CArchive& out) const
@@ -351,6 +394,14 @@ void CSemanticMap::serializeTo(mrpt::serialization::CArchive& out) const
         {
             THROW_EXCEPTION_FMT("CSemanticMap: cannot write object id %d: its %s", o.id, p.c_str());
         }
+        for (const auto& c : o.classes)
+        {
+            if (const std::string p = labelLengthProblem(c.first); !p.empty())
+            {
+                THROW_EXCEPTION_FMT("CSemanticMap: cannot write object id %d: a class's %s", o.id,
+                                    p.c_str());
+            }
+        }
     }
     out << genericMapParams;
     out << m_hasBounds << m_bounds.x_min << m_bounds.x_max << m_bounds.y_min << m_bounds.y_max;
@@ -358,6 +409,14 @@ void CSemanticMap::serializeTo(mrpt::serialization::CArchive& out) const
     for (const auto& o : m_objects)
     {
         out << o.id << o.label << o.x << o.y << o.z << o.extent_m << o.n_observations;
+        // Version 1: how sure the map is of it, and the insertion's bookkeeping.
+        out << o.sigma_m << o.p_exist << o.n_detected << o.scatter_m2 << o.n_in_view
+            << o.expected_detections;
+        out.WriteAs<uint32_t>(o.classes.size());
+        for (const auto& [label, p] : o.classes)
+        {
+            out << label << p;
+        }
     }
 }
 
@@ -366,6 +425,7 @@ void CSemanticMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t vers
     switch (version)
     {
         case 0:
+        case 1:
         {
             // Read into locals: a throw leaves the map as it was, objects and index consistent.
             WorldBounds bounds;
@@ -381,6 +441,19 @@ void CSemanticMap::serializeFrom(mrpt::serialization::CArchive& in, uint8_t vers
                 in >> o.id;
                 detail::readString(in, o.label, "CSemanticMap object label");
                 in >> o.x >> o.y >> o.z >> o.extent_m >> o.n_observations;
+                if (version >= 1)
+                {
+                    in >> o.sigma_m >> o.p_exist >> o.n_detected >> o.scatter_m2 >> o.n_in_view >>
+                        o.expected_detections;
+                    const uint32_t nc = detail::readCount(in, 1u << 16, "CSemanticMap classes");
+                    for (uint32_t c = 0; c < nc; c++)
+                    {
+                        std::pair<std::string, double> cl;
+                        detail::readString(in, cl.first, "CSemanticMap class label");
+                        in >> cl.second;
+                        o.classes.push_back(std::move(cl));
+                    }
+                }
                 checkObject(o);
                 if (!ids.insert(o.id).second)
                 {

@@ -93,7 +93,7 @@ size_t gateBlock(const CSemanticMap::Index& ix, const ModelConsts& k, Scratch& s
                  const Geom* geoms, size_t ne, IdTest idTest)
 {
     const size_t ns = sc.slotCount;
-    const double ir = k.ir, maxBudget = k.rangeBudget, cosGate = k.cosGate;
+    const double ir = k.gateIr, maxBudget = k.rangeBudget, cosGate = k.cosGate;
     const double* X = ix.x.data();
     const double* Y = ix.y.data();
     const int32_t* L = ix.label.data();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 #include "maps/SemanticAssociation.h"
@@ -17,6 +18,8 @@ namespace semloc::semantic
 {
 namespace
 {
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
 /** Most pairs of a particle whose q totalsBlock folds into the product: q^8 >= 1e-48. */
 constexpr uint32_t kFoldPairs = 8;
 
@@ -72,7 +75,8 @@ size_t scanBlock(const CSemanticMap::Index& ix, Scratch& sc, const Geom* geoms,
 
 /** Stage 2: the ranges of the ne entries and their P_D(rho), clamped inside (0, 1), two at
  *  a time (the arrays have room for the pair's second lane). */
-void rangesBlock(Scratch& sc, size_t ne, const CSemanticMap::TLikelihoodOptions& opt, double R)
+void rangesBlock(const CSemanticMap::Index& ix, Scratch& sc, size_t ne,
+                 const CSemanticMap::TLikelihoodOptions& opt, double R)
 {
     using namespace detail;
     const double* D2 = sc.bD2.data();
@@ -87,6 +91,16 @@ void rangesBlock(Scratch& sc, size_t ne, const CSemanticMap::TLikelihoodOptions&
         const Vec2 p = vnear + vslope * (r / vR);
         storeLanes(RR + e, r);
         storeLanes(PD + e, maxLanes(minLanes(p, hi), lo));  // = std::clamp: p is finite
+    }
+    if (!ix.pExist.empty())
+    {
+        // An object that may be gone: P_D = p_exist P_D(rho), clamped the same way.
+        const uint32_t* hit = sc.bHit.data();
+        for (size_t e = 0; e < ne; e++)
+        {
+            const double p = opt.p_detect_near + slope * (RR[e] / R);
+            PD[e] = std::clamp(ix.pExist[hit[e]] * p, 1e-6, 1 - 1e-6);
+        }
     }
 }
 
@@ -174,7 +188,7 @@ size_t gateBlock(const CSemanticMap::Index& ix, Scratch& sc, const ModelConsts& 
     const uint32_t* binSpan = sc.binSpan.data();
     const size_t nb = sc.binCount;
     const double binInv = sc.binInv, lastBin = static_cast<double>(nb - 1);
-    const double ir = k.ir, budget = k.rangeBudget, cosGate = k.cosGate;
+    const double ir = k.gateIr, budget = k.rangeBudget, cosGate = k.cosGate;
     auto spanOf = [&](uint32_t e)
     {
         const auto b = static_cast<size_t>(std::min(RR[e] * binInv, lastBin));
@@ -236,15 +250,53 @@ struct GainParts
     const uint32_t* hit;
     const double *RR, *LX, *LY;
     const int32_t* L;
+    const CSemanticMap::Index* ix;
+    /** The label term log C(L_j | v) of detection d and entry e. */
+    double logC(const ModelConsts& k, const Det& d, uint32_t e) const
+    {
+        if (d.label < 0)
+        {
+            return 0;  // landmarks without a label: no label term
+        }
+        const int32_t row = k.classes ? ix->classRow[hit[e]] : -1;
+        if (row >= 0)
+        {
+            const double pi = ix->classProb[static_cast<size_t>(row + d.label)];
+            const double w = pi * k.sameW + (1 - pi) * k.otherW;
+            // A class it cannot be: only a detection naming it pairs (the id wins).
+            return w > 0 ? std::log(w) : (d.fixed >= 0 ? 0.0 : -kInfinity);
+        }
+        if (d.label == L[hit[e]])
+        {
+            return k.logSame;
+        }
+        // Another label: only with class confusion, or naming it (the plan lists every
+        // detection for every object when some object has a class distribution).
+        return k.confusable || d.fixed >= 0 ? k.logOther : -kInfinity;
+    }
+    /** The rest of an uncertain object's pair (sigma_m > 0 widens its Gaussians). */
+    double uncertainRest(const ModelConsts& k, double logC, double dr, double db, uint32_t e) const
+    {
+        const double s2 = ix->sigma2[hit[e]], r = RR[e];
+        const double vr = k.sr2 + s2, vb = k.sb2 + (s2 > 0 ? s2 / std::max(r * r, 4 * s2) : 0.0);
+        const double hr = -0.5 * dr * dr / vr;
+        double range = hr - 0.5 * std::log(2 * M_PI * vr);
+        if (k.rangeOutliers)
+        {
+            const double a = range + k.logKeep;  // log((1 - eps) N(dr; vr))
+            range = std::max(a, k.mixB) + std::log1p(std::exp(-std::abs(a - k.mixB)));
+        }
+        return logC + range - 0.5 * std::log(2 * M_PI * vb) - 0.5 * db * db / vb - k.logKappa;
+    }
     /** With db = absBearingDiff(dets[j], LX[e], LY[e]). */
     double rest(const ModelConsts& k, uint32_t j, uint32_t e, double db) const
     {
         const Det& d = dets[j];
         const double dr = d.r - RR[e];
-        double logC = 0;  // landmarks without a label: no label term
-        if (d.label >= 0)
+        const double logC = this->logC(k, d, e);
+        if (k.uncertain)
         {
-            logC = (d.label == L[hit[e]]) ? k.logSame : k.logOther;
+            return uncertainRest(k, logC, dr, db, e);
         }
         if (k.rangeOutliers)
         {
@@ -258,8 +310,8 @@ struct GainParts
 
 GainParts gainParts(const CSemanticMap::Index& ix, const Scratch& sc)
 {
-    return {sc.dets.data(), sc.bHit.data(), sc.bR.data(),
-            sc.bLx.data(),  sc.bLy.data(),  ix.label.data()};
+    return {sc.dets.data(), sc.bHit.data(),  sc.bR.data(), sc.bLx.data(),
+            sc.bLy.data(),  ix.label.data(), &ix};
 }
 
 /** A candidate pair's gain less log q, q = P_D / (1 - P_D), and whether its gain is
@@ -491,7 +543,7 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
     const size_t ne = scanBlock(ix, sc, geoms, poses, m);
     if (m > 0)
     {
-        rangesBlock(sc, ne, opt, geoms[0].R);
+        rangesBlock(ix, sc, ne, opt, geoms[0].R);
     }
     missBlock(sc, k, m, ne);
     const size_t nc = gateBlock(ix, sc, k, ne);

@@ -158,9 +158,9 @@ void planRangeBins(Scratch& sc, size_t nLabels, double reach)
 
 void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const ModelConsts& k)
 {
-    listByLabel(sc, ix, nLabels, k.confusable);
+    listByLabel(sc, ix, nLabels, k.planAll);
     fillSlots(sc, nLabels);
-    const double reach = k.ir > 0 ? std::sqrt(std::max(0.0, k.rangeBudget)) / k.ir : kInf;
+    const double reach = k.gateIr > 0 ? std::sqrt(std::max(0.0, k.rangeBudget)) / k.gateIr : kInf;
     rangeHulls(sc, nLabels, reach);
     planRangeBins(sc, nLabels, reach);
 }
@@ -168,18 +168,18 @@ void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const
 void planPairsOnce(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const ModelConsts& k)
 {
     const std::array<double, 4> planKey = {static_cast<double>(ix.stamp),
-                                           static_cast<double>(nLabels), k.rangeBudget, k.ir};
+                                           static_cast<double>(nLabels), k.rangeBudget, k.gateIr};
     auto sameDet = [](const Det& a, const Det& b) {
         return a.r == b.r && a.uc == b.uc && a.us == b.us && a.label == b.label &&
                a.fixed == b.fixed;
     };
-    if (!sc.planValid || planKey != sc.planKey || k.confusable != sc.planConfusable ||
+    if (!sc.planValid || planKey != sc.planKey || k.planAll != sc.planConfusable ||
         !std::equal(sc.dets.begin(), sc.dets.end(), sc.planDets.begin(), sc.planDets.end(),
                     sameDet))
     {
         planPairs(sc, ix, nLabels, k);
         sc.planKey = planKey;
-        sc.planConfusable = k.confusable;
+        sc.planConfusable = k.planAll;
         sc.planDets = sc.dets;
         sc.planValid = true;
     }

@@ -16,11 +16,11 @@ namespace semloc::semantic
 {
 /** Which detections may pair with an object of label l (once per call):
  *  detByLabel[detStart[l] .. detStart[l + 1]) holds those of label l, those of any label
- *  (`k.confusable`, or a detection without one), and those naming an object of label l
- *  (they pair with that object only: Det::fixed); the same as slots padded to one count
- *  per label, sorted by range into range bins (planRangeBins). Also the range hull of each
- *  label: a pair passes the range gate (passesGates) only if |rho^r - rho^k| <= sigma_rho
- *  sqrt(rangeBudget), so an object of label l whose squared range is outside [gateLo2[l],
+ *  (`k.planAll`: class confusion or class distributions, or a detection without one), and those
+ * naming an object of label l (they pair with that object only: Det::fixed); the same as slots
+ * padded to one count per label, sorted by range into range bins (planRangeBins). Also the range
+ * hull of each label: a pair passes the range gate (passesGates) only if |rho^r - rho^k| <=
+ * sigma_rho sqrt(rangeBudget), so an object of label l whose squared range is outside [gateLo2[l],
  *  gateHi2[l]] pairs with none of them (bounds widened by a relative 1e-9 for rounding: a
  *  necessary condition). */
 void planPairs(Scratch& sc, const CSemanticMap::Index& ix, size_t nLabels, const ModelConsts& k);

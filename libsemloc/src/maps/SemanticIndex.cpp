@@ -60,6 +60,58 @@ std::vector<uint32_t> countCells(CSemanticMap::Index& ix,
 }
 }  // namespace
 
+namespace
+{
+/** The per-object sigma_m^2, p_exist and class rows of `ix` (sorted order), each left empty
+ *  when no object needs it. */
+void indexUncertainty(CSemanticMap::Index& ix, const std::vector<CSemanticMap::TObject>& objects,
+                      const LabelIndex& labels)
+{
+    const size_t n = objects.size(), nl = labels.size();
+    for (const auto& o : objects)
+    {
+        ix.maxSigma = std::max(ix.maxSigma, o.sigma_m);
+        ix.minExist = std::min(ix.minExist, o.p_exist);
+    }
+    const bool anyClasses =
+        std::any_of(objects.begin(), objects.end(),
+                    [](const CSemanticMap::TObject& o) { return !o.classes.empty(); });
+    if (ix.maxSigma > 0)
+    {
+        ix.sigma2.resize(n);
+    }
+    if (ix.minExist < 1)
+    {
+        ix.pExist.resize(n);
+    }
+    if (anyClasses)
+    {
+        ix.classRow.assign(n, -1);
+    }
+    for (size_t k = 0; k < n; k++)
+    {
+        const auto& o = objects[static_cast<size_t>(ix.objIdx[k])];
+        if (!ix.sigma2.empty())
+        {
+            ix.sigma2[k] = o.sigma_m * o.sigma_m;
+        }
+        if (!ix.pExist.empty())
+        {
+            ix.pExist[k] = o.p_exist;
+        }
+        if (anyClasses && !o.classes.empty())
+        {
+            ix.classRow[k] = static_cast<int32_t>(ix.classProb.size());
+            ix.classProb.resize(ix.classProb.size() + nl, 0.0);
+            for (const auto& [label, p] : o.classes)
+            {
+                ix.classProb[static_cast<size_t>(ix.classRow[k] + labels.find(label))] = p;
+            }
+        }
+    }
+}
+}  // namespace
+
 void CSemanticMap::rebuildIndex()
 {
     m_labels->clear();
@@ -76,6 +128,13 @@ void CSemanticMap::rebuildIndex()
     for (const auto& o : m_objects)
     {
         m_labels->intern(o.label);
+    }
+    for (const auto& o : m_objects)
+    {
+        for (const auto& c : o.classes)
+        {
+            m_labels->intern(c.first);
+        }
     }
     placeGrid(ix, m_objects, likelihoodOptions.index_cell_m);
     const std::vector<uint32_t> cellOf = countCells(ix, m_objects);
@@ -94,5 +153,6 @@ void CSemanticMap::rebuildIndex()
         ix.objIdx[k] = static_cast<int32_t>(i);
         ix.idToSorted[m_objects[i].id] = static_cast<int32_t>(k);
     }
+    indexUncertainty(ix, m_objects, *m_labels);
 }
 }  // namespace semloc

@@ -27,6 +27,19 @@ struct CSemanticMap::Index
     std::vector<int32_t> label;
     std::vector<int32_t> objIdx;  // index into m_objects
     std::unordered_map<int32_t, int32_t> idToSorted;
+    /** @name How sure the map is of each object (probabilistic model), by sorted index
+     *  @{ */
+    /** sigma_m^2 [m^2] (empty when every object is exact). */
+    std::vector<double> sigma2;
+    /** p_exist (empty when every object surely exists). */
+    std::vector<double> pExist;
+    /** First of the object's nLabels class probabilities in classProb, by label id, or -1 for
+     *  a certain label (empty when no object has a class distribution). */
+    std::vector<int32_t> classRow;
+    std::vector<double> classProb;
+    /** The largest sigma_m [m] and the smallest p_exist. */
+    double maxSigma = 0, minExist = 1;
+    /** @} */
     /** Unique per build of an index (any map, any thread): keys what callers cache. */
     uint64_t stamp = 0;
     /** Visibility candidate tables of this build (null: no objects). */

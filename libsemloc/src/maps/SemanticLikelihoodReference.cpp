@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <set>
 #include <string>
 #include <vector>
@@ -66,6 +67,10 @@ std::set<std::string> labelsOf(const CSemanticMap& map)
     for (const auto& o : map.objects())
     {
         labels.insert(o.label);
+        for (const auto& c : o.classes)
+        {
+            labels.insert(c.first);  // a class an object may be is a label of the map
+        }
     }
     return labels;
 }
@@ -330,21 +335,29 @@ public:
     /** log kappa, the clutter density. */
     double logKappa = 0;
 
+    /** P_D(rho) of the detector times the object's p_exist. */
     double pD(const Predicted& v) const
     {
         const double p =
             m_opt.p_detect_near + (m_opt.p_detect_far - m_opt.p_detect_near) * v.rho / m_s.R;
-        return std::clamp(p, 1e-6, 1 - 1e-6);
+        const double exist = m_objs[v.object].p_exist;
+        return std::clamp(exist < 1 ? exist * p : p, 1e-6, 1 - 1e-6);
     }
     /** log P_D + log C + log(range density) + log N of a matched pair; the range density is
      *  N(d_rho; sigma_rho), or with misread ranges (eps > 0) (1 - eps) N + eps / R. */
     double matchedTerm(const Detection& d, const Predicted& v) const
     {
+        // An object's position sigma widens both Gaussians: range by sigma_m, bearing by
+        // sigma_m / max(rho, 2 sigma_m).
+        const double sm = m_objs[v.object].sigma_m;
+        const double sRho = std::sqrt(m_sigmaRho * m_sigmaRho + sm * sm);
+        const double lateral = sm > 0 ? sm / std::max(v.rho, 2 * sm) : 0.0;
+        const double sTheta = std::sqrt(m_sigmaTheta * m_sigmaTheta + lateral * lateral);
         const double eps = m_opt.p_range_outlier;
         const double range =
-            eps > 0 ? std::log((1 - eps) * std::exp(logN(d.rho - v.rho, m_sigmaRho)) + eps / m_s.R)
-                    : logN(d.rho - v.rho, m_sigmaRho);
-        return std::log(pD(v)) + logC(d, v) + range + logN(bearingDiff(d, v), m_sigmaTheta);
+            eps > 0 ? std::log((1 - eps) * std::exp(logN(d.rho - v.rho, sRho)) + eps / m_s.R)
+                    : logN(d.rho - v.rho, sRho);
+        return std::log(pD(v)) + logC(d, v) + range + logN(bearingDiff(d, v), sTheta);
     }
     /** The pairs that may pair (by id, label, confusion) whose gain exceeds `floor`. */
     std::vector<Pair> pairs(const std::vector<Predicted>& z_k, double floor) const
@@ -354,12 +367,18 @@ public:
         {
             for (size_t v = 0; v < z_k.size(); v++)
             {
-                if (!mayPair(m_s.z_r[j], z_k[v].object, m_objs[z_k[v].object].label, m_confusion))
+                const auto& ob = m_objs[z_k[v].object];
+                if (!mayPair(m_s.z_r[j], z_k[v].object, ob.label,
+                             m_confusion || !ob.classes.empty()))
                 {
                     continue;
                 }
                 const double gain =
                     matchedTerm(m_s.z_r[j], z_k[v]) - std::log(1 - pD(z_k[v])) - logKappa;
+                if (std::isinf(gain))
+                {
+                    continue;  // a class it cannot be
+                }
                 if (gain > floor)
                 {
                     out.push_back({gain, j, v});
@@ -379,6 +398,23 @@ private:
         if (d.label.empty())
         {
             return 0.0;
+        }
+        const auto& classes = m_objs[v.object].classes;
+        if (!classes.empty())
+        {
+            // C(L_j | v) = sum_c pi(c) C(L_j | c).
+            double pi = 0;
+            for (const auto& [label, p] : classes)
+            {
+                pi += label == d.label ? p : 0.0;
+            }
+            const double w = pi * (1 - m_opt.p_confusion) +
+                             (1 - pi) * (m_confusion ? m_opt.p_confusion / (m_K - 1) : 0.0);
+            if (w > 0)
+            {
+                return std::log(w);
+            }
+            return d.named >= 0 ? 0.0 : -std::numeric_limits<double>::infinity();
         }
         if (d.label == m_objs[v.object].label)
         {

@@ -133,8 +133,11 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
     const size_t nLabels = m_labels->size();
     const semantic::ModelConsts k =
-        s.usable ? semantic::cachedModelConsts(likelihoodOptions, nLabels, s.R, s.fov, sc.consts)
-                 : semantic::ModelConsts();
+        s.usable
+            ? semantic::cachedModelConsts(
+                  likelihoodOptions, nLabels, s.R, s.fov,
+                  {m_index->maxSigma, m_index->minExist, !m_index->classRow.empty()}, sc.consts)
+            : semantic::ModelConsts();
     semantic::planPairsOnce(sc, *m_index, nLabels, k);
     if (!s.usable)
     {

@@ -24,9 +24,9 @@ double paperConsts(const CSemanticMap::TLikelihoodOptions& opt, ModelConsts& k)
     return 1.0 / k.ib;
 }
 
-/** The probabilistic model's constants; returns sigma_theta [rad]. */
+/** The probabilistic model's constants; returns the largest bearing sigma of a pair [rad]. */
 double probabilisticConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels, double R,
-                           double fov, ModelConsts& k)
+                           double fov, const MapSurety& map, ModelConsts& k)
 {
     const double sr = opt.sigma_range_m, sb = opt.sigma_bearing_deg * M_PI / 180.0;
     k.sb = sb;
@@ -47,9 +47,25 @@ double probabilisticConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t n
     k.gainFloor = k.marginal ? std::log(CSemanticMap::kMarginalMinWeight) : 0.0;
     k.rangeBudget = k.bearingBudget =
         2 * (std::log(pmax) - std::log1p(-pmax) + k.logNorm - k.logKappa - k.gainFloor);
-    const double pmin = std::clamp(std::min(opt.p_detect_near, opt.p_detect_far), 1e-6, 1 - 1e-6);
+    // An object's P_D is p_exist times the detector's, clamped the same way.
+    const double pmin =
+        std::clamp(std::min(opt.p_detect_near, opt.p_detect_far) * map.minExist, 1e-6, 1 - 1e-6);
     k.logQLo = std::log(pmin / (1 - pmin)) - 1e-9;
     k.logQHi = std::log(pmax / (1 - pmax)) + 1e-9;
+    // Objects with a class distribution may be any of the labels they list.
+    k.classes = map.classes;
+    k.planAll = k.confusable || k.classes;
+    k.sameW = 1 - opt.p_confusion;
+    k.otherW = k.confusable ? opt.p_confusion / (K - 1) : 0;
+    // A position sigma widens a pair's Gaussians: the gates take the widest.
+    k.sr2 = sr * sr;
+    k.sb2 = sb * sb;
+    k.uncertain = map.maxSigma > 0;
+    if (k.uncertain)
+    {
+        k.gateIr = 1 / std::sqrt(k.sr2 + map.maxSigma * map.maxSigma);
+        return std::sqrt(k.sb2 + 0.25);  // sigma_m / max(rho, 2 sigma_m) <= 1/2
+    }
     return sb;
 }
 /** p_range_outlier > 0: the range term becomes the mixture (1 - eps) N(dr; sigma_rho) + eps / R
@@ -62,6 +78,7 @@ void rangeOutlierConsts(const CSemanticMap::TLikelihoodOptions& opt, double R, M
     const double logPeak = -std::log(std::sqrt(2 * M_PI) * opt.sigma_range_m);  // log N(0)
     const bool paper = opt.model == CSemanticMap::Model::Paper;
     k.rangeOutliers = true;
+    k.logKeep = std::log1p(-eps);
     k.mixA = std::log1p(-eps) + (paper ? 0.0 : logPeak);
     k.mixB = std::log(eps / R) - (paper ? logPeak : 0.0);
     double c0 = 0;
@@ -87,15 +104,19 @@ void rangeOutlierConsts(const CSemanticMap::TLikelihoodOptions& opt, double R, M
 }  // namespace
 
 ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels, double R,
-                        double fov)
+                        double fov, const MapSurety& map)
 {
     ModelConsts k;
     const double sigmaB = opt.model == CSemanticMap::Model::Paper
                               ? paperConsts(opt, k)
-                              : probabilisticConsts(opt, nLabels, R, fov, k);
+                              : probabilisticConsts(opt, nLabels, R, fov, map, k);
     if (opt.p_range_outlier > 0)
     {
         rangeOutlierConsts(opt, R, k);
+    }
+    if (!k.uncertain)
+    {
+        k.gateIr = k.ir;
     }
     const double maxAbsDb = sigmaB * std::sqrt(std::max(0.0, k.bearingBudget));
     k.cosGate = maxAbsDb >= M_PI ? -2.0 : std::cos(maxAbsDb);
@@ -103,9 +124,10 @@ ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLab
 }
 
 const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t nLabels,
-                                     double R, double fov, ModelConstsCache& cache)
+                                     double R, double fov, const MapSurety& map,
+                                     ModelConstsCache& cache)
 {
-    const std::array<double, 14> key = {static_cast<double>(opt.model),
+    const std::array<double, 17> key = {static_cast<double>(opt.model),
                                         static_cast<double>(opt.association),
                                         opt.sigma_range_m,
                                         opt.sigma_bearing_deg,
@@ -118,10 +140,13 @@ const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt
                                         opt.p_range_outlier,
                                         static_cast<double>(nLabels),
                                         R,
-                                        fov};
+                                        fov,
+                                        map.maxSigma,
+                                        map.minExist,
+                                        static_cast<double>(map.classes)};
     if (!cache.valid || key != cache.key)
     {
-        cache.consts = modelConsts(opt, nLabels, R, fov);
+        cache.consts = modelConsts(opt, nLabels, R, fov, map);
         cache.key = key;
         cache.valid = true;
     }

@@ -131,7 +131,10 @@ void readIdentity(const map_t& m, Where& w, WorldObject& o)
 
 void readBox(const map_t& m, const Where& w, WorldObject& o)
 {
-    checkKeys(m, {"id", "label", "shape", "z", "center", "size", "yaw_deg"}, w);
+    checkKeys(
+        m,
+        {"id", "label", "shape", "z", "center", "size", "yaw_deg", "sigma_m", "p_exist", "classes"},
+        w);
     o.shape = ShapeType::Box;
     o.center = toPoint(requireKey(m, "center", w), w, "center");
     const auto sz = toPoint(requireKey(m, "size", w), w, "size");
@@ -151,7 +154,8 @@ void readBox(const map_t& m, const Where& w, WorldObject& o)
 
 void readCylinder(const map_t& m, const Where& w, WorldObject& o)
 {
-    checkKeys(m, {"id", "label", "shape", "z", "center", "radius"}, w);
+    checkKeys(m, {"id", "label", "shape", "z", "center", "radius", "sigma_m", "p_exist", "classes"},
+              w);
     o.shape = ShapeType::Cylinder;
     o.center = toPoint(requireKey(m, "center", w), w, "center");
     o.radius = toCoordinate(requireKey(m, "radius", w), w, "radius");
@@ -164,7 +168,7 @@ void readCylinder(const map_t& m, const Where& w, WorldObject& o)
 
 void readPolygon(const map_t& m, const Where& w, WorldObject& o)
 {
-    checkKeys(m, {"id", "label", "shape", "z", "points"}, w);
+    checkKeys(m, {"id", "label", "shape", "z", "points", "sigma_m", "p_exist", "classes"}, w);
     o.shape = ShapeType::Polygon;
     const auto& pts = requireKey(m, "points", w);
     if (!pts.isSequence() || pts.asSequence().size() < 3)
@@ -184,7 +188,8 @@ void readPolygon(const map_t& m, const Where& w, WorldObject& o)
 
 void readPoint(const map_t& m, const Where& w, WorldObject& o)
 {
-    checkKeys(m, {"id", "label", "shape", "z", "center", "extent_m"}, w);
+    checkKeys(
+        m, {"id", "label", "shape", "z", "center", "extent_m", "sigma_m", "p_exist", "classes"}, w);
     o.shape = ShapeType::Point;
     o.center = toPoint(requireKey(m, "center", w), w, "center");
     if (const auto* e = findKey(m, "extent_m"))
@@ -195,6 +200,63 @@ void readPoint(const map_t& m, const Where& w, WorldObject& o)
             w.fail("extent_m", "must be >= 0");
         }
     }
+}
+
+/** The optional keys of how sure the map is of the object: `sigma_m`, `p_exist`, `classes`. */
+void readUncertainty(const map_t& m, const Where& w, WorldObject& o)
+{
+    if (const auto* s = findKey(m, "sigma_m"))
+    {
+        o.sigma_m = toCoordinate(*s, w, "sigma_m");
+        if (o.sigma_m < 0)
+        {
+            w.fail("sigma_m", "must be >= 0");
+        }
+    }
+    if (const auto* p = findKey(m, "p_exist"))
+    {
+        o.p_exist = toNumber(*p, w, "p_exist");
+        if (!(o.p_exist > 0 && o.p_exist <= 1))
+        {
+            w.fail("p_exist", "must be in (0, 1]");
+        }
+    }
+    const auto* c = findKey(m, "classes");
+    if (c == nullptr)
+    {
+        return;
+    }
+    if (!c->isMap() || c->asMap().empty())
+    {
+        w.fail("classes", "expected a map {label: probability, ...}");
+    }
+    double sum = 0;
+    bool hasOwn = false;
+    for (const auto& kv : c->asMap())
+    {
+        const auto label = kv.first.as<std::string>();
+        if (const std::string problem = labelProblem(label); !problem.empty())
+        {
+            w.fail("classes", "label '" + label + "': " + problem);
+        }
+        const double p = toNumber(kv.second, w, "classes");
+        if (!(p > 0 && p <= 1))
+        {
+            w.fail("classes", "probability of '" + label + "' must be in (0, 1]");
+        }
+        sum += p;
+        hasOwn = hasOwn || label == o.label;
+        o.classes.emplace_back(label, p);
+    }
+    if (std::abs(sum - 1) > 1e-6)
+    {
+        w.fail("classes", mrpt::format("the probabilities sum to %.9g, not 1", sum));
+    }
+    if (!hasOwn)
+    {
+        w.fail("classes", "must include the object's label '" + o.label + "'");
+    }
+    std::sort(o.classes.begin(), o.classes.end());
 }
 
 /** objects[index]: identity, `z`, then the keys of its shape. */
@@ -233,6 +295,7 @@ WorldObject parseObject(const node_t& n, size_t index, const std::string& file)
     {
         w.fail("shape", "unknown shape '" + shape + "' (expected box, cylinder, polygon or point)");
     }
+    readUncertainty(m, w, o);
     return o;
 }
 

@@ -83,7 +83,8 @@ std::string yamlString(const std::string& s)
     return q + "\"";
 }
 
-/** One object as a flow map: `{id: .., label: .., shape: .., <its shape's keys>[, z: ..]}`. */
+/** One object as a flow map: `{id: .., label: .., shape: .., <its shape's keys>[, z: ..]}`,
+ *  then sigma_m, p_exist and classes when not their defaults. */
 void writeObject(std::ostream& o, const WorldObject& ob)
 {
     o << "  - {id: " << ob.id << ", label: " << yamlString(ob.label)
@@ -118,6 +119,24 @@ void writeObject(std::ostream& o, const WorldObject& ob)
     if (ob.z != 0)
     {
         o << ", z: " << num(ob.z);
+    }
+    if (ob.sigma_m != 0)
+    {
+        o << ", sigma_m: " << num(ob.sigma_m);
+    }
+    if (ob.p_exist != 1)
+    {
+        o << ", p_exist: " << num(ob.p_exist);
+    }
+    if (!ob.classes.empty())
+    {
+        o << ", classes: {";
+        for (size_t i = 0; i < ob.classes.size(); i++)
+        {
+            o << (i ? ", " : "") << yamlString(ob.classes[i].first) << ": "
+              << num(ob.classes[i].second);
+        }
+        o << "}";
     }
     o << "}\n";
 }

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace semloc
@@ -127,6 +128,22 @@ public:
         double extent_m = 0;
         /** How many detections were merged into it (1 for map-file objects). */
         uint32_t n_observations = 1;
+        /** Standard deviation of its position, isotropic [m] (probabilistic model; 0: exact). */
+        double sigma_m = 0;
+        /** Probability that it is still there, in (0, 1] (probabilistic model). */
+        double p_exist = 1;
+        /** Its class distribution (label, probability), summing to 1 and holding `label`;
+         *  empty: certainly of class `label` (probabilistic model). */
+        std::vector<std::pair<std::string, double>> classes{};
+        /** @name Bookkeeping of insertObservation (known poses): the detections merged into
+         *  it, the sum of their squared distances to its mean [m^2], the insertions it was in
+         *  view at and the detections P_D expected there.
+         *  @{ */
+        uint32_t n_detected = 0;
+        double scatter_m2 = 0;
+        uint32_t n_in_view = 0;
+        double expected_detections = 0;
+        /** @} */
     };
 
     /** Which likelihood (see the class documentation). */

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mrpt::containers
@@ -79,6 +80,17 @@ struct WorldObject
     /** Radius of the smallest centre-based disc containing the outline [m]
      *  (key `extent_m` for points; computed for every other shape). */
     double extent_m = 0;
+    /** @name How sure a map is of the object (optional keys; docs/design.md, "World file")
+     *  @{ */
+    /** Standard deviation of the object's position, isotropic, in x and in y [m] (`sigma_m`;
+     *  0: exactly where `center` says). */
+    double sigma_m = 0;
+    /** Probability that the object is still there (`p_exist`, in (0, 1]). */
+    double p_exist = 1;
+    /** Its class distribution (`classes: {label: probability, ...}`, summing to 1, `label`
+     *  among them), sorted by label; empty: certainly of class `label`. */
+    std::vector<std::pair<std::string, double>> classes;
+    /** @} */
 };
 
 /** Axis-aligned area particles may occupy [m]. */
