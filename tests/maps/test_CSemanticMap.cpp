@@ -889,6 +889,64 @@ TEST(CSemanticMap, InsertingObservationsWithKnownPosesBuildsTheMap)
     }
 }
 
+TEST(CSemanticMap, InsertionEstimatesPositionSigmaAndExistence)
+{
+    // An earlier map (the world's objects, exactly placed, and a ghost that has gone), then a
+    // survey with known poses around the middle.
+    const World w = smallWorld();
+    CSemanticMap built;
+    built.loadFromWorld(w);
+    built.addObject({99, "anchor", 18, 18, 0, 0, 1});
+    mrpt::random::CRandomGenerator rng(9);
+    DetectorSim ds;
+    ds.sigma_range_m = 0.2;
+    ds.sigma_bearing_rad = 0.02;
+    ds.fov_rad = 2 * M_PI;
+    for (int k = 0; k < 40; k++)
+    {
+        const double a = 2 * M_PI * k / 40;
+        const TPose2D p(15 + 8 * std::cos(a), 15 + 8 * std::sin(a), a + M_PI / 2);
+        built.insertObservation(observe(w, p, ds, &rng),
+                                mrpt::poses::CPose3D(mrpt::poses::CPose2D(p)));
+    }
+    ASSERT_EQ(built.objects().size(), w.objects.size() + 1);
+    size_t detected = 0;
+    for (const auto& o : built.objects())
+    {
+        if (o.id == 99)
+        {
+            // Never detected in many views: hardly there.
+            EXPECT_GT(o.n_in_view, 10u);
+            EXPECT_EQ(o.n_detected, 0u);
+            EXPECT_LT(o.p_exist, 0.1);
+            EXPECT_EQ(o.sigma_m, 0.0);  // no detection: the map's own sigma, untouched
+            continue;
+        }
+        if (o.n_detected == 0)
+        {
+            continue;
+        }
+        detected++;
+        const auto& wo = w.objects[static_cast<size_t>(w.indexOfId(o.id))];
+        // Detected whenever in view: surely there; its mean within a few of its sigmas.
+        EXPECT_EQ(o.p_exist, 1.0) << o.id;
+        EXPECT_GT(o.sigma_m, 0.0) << o.id;
+        EXPECT_LT(o.sigma_m, 0.15) << o.id;
+        EXPECT_LT(std::hypot(o.x - wo.center.x, o.y - wo.center.y), 5 * o.sigma_m) << o.id;
+    }
+    EXPECT_GE(detected, 8u);
+    // Saved as a world file that loads, with what the insertions estimated.
+    const std::string prefix = std::string(SEMLOC_TEST_OUT) + "/surety";
+    built.saveMetricMapRepresentationToFile(prefix);
+    const World back = World::FromFile(prefix + "_semantic.yaml");
+    ASSERT_EQ(back.objects.size(), built.objects().size());
+    for (size_t i = 0; i < back.objects.size(); i++)
+    {
+        EXPECT_EQ(back.objects[i].sigma_m, built.objects()[i].sigma_m);
+        EXPECT_EQ(back.objects[i].p_exist, built.objects()[i].p_exist);
+    }
+}
+
 TEST(CSemanticMap, SerializationAndSavedYamlRoundTrip)
 {
     const CSemanticMap m = smallMap();

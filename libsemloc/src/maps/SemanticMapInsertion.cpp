@@ -1,8 +1,10 @@
 /* semloc — CSemanticMap's mapping: observations taken from a known pose become objects, or
  * refine the objects they name or lie near. */
+#include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose3D.h>
 #include <semloc/maps/CSemanticMap.h>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -18,6 +20,8 @@ struct NewDetection
     std::string label;
     int32_t id;
     double wx, wy;
+    /** P_D at its range (1 for MRPT landmarks, which carry no coverage). */
+    double expected = 1;
 };
 
 /** The world position of range r and bearing b of a sensor at sensorOnVehicle. */
@@ -29,10 +33,20 @@ std::pair<double, double> toWorld(const mrpt::poses::CPose3D& vehicle,
     return std::make_pair(s.x() + r * std::cos(a), s.y() + r * std::sin(a));
 }
 
+/** P_D(rho) of the probabilistic model (linear between p_detect_near and p_detect_far). */
+double detectionProbability(const CSemanticMap::TLikelihoodOptions& opt, double rho, double R)
+{
+    const double p = opt.p_detect_near + (opt.p_detect_far - opt.p_detect_near) * rho / R;
+    return std::clamp(p, 1e-6, 1.0);
+}
+
 /** The valid detections of `o` with at least `minConfidence`, in the world. */
 std::vector<NewDetection> inWorld(const CObservationSemantic& o,
-                                  const mrpt::poses::CPose3D& vehicle, double minConfidence)
+                                  const mrpt::poses::CPose3D& vehicle,
+                                  const CSemanticMap::TLikelihoodOptions& opt)
 {
+    const double minConfidence = opt.min_confidence;
+    const double R = opt.max_range_m > 0 ? opt.max_range_m : o.maxRange_m;
     std::vector<NewDetection> news;
     for (const auto& d : o.detections)
     {
@@ -41,7 +55,8 @@ std::vector<NewDetection> inWorld(const CObservationSemantic& o,
             continue;
         }
         const auto [wx, wy] = toWorld(vehicle, o.sensorPose, d.range_m, d.bearing_rad);
-        news.push_back({d.label, d.object_id, wx, wy});
+        news.push_back({d.label, d.object_id, wx, wy,
+                        R > 0 && std::isfinite(R) ? detectionProbability(opt, d.range_m, R) : 1.0});
     }
     return news;
 }
@@ -59,7 +74,7 @@ std::vector<NewDetection> inWorld(const mrpt::obs::CObservationBearingRange& br,
             continue;
         }
         const auto [wx, wy] = toWorld(vehicle, br.sensorLocationOnRobot, m.range, m.yaw);
-        news.push_back({label, m.landmarkID, wx, wy});
+        news.push_back({label, m.landmarkID, wx, wy, 1.0});
     }
     return news;
 }
@@ -94,13 +109,60 @@ CSemanticMap::TObject* mergeTarget(std::vector<CSemanticMap::TObject>& objects,
     return target;
 }
 
-/** Running mean of the merged detections. */
+/** Running mean of the merged detections, and the sum of their squared distances to it
+ *  (Welford's update, both axes). */
 void mergeInto(CSemanticMap::TObject& target, const NewDetection& n)
 {
     const double k = 1.0 / (target.n_observations + 1.0);
-    target.x += (n.wx - target.x) * k;
-    target.y += (n.wy - target.y) * k;
+    const double dx = n.wx - target.x, dy = n.wy - target.y;
+    target.x += dx * k;
+    target.y += dy * k;
+    target.scatter_m2 += dx * (n.wx - target.x) + dy * (n.wy - target.y);
     target.n_observations++;
+    target.n_detected++;
+}
+
+/** Counts every object inside the coverage of `o` (taken at `vehicle`) as in view, with the
+ *  detection it was expected to give (P_D at its range). */
+void countInView(std::vector<CSemanticMap::TObject>& objects, const CObservationSemantic& o,
+                 const mrpt::poses::CPose3D& vehicle, const CSemanticMap::TLikelihoodOptions& opt)
+{
+    const double R = opt.max_range_m > 0 ? opt.max_range_m : o.maxRange_m;
+    const double fov = opt.fov_deg > 0 ? opt.fov_deg * M_PI / 180 : o.fov_rad;
+    if (!(R > 0 && std::isfinite(R) && fov > 0 && std::isfinite(fov)))
+    {
+        return;
+    }
+    const mrpt::poses::CPose3D s = vehicle + o.sensorPose;
+    for (auto& ob : objects)
+    {
+        const double dx = ob.x - s.x(), dy = ob.y - s.y();
+        const double rho = std::hypot(dx, dy);
+        const double b = mrpt::math::wrapToPi(std::atan2(dy, dx) - s.yaw());
+        if (rho <= R && (fov >= 2 * M_PI || std::abs(b) <= 0.5 * fov))
+        {
+            ob.n_in_view++;
+            ob.expected_detections += detectionProbability(opt, rho, R);
+        }
+    }
+}
+
+/** How sure the map now is of an object the insertions saw: the position sigma of its mean
+ *  (the detections' spread per axis over sqrt(n) from 3 detections on, else sigma_rho /
+ *  sqrt(n)) and p_exist = (detections + 1) / (expected detections + 1), at most 1. */
+void updateSurety(CSemanticMap::TObject& ob, double sigmaRange)
+{
+    const double n = ob.n_observations;
+    if (ob.n_detected > 0)
+    {
+        const double var =
+            n >= 3 ? ob.scatter_m2 / (2 * (n - 1)) : sigmaRange * sigmaRange;  // per axis
+        ob.sigma_m = std::sqrt(var / n);
+    }
+    if (ob.n_in_view > 0)
+    {
+        ob.p_exist = std::clamp((ob.n_detected + 1.0) / (ob.expected_detections + 1.0), 1e-3, 1.0);
+    }
 }
 }  // namespace
 
@@ -111,7 +173,8 @@ bool CSemanticMap::internal_insertObservation(
     std::vector<NewDetection> news;
     if (const auto* o = dynamic_cast<const CObservationSemantic*>(&obs))
     {
-        news = inWorld(*o, vehicle, likelihoodOptions.min_confidence);
+        news = inWorld(*o, vehicle, likelihoodOptions);
+        countInView(m_objects, *o, vehicle, likelihoodOptions);
     }
     else if (const auto* br = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
     {
@@ -134,7 +197,14 @@ bool CSemanticMap::internal_insertObservation(
         ob.x = n.wx;
         ob.y = n.wy;
         ob.z = 0;
+        ob.n_detected = 1;
+        ob.n_in_view = 1;  // in view where it was detected, with its detection expected
+        ob.expected_detections = n.expected;
         m_objects.push_back(std::move(ob));
+    }
+    for (auto& ob : m_objects)
+    {
+        updateSurety(ob, likelihoodOptions.sigma_range_m);
     }
     rebuildIndex();
     return !news.empty();
