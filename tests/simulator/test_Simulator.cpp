@@ -471,6 +471,50 @@ objects:
     EXPECT_LT(maxBearing, mrpt::DEG2RAD(5.0));
 }
 
+TEST(SemanticDetectorModel, AnObjectOfUncertainClassIsSeenAsEachOfItsClasses)
+{
+    // Object 1 is an anchor seen as a wreck 40 % of the time; object 2 (no classes) never
+    // changes; "wreck" is a label of the world only through object 1's classes.
+    const World w = World::FromText(R"(
+name: classes
+bounds: {x_min: -30, x_max: 30, y_min: -30, y_max: 30}
+objects:
+  - {id: 1, label: anchor, shape: point, center: [10, 0], classes: {anchor: 0.6, wreck: 0.4}}
+  - {id: 2, label: pillar, shape: point, center: [10, 3], sigma_m: 2, p_exist: 0.1}
+)",
+                                    "classes");
+    SemanticDetectorModel::TOptions o;
+    o.p_detect_near = o.p_detect_far = 1;
+    o.false_positives_per_scan = 0;
+    o.p_confusion = 0;
+    o.report_ids = true;
+    const SemanticDetectorModel det(w, o);
+    EXPECT_EQ(det.labels(), (std::vector<std::string>{"anchor", "pillar", "wreck"}));
+    mrpt::random::CRandomGenerator rng(3);
+    const int n = 4000;
+    int wreck = 0, pillar = 0;
+    for (int i = 0; i < n; i++)
+    {
+        const auto obs = det.measure({0, 0, 0}, rng);
+        // sigma_m and p_exist describe a map: the world's objects are all there, where it says.
+        ASSERT_EQ(obs->detections.size(), 2u);
+        for (const auto& d : obs->detections)
+        {
+            if (d.object_id == 1)
+            {
+                EXPECT_TRUE(d.label == "anchor" || d.label == "wreck") << d.label;
+                wreck += d.label == "wreck" ? 1 : 0;
+            }
+            else
+            {
+                pillar += d.label == "pillar" ? 1 : 0;
+            }
+        }
+    }
+    EXPECT_NEAR(static_cast<double>(wreck) / n, 0.4, 4 * std::sqrt(0.24 / n));
+    EXPECT_EQ(pillar, n);
+}
+
 TEST(SemanticDetectorModel, StatisticsMatchTheConfiguredModel)
 {
     // Three point objects (no occlusion) at ranges 2, 10, 18 m, 4 labels in the world.

@@ -81,13 +81,25 @@ SemanticDetectorModel::SemanticDetectorModel(const World& world, const TOptions&
     for (const auto& o : m_objects)
     {
         m_labels.push_back(o.label);
+        for (const auto& c : o.classes)
+        {
+            m_labels.push_back(c.first);
+        }
     }
     std::sort(m_labels.begin(), m_labels.end());
     m_labels.erase(std::unique(m_labels.begin(), m_labels.end()), m_labels.end());
     for (const auto& o : m_objects)
     {
-        m_labelOf.push_back(static_cast<size_t>(
-            std::lower_bound(m_labels.begin(), m_labels.end(), o.label) - m_labels.begin()));
+        m_labelOf.push_back(labelIndex(o.label));
+        // The class it is seen as: label index and cumulative probability.
+        std::vector<std::pair<size_t, double>> classes;
+        double cumulative = 0;
+        for (const auto& [label, p] : o.classes)
+        {
+            cumulative += p;
+            classes.emplace_back(labelIndex(label), cumulative);
+        }
+        m_classesOf.push_back(std::move(classes));
         // The same segments World::outlineSegments() makes for this object.
         const auto poly = World::outlinePolygon(o);
         std::vector<mrpt::math::TSegment2D> own;
@@ -147,9 +159,15 @@ std::vector<SemanticDetectorModel::TVisibleObject> SemanticDetectorModel::visibl
     return out;
 }
 
+size_t SemanticDetectorModel::labelIndex(const std::string& label) const
+{
+    return static_cast<size_t>(std::lower_bound(m_labels.begin(), m_labels.end(), label) -
+                               m_labels.begin());
+}
+
 void SemanticDetectorModel::detect(double range, double bearing, size_t label, int32_t id,
-                                   mrpt::random::CRandomGenerator& rng,
-                                   CObservationSemantic& obs) const
+                                   mrpt::random::CRandomGenerator& rng, CObservationSemantic& obs,
+                                   const std::vector<std::pair<size_t, double>>* classes) const
 {
     const TOptions& o = m_options;
     if (!detail::bernoulli(rng, detectionProbability(range)))
@@ -168,6 +186,21 @@ void SemanticDetectorModel::detect(double range, double bearing, size_t label, i
     if (o.p_range_outlier > 0 && detail::bernoulli(rng, o.p_range_outlier))
     {
         d.range_m = o.max_range_m * detail::uniform01(rng);
+    }
+    if (classes != nullptr && !classes->empty())
+    {
+        // An object of uncertain class is seen as each of its classes with its probability
+        // (drawn only for such objects: other datasets keep their random streams).
+        const double u = detail::uniform01(rng) * classes->back().second;
+        label = classes->back().first;
+        for (const auto& [index, cumulative] : *classes)
+        {
+            if (u < cumulative)
+            {
+                label = index;
+                break;
+            }
+        }
     }
     const size_t nLabels = m_labels.size();
     if (nLabels > 1 && detail::bernoulli(rng, o.p_confusion))
@@ -210,7 +243,7 @@ CObservationSemantic::Ptr SemanticDetectorModel::measure(
     for (const auto& v : visibleObjects(vehicle))
     {
         detect(v.range_m, v.bearing_rad, m_labelOf[v.index],
-               o.report_ids ? m_objects[v.index].id : -1, rng, *obs);
+               o.report_ids ? m_objects[v.index].id : -1, rng, *obs, &m_classesOf[v.index]);
     }
     for (const auto& d : distractors)
     {

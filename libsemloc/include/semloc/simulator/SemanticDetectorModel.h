@@ -11,6 +11,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace mrpt::random
@@ -39,9 +40,12 @@ namespace semloc
  *    detection is valid for CObservationSemantic::isValid);
  *  - misread range: with probability p_range_outlier the range is instead uniform over
  *    [0, max_range_m] (a reflection, a partly hidden object), the bearing kept;
- *  - label: with probability p_confusion one of the world's other labels (uniform), else
- *    its own; object_id is the object's id when report_ids (also when the label is
- *    confused: the id is the truth the detector could not classify), else -1;
+ *  - label: its own, or for an object with a class distribution (`classes` in the world
+ *    file) one of those classes drawn with its probability; then with probability
+ *    p_confusion one of the world's other labels (uniform); the world's `sigma_m` and
+ *    `p_exist` describe a map, not the world, and are ignored here; object_id is the object's id
+ * when report_ids (also when the label is confused: the id is the truth the detector could not
+ * classify), else -1;
  *  - confidence 1.
  *  **Distractors**: objects that are not in the map but carry one of its labels (other
  *  vehicles, divers, moored buoys since moved), `distractors` of them, each moving in a
@@ -153,9 +157,13 @@ public:
 
 private:
     /** Appends the detection of a visible object or distractor of label `label` at `range`,
-     *  `bearing` (or nothing, missed). */
+     *  `bearing` (or nothing, missed); an object with `classes` (label index, cumulative
+     *  probability) is seen as one of them. */
     void detect(double range, double bearing, size_t label, int32_t id,
-                mrpt::random::CRandomGenerator& rng, CObservationSemantic& obs) const;
+                mrpt::random::CRandomGenerator& rng, CObservationSemantic& obs,
+                const std::vector<std::pair<size_t, double>>* classes = nullptr) const;
+    /** Index of `label` in m_labels (which holds it). */
+    size_t labelIndex(const std::string& label) const;
     /** The sensor's position in the world when the vehicle is at `vehicle`. */
     mrpt::math::TPoint2D sensorPosition(const mrpt::math::TPose2D& vehicle) const;
     /** Range and bearing [rad] of the distractor `d` seen from `vehicle`, if visible. */
@@ -164,7 +172,10 @@ private:
 
     TOptions m_options;
     std::vector<WorldObject> m_objects;
-    std::vector<size_t> m_labelOf;      // per object: index into m_labels
+    std::vector<size_t> m_labelOf;  // per object: index into m_labels
+    /** Per object: its classes (index into m_labels, cumulative probability); empty: its
+     *  label only. */
+    std::vector<std::vector<std::pair<size_t, double>>> m_classesOf;
     std::vector<std::string> m_labels;  // distinct, sorted
     RayCaster m_all;                    // every outline
     std::vector<RayCaster> m_own;       // per object: its outline only (empty for points)
