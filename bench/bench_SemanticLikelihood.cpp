@@ -164,6 +164,37 @@ void BM_MarginalBatch(benchmark::State& s)
     runBatch(s, CSemanticMap::Model::Probabilistic, CSemanticMap::Association::Marginal);
 }
 
+/** A map of uncertain objects (every object sigma_m = 0.5 m, p_exist = 0.8, every third with a
+ *  class distribution): compare with BM_ProbabilisticBatch of the same arguments in the same
+ *  run. */
+void BM_ProbabilisticUncertainBatch(benchmark::State& state)
+{
+    Setup s = makeSetup(static_cast<int>(state.range(0)), static_cast<size_t>(state.range(1)),
+                        CSemanticMap::Model::Probabilistic);
+    CSemanticMap uncertain;
+    uncertain.likelihoodOptions = s.map.likelihoodOptions;
+    for (auto o : s.map.objects())
+    {
+        o.sigma_m = 0.5;
+        o.p_exist = 0.8;
+        if (o.id % 3 == 0 && o.label != "wreck")
+        {
+            o.classes = {{o.label, 0.7}, {"wreck", 0.3}};
+            std::sort(o.classes.begin(), o.classes.end());
+        }
+        uncertain.addObject(o);
+    }
+    std::vector<double> out(s.particles.size());
+    for (auto _ : state)
+    {
+        uncertain.computeLogLikelihoods(s.obs, s.particles.data(), s.particles.size(), out.data());
+        benchmark::DoNotOptimize(out.data());
+    }
+    state.counters["per_particle"] = benchmark::Counter(
+        static_cast<double>(state.iterations()) * static_cast<double>(s.particles.size()),
+        benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
 /** Misread ranges (p_range_outlier = 0.05: every range passes the range gate, each pair's
  *  range term a mixture): compare with BM_PaperBatch / BM_ProbabilisticBatch of the same
  *  arguments in the same run (--benchmark_enable_random_interleaving=true). */
@@ -187,6 +218,8 @@ BENCHMARK(BM_ProbabilisticBatch)->Args({50, 10});
 // Misread ranges against the Gaussian range model.
 BENCHMARK(BM_PaperMisreadBatch)->Args({50, 5});
 BENCHMARK(BM_ProbabilisticMisreadBatch)->Args({50, 5});
+// A map of uncertain objects against the exact one.
+BENCHMARK(BM_ProbabilisticUncertainBatch)->Args({50, 5});
 // Particles per call (10^2 .. 10^5).
 BENCHMARK(BM_PaperBatchParticles)
     ->ArgName("particles")

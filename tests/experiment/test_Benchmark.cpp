@@ -287,20 +287,47 @@ TEST(Benchmark, ShippedPaperModelIniRunsThePaperLikelihoodEverywhere)
 TEST(Benchmark, ShippedChangedWorldIniSimulatesInAChangedWorld)
 {
     const auto b = semloc::Benchmark::FromConfigFile(kConfig + "changed_world.ini");
-    ASSERT_EQ(b.scenarios().size(), 4u);
-    const auto& all = b.scenarios().back().scenario();
+    ASSERT_EQ(b.scenarios().size(), 6u);
+    EXPECT_EQ(b.scenarios()[0].scenario().name, "nominal");
+    const auto& all = b.scenarios()[4].scenario();
     EXPECT_EQ(all.name, "all");
     EXPECT_EQ(all.world_changes.shift_sigma_m, 0.5);
     EXPECT_EQ(all.world_changes.removed_share, 0.2);
     EXPECT_EQ(all.world_changes.added, 5);
-    EXPECT_EQ(b.scenarios()[0].scenario().world_changes.removed_share, 0.0);
-    // The variants carry the world file's map, all of it.
-    for (const auto& v : b.scenarios().back().variants())
+    EXPECT_EQ(b.scenarios()[1].scenario().world_changes.removed_share, 0.0);
+    const semloc::World paper = semloc::World::FromFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
+    // The variants carry their map file's map, all of it: the exact one, and for the last the
+    // surveyed one, whose objects carry how sure the map is of them.
+    const auto& variants = b.scenarios()[4].variants();
+    ASSERT_EQ(variants.size(), 4u);
+    for (const auto& v : variants)
     {
         ASSERT_TRUE(v.maps.world.has_value());
-        EXPECT_EQ(
-            v.maps.world->objects.size(),
-            semloc::World::FromFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml").objects.size());
+        EXPECT_EQ(v.maps.world->objects.size(), paper.objects.size());
+        const auto sem = v.maps.map->mapByClass<semloc::CSemanticMap>();
+        ASSERT_TRUE(sem);
+        const bool surveyed = v.name() == "semantic_surveyed";
+        EXPECT_EQ(surveyed, &v == &variants.back());
+        for (const auto& o : sem->objects())
+        {
+            EXPECT_EQ(o.sigma_m, surveyed ? 0.5 : 0.0) << v.name();
+            EXPECT_EQ(o.p_exist, surveyed ? 0.8 : 1.0) << v.name();
+            EXPECT_EQ(o.classes.empty(), !surveyed || (o.label != "anchor" && o.label != "wreck"))
+                << v.name() << " " << o.id;
+        }
+    }
+    // The detector that confuses anchors and wrecks: the surveyed world simulated.
+    const auto& classes = b.scenarios()[5];
+    EXPECT_EQ(classes.scenario().name, "classes");
+    const semloc::World world = semloc::World::FromFile(classes.simulation().simulation.world_file);
+    ASSERT_EQ(world.objects.size(), paper.objects.size());
+    for (size_t i = 0; i < world.objects.size(); i++)
+    {
+        // The surveyed map is the paper's world, object for object.
+        EXPECT_EQ(world.objects[i].id, paper.objects[i].id);
+        EXPECT_EQ(world.objects[i].label, paper.objects[i].label);
+        EXPECT_EQ(world.objects[i].center.x, paper.objects[i].center.x);
+        EXPECT_EQ(world.objects[i].center.y, paper.objects[i].center.y);
     }
 }
 

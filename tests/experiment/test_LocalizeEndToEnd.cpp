@@ -225,7 +225,8 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
 {
     // Same inputs and seed: every output file the same byte for byte, except the timing
     // (update_us; wall_time_s, total_update_s, mean_update_us_per_particle) and the thread
-    // count itself (the `threads` key of summary.yaml and config.ini). KLD on and off.
+    // count itself (the `threads` key of summary.yaml and config.ini). KLD on and off, a map of
+    // uncertain objects, misread ranges.
     const std::vector<std::pair<std::string, std::string>> runs = {
         {"semantic", "semantic.ini"},
         {"semantic_kld",
@@ -235,7 +236,9 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
          patchedConfig("geometric.ini", {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}},
                        "geometric_kld")},
         {"grid_lf", "grid_lf.ini"},
-        {"fused", "fused.ini"}};
+        {"fused", "fused.ini"},
+        {"semantic_surveyed", "semantic_surveyed.ini"},
+        {"semantic_misread", "semantic_misread.ini"}};
     for (const auto& [name, ini] : runs)
     {
         const std::string path = ini.find('/') == std::string::npos ? kConfig + ini : ini;
@@ -546,6 +549,7 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
     const std::vector<Variant> variants = {
         {"semantic_marginal", "semantic", {{"association", "marginal"}}},
         {"semantic_misread", "semantic", {{"p_range_outlier", "0.05"}}},
+        {"semantic_surveyed", "semantic", {{"map_file", "../maps/paper_50x50_surveyed.yaml"}}},
         {"semantic_norecovery",
          "semantic",
          {{"recovery_alpha_slow", "0"}, {"recovery_alpha_fast", "0"}}},
