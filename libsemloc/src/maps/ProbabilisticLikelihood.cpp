@@ -261,7 +261,8 @@ struct GainParts
         const int32_t row = k.classes ? ix->classRow[hit[e]] : -1;
         if (row >= 0)
         {
-            const double pi = ix->classProb[static_cast<size_t>(row + d.label)];
+            const double pi =
+                ix->classProb[static_cast<size_t>(row) + static_cast<size_t>(d.label)];
             const double w = pi * k.sameW + (1 - pi) * k.otherW;
             // A class it cannot be: only a detection naming it pairs (the id wins).
             return w > 0 ? std::log(w) : (d.fixed >= 0 ? 0.0 : -kInfinity);

@@ -105,7 +105,8 @@ void indexUncertainty(CSemanticMap::Index& ix, const std::vector<CSemanticMap::T
             ix.classProb.resize(ix.classProb.size() + nl, 0.0);
             for (const auto& [label, p] : o.classes)
             {
-                ix.classProb[static_cast<size_t>(ix.classRow[k] + labels.find(label))] = p;
+                ix.classProb[static_cast<size_t>(ix.classRow[k]) +
+                             static_cast<size_t>(labels.find(label))] = p;
             }
         }
     }

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "filter/FastMath.h"
 #include "maps/LabelIndex.h"
@@ -20,10 +21,17 @@ namespace
 {
 using semantic::Scratch;
 
+/** This thread's scratch. The thread-local holds a pointer only: the static TLS of a library
+ *  dlopen'ed by an MRPT app (rawlog-edit -p libsemloc.so) must stay within the few hundred
+ *  bytes glibc keeps for it, whatever the size of Scratch. */
 Scratch& scratch()
 {
-    thread_local Scratch s;
-    return s;
+    thread_local std::unique_ptr<Scratch> s;
+    if (!s)
+    {
+        s = std::make_unique<Scratch>();
+    }
+    return *s;
 }
 
 /** What a likelihood call knows of the sensor, fixed for all particles of a step. */

@@ -237,7 +237,11 @@ void readUncertainty(const map_t& m, const Where& w, WorldObject& o)
         const auto label = kv.first.as<std::string>();
         if (const std::string problem = labelProblem(label); !problem.empty())
         {
-            w.fail("classes", "label '" + label + "': " + problem);
+            std::string what = "label '";
+            what += label;
+            what += "': ";
+            what += problem;
+            w.fail("classes", what);
         }
         const double p = toNumber(kv.second, w, "classes");
         if (!(p > 0 && p <= 1))
