@@ -55,6 +55,41 @@ mrpt::maps::CMultiMetricMap mapFromIni(const std::string& ini)
 }
 
 const TPose2D kTrue(10, 10, 0.3);
+
+/** Inserts into `map` 40 scans of `w` from known poses on a circle of 8 m around (15, 15),
+ *  the detector's full circle, noise sigmaRange [m] and sigmaBearing [rad]. */
+void surveyCircle(CSemanticMap& map, const World& w, double sigmaRange, double sigmaBearing,
+                  uint32_t seed)
+{
+    mrpt::random::CRandomGenerator rng(seed);
+    DetectorSim ds;
+    ds.sigma_range_m = sigmaRange;
+    ds.sigma_bearing_rad = sigmaBearing;
+    ds.fov_rad = 2 * M_PI;
+    for (int k = 0; k < 40; k++)
+    {
+        const double a = 2 * M_PI * k / 40;
+        const TPose2D p(15 + 8 * std::cos(a), 15 + 8 * std::sin(a), a + M_PI / 2);
+        map.insertObservation(observe(w, p, ds, &rng),
+                              mrpt::poses::CPose3D(mrpt::poses::CPose2D(p)));
+    }
+}
+
+/** A pillar at (x, y) known to sigma [m], there with probability pExist, an anchor with
+ *  probability pAnchor. */
+CSemanticMap::TObject uncertainPillar(int32_t id, double x, double y, double sigma, double pExist,
+                                      double pAnchor)
+{
+    CSemanticMap::TObject ob;
+    ob.id = id;
+    ob.label = "pillar";
+    ob.x = x;
+    ob.y = y;
+    ob.sigma_m = sigma;
+    ob.p_exist = pExist;
+    ob.classes = {{"anchor", pAnchor}, {"pillar", 1 - pAnchor}};
+    return ob;
+}
 }  // namespace
 
 TEST(CSemanticMap, CreatedFromIniThroughMultiMetricMap)
@@ -323,14 +358,7 @@ TEST(CSemanticMap, UncertainObjectFormulaExactly)
     // One object straight ahead at 5 m, known to +-0.4 m, there with probability 0.6, a pillar
     // with 0.7 and an anchor with 0.3; the map's labels: pillar and anchor (K = 2).
     CSemanticMap m;
-    CSemanticMap::TObject ob;
-    ob.id = 1;
-    ob.label = "pillar";
-    ob.x = 5;
-    ob.sigma_m = 0.4;
-    ob.p_exist = 0.6;
-    ob.classes = {{"anchor", 0.3}, {"pillar", 0.7}};
-    m.addObject(ob);
+    m.addObject(uncertainPillar(1, 5, 0, 0.4, 0.6, 0.3));
     auto& o = m.likelihoodOptions;
     o.model = CSemanticMap::Model::Probabilistic;
     CObservationSemantic obs;
@@ -858,18 +886,7 @@ TEST(CSemanticMap, InsertingObservationsWithKnownPosesBuildsTheMap)
     const World w = smallWorld();
     CSemanticMap built;
     built.insertionOptions.merge_distance_m = 1.5;
-    mrpt::random::CRandomGenerator rng(5);
-    DetectorSim ds;
-    ds.sigma_range_m = 0.05;
-    ds.sigma_bearing_rad = 0.005;
-    ds.fov_rad = 2 * M_PI;
-    for (int k = 0; k < 40; k++)
-    {
-        const double a = 2 * M_PI * k / 40;
-        const TPose2D p(15 + 8 * std::cos(a), 15 + 8 * std::sin(a), a + M_PI / 2);
-        const auto obs = observe(w, p, ds, &rng);
-        built.insertObservation(obs, mrpt::poses::CPose3D(mrpt::poses::CPose2D(p)));
-    }
+    surveyCircle(built, w, 0.05, 0.005, 5);
     ASSERT_EQ(built.objects().size(), w.objects.size());
     for (const auto& wo : w.objects)
     {
@@ -897,18 +914,7 @@ TEST(CSemanticMap, InsertionEstimatesPositionSigmaAndExistence)
     CSemanticMap built;
     built.loadFromWorld(w);
     built.addObject({99, "anchor", 18, 18, 0, 0, 1});
-    mrpt::random::CRandomGenerator rng(9);
-    DetectorSim ds;
-    ds.sigma_range_m = 0.2;
-    ds.sigma_bearing_rad = 0.02;
-    ds.fov_rad = 2 * M_PI;
-    for (int k = 0; k < 40; k++)
-    {
-        const double a = 2 * M_PI * k / 40;
-        const TPose2D p(15 + 8 * std::cos(a), 15 + 8 * std::sin(a), a + M_PI / 2);
-        built.insertObservation(observe(w, p, ds, &rng),
-                                mrpt::poses::CPose3D(mrpt::poses::CPose2D(p)));
-    }
+    surveyCircle(built, w, 0.2, 0.02, 9);
     ASSERT_EQ(built.objects().size(), w.objects.size() + 1);
     size_t detected = 0;
     for (const auto& o : built.objects())
@@ -977,14 +983,7 @@ TEST(CSemanticMap, SerializationAndSavedYamlRoundTrip)
 TEST(CSemanticMap, SerializationKeepsHowSureTheMapIs)
 {
     CSemanticMap a;
-    CSemanticMap::TObject ob;
-    ob.id = 3;
-    ob.label = "pillar";
-    ob.x = 2;
-    ob.y = 7;
-    ob.sigma_m = 0.25;
-    ob.p_exist = 0.5;
-    ob.classes = {{"anchor", 0.125}, {"pillar", 0.875}};
+    CSemanticMap::TObject ob = uncertainPillar(3, 2, 7, 0.25, 0.5, 0.125);
     ob.n_detected = 4;
     ob.scatter_m2 = 0.75;
     ob.n_in_view = 9;

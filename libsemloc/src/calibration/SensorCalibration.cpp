@@ -60,18 +60,42 @@ double distance2(const TSemanticDetection& d, const SemanticDetectorModel::TVisi
     return dx * dx + dy * dy;
 }
 
+/** A candidate (detection j, object v) of a matching and what it costs. */
+struct MatchPair
+{
+    double cost;
+    size_t j, v;
+};
+
+/** Takes the `pairs` one to one, cheapest first (ties by j, then v), each unless its detection
+ *  or its object is taken; returns how many it took. */
+size_t takeGreedy(std::vector<MatchPair>& pairs, std::vector<int>& detTo, std::vector<int>& visTo)
+{
+    std::sort(pairs.begin(), pairs.end(),
+              [](const MatchPair& a, const MatchPair& b) {
+                  return a.cost < b.cost ||
+                         (a.cost == b.cost && (a.j < b.j || (a.j == b.j && a.v < b.v)));
+              });
+    size_t n = 0;
+    for (const auto& p : pairs)
+    {
+        if (detTo[p.j] < 0 && visTo[p.v] < 0)
+        {
+            detTo[p.j] = static_cast<int>(p.v);
+            visTo[p.v] = static_cast<int>(p.j);
+            n++;
+        }
+    }
+    return n;
+}
+
 /** One-to-one greedy matching, nearest pair first, of the detections and objects not yet used
  *  within the gate; `sameLabel` selects same- or other-label pairs. */
 void matchGreedy(const std::vector<TSemanticDetection>& dets,
                  const std::vector<SemanticDetectorModel::TVisibleObject>& vis, const World& world,
                  const Gate& gate, bool sameLabel, std::vector<int>& detTo, std::vector<int>& visTo)
 {
-    struct Pair
-    {
-        double d2;
-        size_t j, v;
-    };
-    std::vector<Pair> pairs;
+    std::vector<MatchPair> pairs;
     for (size_t j = 0; j < dets.size(); j++)
     {
         for (size_t v = 0; v < vis.size(); v++)
@@ -91,18 +115,7 @@ void matchGreedy(const std::vector<TSemanticDetection>& dets,
             }
         }
     }
-    std::sort(pairs.begin(), pairs.end(),
-              [](const Pair& a, const Pair& b) {
-                  return a.d2 < b.d2 || (a.d2 == b.d2 && (a.j < b.j || (a.j == b.j && a.v < b.v)));
-              });
-    for (const auto& p : pairs)
-    {
-        if (detTo[p.j] < 0 && visTo[p.v] < 0)
-        {
-            detTo[p.j] = static_cast<int>(p.v);
-            visTo[p.v] = static_cast<int>(p.j);
-        }
-    }
+    takeGreedy(pairs, detTo, visTo);
 }
 
 /** The share of one scan's clutter expected within the gate of object `v`: the clutter is
@@ -207,12 +220,7 @@ size_t matchMisread(const std::vector<TSemanticDetection>& dets,
                     const World& world, const Gate& gate, std::vector<int>& detTo,
                     std::vector<int>& visTo)
 {
-    struct Pair
-    {
-        double db;
-        size_t j, v;
-    };
-    std::vector<Pair> pairs;
+    std::vector<MatchPair> pairs;
     for (size_t j = 0; j < dets.size(); j++)
     {
         for (size_t v = 0; v < vis.size(); v++)
@@ -227,21 +235,7 @@ size_t matchMisread(const std::vector<TSemanticDetection>& dets,
             }
         }
     }
-    std::sort(pairs.begin(), pairs.end(),
-              [](const Pair& a, const Pair& b) {
-                  return a.db < b.db || (a.db == b.db && (a.j < b.j || (a.j == b.j && a.v < b.v)));
-              });
-    size_t n = 0;
-    for (const auto& p : pairs)
-    {
-        if (detTo[p.j] < 0 && visTo[p.v] < 0)
-        {
-            detTo[p.j] = static_cast<int>(p.v);
-            visTo[p.v] = static_cast<int>(p.j);
-            n++;
-        }
-    }
-    return n;
+    return takeGreedy(pairs, detTo, visTo);
 }
 
 /** The detector's side of one scan at true pose `pose`, seen by `model`. */
