@@ -68,6 +68,7 @@ double probabilisticConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t n
     }
     return sb;
 }
+
 /** p_range_outlier > 0: the range term becomes the mixture (1 - eps) N(dr; sigma_rho) + eps / R
  *  (paper model: the same over the Gaussian's peak, so a perfect match still costs ~0), and
  *  the gates those of the gain C0 + rangeTerm - (db/sigma_b)^2 / 2 with the model's best

@@ -89,6 +89,14 @@ class LabelIndex;
  *  are left out).
  *  Greedy's value is one term of the sum: the exact marginal is never below it.
  *
+ *  **Objects with uncertainty** (probabilistic model; TObject::sigma_m, p_exist, classes,
+ *  from the world file or insertObservation): at each particle a pair's range variance is
+ *  sigma_rho^2 + sigma_m^2 and its bearing variance sigma_theta^2 + sigma_m^2 / max(rho^2,
+ *  4 sigma_m^2); P_D(rho) becomes p_exist P_D(rho) (in the miss term too); the label term is
+ *  C(L_j | v) = pi(L_j) (1 - p_c) + (1 - pi(L_j)) p_c / (K - 1) over the class distribution
+ *  pi (a class it cannot be pairs only with a detection naming it). The paper model keeps
+ *  positions and labels as given (docs/design.md, "The semantic models").
+ *
  *  **Misread ranges** (`p_range_outlier` = eps > 0, both models): a detection of an object
  *  reports, with probability eps, a range uniform over [0, R] (R: the detector's max range)
  *  instead of a Gaussian one; its bearing stays Gaussian. The range factor of a matched pair
@@ -222,7 +230,13 @@ public:
                               const std::string& section) const override;
     };
 
-    /** How observations inserted with a known pose become objects. */
+    /** How observations inserted with a known pose become objects. A detection is merged into
+     *  the object it names, else the nearest of its label within merge_distance_m, else becomes
+     *  a new object; each insertion of a CObservationSemantic also counts the objects inside
+     *  the detector's coverage as in view with the detection P_D(rho) expected of them. An
+     *  object the insertions touched gets sigma_m = its detections' spread per axis over
+     *  sqrt(n) (from 3 on; sigma_range_m / sqrt(n) before) and p_exist = (detections + 1) /
+     *  (expected detections + 1), at most 1 (docs/design.md, "The semantic models"). */
     struct TInsertionOptions : public mrpt::config::CLoadableOptions
     {
         /** A detection this close [m] to a known object of the same label is merged into it. */
