@@ -284,8 +284,7 @@ struct GainParts
         double range = hr - 0.5 * std::log(2 * M_PI * vr);
         if (k.rangeOutliers)
         {
-            const double a = range + k.logKeep;  // log((1 - eps) N(dr; vr))
-            range = std::max(a, k.mixB) + std::log1p(std::exp(-std::abs(a - k.mixB)));
+            range = logAddExp(range + k.logKeep, k.mixB);  // (1 - eps) N(dr; vr) + eps / R
         }
         return logC + range - 0.5 * std::log(2 * M_PI * vb) - 0.5 * db * db / vb - k.logKappa;
     }

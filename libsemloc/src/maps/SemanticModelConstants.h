@@ -77,12 +77,17 @@ struct ModelConstsCache
     bool valid = false;
 };
 
+/** log(e^a + e^b), evaluated without overflow. */
+inline double logAddExp(double a, double b)
+{
+    return std::max(a, b) + std::log1p(std::exp(-std::abs(a - b)));
+}
+
 /** The range term of a pair with h = -(dr/sigma_r)^2 / 2 when k.rangeOutliers:
- *  log(e^(mixA + h) + e^mixB), evaluated without overflow. */
+ *  log(e^(mixA + h) + e^mixB). */
 inline double rangeTerm(const ModelConsts& k, double h)
 {
-    const double a = k.mixA + h;
-    return std::max(a, k.mixB) + std::log1p(std::exp(-std::abs(a - k.mixB)));
+    return logAddExp(k.mixA + h, k.mixB);
 }
 
 /** The constants of options `opt` for a map of nLabels labels (and uncertain objects `map`)
