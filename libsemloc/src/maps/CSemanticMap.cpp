@@ -105,29 +105,9 @@ void checkObject(const CSemanticMap::TObject& o)
     {
         THROW_EXCEPTION_FMT("CSemanticMap: object id %d: bad insertion counts", o.id);
     }
-    if (o.classes.empty())
+    if (const std::string problem = classesProblem(o.classes, o.label); !problem.empty())
     {
-        return;
-    }
-    double sum = 0;
-    bool own = false;
-    for (size_t i = 0; i < o.classes.size(); i++)
-    {
-        const auto& [label, p] = o.classes[i];
-        if (label.empty() || !(p > 0 && p <= 1) || (i > 0 && !(o.classes[i - 1].first < label)))
-        {
-            THROW_EXCEPTION_FMT(
-                "CSemanticMap: object id %d: classes must be distinct labels, sorted, each with "
-                "a probability in (0, 1]",
-                o.id);
-        }
-        sum += p;
-        own = own || label == o.label;
-    }
-    if (std::abs(sum - 1) > 1e-6 || !own)
-    {
-        THROW_EXCEPTION_FMT(
-            "CSemanticMap: object id %d: classes must sum to 1 and hold the object's label", o.id);
+        THROW_EXCEPTION_FMT("CSemanticMap: object id %d: classes: %s", o.id, problem.c_str());
     }
 }
 }  // namespace

@@ -230,37 +230,15 @@ void readUncertainty(const map_t& m, const Where& w, WorldObject& o)
     {
         w.fail("classes", "expected a map {label: probability, ...}");
     }
-    double sum = 0;
-    bool hasOwn = false;
     for (const auto& kv : c->asMap())
     {
-        const auto label = kv.first.as<std::string>();
-        if (const std::string problem = labelProblem(label); !problem.empty())
-        {
-            std::string what = "label '";
-            what += label;
-            what += "': ";
-            what += problem;
-            w.fail("classes", what);
-        }
-        const double p = toNumber(kv.second, w, "classes");
-        if (!(p > 0 && p <= 1))
-        {
-            w.fail("classes", "probability of '" + label + "' must be in (0, 1]");
-        }
-        sum += p;
-        hasOwn = hasOwn || label == o.label;
-        o.classes.emplace_back(label, p);
-    }
-    if (std::abs(sum - 1) > 1e-6)
-    {
-        w.fail("classes", mrpt::format("the probabilities sum to %.9g, not 1", sum));
-    }
-    if (!hasOwn)
-    {
-        w.fail("classes", "must include the object's label '" + o.label + "'");
+        o.classes.emplace_back(kv.first.as<std::string>(), toNumber(kv.second, w, "classes"));
     }
     std::sort(o.classes.begin(), o.classes.end());
+    if (const std::string problem = classesProblem(o.classes, o.label); !problem.empty())
+    {
+        w.fail("classes", problem);
+    }
 }
 
 /** objects[index]: identity, `z`, then the keys of its shape. */

@@ -93,6 +93,12 @@ struct WorldObject
     /** @} */
 };
 
+/** What is wrong with `classes` as the class distribution of an object labelled `label`
+ *  (labels valid, distinct and sorted, each probability in (0, 1], summing to 1 within 1e-6,
+ *  `label` among them), or "" if nothing. */
+std::string classesProblem(const std::vector<std::pair<std::string, double>>& classes,
+                           const std::string& label);
+
 /** Axis-aligned area particles may occupy [m]. */
 struct WorldBounds
 {
