@@ -94,12 +94,12 @@ void rangesBlock(const CSemanticMap::Index& ix, Scratch& sc, size_t ne,
     }
     if (!ix.pExist.empty())
     {
-        // An object that may be gone: P_D = p_exist P_D(rho), clamped the same way.
+        // An object that may be gone: P_D = p_exist P_D(rho), clamped the same way (P_D(rho)
+        // lies inside the clamp: the options and rho <= R keep it there).
         const uint32_t* hit = sc.bHit.data();
         for (size_t e = 0; e < ne; e++)
         {
-            const double p = opt.p_detect_near + slope * (RR[e] / R);
-            PD[e] = std::clamp(ix.pExist[hit[e]] * p, 1e-6, 1 - 1e-6);
+            PD[e] = std::clamp(ix.pExist[hit[e]] * PD[e], 1e-6, 1 - 1e-6);
         }
     }
 }
