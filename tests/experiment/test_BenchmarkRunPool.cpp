@@ -53,6 +53,7 @@ TEST(BenchmarkRunPool, RunFileGivesBackEveryValueBitForBit)
         s.update_us = 1234.5678;
         in[0].records.push_back(s);
     }
+    in[0].detectorBound = {{1.0 / 3.0, 0.1 + 0.2}, {1e-300, 2.0 / 7.0}};
     in[1].variant = "grid_lf";  // no step at all
     const std::string path = writeTemp("run_roundtrip.txt", semloc::detail::runFileText(in));
 
@@ -86,8 +87,16 @@ TEST(BenchmarkRunPool, RunFileGivesBackEveryValueBitForBit)
         EXPECT_EQ(b.n_particles, a.n_particles);
         EXPECT_EQ(bits(b.update_us), bits(a.update_us));
     }
+    ASSERT_EQ(out[0].detectorBound.size(), 2u);
+    for (size_t k = 0; k < 2; k++)
+    {
+        EXPECT_EQ(bits(out[0].detectorBound[k].rms_xy_m), bits(in[0].detectorBound[k].rms_xy_m));
+        EXPECT_EQ(bits(out[0].detectorBound[k].mean_err_xy_m),
+                  bits(in[0].detectorBound[k].mean_err_xy_m));
+    }
     EXPECT_EQ(out[1].variant, "grid_lf");
     EXPECT_TRUE(out[1].records.empty());
+    EXPECT_TRUE(out[1].detectorBound.empty());
 }
 
 TEST(BenchmarkRunPool, CorruptRunFileIsAnError)
@@ -103,4 +112,10 @@ TEST(BenchmarkRunPool, CorruptRunFileIsAnError)
     EXPECT_THROW(
         semloc::detail::readRunFile(writeTemp("run_cut.txt", full.substr(0, full.size() - 12)), 1),
         std::exception);
+    // Cut in the middle of its detector bound.
+    r.detectorBound.resize(3, {0.25, 0.125});
+    const std::string withBound = semloc::detail::runFileText({r});
+    EXPECT_THROW(semloc::detail::readRunFile(
+                     writeTemp("run_cut_bound.txt", withBound.substr(0, withBound.size() - 8)), 1),
+                 std::exception);
 }

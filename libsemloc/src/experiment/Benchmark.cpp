@@ -53,8 +53,10 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
 {
     auto simOptions = m_simulation;
     simOptions.simulation.seed = static_cast<uint32_t>(run);
-    const SimulationResult data =
-        m_changedWorld ? Simulator(*m_changedWorld, simOptions).run() : Simulator(simOptions).run();
+    const Simulator simulator =
+        m_changedWorld ? Simulator(*m_changedWorld, simOptions) : Simulator(simOptions);
+    const SimulationResult data = simulator.run();
+    const auto bound = detectorCramerRaoBound(simulator, data);
     const GroundTruth gt(data.groundTruth);
     const double tolerance = 0.5 * simOptions.simulation.time_step_s;
 
@@ -99,6 +101,7 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
             std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
         r.metrics = RunMetrics::compute(r.records, v.options.convergence, kidnapStep());
         r.reinitializations = loc.recoveryStats().reinitializations;
+        r.detectorBound = bound;
         out.push_back(std::move(r));
     }
     return out;

@@ -248,6 +248,12 @@ std::string runFileText(const std::vector<Benchmark::TRunResult>& rs)
               << ' ' << exact(s.est.phi) << ' ' << exact(s.var_xy) << ' ' << exact(s.ess) << ' '
               << s.n_particles << ' ' << exact(s.update_us) << '\n';
         }
+        o << "B " << r.detectorBound.size();
+        for (const auto& b : r.detectorBound)
+        {
+            o << ' ' << exact(b.rms_xy_m) << ' ' << exact(b.mean_err_xy_m);
+        }
+        o << '\n';
     }
     return o.str();
 }
@@ -277,6 +283,14 @@ std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run)
                 s.gt = g;
             }
         }
+        f >> tag >> n;
+        ASSERTMSG_(static_cast<bool>(f) && tag == "B", "corrupt run file '" + path + "'");
+        r.detectorBound.resize(n);
+        for (auto& b : r.detectorBound)
+        {
+            f >> b.rms_xy_m >> b.mean_err_xy_m;
+        }
+        ASSERTMSG_(static_cast<bool>(f), "corrupt run file '" + path + "'");
         ASSERTMSG_(static_cast<bool>(f), "corrupt run file '" + path + "'");
         rs.push_back(std::move(r));
     }

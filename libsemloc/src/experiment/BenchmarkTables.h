@@ -16,6 +16,8 @@ struct VariantStatistics
     size_t runs = 0, converged = 0;
     /** Per converged run: time to convergence [s], mean error after convergence [m]. */
     std::vector<double> convTime, errAfter;
+    /** Per converged run with a detector bound: the bound over the same steps [m]. */
+    std::vector<double> boundAfter;
     /** var_xy of every step of every run [m^2]. */
     std::vector<double> var;
     /** Per run: filter time [s], filter time per particle-step [us], wall time [s]. */

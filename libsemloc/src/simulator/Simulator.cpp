@@ -314,6 +314,7 @@ void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPos
     res.rawlog.insert(actions);
     res.rawlog.insert(frame);
     res.groundTruth.push_back({mrpt::Clock::toDouble(stamp), pose.x, pose.y, pose.phi});
+    res.detectorSilent.push_back(silent ? 1 : 0);
 }
 
 /** Where the kidnapped vehicle is put: a random free pose, or the configured one. */

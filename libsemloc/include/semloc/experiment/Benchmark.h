@@ -6,6 +6,7 @@
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/experiment/RunMetrics.h>
 #include <semloc/maps/LocalizationMap.h>
+#include <semloc/simulator/DetectorBound.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/simulator/WorldChanges.h>
 
@@ -159,6 +160,14 @@ public:
         double wallTime_s = 0;
         /** One record per filter step (rows of steps.csv). */
         std::vector<TStepRecord> records;
+        /** The detector's Cramér–Rao bound at each step of the simulated run (the same for
+         *  every variant of a run; detectorCramerRaoBound): what no filter of the detections
+         *  alone can beat. */
+        std::vector<TDetectorBoundStep> detectorBound;
+
+        /** The mean of detectorBound's mean_err_xy_m over the steps from the convergence step
+         *  on (those of metrics.mean_err_after_conv_m); NaN if not converged or without it. */
+        double detectorBoundAfterConvergence() const;
     };
 
     /** Success of one variant in one scenario over the runs. */

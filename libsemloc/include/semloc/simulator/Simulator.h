@@ -111,6 +111,8 @@ struct SimulationResult
     mrpt::obs::CRawlog rawlog;
     /** One row per step. */
     std::vector<GroundTruthRow> groundTruth;
+    /** Per step: 1 if the detector was silent (a gap of [SemanticDetector] gap_every_s). */
+    std::vector<uint8_t> detectorSilent;
     /** Number of steps. */
     size_t steps = 0;
     /** Mean detections per semantic scan (false positives included). */
