@@ -19,9 +19,12 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <set>
+#include <tuple>
 
 #include "ScanSimulation.h"
 #include "TestHelpers.h"
+#include "filter/KldResampling.h"
 
 using mrpt::math::TPose2D;
 using semloc::CParallelMonteCarloLocalization2D;
@@ -309,6 +312,128 @@ TEST(CParallelMonteCarloLocalization2D, KldAdaptiveSampleSizeRunsThroughMrpt)
     EXPECT_GE(pdf.size(), 300u);
     EXPECT_LT(pdf.size(), 5000u) << "KLD shrinks a converged cloud";
     EXPECT_LT(std::hypot(pdf.getMeanVal().x() - 10, pdf.getMeanVal().y() - 4), 1.0);
+}
+
+TEST(CParallelMonteCarloLocalization2D, KldBoundIsFoxs)
+{
+    mrpt::slam::TKLDParams p;
+    p.KLD_epsilon = 0.02;
+    p.KLD_delta = 0.01;
+    EXPECT_EQ(semloc::detail::kldBound(1, p), 0u);
+    // Fox (IJRR 2003), eq. 8 with the Wilson-Hilferty approximation of chi2inv(0.99, k - 1):
+    // (k - 1) / (2 eps) (1 - 2 / (9 (k - 1)) + sqrt(2 / (9 (k - 1))) z_0.99)^3.
+    for (size_t k : {10u, 100u, 1000u})
+    {
+        const double km1 = static_cast<double>(k - 1), z = 2.326347874;
+        const double a = 2.0 / (9.0 * km1);
+        const double fox = km1 / (2 * p.KLD_epsilon) * std::pow(1 - a + std::sqrt(a) * z, 3);
+        EXPECT_NEAR(static_cast<double>(semloc::detail::kldBound(k, p)), fox, 0.01 * fox) << k;
+    }
+}
+
+TEST(CParallelMonteCarloLocalization2D, KldResamplingSizesTheSetBySpread)
+{
+    mrpt::slam::TKLDParams p;
+    p.KLD_binSize_XY = 0.25;
+    p.KLD_binSize_PHI = mrpt::DEG2RAD(10.0);
+    p.KLD_minSampleSize = 200;
+    p.KLD_maxSampleSize = 20000;
+    semloc::detail::ParticleList cloud(5000);
+    std::vector<double> w(cloud.size(), 1.0);
+    auto& rng = mrpt::random::getRandomGenerator();
+    rng.randomize(3);
+    // Every particle in one bin: the floor.
+    for (auto& q : cloud)
+    {
+        q.d = TPose2D(rng.drawUniform(10.0, 10.2), rng.drawUniform(4.0, 4.2), 0.01);
+    }
+    std::vector<size_t> idx;
+    semloc::detail::kldResample(w, cloud, p, 0.5, rng, idx);
+    EXPECT_EQ(idx.size(), 200u);
+    // Spread over 10 x 10 m and every heading: more bins than Fox's bound can cover below
+    // the cap, so the cap.
+    for (auto& q : cloud)
+    {
+        q.d = TPose2D(rng.drawUniform(0.0, 10.0), rng.drawUniform(0.0, 10.0),
+                      rng.drawUniform(-M_PI, M_PI));
+    }
+    semloc::detail::kldResample(w, cloud, p, 0.5, rng, idx);
+    EXPECT_EQ(idx.size(), 20000u);
+    // In between (2 m x 2 m, +-20 deg): Fox's bound of the bins the taken particles occupy.
+    for (auto& q : cloud)
+    {
+        q.d = TPose2D(rng.drawUniform(0.0, 2.0), rng.drawUniform(0.0, 2.0),
+                      rng.drawUniform(-0.35, 0.35));
+    }
+    semloc::detail::kldResample(w, cloud, p, 0.5, rng, idx);
+    std::set<std::tuple<long, long, long>> bins;
+    for (const size_t i : idx)
+    {
+        const auto& d = cloud[i].d;
+        bins.emplace(std::lround(std::floor(d.x / 0.25)), std::lround(std::floor(d.y / 0.25)),
+                     std::lround(std::floor(d.phi / p.KLD_binSize_PHI)));
+    }
+    EXPECT_GT(idx.size(), 200u);
+    EXPECT_LT(idx.size(), 20000u);
+    EXPECT_EQ(idx.size(), semloc::detail::kldBound(bins.size(), p));
+    // Only particles of positive weight are taken, in proportion to their weights.
+    for (size_t i = 0; i < w.size(); i++)
+    {
+        w[i] = i % 2 ? 3.0 : (i % 4 ? 0.0 : 1.0);
+    }
+    semloc::detail::kldResample(w, cloud, p, 0.5, rng, idx);
+    size_t heavy = 0;
+    for (const size_t i : idx)
+    {
+        ASSERT_NE(i % 4, 2u) << "a particle of weight zero was taken";
+        heavy += i % 2;
+    }
+    EXPECT_NEAR(static_cast<double>(heavy) / static_cast<double>(idx.size()), 6.0 / 7.0, 0.03);
+}
+
+TEST(CParallelMonteCarloLocalization2D, KldAtResamplingKeepsTheSetBetweenResamplings)
+{
+    const Maps maps(false);
+    auto run = [&](size_t threads, bool measure)
+    {
+        mrpt::bayes::CParticleFilter pf;
+        pf.m_options.adaptiveSampleSize = true;
+        pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
+        auto pdf = std::make_unique<CParallelMonteCarloLocalization2D>();
+        pdf->options.metricMap = maps.multi;
+        pdf->options.KLD_params.KLD_minSampleSize = 300;
+        pdf->options.KLD_params.KLD_maxSampleSize = 5000;
+        pdf->setKldAtResampling(true);
+        pdf->setExecutor(std::make_shared<ParallelExecutor>(threads));
+        mrpt::random::getRandomGenerator().randomize(9);
+        pdf->resetUniform(3, 9, 2, 6, -0.3, 0.3, 5000);
+        if (measure)
+        {
+            runSteps(*pdf, maps, 10, pf);
+        }
+        else
+        {
+            // Odometry only: nothing degenerates the weights, nothing is resampled.
+            for (int k = 0; k < 10; k++)
+            {
+                const auto acts = odometry(mrpt::poses::CPose2D(0.5, 0, 0));
+                pf.executeOn(*pdf, &acts, nullptr);
+            }
+        }
+        return pdf;
+    };
+    EXPECT_EQ(run(1, false)->size(), 5000u) << "no resampling, no change of size";
+    const auto a = run(1, true);
+    EXPECT_GE(a->size(), 300u);
+    EXPECT_LT(a->size(), 5000u) << "KLD shrinks a converged cloud";
+    EXPECT_LT(std::hypot(a->getMeanVal().x() - 10, a->getMeanVal().y() - 4), 1.0);
+    const auto b = run(2, true);
+    ASSERT_EQ(a->size(), b->size());
+    for (size_t i = 0; i < a->size(); i++)
+    {
+        ASSERT_EQ(a->m_particles[i].d.x, b->m_particles[i].d.x) << i;
+        ASSERT_EQ(a->m_particles[i].log_w, b->m_particles[i].log_w) << i;
+    }
 }
 
 TEST(CParallelMonteCarloLocalization2D, AllWeightsZeroReinitializesInsteadOfNaN)

@@ -180,6 +180,10 @@ Cases iniModelCases()
          [](const fs::path& d) {
              return localizeGood(d, "", {{"recovery_injected_weight", "0"}});
          }},
+        {"ini-kld-at-resampling-without-kld",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"kld_at_resampling", "1"}});
+         }},
         {"ini-missed-object-penalty-out-of-range",
          [](const fs::path& d) {
              return localizeGood(d, "", {{"missed_object_penalty", "1.5"}});

@@ -22,6 +22,7 @@
 
 #include "filter/DetectorOutage.h"
 #include "filter/Estimate.h"
+#include "filter/KldResampling.h"
 #include "filter/MotionSampling.h"
 #include "filter/ParticleRuns.h"
 #include "filter/Resampling.h"
@@ -229,7 +230,7 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     uint64_t key = 0;
     if (actions)
     {
-        if (PF_options.adaptiveSampleSize)
+        if (PF_options.adaptiveSampleSize && !m_kldAtResampling)
         {
             // KLD sampling: MRPT's own implementation (prediction only, no frame).
             CMonteCarloLocalization2D::prediction_and_update_pfStandardProposal(actions, nullptr,
@@ -257,7 +258,8 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     m_essBeforeResampling = detail::weightsAndESS(
         m_particles, *m_executor,
         rangeKnown ? range : detail::minMaxLogWeights(m_particles, *m_executor), &m_linW);
-    if (!PF_options.adaptiveSampleSize && m_essBeforeResampling < PF_options.BETA)
+    if ((!PF_options.adaptiveSampleSize || m_kldAtResampling) &&
+        m_essBeforeResampling < PF_options.BETA)
     {
         resampleIfDegenerate(PF_options);
     }
@@ -267,6 +269,14 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
 void CParallelMonteCarloLocalization2D::resampleIfDegenerate(
     const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o)
 {
+    if (o.adaptiveSampleSize && m_kldAtResampling)
+    {
+        auto& rng = mrpt::random::getRandomGenerator();
+        const double u = rng.drawUniform(0.0, 1.0);
+        detail::kldResample(m_linW, m_particles, options.KLD_params, u, rng, m_resampleIdx);
+        performSubstitution(m_resampleIdx);
+        return;
+    }
     // Either branch takes the random numbers MRPT's performResampling() would, at the same
     // point of the sequence (the systematic one a single uniform draw, as MRPT's).
     if (o.resamplingMethod == mrpt::bayes::CParticleFilter::prSystematic)

@@ -259,6 +259,7 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
     m_pdf->setExecutor(m_executor);
     m_pdf->setRecoveryOptions(o.recovery);
     m_pdf->setFreeSpacePrior(o.free_space_prior);
+    m_pdf->setKldAtResampling(o.kld_at_resampling);
 
     TSamplingArea area;
     area.x_min = o.init_PDF_min_x;

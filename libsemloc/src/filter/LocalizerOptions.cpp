@@ -142,9 +142,9 @@ void loadParticleFilter(const mrpt::config::CConfigFileBase& c, Localizer::TOpti
     // [PF_options]: MRPT's TParticleFilterOptions, strictly, plus ours.
     {
         auto known = keysOf(o.pf);
-        known.insert(known.end(),
-                     {"threads", "recovery_alpha_slow", "recovery_alpha_fast",
-                      "recovery_from_detections", "recovery_injected_weight", "free_space_prior"});
+        known.insert(known.end(), {"threads", "recovery_alpha_slow", "recovery_alpha_fast",
+                                   "recovery_from_detections", "recovery_injected_weight",
+                                   "free_space_prior", "kld_at_resampling"});
         rejectUnknownKeys(c, kPF, known);
     }
     o.pf.PF_algorithm = static_cast<CParticleFilter::TParticleFilterAlgorithm>(
@@ -172,6 +172,7 @@ void loadParticleFilter(const mrpt::config::CConfigFileBase& c, Localizer::TOpti
     readDouble(c, kPF, "recovery_from_detections", o.recovery.from_detections, 0, 1);
     readDouble(c, kPF, "recovery_injected_weight", o.recovery.injected_weight, 1e-12, 1);
     readBool(c, kPF, "free_space_prior", o.free_space_prior);
+    readBool(c, kPF, "kld_at_resampling", o.kld_at_resampling);
 }
 
 /** The [PF_options] combinations MRPT or semloc do not implement. */
@@ -183,12 +184,19 @@ void checkParticleFilter(const Localizer::TOptions& o)
             "2 (pfOptimalProposal) is not implemented by MRPT's CMonteCarloLocalization2D; use "
             "0, 1 or 3");
     }
-    if (o.pf.adaptiveSampleSize && (o.pf.PF_algorithm != CParticleFilter::pfStandardProposal ||
-                                    o.pf.resamplingMethod != CParticleFilter::prMultinomial))
+    if (o.pf.adaptiveSampleSize && !o.kld_at_resampling &&
+        (o.pf.PF_algorithm != CParticleFilter::pfStandardProposal ||
+         o.pf.resamplingMethod != CParticleFilter::prMultinomial))
     {
         bad(kPF, "adaptiveSampleSize",
             "1 (KLD sampling) needs PF_algorithm = 0 (pfStandardProposal) and resamplingMethod "
-            "= 0 (prMultinomial)");
+            "= 0 (prMultinomial), or kld_at_resampling = 1");
+    }
+    if (o.kld_at_resampling &&
+        (!o.pf.adaptiveSampleSize || o.pf.PF_algorithm != CParticleFilter::pfStandardProposal))
+    {
+        bad(kPF, "kld_at_resampling",
+            "1 needs adaptiveSampleSize = 1 and PF_algorithm = 0 (pfStandardProposal)");
     }
     const bool recoveryOff = o.recovery.alpha_slow == 0 && o.recovery.alpha_fast == 0;
     if (!recoveryOff && !o.recovery.enabled())
@@ -348,6 +356,8 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
         "weight of an injected particle relative to a resampled one, (0, 1]");
     put(c, kPF, "free_space_prior", free_space_prior ? "1" : "0",
         "weight 0 outside the free space");
+    put(c, kPF, "kld_at_resampling", kld_at_resampling ? "1" : "0",
+        "KLD sampling when resampling, not at every step");
 
     put(c, kKLD, "KLD_binSize_XY", kld.KLD_binSize_XY, "[m]");
     put(c, kKLD, "KLD_binSize_PHI_deg", mrpt::RAD2DEG(kld.KLD_binSize_PHI), "[deg]");

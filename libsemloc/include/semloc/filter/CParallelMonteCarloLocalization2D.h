@@ -43,7 +43,9 @@ struct WeightRange;
  *    transform mean + Z sqrt(D) n), drawn and composed (2D) on the executor's threads.
  *    Other motion models (Thrun's particles, 3D actions): MRPT's sampler on this thread.
  *  - Prediction, adaptive sample size (KLD, `adaptiveSampleSize = 1`): MRPT's own sequential
- *    implementation.
+ *    implementation, which draws a new set from the weights at every step; with
+ *    setKldAtResampling() the Gaussian prediction above instead, the sample size changing
+ *    only at the resampling steps (see "Resampling").
  *  - Update: every particle's log-likelihood on the executor's threads
  *    (SensoryFrameLikelihood: MRPT's value, its fast paths), added to the log-weight times
  *    `powFactor`, exactly as MRPT.
@@ -81,7 +83,8 @@ struct WeightRange;
  *  same for any thread count.
  *
  *  ## Resampling
- *  With a fixed sample size, the step resamples at its own end when ESS() < BETA (the test
+ *  With a fixed sample size, or KLD at the resampling steps (setKldAtResampling), the step
+ *  resamples at its own end when ESS() < BETA (the test
  *  of CParticleFilter::executeOn): `resamplingMethod` 3 (systematic) by its own
  *  implementation, from the weights of the ESS pass, with one uniform draw of MRPT's
  *  generator as MRPT's; the others by MRPT's computeResampling(). This avoids executeOn's
@@ -89,6 +92,12 @@ struct WeightRange;
  *  finds equal weights and leaves them). Hence
  *  executeOn's TParticleFilterStats::ESS_beforeResample reads 1 after a resampling step:
  *  read essBeforeResampling() instead.
+ *  With KLD at the resampling steps the new set is drawn by KLD-sampling instead
+ *  (detail::kldResample: systematic candidates taken in a random order until Fox's bound
+ *  for the bins they occupy is reached), so its size follows the spread of the cloud but
+ *  only changes when the weights have degenerated: a step that measured nothing keeps every
+ *  particle, and an injected particle keeps its small weight until it has earned more, as
+ *  with a fixed size (MRPT's KLD resamples at every step, which drops it at once).
  *  performSubstitution() gives every resampled particle the log-weight 0: MRPT 2.5.8's
  *  CParticleFilterCapable::performResampling() keeps the old weights when called with the
  *  default particle count, as CParticleFilter::executeOn does (fixed upstream by MRPT commit
@@ -132,6 +141,9 @@ public:
     /** Free-space prior (off by default): a particle the FreeSpaceSampler does not contain
      *  (outside the world's bounds, inside an object) gets weight zero at each update. */
     void setFreeSpacePrior(bool on) { m_freeSpacePrior = on; }
+    /** With `adaptiveSampleSize = 1`: KLD-sampling at the resampling steps (true) instead of
+     *  MRPT's at every prediction (false, the default); see "Resampling". */
+    void setKldAtResampling(bool on) { m_kldAtResampling = on; }
     /** @} */
 
     /** @name Statistics
@@ -233,6 +245,7 @@ private:
     TRecoveryStats m_recoveryStats;
     double m_lastPInject = 0;
     bool m_freeSpacePrior = false;
+    bool m_kldAtResampling = false;
 
     /** Per-step buffers, reused (no allocation per step once sized). */
     std::vector<mrpt::math::TPose2D> m_poses;

@@ -118,6 +118,9 @@ public:
         AugmentedMCL::TOptions recovery;
         /** Weight zero for particles outside the free space (free_space_prior). */
         bool free_space_prior = false;
+        /** With adaptiveSampleSize = 1: KLD-sampling at the resampling steps instead of
+         *  MRPT's at every step (kld_at_resampling; CParallelMonteCarloLocalization2D). */
+        bool kld_at_resampling = false;
         /** @} */
 
         /** [KLD_options]: MRPT's KLD-sampling parameters (adaptiveSampleSize = 1). */
