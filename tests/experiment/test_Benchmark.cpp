@@ -253,6 +253,8 @@ TEST(Benchmark, ShippedKldIniComparesTheFixedCountWithKld)
         EXPECT_EQ(kld.particles_count, 10000);
         EXPECT_FALSE(fixed.pf.adaptiveSampleSize);
         EXPECT_TRUE(kld.pf.adaptiveSampleSize);
+        EXPECT_TRUE(kld.kld_at_resampling);
+        EXPECT_EQ(kld.kld.KLD_minSampleSize, 5000u);
         EXPECT_TRUE(kld.recovery.enabled());
     }
 }

@@ -225,8 +225,8 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
 {
     // Same inputs and seed: every output file the same byte for byte, except the timing
     // (update_us; wall_time_s, total_update_s, mean_update_us_per_particle) and the thread
-    // count itself (the `threads` key of summary.yaml and config.ini). KLD on and off, a map of
-    // uncertain objects, misread ranges.
+    // count itself (the `threads` key of summary.yaml and config.ini). KLD on and off (MRPT's
+    // and at the resampling steps), a map of uncertain objects, misread ranges.
     const std::vector<std::pair<std::string, std::string>> runs = {
         {"semantic", "semantic.ini"},
         {"semantic_kld",
@@ -238,7 +238,8 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
         {"grid_lf", "grid_lf.ini"},
         {"fused", "fused.ini"},
         {"semantic_surveyed", "semantic_surveyed.ini"},
-        {"semantic_misread", "semantic_misread.ini"}};
+        {"semantic_misread", "semantic_misread.ini"},
+        {"semantic_kld_at_resampling", "semantic_kld.ini"}};
     for (const auto& [name, ini] : runs)
     {
         const std::string path = ini.find('/') == std::string::npos ? kConfig + ini : ini;
@@ -560,7 +561,9 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
           {"recovery_alpha_fast", "0"},
           {"recovery_injected_weight", "1"},
           {"outage_every_s", "0"}}},
-        {"semantic_kld", "semantic", {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}}},
+        {"semantic_kld",
+         "semantic",
+         {{"adaptiveSampleSize", "1"}, {"kld_at_resampling", "1"}, {"KLD_minSampleSize", "5000"}}},
         {"semantic_paper",
          "semantic_basic",
          {{"model", "paper"}, {"init_PDF_mode", "3"}, {"missed_object_penalty", "0.9"}}}};
