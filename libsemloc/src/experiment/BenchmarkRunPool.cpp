@@ -291,7 +291,6 @@ std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run)
             f >> b.rms_xy_m >> b.mean_err_xy_m;
         }
         ASSERTMSG_(static_cast<bool>(f), "corrupt run file '" + path + "'");
-        ASSERTMSG_(static_cast<bool>(f), "corrupt run file '" + path + "'");
         rs.push_back(std::move(r));
     }
     return rs;
