@@ -297,7 +297,13 @@ TEST(Benchmark, ShippedPaperModelIniRunsThePaperLikelihoodEverywhere)
 TEST(Benchmark, ShippedChangedWorldIniSimulatesInAChangedWorld)
 {
     const auto b = semloc::Benchmark::FromConfigFile(kConfig + "changed_world.ini");
-    ASSERT_EQ(b.scenarios().size(), 6u);
+    ASSERT_EQ(b.scenarios().size(), 8u);
+    const auto& far = b.scenarios()[7].scenario();
+    EXPECT_EQ(far.name, "all_1m");
+    EXPECT_EQ(far.world_changes.shift_sigma_m, 1.0);
+    EXPECT_EQ(far.world_changes.removed_share, 0.2);
+    EXPECT_EQ(b.scenarios()[6].scenario().world_changes.shift_sigma_m, 1.0);
+    EXPECT_EQ(b.scenarios()[6].scenario().world_changes.added, 0);
     EXPECT_EQ(b.scenarios()[0].scenario().name, "nominal");
     const auto& all = b.scenarios()[4].scenario();
     EXPECT_EQ(all.name, "all");
