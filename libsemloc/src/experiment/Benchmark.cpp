@@ -7,7 +7,9 @@
 #include <semloc/experiment/GroundTruth.h>
 #include <semloc/filter/Localizer.h>
 #include <semloc/io/StagedDirectory.h>
+#include <semloc/maps/CSemanticMap.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <sstream>
@@ -48,6 +50,19 @@ std::vector<Benchmark::TRunResult> collectRuns(const detail::RunFiles& files, in
 }  // namespace
 
 // ------------------------------------------------------------------ one run
+
+namespace
+{
+/** True when every map of `maps` is a CSemanticMap: a filter of the detections alone, which
+ *  the detector's Cramér–Rao bound bounds. */
+bool detectionsOnly(const LocalizationMap& maps)
+{
+    return maps.map && !maps.map->maps.empty() &&
+           std::all_of(maps.map->maps.begin(), maps.map->maps.end(),
+                       [](const auto& m)
+                       { return static_cast<bool>(std::dynamic_pointer_cast<CSemanticMap>(m)); });
+}
+}  // namespace
 
 std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
 {
@@ -101,7 +116,10 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
             std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
         r.metrics = RunMetrics::compute(r.records, v.options.convergence, kidnapStep());
         r.reinitializations = loc.recoveryStats().reinitializations;
-        r.detectorBound = bound;
+        if (detectionsOnly(v.maps))
+        {
+            r.detectorBound = bound;  // a bound of the detections: not of the sonar's filters
+        }
         out.push_back(std::move(r));
     }
     return out;

@@ -160,9 +160,10 @@ public:
         double wallTime_s = 0;
         /** One record per filter step (rows of steps.csv). */
         std::vector<TStepRecord> records;
-        /** The detector's Cramér–Rao bound at each step of the simulated run (the same for
-         *  every variant of a run; detectorCramerRaoBound): what no filter of the detections
-         *  alone can beat. */
+        /** The detector's Cramér–Rao bound at each step of the simulated run
+         *  (detectorCramerRaoBound): what no filter of the detections alone can beat; for the
+         *  variants whose maps are all semantic maps (the same for each of a run), empty for
+         *  the others (the sonar's and the grids' filters have other information). */
         std::vector<TDetectorBoundStep> detectorBound;
 
         /** The mean of detectorBound's mean_err_xy_m over the steps from the convergence step
