@@ -65,16 +65,17 @@ mrpt::math::TPose2D movedPose(const mrpt::poses::CPosePDFGaussian& pdf, uint64_t
     return (from + u).asTPose();
 }
 
-std::vector<size_t> systematicResamplingIndices(const std::vector<double>& w, double u)
+std::vector<size_t> systematicResamplingIndices(const std::vector<double>& w, double u,
+                                                size_t count)
 {
-    const size_t M = w.size();
+    const size_t M = count > 0 ? count : w.size();
     double total = 0;
     for (const double wi : w)
     {
         total += wi;
     }
     ASSERT_(total > 0);
-    size_t last = M - 1;
+    size_t last = w.size() - 1;
     while (last > 0 && !(w[last] > 0))
     {
         last--;

@@ -28,11 +28,13 @@ mrpt::math::TPose2D movedPose(const mrpt::poses::CPosePDFGaussian& pdf, uint64_t
                               size_t particle, const mrpt::math::TPose2D& p);
 
 /** Systematic resampling (Thrun et al., Probabilistic Robotics, Table 4.4; MRPT's
- *  prSystematic) of the linear weights w (>= 0, positive sum W): the M pointers
- *  t_i = (u + i) W / M, u in [0, 1); particle j takes the pointers in [c_{j-1}, c_j),
- *  c_j = w_0 + ... + w_j summed in order, and the last particle of positive weight those
- *  beyond c_{M-1} (rounding). The source index of each resampled particle, in order. */
-std::vector<size_t> systematicResamplingIndices(const std::vector<double>& w, double u);
+ *  prSystematic) of the linear weights w (>= 0, positive sum W) into M particles (`count`;
+ *  0: as many as weights): the M pointers t_i = (u + i) W / M, u in [0, 1); particle j takes
+ *  the pointers in [c_{j-1}, c_j), c_j = w_0 + ... + w_j summed in order, and the last
+ *  particle of positive weight those beyond c_{N-1} (rounding). The source index of each
+ *  resampled particle, in order. Also KldResampling's candidate draw. */
+std::vector<size_t> systematicResamplingIndices(const std::vector<double>& w, double u,
+                                                size_t count = 0);
 
 /** MRPT 2.5.8's CPosePDFParticles::getCovarianceAndMean: weights exp(log_w); the weighted
  *  mean of x and y; the circular mean atan2(sum w sin phi, sum w cos phi) of the headings;

@@ -12,6 +12,8 @@
 #include <set>
 #include <tuple>
 
+#include "filter/FilterReference.h"
+
 namespace semloc::detail
 {
 namespace
@@ -44,32 +46,8 @@ void kldResample(const std::vector<double>& w, const ParticleList& particles,
     ASSERT_EQUAL_(w.size(), particles.size());
     const size_t maxN = std::max<size_t>(1, p.KLD_maxSampleSize);
     const size_t minN = std::min<size_t>(p.KLD_minSampleSize, maxN);
-    double total = 0;
-    for (const double x : w)
-    {
-        total += x;
-    }
-    ASSERTMSG_(total > 0 && std::isfinite(total), "KLD resampling: the weights sum to zero");
-
     // Systematic candidates: pointers (u + j) W / maxN into the cumulative weights.
-    std::vector<size_t> cand(maxN);
-    const double step = total / static_cast<double>(maxN);
-    size_t last = 0;  // the last particle of positive weight takes what rounding leaves
-    for (size_t i = 0; i < w.size(); i++)
-    {
-        last = w[i] > 0 ? i : last;
-    }
-    double c = w[0];
-    size_t i = 0;
-    for (size_t j = 0; j < maxN; j++)
-    {
-        const double t = (u + static_cast<double>(j)) * step;
-        while (t >= c && i < last)
-        {
-            c += w[++i];
-        }
-        cand[j] = i;
-    }
+    std::vector<size_t> cand = reference::systematicResamplingIndices(w, u, maxN);
 
     // Fox's rule over the candidates in a random order.
     std::set<std::tuple<int64_t, int64_t, int64_t>> bins;
