@@ -71,7 +71,11 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
     const Simulator simulator =
         m_changedWorld ? Simulator(*m_changedWorld, simOptions) : Simulator(simOptions);
     const SimulationResult data = simulator.run();
-    const auto bound = detectorCramerRaoBound(simulator, data);
+    // The detector's bound, for the variants of the detections alone (if any).
+    const bool anyDetectionsOnly = std::any_of(
+        m_variants.begin(), m_variants.end(), [](const auto& v) { return detectionsOnly(v.maps); });
+    const auto bound = anyDetectionsOnly ? detectorCramerRaoBound(simulator, data)
+                                         : std::vector<TDetectorBoundStep>();
     const GroundTruth gt(data.groundTruth);
     const double tolerance = 0.5 * simOptions.simulation.time_step_s;
 

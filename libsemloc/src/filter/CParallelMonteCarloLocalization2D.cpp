@@ -210,7 +210,7 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     uint64_t key = 0;
     if (actions)
     {
-        if (PF_options.adaptiveSampleSize && !m_kldAtResampling)
+        if (mrptKld(PF_options))
         {
             // KLD sampling: MRPT's own implementation (prediction only, no frame).
             CMonteCarloLocalization2D::prediction_and_update_pfStandardProposal(actions, nullptr,
@@ -238,8 +238,7 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     m_essBeforeResampling = detail::weightsAndESS(
         m_particles, *m_executor,
         rangeKnown ? range : detail::minMaxLogWeights(m_particles, *m_executor), &m_linW);
-    if ((!PF_options.adaptiveSampleSize || m_kldAtResampling) &&
-        m_essBeforeResampling < PF_options.BETA)
+    if (!mrptKld(PF_options) && m_essBeforeResampling < PF_options.BETA)
     {
         resampleIfDegenerate(PF_options);
     }
@@ -249,7 +248,7 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
 void CParallelMonteCarloLocalization2D::resampleIfDegenerate(
     const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o)
 {
-    if (o.adaptiveSampleSize && m_kldAtResampling)
+    if (o.adaptiveSampleSize)  // KLD at the resampling steps (MRPT's KLD never gets here)
     {
         auto& rng = mrpt::random::getRandomGenerator();
         const double u = rng.drawUniform(0.0, 1.0);

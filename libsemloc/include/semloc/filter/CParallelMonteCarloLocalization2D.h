@@ -225,6 +225,11 @@ private:
     /** Every weight vanished: the particles re-drawn over the free space (with recovery on,
      *  from the frame's detections too), log-weights 0. */
     void reinitialize(const mrpt::obs::CSensoryFrame& sf);
+    /** MRPT's KLD sampling (redraws every step), not KLD at the resampling steps. */
+    bool mrptKld(const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o) const
+    {
+        return o.adaptiveSampleSize && !m_kldAtResampling;
+    }
     /** CParticleFilter::executeOn's resampling test (ESS < BETA) and the resampling. */
     void resampleIfDegenerate(const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o);
     void injectRandomParticles(double pInject, const mrpt::obs::CSensoryFrame& sf,
