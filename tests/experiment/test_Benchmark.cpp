@@ -67,14 +67,17 @@ TEST(Benchmark, ShippedIniIsThePapersExperimentWithOneParticleBudgetForAllVarian
 TEST(Benchmark, SameFilterStartsVariantsWithoutSemanticMapUniformly)
 {
     // semantic.ini starts from the first detections; with same_filter the geometric variant
-    // runs its filter but, with no semantic map to place a detection, from the uniform start.
+    // runs its filter but, with no semantic map to place a detection, from the uniform start,
+    // and without the evidence recovery trigger, which weighs the detections alone.
     const auto b = semloc::Benchmark::FromConfigFile(writeIni("bench_same.ini", ""));
     ASSERT_TRUE(b.options().same_filter);
     ASSERT_EQ(b.variants().size(), 2u);
     using Mode = semloc::Localizer::InitMode;
     EXPECT_EQ(b.variants()[0].options.filter.init_PDF_mode, Mode::FromDetections);
     EXPECT_EQ(b.variants()[1].options.filter.init_PDF_mode, Mode::FreeSpace);
-    EXPECT_TRUE(b.variants()[1].options.filter.recovery.enabled());
+    EXPECT_EQ(b.variants()[0].options.filter.recovery.trigger,
+              semloc::RecoveryTrigger::Evidence);
+    EXPECT_EQ(b.variants()[1].options.filter.recovery.trigger, semloc::RecoveryTrigger::Off);
     EXPECT_EQ(b.variants()[1].options.filter.particles_count,
               b.variants()[0].options.filter.particles_count);
 }

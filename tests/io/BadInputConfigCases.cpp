@@ -173,8 +173,26 @@ Cases iniModelCases()
                                  {{"outage_every_s", "300"},
                                   {"PF_algorithm", "1"},
                                   {"free_space_prior", "0"},
-                                  {"recovery_alpha_slow", "0"},
-                                  {"recovery_alpha_fast", "0"}});
+                                  {"recovery_trigger", "off"}});
+         }},
+        {"ini-recovery-trigger-unknown",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"recovery_trigger", "cusum"}});
+         }},
+        {"ini-recovery-rates-with-evidence",
+         [](const fs::path& d)
+         {
+             return localizeGood(d, "",
+                                 {{"recovery_trigger", "evidence"},
+                                  {"recovery_alpha_slow", "0.001"},
+                                  {"recovery_alpha_fast", "0.1"}});
+         }},
+        {"ini-recovery-evidence-without-semantic-map",
+         [](const fs::path& d)
+         {
+             saveGz(simulate().rawlog, d / "data.rawlog");
+             return localize(d, writeConfig(d, "geometric", {{"recovery_trigger", "evidence"}}),
+                             d / "data.rawlog");
          }},
         {"ini-recovery-injected-weight-zero",
          [](const fs::path& d) {

@@ -1141,3 +1141,42 @@ TEST(CSemanticMap, BatchEqualsSingleCalls)
         }
     }
 }
+
+TEST(CSemanticMap, LikelihoodWithoutObjectsIsEveryDetectionClutter)
+{
+    CObservationSemantic obs;
+    obs.maxRange_m = 20;
+    obs.fov_rad = M_PI / 2;
+    obs.detections = {detection("pillar", 6, 0.2), detection("anchor", 12, -0.5), detection("wreck", 3, 0.1),
+                      detection("pillar", 25, 0.0), detection("submarine", 5, 0.0)};  // too far; unknown
+    const TPose2D nothingInView(-500, -500, M_PI);  // outside the world, facing away
+    for (const auto model : {CSemanticMap::Model::Probabilistic, CSemanticMap::Model::Paper})
+    {
+        const CSemanticMap m = smallMap(model);
+        size_t used = 99;
+        const double ref = m.logLikelihoodWithoutObjects(obs, &used);
+        EXPECT_EQ(used, 3u);
+        const auto& lo = m.likelihoodOptions;
+        const double expected =
+            model == CSemanticMap::Model::Paper
+                ? 3 * std::log(lo.unmatched_penalty)
+                : -lo.clutter_per_scan +
+                      3 * std::log(lo.clutter_per_scan /
+                                   (20 * (M_PI / 2) * static_cast<double>(m.labelCount())));
+        EXPECT_NEAR(ref, expected, 1e-12);
+        EXPECT_NEAR(ref, m.computeLogLikelihood(obs, nothingInView), 1e-12);
+        // Where objects are in view and match, the frame is explained better than that.
+        CObservationSemantic seen;
+        seen.maxRange_m = 5;  // only the pillar at (12, 4) in view
+        seen.fov_rad = 0.5;
+        seen.detections = {detection("pillar", std::hypot(2, 0.5), std::atan2(-0.5, 2))};
+        const TPose2D atPillar(10, 4.5, 0);
+        EXPECT_GT(m.computeLogLikelihood(seen, atPillar), m.logLikelihoodWithoutObjects(seen));
+    }
+    CObservationSemantic blind;
+    blind.maxRange_m = 0;  // an unusable sensor
+    blind.detections = {detection("pillar", 6, 0.2)};
+    size_t used = 99;
+    EXPECT_EQ(smallMap().logLikelihoodWithoutObjects(blind, &used), 0.0);
+    EXPECT_EQ(used, 0u);
+}

@@ -304,6 +304,17 @@ void Benchmark::TScenario::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 
 // ------------------------------------------------------------------ setup
 
+namespace
+{
+/** True when every map of `m` is a semantic map (and there is one). */
+bool onlySemanticMaps(const mrpt::maps::CMultiMetricMap& m)
+{
+    return !m.maps.empty() && std::all_of(m.maps.begin(), m.maps.end(),
+                                          [](const auto& x)
+                                          { return dynamic_cast<const CSemanticMap*>(x.get()); });
+}
+}  // namespace
+
 Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::string& outputDir,
                                     int runs)
 {
@@ -428,6 +439,13 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
             {
                 v.options.filter.init_PDF_mode = Localizer::InitMode::FreeSpace;
             }
+            // The evidence trigger weighs the detections alone: a variant with other maps
+            // runs without recovery (as the shipped sonar and grid variants do).
+            if (v.options.filter.recovery.trigger == RecoveryTrigger::Evidence &&
+                !onlySemanticMaps(*v.maps.map))
+            {
+                v.options.filter.recovery.trigger = RecoveryTrigger::Off;
+            }
         }
         if (o.particles > 0)
         {
@@ -440,6 +458,7 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
         v.options.filter.threads = o.filter_threads;
         if (m_scenario.recovery)
         {
+            v.options.filter.recovery.trigger = RecoveryTrigger::Amcl;
             v.options.filter.recovery.alpha_slow = m_scenario.recovery_alpha_slow;
             v.options.filter.recovery.alpha_fast = m_scenario.recovery_alpha_fast;
         }

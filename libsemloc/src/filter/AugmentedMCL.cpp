@@ -28,7 +28,7 @@ double blend(double logW, double alpha, double logWAvg)
 
 double AugmentedMCL::update(double logWAvg)
 {
-    if (!m_options.enabled() || std::isnan(logWAvg))
+    if (!m_options.enabled() || m_options.trigger != RecoveryTrigger::Amcl || std::isnan(logWAvg))
     {
         return 0;
     }
@@ -42,9 +42,23 @@ double AugmentedMCL::update(double logWAvg)
     return std::max(0.0, 1.0 - std::exp(m_logFast - m_logSlow));
 }
 
+double AugmentedMCL::updateEvidence(double logBayesFactor)
+{
+    if (m_options.trigger != RecoveryTrigger::Evidence || std::isnan(logBayesFactor))
+    {
+        return 0;
+    }
+    // One frame adds at most half the threshold: a single misread frame cannot trigger.
+    const double h = m_options.evidence_threshold;
+    const double add = std::min(m_options.evidence_margin - logBayesFactor, 0.5 * h);
+    m_shortfall = std::max(0.0, m_shortfall + add);
+    return m_shortfall >= h ? m_options.inject_share : 0.0;
+}
+
 void AugmentedMCL::reset()
 {
     m_logSlow = m_logFast = -std::numeric_limits<double>::infinity();
+    m_shortfall = 0;
 }
 
 }  // namespace semloc

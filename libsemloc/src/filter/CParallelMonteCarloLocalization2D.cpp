@@ -330,7 +330,10 @@ bool CParallelMonteCarloLocalization2D::predictAndUpdate(
     const bool chunkwise = m_likelihood->plan(*sf, *m_executor);
     // Augmented MCL averages the likelihood of measurements: a frame that measures nothing
     // (an odometry-only step of an imported log) would count as a perfect fit.
-    const bool recovery = m_augmented.options().enabled() && m_likelihood->measures();
+    const auto& ro = m_augmented.options();
+    const bool recovery = ro.enabled() && m_likelihood->measures() &&
+                          (ro.trigger != RecoveryTrigger::Evidence ||
+                           m_likelihood->withoutObjects().detections > 0);
     const double lsePrior = recovery ? detail::logSumExpWeights(m_particles, *m_executor) : 0;
     m_logLik.resize(M);
     std::optional<detail::OutageMix> mix;
@@ -356,8 +359,11 @@ bool CParallelMonteCarloLocalization2D::predictAndUpdate(
     if (recovery)
     {
         // w_avg = sum_i w_prior_i p(z | x_i) / sum_i w_prior_i (§8.3.5, with weights).
+        const double logWAvg = detail::logSumExpWeights(m_particles, *m_executor) - lsePrior;
         const double pInject =
-            m_augmented.update(detail::logSumExpWeights(m_particles, *m_executor) - lsePrior);
+            ro.trigger == RecoveryTrigger::Evidence
+                ? m_augmented.updateEvidence(logWAvg - m_likelihood->withoutObjects().logLik)
+                : m_augmented.update(logWAvg);
         m_lastPInject = pInject;
         if (pInject > 0 && m_sampler)
         {

@@ -301,6 +301,17 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
             "init_PDF_mode = 3 (from the first detections) needs a semanticMap in "
             "[MetricMap]");
     }
+    if (o.recovery.trigger == RecoveryTrigger::Evidence &&
+        (m_map->maps.empty() ||
+         !std::all_of(m_map->maps.begin(), m_map->maps.end(),
+                      [](const auto& m) { return dynamic_cast<const CSemanticMap*>(m.get()); })))
+    {
+        // The Bayes factor needs the particles' likelihood of the detections alone.
+        THROW_EXCEPTION(
+            "[PF_options] recovery_trigger = evidence weighs the semantic detections against "
+            "the map with no object in view: it needs semantic maps only in [MetricMap] (amcl "
+            "works with any map)");
+    }
     if (const auto sem = m_map->mapByClass<CSemanticMap>();
         sem && sem->likelihoodOptions.outage_every_s > 0 &&
         o.pf.PF_algorithm != mrpt::bayes::CParticleFilter::pfStandardProposal)

@@ -69,6 +69,11 @@ void put(mrpt::config::CConfigFileBase& c, const std::string& s, const std::stri
     detail::writeExact(c, s, key, v, comment);
 }
 
+std::string recoveryTriggerName(RecoveryTrigger t)
+{
+    return t == RecoveryTrigger::Off ? "off" : t == RecoveryTrigger::Evidence ? "evidence" : "amcl";
+}
+
 [[noreturn]] void bad(const std::string& s, const std::string& key, const std::string& what)
 {
     THROW_EXCEPTION("ini [" + s + "] " + key + ": " + what);
@@ -142,9 +147,11 @@ void loadParticleFilter(const mrpt::config::CConfigFileBase& c, Localizer::TOpti
     // [PF_options]: MRPT's TParticleFilterOptions, strictly, plus ours.
     {
         auto known = keysOf(o.pf);
-        known.insert(known.end(), {"threads", "recovery_alpha_slow", "recovery_alpha_fast",
-                                   "recovery_from_detections", "recovery_injected_weight",
-                                   "free_space_prior", "kld_at_resampling"});
+        known.insert(known.end(),
+                     {"threads", "recovery_trigger", "recovery_alpha_slow", "recovery_alpha_fast",
+                      "recovery_evidence_margin", "recovery_evidence_threshold",
+                      "recovery_inject_share", "recovery_from_detections",
+                      "recovery_injected_weight", "free_space_prior", "kld_at_resampling"});
         rejectUnknownKeys(c, kPF, known);
     }
     o.pf.PF_algorithm = static_cast<CParticleFilter::TParticleFilterAlgorithm>(
@@ -167,8 +174,18 @@ void loadParticleFilter(const mrpt::config::CConfigFileBase& c, Localizer::TOpti
              o.pf.pfAuxFilterStandard_FirstStageWeightsMonteCarlo);
     readBool(c, kPF, "pfAuxFilterOptimal_MLE", o.pf.pfAuxFilterOptimal_MLE);
     readInt(c, kPF, "threads", o.threads, 0, Localizer::TOptions::kMaxThreads);
+    {
+        std::string t = recoveryTriggerName(o.recovery.trigger);
+        readChoice(c, kPF, "recovery_trigger", t, {"off", "amcl", "evidence"});
+        o.recovery.trigger = t == "off"        ? RecoveryTrigger::Off
+                             : t == "evidence" ? RecoveryTrigger::Evidence
+                                               : RecoveryTrigger::Amcl;
+    }
     readDouble(c, kPF, "recovery_alpha_slow", o.recovery.alpha_slow, 0, 1);
     readDouble(c, kPF, "recovery_alpha_fast", o.recovery.alpha_fast, 0, 1);
+    readDouble(c, kPF, "recovery_evidence_margin", o.recovery.evidence_margin, -1e3, 1e3);
+    readDouble(c, kPF, "recovery_evidence_threshold", o.recovery.evidence_threshold, 1e-3, 1e6);
+    readDouble(c, kPF, "recovery_inject_share", o.recovery.inject_share, 1e-6, 1);
     readDouble(c, kPF, "recovery_from_detections", o.recovery.from_detections, 0, 1);
     readDouble(c, kPF, "recovery_injected_weight", o.recovery.injected_weight, 1e-12, 1);
     readBool(c, kPF, "free_space_prior", o.free_space_prior);
@@ -198,8 +215,15 @@ void checkParticleFilter(const Localizer::TOptions& o)
         bad(kPF, "kld_at_resampling",
             "1 needs adaptiveSampleSize = 1 and PF_algorithm = 0 (pfStandardProposal)");
     }
-    const bool recoveryOff = o.recovery.alpha_slow == 0 && o.recovery.alpha_fast == 0;
-    if (!recoveryOff && !o.recovery.enabled())
+    const bool ratesOff = o.recovery.alpha_slow == 0 && o.recovery.alpha_fast == 0;
+    if (o.recovery.trigger != RecoveryTrigger::Amcl && !ratesOff)
+    {
+        bad(kPF, "recovery_alpha_slow",
+            "the rates are augmented MCL's (recovery_trigger = amcl); with recovery_trigger = " +
+                recoveryTriggerName(o.recovery.trigger) + " set both to 0");
+    }
+    const bool recoveryOff = !o.recovery.enabled();
+    if (o.recovery.trigger == RecoveryTrigger::Amcl && !ratesOff && recoveryOff)
     {
         bad(kPF, "recovery_alpha_fast",
             "augmented MCL needs 0 < recovery_alpha_slow < recovery_alpha_fast <= 1 (both 0: "
@@ -211,7 +235,10 @@ void checkParticleFilter(const Localizer::TOptions& o)
     }
     if (!recoveryOff && o.pf.PF_algorithm != CParticleFilter::pfStandardProposal)
     {
-        bad(kPF, "recovery_alpha_slow", "recovery needs PF_algorithm = 0 (pfStandardProposal)");
+        bad(kPF,
+            o.recovery.trigger == RecoveryTrigger::Amcl ? "recovery_alpha_slow"
+                                                        : "recovery_trigger",
+            "recovery needs PF_algorithm = 0 (pfStandardProposal)");
     }
 }
 
@@ -348,8 +375,13 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
         pf.pfAuxFilterStandard_FirstStageWeightsMonteCarlo ? "1" : "0", "PF_algorithm 1");
     put(c, kPF, "pfAuxFilterOptimal_MLE", pf.pfAuxFilterOptimal_MLE ? "1" : "0", "PF_algorithm 3");
     put(c, kPF, "threads", std::to_string(threads), "0: every hardware thread");
-    put(c, kPF, "recovery_alpha_slow", recovery.alpha_slow, "augmented MCL (0 0: off)");
+    put(c, kPF, "recovery_trigger", recoveryTriggerName(recovery.trigger), "off | amcl | evidence");
+    put(c, kPF, "recovery_alpha_slow", recovery.alpha_slow, "amcl (0 0: off)");
     put(c, kPF, "recovery_alpha_fast", recovery.alpha_fast, "");
+    put(c, kPF, "recovery_evidence_margin", recovery.evidence_margin, "evidence [nats per frame]");
+    put(c, kPF, "recovery_evidence_threshold", recovery.evidence_threshold, "evidence [nats]");
+    put(c, kPF, "recovery_inject_share", recovery.inject_share,
+        "evidence: share replaced per frame");
     put(c, kPF, "recovery_from_detections", recovery.from_detections,
         "fraction of injected particles drawn from the detections");
     put(c, kPF, "recovery_injected_weight", recovery.injected_weight,

@@ -186,6 +186,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
     m_terms.clear();
     m_nSerial = 0;
     m_outage = TOutageTerms();
+    m_withoutObjects = TWithoutObjects();
     bool anyParallelGeneric = false;
     for (const auto& o : sf)
     {
@@ -219,6 +220,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
             }
             anyParallelGeneric = anyParallelGeneric || path == Path::GenericParallel;
             t.outage = planOutage(t);
+            planWithoutObjects(t);
             m_terms.push_back(t);
         }
         (usable ? m_stats.observations_used : m_stats.observations_skipped)++;
@@ -262,6 +264,23 @@ bool SensoryFrameLikelihood::planOutage(const Term& t)
         m_outage.mean_s = lo.outage_mean_s;
     }
     return true;
+}
+
+void SensoryFrameLikelihood::planWithoutObjects(const Term& t)
+{
+    const auto& map = static_cast<const CSemanticMap&>(*t.map);
+    size_t used = 0;
+    if (t.path == Path::Semantic)
+    {
+        m_withoutObjects.logLik +=
+            map.logLikelihoodWithoutObjects(static_cast<const CObservationSemantic&>(*t.obs), &used);
+    }
+    else if (t.path == Path::SemanticBearingRange)
+    {
+        m_withoutObjects.logLik += map.logLikelihoodWithoutObjects(
+            static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs), &used);
+    }
+    m_withoutObjects.detections += used;
 }
 
 void SensoryFrameLikelihood::preEvaluate(const TPose2D* poses, size_t n)

@@ -181,6 +181,41 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     }
 }
 
+template <typename OBS>
+double CSemanticMap::withoutObjects(const OBS& obs, size_t* used) const
+{
+    Scratch& sc = scratch();
+    const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
+    const size_t l = s.usable ? sc.dets.size() : 0;
+    if (used != nullptr)
+    {
+        *used = l;
+    }
+    if (!s.usable)
+    {
+        return 0;
+    }
+    const semantic::ModelConsts k = semantic::cachedModelConsts(
+        likelihoodOptions, m_labels->size(), s.R, s.fov,
+        {m_index->maxSigma, m_index->minExist, !m_index->classRow.empty()}, sc.consts);
+    // What the kernels give when no object is in view: every detection unmatched.
+    return likelihoodOptions.model == Model::Paper
+               ? static_cast<double>(l) * k.logPu
+               : -k.lambda + static_cast<double>(l) * k.logKappa;
+}
+
+double CSemanticMap::logLikelihoodWithoutObjects(const CObservationSemantic& obs,
+                                                 size_t* used) const
+{
+    return withoutObjects(obs, used);
+}
+
+double CSemanticMap::logLikelihoodWithoutObjects(const mrpt::obs::CObservationBearingRange& obs,
+                                                 size_t* used) const
+{
+    return withoutObjects(obs, used);
+}
+
 double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs,
                                           const TPose2D& pose) const
 {

@@ -70,7 +70,9 @@ public:
         int particles = 0;
         /** true: every variant runs the first variant's filter (particles, PF_options,
          *  KLD_options, initial distribution, convergence criterion), so that only the
-         *  likelihood (the maps) differs; false: each variant's own. */
+         *  likelihood (the maps) differs; false: each variant's own. A variant whose maps
+         *  cannot take the first one's start from the detections starts uniform, and one
+         *  that is not semantic maps only runs without the evidence recovery trigger. */
         bool same_filter = true;
         /** Scenario files (overlays of simulate_ini with a [Scenario] section; resolved next
          *  to benchmark.ini); empty: the one scenario of simulate_ini. */
@@ -96,7 +98,8 @@ public:
         std::vector<std::string> variants;
         /** Particles of every variant of this scenario; 0: [Benchmark] particles. */
         int particles = 0;
-        /** true: every variant runs with augmented MCL recovery (the two rates below). */
+        /** true: every variant runs with augmented MCL recovery (recovery_trigger = amcl,
+         *  the two rates below), whatever its own trigger. */
         bool recovery = false;
         /** [PF_options] recovery_alpha_slow when `recovery`. */
         double recovery_alpha_slow = 0.001;

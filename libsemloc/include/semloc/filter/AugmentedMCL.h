@@ -5,6 +5,18 @@
 
 namespace semloc
 {
+/** When to inject random particles (see AugmentedMCL). */
+enum class RecoveryTrigger
+{
+    /** Never. */
+    Off,
+    /** Augmented MCL's averages (Thrun): when w_fast falls below w_slow. */
+    Amcl,
+    /** Sustained evidence: when the particles explain the frames with detections worse than
+     *  the map with no object in view, for long enough (a CUSUM test). */
+    Evidence
+};
+
 /** The short- and long-term averages of the measurement likelihood of augmented MCL
  *  (Thrun, Burgard, Fox, Probabilistic Robotics, §8.3.5, Table 8.3), kept in the log domain
  *  so that likelihoods of e^-1000 do not underflow:
@@ -18,11 +30,26 @@ namespace semloc
  *  below w_slow, and a fraction p_inject of the particles is replaced by random poses:
  *  `from_detections` of them drawn from the current detections (sensor-resetting, Lenser &
  *  Veloso 2000), the rest uniform over the free space, each with `injected_weight` times a
- *  resampled particle's weight. */
+ *  resampled particle's weight.
+ *
+ *  w_avg is a density of the frame's measurements: its scale changes with the number of
+ *  detections, so the averages compare frames unlike each other and, on a map that is
+ *  slightly wrong, fire for long stretches while nothing is lost. The evidence trigger
+ *  compares each frame with the map's own reference instead, the likelihood with no object
+ *  in view (every detection clutter): b_t = log w_avg - log p(z_t | no object), the frame's
+ *  log Bayes factor (comparable across frames), and keeps Page's CUSUM of its shortfall,
+ *
+ *      S_t = max(0, S_{t-1} + min(evidence_margin - b_t, evidence_threshold / 2))
+ *
+ *  over the frames with detections (one frame alone cannot trigger), injecting inject_share
+ *  of the particles at each frame while S_t >= evidence_threshold:
+ *  after a kidnapping every frame's b_t is near or below 0 and S_t climbs at once; a region
+ *  where the map is wrong lowers some frames' b_t while the others keep it down. */
 class AugmentedMCL
 {
 public:
-    /** Decay rates; recovery is on when 0 < alpha_slow < alpha_fast <= 1. */
+    /** When and how much to inject. Recovery is on with trigger Amcl and 0 < alpha_slow <
+     *  alpha_fast <= 1, or with trigger Evidence. */
     struct TOptions
     {
         /** Rate of the long-term average (Thrun: alpha_slow << alpha_fast). 0 = off. */
@@ -41,8 +68,27 @@ public:
          *  does not), so injections that were not needed barely move the estimate. */
         double injected_weight = 1;
 
-        /** True when 0 < alpha_slow < alpha_fast. */
-        bool enabled() const { return alpha_slow > 0 && alpha_fast > alpha_slow; }
+        /** Which test decides an injection. Amcl with both rates 0 is off too. */
+        RecoveryTrigger trigger = RecoveryTrigger::Amcl;
+        /** Evidence trigger: the log Bayes factor [nats] a frame with detections is
+         *  expected to give at least when the particles are where the vehicle is (the
+         *  CUSUM's drift). */
+        double evidence_margin = 2;
+        /** Evidence trigger: the shortfall [nats] accumulated over the frames with
+         *  detections (each adds margin - its log Bayes factor, at most half this; the sum
+         *  kept >= 0) from which particles are injected. */
+        double evidence_threshold = 20;
+        /** Evidence trigger: share in (0, 1] of the particles replaced at each frame while
+         *  the shortfall is at or above the threshold. */
+        double inject_share = 0.1;
+
+        /** True when recovery is on. */
+        bool enabled() const
+        {
+            return trigger == RecoveryTrigger::Evidence ||
+                   (trigger == RecoveryTrigger::Amcl && alpha_slow > 0 &&
+                    alpha_fast > alpha_slow);
+        }
     };
 
     /** Off. */
@@ -50,8 +96,15 @@ public:
     /** With rates `o`. */
     explicit AugmentedMCL(const TOptions& o) : m_options(o) {}
 
-    /** Feeds log(w_avg) of one update; returns the injection probability p_inject. */
+    /** Amcl trigger: feeds log(w_avg) of one update; returns the injection probability
+     *  p_inject (0 with another trigger). */
     double update(double logWAvg);
+    /** Evidence trigger: feeds the log Bayes factor of one frame with detections,
+     *  log(w_avg) - log p(z | no object in view) (SensoryFrameLikelihood::withoutObjects);
+     *  returns the share of the particles to replace: inject_share while the shortfall
+     *  S = max(0, S + min(evidence_margin - logBayesFactor, evidence_threshold / 2)) is at
+     *  or above evidence_threshold, else 0 (0 with another trigger). */
+    double updateEvidence(double logBayesFactor);
     /** Forgets the averages (after a re-initialization). */
     void reset();
 
@@ -59,13 +112,16 @@ public:
     double logWSlow() const { return m_logSlow; }
     /** log(w_fast), -inf before the first update. */
     double logWFast() const { return m_logFast; }
-    /** The rates. */
+    /** The evidence trigger's shortfall S [nats], 0 before the first frame. */
+    double shortfall() const { return m_shortfall; }
+    /** The options. */
     const TOptions& options() const { return m_options; }
 
 private:
     TOptions m_options;
     double m_logSlow = -std::numeric_limits<double>::infinity();
     double m_logFast = -std::numeric_limits<double>::infinity();
+    double m_shortfall = 0;
 };
 
 }  // namespace semloc

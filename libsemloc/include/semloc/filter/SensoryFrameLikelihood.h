@@ -80,6 +80,17 @@ public:
         double every_s = 0, mean_s = 0;
     };
 
+    /** The frame's likelihood with no semantic object in view (the semantic maps'
+     *  CSemanticMap::logLikelihoodWithoutObjects summed over the frame's semantic terms): the
+     *  reference of the evidence recovery trigger. */
+    struct TWithoutObjects
+    {
+        /** Detections the semantic terms use; 0: the frame tells nothing of the objects. */
+        size_t detections = 0;
+        /** log p(z | no object in view) of those terms. */
+        double logLik = 0;
+    };
+
     /** `map` is the filter's map (usually a CMultiMetricMap); it must outlive this object. */
     explicit SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map);
 
@@ -120,6 +131,9 @@ public:
     /** The outage terms of the frame of the last plan(). */
     const TOutageTerms& outageTerms() const { return m_outage; }
 
+    /** The semantic terms of the frame of the last plan() with no object in view. */
+    const TWithoutObjects& withoutObjects() const { return m_withoutObjects; }
+
     /** Counters accumulated over every evaluate() call. */
     const TStats& stats() const { return m_stats; }
 
@@ -152,6 +166,8 @@ private:
                       double* term) const;
     /** Adds term `t` to m_outage if it is an outage term; true if so. */
     bool planOutage(const Term& t);
+    /** Adds term `t`'s likelihood without objects to m_withoutObjects if it is semantic. */
+    void planWithoutObjects(const Term& t);
     void prepareGridCaches();
 
     std::vector<const mrpt::maps::CMetricMap*> m_maps;
@@ -161,6 +177,7 @@ private:
     /** Terms of the GenericSerial path in m_terms. */
     size_t m_nSerial = 0;
     TOutageTerms m_outage;
+    TWithoutObjects m_withoutObjects;
     std::vector<std::vector<double>> m_serial;
     TStats m_stats;
 };

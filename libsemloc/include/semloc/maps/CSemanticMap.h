@@ -308,6 +308,18 @@ public:
     /** Batch version for MRPT landmark observations. */
     void computeLogLikelihoods(const mrpt::obs::CObservationBearingRange& obs,
                                const mrpt::math::TPose2D* poses, size_t n, double* out) const;
+    /** Log-likelihood of `obs` from a pose with no object of the map in view: every
+     *  detection the likelihood uses is clutter (probabilistic model: -lambda + l log kappa;
+     *  paper model: l log p_u), the same at every pose. log p(z | x) minus this is the
+     *  frame's log Bayes factor of "the map's objects, seen from x" against "nothing of the
+     *  map in view", dimensionless whatever the number of detections: the evidence recovery
+     *  trigger compares particles with it. `used` (optional) gets l, the detections used;
+     *  an observation the likelihood cannot use gives 0 and l = 0. */
+    double logLikelihoodWithoutObjects(const CObservationSemantic& obs,
+                                       size_t* used = nullptr) const;
+    /** The same for MRPT's landmark observation. */
+    double logLikelihoodWithoutObjects(const mrpt::obs::CObservationBearingRange& obs,
+                                       size_t* used = nullptr) const;
     /** Counts what the likelihood will use of `obs` (call once per observation). */
     TObservationCheck check(const CObservationSemantic& obs) const;
     /** True if the likelihood uses `d` of `obs` as valid (range, bearing within the
@@ -359,6 +371,8 @@ private:
     template <typename OBS>
     void logLikelihoods(const OBS& obs, const mrpt::math::TPose2D* poses, size_t n,
                         double* out) const;
+    template <typename OBS>
+    double withoutObjects(const OBS& obs, size_t* used) const;
     /** Rebuilds the label table and the grid index after any change of m_objects. */
     void rebuildIndex();
     int nextFreeId() const;
