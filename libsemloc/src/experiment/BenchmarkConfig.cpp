@@ -309,9 +309,31 @@ namespace
 /** True when every map of `m` is a semantic map (and there is one). */
 bool onlySemanticMaps(const mrpt::maps::CMultiMetricMap& m)
 {
-    return !m.maps.empty() && std::all_of(m.maps.begin(), m.maps.end(),
-                                          [](const auto& x)
-                                          { return dynamic_cast<const CSemanticMap*>(x.get()); });
+    return !m.maps.empty() &&
+           std::all_of(m.maps.begin(), m.maps.end(),
+                       [](const auto& x) { return dynamic_cast<const CSemanticMap*>(x.get()); });
+}
+
+/** With same_filter: `v` runs the filter of `reference` (the first variant's options). */
+template <typename Options, typename Variant>
+void takeFilterOf(const Options& reference, Variant& v)
+{
+    v.options.filter = reference.filter;
+    v.options.convergence = reference.convergence;
+    // Mode 3 is mode 0 until a detection the semantic map places: without that map, the
+    // filter's start is the uniform one it would come to.
+    if (v.options.filter.init_PDF_mode == Localizer::InitMode::FromDetections &&
+        !v.maps.map->template mapByClass<CSemanticMap>())
+    {
+        v.options.filter.init_PDF_mode = Localizer::InitMode::FreeSpace;
+    }
+    // The evidence trigger weighs the detections alone: a variant with other maps runs
+    // without recovery (as the shipped sonar and grid variants do).
+    if (v.options.filter.recovery.trigger == RecoveryTrigger::Evidence &&
+        !onlySemanticMaps(*v.maps.map))
+    {
+        v.options.filter.recovery.trigger = RecoveryTrigger::Off;
+    }
 }
 }  // namespace
 
@@ -430,22 +452,7 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
     {
         if (o.same_filter)
         {
-            v.options.filter = reference.filter;
-            v.options.convergence = reference.convergence;
-            // Mode 3 is mode 0 until a detection the semantic map places: without that map,
-            // the filter's start is the uniform one it would come to.
-            if (v.options.filter.init_PDF_mode == Localizer::InitMode::FromDetections &&
-                !v.maps.map->mapByClass<CSemanticMap>())
-            {
-                v.options.filter.init_PDF_mode = Localizer::InitMode::FreeSpace;
-            }
-            // The evidence trigger weighs the detections alone: a variant with other maps
-            // runs without recovery (as the shipped sonar and grid variants do).
-            if (v.options.filter.recovery.trigger == RecoveryTrigger::Evidence &&
-                !onlySemanticMaps(*v.maps.map))
-            {
-                v.options.filter.recovery.trigger = RecoveryTrigger::Off;
-            }
+            takeFilterOf(reference, v);
         }
         if (o.particles > 0)
         {

@@ -180,6 +180,35 @@ void toStderr(std::string_view msg, mrpt::system::VerbosityLevel level, std::str
     }
     std::cerr.flush();
 }
+/** The options that need particular maps in [MetricMap]. */
+void checkAgainstMaps(const Localizer::TOptions& o, const mrpt::maps::CMultiMetricMap& map)
+{
+    if (o.init_PDF_mode == Localizer::InitMode::FromDetections && !map.mapByClass<CSemanticMap>())
+    {
+        THROW_EXCEPTION(
+            "init_PDF_mode = 3 (from the first detections) needs a semanticMap in "
+            "[MetricMap]");
+    }
+    if (o.recovery.trigger == RecoveryTrigger::Evidence &&
+        (map.maps.empty() ||
+         !std::all_of(map.maps.begin(), map.maps.end(),
+                      [](const auto& m) { return dynamic_cast<const CSemanticMap*>(m.get()); })))
+    {
+        // The Bayes factor needs the particles' likelihood of the detections alone.
+        THROW_EXCEPTION(
+            "[PF_options] recovery_trigger = evidence weighs the semantic detections against "
+            "the map with no object in view: it needs semantic maps only in [MetricMap] (amcl "
+            "works with any map)");
+    }
+    if (const auto sem = map.mapByClass<CSemanticMap>();
+        sem && sem->likelihoodOptions.outage_every_s > 0 &&
+        o.pf.PF_algorithm != mrpt::bayes::CParticleFilter::pfStandardProposal)
+    {
+        THROW_EXCEPTION(
+            "the semantic map's outage_every_s > 0 (detector outage model) needs [PF_options] "
+            "PF_algorithm = 0 (pfStandardProposal)");
+    }
+}
 }  // namespace
 
 std::string Localizer::invalidObservation(const mrpt::obs::CObservation& obs,
@@ -295,31 +324,7 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
                         " (uniform over the free space) needs a world (map_file *.yaml), an "
                         "occupancyGrid map or an init_PDF_min/max_x/y box");
     }
-    if (o.init_PDF_mode == InitMode::FromDetections && !m_map->mapByClass<CSemanticMap>())
-    {
-        THROW_EXCEPTION(
-            "init_PDF_mode = 3 (from the first detections) needs a semanticMap in "
-            "[MetricMap]");
-    }
-    if (o.recovery.trigger == RecoveryTrigger::Evidence &&
-        (m_map->maps.empty() ||
-         !std::all_of(m_map->maps.begin(), m_map->maps.end(),
-                      [](const auto& m) { return dynamic_cast<const CSemanticMap*>(m.get()); })))
-    {
-        // The Bayes factor needs the particles' likelihood of the detections alone.
-        THROW_EXCEPTION(
-            "[PF_options] recovery_trigger = evidence weighs the semantic detections against "
-            "the map with no object in view: it needs semantic maps only in [MetricMap] (amcl "
-            "works with any map)");
-    }
-    if (const auto sem = m_map->mapByClass<CSemanticMap>();
-        sem && sem->likelihoodOptions.outage_every_s > 0 &&
-        o.pf.PF_algorithm != mrpt::bayes::CParticleFilter::pfStandardProposal)
-    {
-        THROW_EXCEPTION(
-            "the semantic map's outage_every_s > 0 (detector outage model) needs [PF_options] "
-            "PF_algorithm = 0 (pfStandardProposal)");
-    }
+    checkAgainstMaps(o, *m_map);
     m_pdf->setFreeSpaceSampler(m_freeSpace);
     m_pdf->prepareLikelihood();
 
