@@ -212,15 +212,19 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.simulation().detector.p_detect_near, 0.3);
     EXPECT_EQ(all.simulation().detector.gap_every_s, 120.0);
     EXPECT_EQ(b.scenarios().front().simulation().odometry.heading_drift_deg_per_min, 0.0);
-    // The filter without defences for real data, the shipped one without recovery, and the
-    // shipped one.
-    ASSERT_EQ(all.variants().size(), 3u);
+    // The filter without defences for real data, the shipped one without recovery, with
+    // augmented MCL's trigger, and the shipped one.
+    ASSERT_EQ(all.variants().size(), 4u);
     EXPECT_EQ(all.variants()[0].name(), "semantic_basic");
     EXPECT_EQ(all.variants()[1].name(), "semantic_norecovery");
-    EXPECT_EQ(all.variants()[2].name(), "semantic");
+    EXPECT_EQ(all.variants()[2].name(), "semantic_amcl");
+    EXPECT_EQ(all.variants()[3].name(), "semantic");
     EXPECT_FALSE(all.variants()[0].options.filter.recovery.enabled());
     EXPECT_FALSE(all.variants()[1].options.filter.recovery.enabled());
+    EXPECT_EQ(all.variants()[2].options.filter.recovery.trigger, semloc::RecoveryTrigger::Amcl);
     EXPECT_TRUE(all.variants()[2].options.filter.recovery.enabled());
+    EXPECT_EQ(all.variants()[3].options.filter.recovery.trigger,
+              semloc::RecoveryTrigger::Evidence);
 }
 
 TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
@@ -233,13 +237,22 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
     EXPECT_TRUE(b.scenarios()[1].simulation().kidnapping.enabled);
     for (const auto& sc : b.scenarios())
     {
-        ASSERT_EQ(sc.variants().size(), 2u);
-        // No scenario turns recovery on: semantic_norecovery runs without, semantic (shipped)
-        // with injected particles at 3e-6 of a resampled one's weight.
-        EXPECT_EQ(sc.variants()[1].name(), "semantic");
+        ASSERT_EQ(sc.variants().size(), 3u);
+        // No scenario turns recovery on: semantic_norecovery runs without, semantic_amcl with
+        // augmented MCL's trigger, semantic (shipped) with the evidence trigger, both with
+        // injected particles at 3e-6 of a resampled one's weight.
+        EXPECT_EQ(sc.variants()[1].name(), "semantic_amcl");
+        EXPECT_EQ(sc.variants()[2].name(), "semantic");
         EXPECT_FALSE(sc.variants()[0].options.filter.recovery.enabled());
-        EXPECT_TRUE(sc.variants()[1].options.filter.recovery.enabled());
-        EXPECT_EQ(sc.variants()[1].options.filter.recovery.injected_weight, 3e-6);
+        EXPECT_EQ(sc.variants()[1].options.filter.recovery.trigger,
+                  semloc::RecoveryTrigger::Amcl);
+        EXPECT_EQ(sc.variants()[2].options.filter.recovery.trigger,
+                  semloc::RecoveryTrigger::Evidence);
+        for (size_t v = 1; v < 3; v++)
+        {
+            EXPECT_TRUE(sc.variants()[v].options.filter.recovery.enabled());
+            EXPECT_EQ(sc.variants()[v].options.filter.recovery.injected_weight, 3e-6);
+        }
     }
 }
 
@@ -320,7 +333,7 @@ TEST(Benchmark, ShippedChangedWorldIniSimulatesInAChangedWorld)
     // The variants carry their map file's map, all of it: the exact one, and for the last the
     // surveyed one, whose objects carry how sure the map is of them.
     const auto& variants = b.scenarios()[4].variants();
-    ASSERT_EQ(variants.size(), 4u);
+    ASSERT_EQ(variants.size(), 5u);
     for (const auto& v : variants)
     {
         ASSERT_TRUE(v.maps.world.has_value());

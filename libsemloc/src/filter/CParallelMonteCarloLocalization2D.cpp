@@ -331,9 +331,9 @@ bool CParallelMonteCarloLocalization2D::predictAndUpdate(
     // Augmented MCL averages the likelihood of measurements: a frame that measures nothing
     // (an odometry-only step of an imported log) would count as a perfect fit.
     const auto& ro = m_augmented.options();
-    const bool recovery = ro.enabled() && m_likelihood->measures() &&
-                          (ro.trigger != RecoveryTrigger::Evidence ||
-                           m_likelihood->withoutObjects().detections > 0);
+    const bool recovery =
+        ro.enabled() && m_likelihood->measures() &&
+        (ro.trigger != RecoveryTrigger::Evidence || m_likelihood->withoutObjects().detections > 0);
     const double lsePrior = recovery ? detail::logSumExpWeights(m_particles, *m_executor) : 0;
     m_logLik.resize(M);
     std::optional<detail::OutageMix> mix;
@@ -362,7 +362,8 @@ bool CParallelMonteCarloLocalization2D::predictAndUpdate(
         const double logWAvg = detail::logSumExpWeights(m_particles, *m_executor) - lsePrior;
         const double pInject =
             ro.trigger == RecoveryTrigger::Evidence
-                ? m_augmented.updateEvidence(logWAvg - m_likelihood->withoutObjects().logLik)
+                ? m_augmented.updateEvidence(logWAvg - PF_options.powFactor *
+                                                           m_likelihood->withoutObjects().logLik)
                 : m_augmented.update(logWAvg);
         m_lastPInject = pInject;
         if (pInject > 0 && m_sampler)

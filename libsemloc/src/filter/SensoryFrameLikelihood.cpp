@@ -268,17 +268,18 @@ bool SensoryFrameLikelihood::planOutage(const Term& t)
 
 void SensoryFrameLikelihood::planWithoutObjects(const Term& t)
 {
-    const auto& map = static_cast<const CSemanticMap&>(*t.map);
     size_t used = 0;
     if (t.path == Path::Semantic)
     {
         m_withoutObjects.logLik +=
-            map.logLikelihoodWithoutObjects(static_cast<const CObservationSemantic&>(*t.obs), &used);
+            static_cast<const CSemanticMap&>(*t.map).logLikelihoodWithoutObjects(
+                static_cast<const CObservationSemantic&>(*t.obs), &used);
     }
     else if (t.path == Path::SemanticBearingRange)
     {
-        m_withoutObjects.logLik += map.logLikelihoodWithoutObjects(
-            static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs), &used);
+        m_withoutObjects.logLik +=
+            static_cast<const CSemanticMap&>(*t.map).logLikelihoodWithoutObjects(
+                static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs), &used);
     }
     m_withoutObjects.detections += used;
 }
