@@ -75,8 +75,7 @@ TEST(Benchmark, SameFilterStartsVariantsWithoutSemanticMapUniformly)
     using Mode = semloc::Localizer::InitMode;
     EXPECT_EQ(b.variants()[0].options.filter.init_PDF_mode, Mode::FromDetections);
     EXPECT_EQ(b.variants()[1].options.filter.init_PDF_mode, Mode::FreeSpace);
-    EXPECT_EQ(b.variants()[0].options.filter.recovery.trigger,
-              semloc::RecoveryTrigger::Evidence);
+    EXPECT_EQ(b.variants()[0].options.filter.recovery.trigger, semloc::RecoveryTrigger::Evidence);
     EXPECT_EQ(b.variants()[1].options.filter.recovery.trigger, semloc::RecoveryTrigger::Off);
     EXPECT_EQ(b.variants()[1].options.filter.particles_count,
               b.variants()[0].options.filter.particles_count);
@@ -223,8 +222,7 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_FALSE(all.variants()[1].options.filter.recovery.enabled());
     EXPECT_EQ(all.variants()[2].options.filter.recovery.trigger, semloc::RecoveryTrigger::Amcl);
     EXPECT_TRUE(all.variants()[2].options.filter.recovery.enabled());
-    EXPECT_EQ(all.variants()[3].options.filter.recovery.trigger,
-              semloc::RecoveryTrigger::Evidence);
+    EXPECT_EQ(all.variants()[3].options.filter.recovery.trigger, semloc::RecoveryTrigger::Evidence);
 }
 
 TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
@@ -244,8 +242,7 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
         EXPECT_EQ(sc.variants()[1].name(), "semantic_amcl");
         EXPECT_EQ(sc.variants()[2].name(), "semantic");
         EXPECT_FALSE(sc.variants()[0].options.filter.recovery.enabled());
-        EXPECT_EQ(sc.variants()[1].options.filter.recovery.trigger,
-                  semloc::RecoveryTrigger::Amcl);
+        EXPECT_EQ(sc.variants()[1].options.filter.recovery.trigger, semloc::RecoveryTrigger::Amcl);
         EXPECT_EQ(sc.variants()[2].options.filter.recovery.trigger,
                   semloc::RecoveryTrigger::Evidence);
         for (size_t v = 1; v < 3; v++)

@@ -1147,9 +1147,10 @@ TEST(CSemanticMap, LikelihoodWithoutObjectsIsEveryDetectionClutter)
     CObservationSemantic obs;
     obs.maxRange_m = 20;
     obs.fov_rad = M_PI / 2;
-    obs.detections = {detection("pillar", 6, 0.2), detection("anchor", 12, -0.5), detection("wreck", 3, 0.1),
-                      detection("pillar", 25, 0.0), detection("submarine", 5, 0.0)};  // too far; unknown
-    const TPose2D nothingInView(-500, -500, M_PI);  // outside the world, facing away
+    obs.detections = {detection("pillar", 6, 0.2), detection("anchor", 12, -0.5),
+                      detection("wreck", 3, 0.1), detection("pillar", 25, 0.0),
+                      detection("submarine", 5, 0.0)};  // too far; unknown
+    const TPose2D nothingInView(-500, -500, M_PI);      // outside the world, facing away
     for (const auto model : {CSemanticMap::Model::Probabilistic, CSemanticMap::Model::Paper})
     {
         const CSemanticMap m = smallMap(model);

@@ -306,14 +306,6 @@ void Benchmark::TScenario::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 
 namespace
 {
-/** True when every map of `m` is a semantic map (and there is one). */
-bool onlySemanticMaps(const mrpt::maps::CMultiMetricMap& m)
-{
-    return !m.maps.empty() &&
-           std::all_of(m.maps.begin(), m.maps.end(),
-                       [](const auto& x) { return dynamic_cast<const CSemanticMap*>(x.get()); });
-}
-
 /** With same_filter: `v` runs the filter of `reference` (the first variant's options). */
 template <typename Options, typename Variant>
 void takeFilterOf(const Options& reference, Variant& v)

@@ -189,12 +189,8 @@ void checkAgainstMaps(const Localizer::TOptions& o, const mrpt::maps::CMultiMetr
             "init_PDF_mode = 3 (from the first detections) needs a semanticMap in "
             "[MetricMap]");
     }
-    if (o.recovery.trigger == RecoveryTrigger::Evidence &&
-        (map.maps.empty() ||
-         !std::all_of(map.maps.begin(), map.maps.end(),
-                      [](const auto& m) { return dynamic_cast<const CSemanticMap*>(m.get()); })))
+    if (o.recovery.trigger == RecoveryTrigger::Evidence && !onlySemanticMaps(map))
     {
-        // The Bayes factor needs the particles' likelihood of the detections alone.
         THROW_EXCEPTION(
             "[PF_options] recovery_trigger = evidence weighs the semantic detections against "
             "the map with no object in view: it needs semantic maps only in [MetricMap] (amcl "
@@ -210,6 +206,13 @@ void checkAgainstMaps(const Localizer::TOptions& o, const mrpt::maps::CMultiMetr
     }
 }
 }  // namespace
+
+bool onlySemanticMaps(const mrpt::maps::CMultiMetricMap& map)
+{
+    return !map.maps.empty() &&
+           std::all_of(map.maps.begin(), map.maps.end(),
+                       [](const auto& m) { return dynamic_cast<const CSemanticMap*>(m.get()); });
+}
 
 std::string Localizer::invalidObservation(const mrpt::obs::CObservation& obs,
                                           const mrpt::maps::CMetricMap& map)

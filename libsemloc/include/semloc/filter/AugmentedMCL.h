@@ -86,8 +86,7 @@ public:
         bool enabled() const
         {
             return trigger == RecoveryTrigger::Evidence ||
-                   (trigger == RecoveryTrigger::Amcl && alpha_slow > 0 &&
-                    alpha_fast > alpha_slow);
+                   (trigger == RecoveryTrigger::Amcl && alpha_slow > 0 && alpha_fast > alpha_slow);
         }
     };
 

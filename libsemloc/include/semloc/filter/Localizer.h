@@ -28,6 +28,10 @@ namespace semloc
 {
 class ParallelExecutor;
 
+/** True when `map` has maps and every one is a semantic map: what the evidence recovery
+ *  trigger (recovery_trigger = evidence) needs, as it weighs the detections alone. */
+bool onlySemanticMaps(const mrpt::maps::CMultiMetricMap& map);
+
 /** A 2D particle-filter localizer: CParallelMonteCarloLocalization2D driven by MRPT's
  *  CParticleFilter over the maps of a CMultiMetricMap (the mix of maps is the variant).
  *
