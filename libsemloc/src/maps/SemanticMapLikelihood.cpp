@@ -132,6 +132,14 @@ Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
     }
     return s;
 }
+/** The model's constants for a usable sensor `s` (cached in sc.consts). */
+semantic::ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& lo,
+                                  const CSemanticMap::Index& ix, size_t nLabels, const Sensor& s,
+                                  Scratch& sc)
+{
+    return semantic::cachedModelConsts(lo, nLabels, s.R, s.fov,
+                                       {ix.maxSigma, ix.minExist, !ix.classRow.empty()}, sc.consts);
+}
 }  // namespace
 
 template <typename OBS>
@@ -140,12 +148,9 @@ void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n
     Scratch& sc = scratch();
     const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
     const size_t nLabels = m_labels->size();
-    const semantic::ModelConsts k =
-        s.usable
-            ? semantic::cachedModelConsts(
-                  likelihoodOptions, nLabels, s.R, s.fov,
-                  {m_index->maxSigma, m_index->minExist, !m_index->classRow.empty()}, sc.consts)
-            : semantic::ModelConsts();
+    const semantic::ModelConsts k = s.usable
+                                        ? modelConsts(likelihoodOptions, *m_index, nLabels, s, sc)
+                                        : semantic::ModelConsts();
     semantic::planPairsOnce(sc, *m_index, nLabels, k);
     if (!s.usable)
     {
@@ -195,9 +200,8 @@ double CSemanticMap::withoutObjects(const OBS& obs, size_t* used) const
     {
         return 0;
     }
-    const semantic::ModelConsts k = semantic::cachedModelConsts(
-        likelihoodOptions, m_labels->size(), s.R, s.fov,
-        {m_index->maxSigma, m_index->minExist, !m_index->classRow.empty()}, sc.consts);
+    const semantic::ModelConsts k =
+        modelConsts(likelihoodOptions, *m_index, m_labels->size(), s, sc);
     // What the kernels give when no object is in view: every detection unmatched.
     return likelihoodOptions.model == Model::Paper
                ? static_cast<double>(l) * k.logPu
