@@ -57,10 +57,7 @@ namespace
  *  the detector's Cramér–Rao bound bounds. */
 bool detectionsOnly(const LocalizationMap& maps)
 {
-    return maps.map && !maps.map->maps.empty() &&
-           std::all_of(maps.map->maps.begin(), maps.map->maps.end(),
-                       [](const auto& m)
-                       { return static_cast<bool>(std::dynamic_pointer_cast<CSemanticMap>(m)); });
+    return maps.map && onlySemanticMaps(*maps.map);
 }
 }  // namespace
 
