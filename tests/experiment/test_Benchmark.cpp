@@ -362,6 +362,43 @@ TEST(Benchmark, ShippedChangedWorldIniSimulatesInAChangedWorld)
     }
 }
 
+TEST(Benchmark, ShippedMapDoubtsIniGivesEachVariantOneDoubtOfTheSurveyedMap)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "map_doubts.ini");
+    ASSERT_EQ(b.scenarios().size(), 6u);
+    EXPECT_EQ(b.scenarios()[4].scenario().name, "all");
+    const semloc::World surveyed =
+        semloc::World::FromFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50_surveyed.yaml");
+    const auto& variants = b.scenarios()[4].variants();
+    ASSERT_EQ(variants.size(), 5u);
+    // Which of the surveyed map's doubts each variant's map keeps: position, existence, class.
+    const std::vector<std::tuple<std::string, bool, bool, bool>> doubts = {
+        {"semantic", false, false, false},
+        {"semantic_positions", true, false, false},
+        {"semantic_existence", false, true, false},
+        {"semantic_classes", false, false, true},
+        {"semantic_surveyed", true, true, true}};
+    for (size_t k = 0; k < variants.size(); k++)
+    {
+        const auto& [name, position, existence, cls] = doubts[k];
+        const auto& v = variants[k];
+        ASSERT_EQ(v.name(), name);
+        const auto sem = v.maps.map->mapByClass<semloc::CSemanticMap>();
+        ASSERT_TRUE(sem);
+        ASSERT_EQ(sem->objects().size(), surveyed.objects.size()) << name;
+        for (size_t i = 0; i < surveyed.objects.size(); i++)
+        {
+            const auto& o = sem->objects()[i];
+            const auto& s = surveyed.objects[i];
+            EXPECT_EQ(o.id, s.id) << name;
+            EXPECT_EQ(o.label, s.label) << name;
+            EXPECT_EQ(o.sigma_m, position ? s.sigma_m : 0.0) << name << " " << o.id;
+            EXPECT_EQ(o.p_exist, existence ? s.p_exist : 1.0) << name << " " << o.id;
+            EXPECT_EQ(o.classes.empty(), !cls || s.classes.empty()) << name << " " << o.id;
+        }
+    }
+}
+
 TEST(Benchmark, ScenarioSectionsOverlayTheVariantsOwn)
 {
     // config/sensitivity.ini: each scenario replaces one key of the variants' semantic model,
