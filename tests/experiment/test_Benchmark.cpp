@@ -198,7 +198,7 @@ TEST(Benchmark, ScenarioSetsTheInitialCloudOfEveryVariant)
 TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
 {
     const auto b = semloc::Benchmark::FromConfigFile(kConfig + "realdata.ini");
-    ASSERT_EQ(b.scenarios().size(), 6u);
+    ASSERT_EQ(b.scenarios().size(), 7u);
     const auto& all = b.scenarios().back();
     EXPECT_EQ(b.scenarios()[4].scenario().name, "misread_ranges");
     EXPECT_EQ(b.scenarios()[4].simulation().detector.p_range_outlier, 0.2);
@@ -211,9 +211,16 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.simulation().detector.p_detect_near, 0.3);
     EXPECT_EQ(all.simulation().detector.gap_every_s, 120.0);
     EXPECT_EQ(b.scenarios().front().simulation().odometry.heading_drift_deg_per_min, 0.0);
+    const auto& driftingSilences = b.scenarios()[5].simulation();
+    EXPECT_EQ(b.scenarios()[5].scenario().name, "drifting_silences");
+    EXPECT_EQ(driftingSilences.odometry.heading_drift_deg_per_min, 15.0);
+    EXPECT_EQ(driftingSilences.detector.gap_every_s, 120.0);
+    // The nominal detector otherwise (the drifting odometry's scenario has it).
+    EXPECT_EQ(driftingSilences.detector.p_detect_near,
+              b.scenarios()[1].simulation().detector.p_detect_near);
     // The filter without defences for real data, the shipped one without recovery, with
-    // augmented MCL's trigger, and the shipped one.
-    ASSERT_EQ(all.variants().size(), 4u);
+    // augmented MCL's trigger, the shipped one, and that with a heading drift state.
+    ASSERT_EQ(all.variants().size(), 5u);
     EXPECT_EQ(all.variants()[0].name(), "semantic_basic");
     EXPECT_EQ(all.variants()[1].name(), "semantic_norecovery");
     EXPECT_EQ(all.variants()[2].name(), "semantic_amcl");
@@ -223,6 +230,10 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.variants()[2].options.filter.recovery.trigger, semloc::RecoveryTrigger::Amcl);
     EXPECT_TRUE(all.variants()[2].options.filter.recovery.enabled());
     EXPECT_EQ(all.variants()[3].options.filter.recovery.trigger, semloc::RecoveryTrigger::Evidence);
+    EXPECT_EQ(all.variants()[4].name(), "semantic_drift");
+    EXPECT_FALSE(all.variants()[3].options.filter.motion_model.headingDrift());
+    EXPECT_EQ(all.variants()[4].options.filter.motion_model.heading_drift_std_deg_per_min, 10.0);
+    EXPECT_EQ(all.variants()[4].options.filter.motion_model.heading_drift_walk_deg_per_min, 2.0);
 }
 
 TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)

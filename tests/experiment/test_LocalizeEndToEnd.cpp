@@ -239,7 +239,11 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
         {"fused", "fused.ini"},
         {"semantic_surveyed", "semantic_surveyed.ini"},
         {"semantic_misread", "semantic_misread.ini"},
-        {"semantic_kld_at_resampling", "semantic_kld.ini"}};
+        {"semantic_kld_at_resampling", "semantic_kld.ini"},
+        {"semantic_drift", patchedConfig("semantic.ini",
+                                         {{"heading_drift_std_deg_per_min", "15"},
+                                          {"heading_drift_walk_deg_per_min", "1"}},
+                                         "semantic_drift_threads")}};
     for (const auto& [name, ini] : runs)
     {
         const std::string path = ini.find('/') == std::string::npos ? kConfig + ini : ini;
@@ -290,6 +294,37 @@ TEST_F(LocalizeEndToEnd, KidnappedVehicleIsRelocalizedWithRecovery)
         ASSERT_LT(res.records[k].errXY(), 1.0) << "step " << k;
     }
     EXPECT_LT(res.metrics.final_err_m, 0.5);
+}
+
+TEST(LocalizeHeadingDrift, TheDriftStateLearnsTheOdometrysDriftAndKeepsTheTrack)
+{
+    // The paper scenario with odometry whose heading gains 15 deg a minute (unknown to the
+    // rawlog's Gaussian) and a detector silent for 60-120 s every two minutes: with the drift
+    // state the filter's drift rate ends near 15 deg/min and its error after convergence is
+    // below the same filter's without it (which reports 0).
+    fs::create_directories(kOut);
+    auto so = semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate.ini");
+    so.odometry.heading_drift_deg_per_min = 15;
+    so.detector.gap_every_s = 120;
+    so.detector.gap_min_s = 60;
+    so.detector.gap_max_s = 120;
+    const std::string rawlog = (kOut / "drift15.rawlog").string();
+    const semloc::Simulator sim(so);
+    sim.writeDataset(sim.run(), rawlog);
+    const auto off = localize(kConfig + "semantic.ini", rawlog, "drift_off", 2000, 1);
+    const auto on = localize(patchedConfig("semantic.ini",
+                                           {{"heading_drift_std_deg_per_min", "15"},
+                                            {"heading_drift_walk_deg_per_min", "1"}},
+                                           "semantic_drift"),
+                             rawlog, "drift_on", 2000, 1);
+    ASSERT_TRUE(off.metrics.converged);
+    ASSERT_TRUE(on.metrics.converged);
+    EXPECT_EQ(off.heading_drift_deg_per_min, 0);
+    EXPECT_GT(on.heading_drift_deg_per_min, 10);
+    EXPECT_LT(on.heading_drift_deg_per_min, 20);
+    EXPECT_LT(on.metrics.mean_err_after_conv_m, off.metrics.mean_err_after_conv_m);
+    EXPECT_NE(readText(kOut / "drift_on" / "summary.yaml").find("heading_drift_deg_per_min: "),
+              std::string::npos);
 }
 
 TEST_F(LocalizeEndToEnd, EveryWeightVanishingReinitializesAndSaysSo)
@@ -555,6 +590,9 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
         {"semantic_existence", "semantic", {{"map_file", "../maps/paper_50x50_existence.yaml"}}},
         {"semantic_classes", "semantic", {{"map_file", "../maps/paper_50x50_classes.yaml"}}},
         {"semantic_norecovery", "semantic", {{"recovery_trigger", "off"}}},
+        {"semantic_drift",
+         "semantic",
+         {{"heading_drift_std_deg_per_min", "10"}, {"heading_drift_walk_deg_per_min", "2"}}},
         {"semantic_amcl",
          "semantic",
          {{"recovery_trigger", "amcl"},

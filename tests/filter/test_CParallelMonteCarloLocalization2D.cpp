@@ -173,6 +173,96 @@ TEST(CParallelMonteCarloLocalization2D, PredictionSamplesMrptsOdometryGaussian)
     EXPECT_EQ(differ, one.size());
 }
 
+namespace
+{
+/** Odometry that stands still without noise, stamped `t` seconds. */
+mrpt::obs::CActionCollection stillAt(double t)
+{
+    mrpt::obs::CActionRobotMovement2D act;
+    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions mo;
+    mo.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
+    mo.gaussianModel = {0, 0, 0, 0, 0, 0};
+    act.computeFromOdometry(mrpt::poses::CPose2D(0, 0, 0), mo);
+    act.timestamp = mrpt::Clock::fromDouble(t);
+    mrpt::obs::CActionCollection acts;
+    acts.insert(act);
+    return acts;
+}
+
+/** Standard deviation of the particles' headings (small angles). */
+double headingStd(const CParallelMonteCarloLocalization2D& pdf)
+{
+    double s = 0, s2 = 0;
+    for (const auto& p : pdf.m_particles)
+    {
+        s += p.d.phi;
+        s2 += p.d.phi * p.d.phi;
+    }
+    const double n = static_cast<double>(pdf.size());
+    return std::sqrt(std::max(0.0, s2 / n - (s / n) * (s / n)));
+}
+}  // namespace
+
+TEST(CParallelMonteCarloLocalization2D, HeadingDriftTurnsEachParticleByItsOwnRate)
+{
+    // Odometry standing still, one step a minute: each particle turns by -rate * 60 s, its
+    // rate drawn from N(0, 10 deg/min) (the headings' spread); a substitution carries the
+    // rates with their particles; a walk spreads rates that started equal.
+    mrpt::bayes::CParticleFilter::TParticleFilterOptions o;
+    const size_t M = 4000;
+    const double perMin = mrpt::DEG2RAD(1.0) / 60;  // 1 deg/min in rad/s
+    CParallelMonteCarloLocalization2D pdf;
+    pdf.setExecutor(std::make_shared<ParallelExecutor>(2));
+    pdf.resetDeterministic(TPose2D(1, 2, 0), M);
+    mrpt::random::getRandomGenerator().randomize(5);
+    pdf.setHeadingDrift(10 * perMin, 0);
+    for (double t : {100.0, 160.0})
+    {
+        const auto acts = stillAt(t);
+        pdf.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
+    }
+    // One minute of drift: the headings spread as the rates, 10 deg (sampling error ~1 %).
+    EXPECT_NEAR(headingStd(pdf), mrpt::DEG2RAD(10.0), mrpt::DEG2RAD(0.5));
+    EXPECT_NEAR(pdf.headingDriftRate() * 60, -pdf.getMeanVal().phi(), 1e-3);
+
+    // Every particle becomes particle 7: its rate with it, so the next minute turns every
+    // particle by that particle's turn again.
+    const double turn = pdf.m_particles[7].d.phi;
+    ASSERT_GT(std::abs(turn), 0);
+    pdf.performSubstitution(std::vector<size_t>(M, 7));
+    EXPECT_NEAR(pdf.headingDriftRate() * 60, -turn, 1e-12);
+    const auto next = stillAt(220);
+    pdf.prediction_and_update_pfStandardProposal(&next, nullptr, o);
+    for (const auto& p : pdf.m_particles)
+    {
+        ASSERT_NEAR(p.d.phi, 2 * turn, 1e-12);
+    }
+
+    // A walk of 2 deg/min over a minute, from rates all 0: after the first minute the rates
+    // spread by 2 deg/min, so the second minute spreads the headings by 2 deg.
+    CParallelMonteCarloLocalization2D walk;
+    walk.resetDeterministic(TPose2D(1, 2, 0), M);
+    walk.setHeadingDrift(0, 2 * perMin / std::sqrt(60.0));
+    for (double t : {0.0, 60.0})
+    {
+        const auto acts = stillAt(t);
+        walk.prediction_and_update_pfStandardProposal(&acts, nullptr, o);
+    }
+    EXPECT_EQ(headingStd(walk), 0);
+    const auto last = stillAt(120);
+    walk.prediction_and_update_pfStandardProposal(&last, nullptr, o);
+    EXPECT_NEAR(headingStd(walk), mrpt::DEG2RAD(2.0), mrpt::DEG2RAD(0.1));
+
+    // Off: nothing turns, and the rate is 0.
+    CParallelMonteCarloLocalization2D off;
+    off.resetDeterministic(TPose2D(1, 2, 0), 100);
+    const auto a0 = stillAt(0), a1 = stillAt(60);
+    off.prediction_and_update_pfStandardProposal(&a0, nullptr, o);
+    off.prediction_and_update_pfStandardProposal(&a1, nullptr, o);
+    EXPECT_EQ(headingStd(off), 0);
+    EXPECT_EQ(off.headingDriftRate(), 0);
+}
+
 TEST(CParallelMonteCarloLocalization2D, UpdateEqualsMrptsLikelihoodOnEveryThreadCount)
 {
     const Maps maps;

@@ -263,12 +263,14 @@ TEST(FilterReference, SystematicResamplingIndicesEqualTheReference)
 {
     // 120 000 weight vectors (6 kinds; 1 to 40 particles, and every 100th up to 3000:
     // several blocks of SystematicResampling::kBlock), each resampled on 1, 2 and 3 threads
-    // by the block-parallel fast path: the indices are the reference's, bit for bit.
+    // by the block-parallel fast path: the indices are the reference's, bit for bit; on odd
+    // trials a value per particle (the heading drift's) follows its particle.
     auto& rng = mrpt::random::getRandomGenerator();
     rng.randomize(33);
     const auto ex = pools();
     semloc::detail::SystematicResampling fast;
     ParticleList from, to;
+    std::vector<double> carriedFrom, carriedTo;
     size_t cases = 0, moved = 0;
     for (int trial = 0; trial < 120000; trial++)
     {
@@ -286,7 +288,15 @@ TEST(FilterReference, SystematicResamplingIndicesEqualTheReference)
         }
         auto& pool = *ex[static_cast<size_t>(trial) % 3];
         fast.setWeights(w);
-        fast.resample(u, from, to, pool);
+        const bool carry = trial % 2 == 1;
+        carriedFrom.resize(M);
+        carriedTo.assign(M, -1);
+        for (size_t i = 0; i < M; i++)
+        {
+            carriedFrom[i] = static_cast<double>(i) + 0.5;
+        }
+        const semloc::detail::CarriedValues carried{carriedFrom.data(), carriedTo.data()};
+        fast.resample(u, from, to, pool, carry ? &carried : nullptr);
         ASSERT_EQ(to.size(), M);
         for (size_t i = 0; i < M; i++)
         {
@@ -294,6 +304,8 @@ TEST(FilterReference, SystematicResamplingIndicesEqualTheReference)
                 << "trial " << trial << " kind " << kind << " M " << M << " u " << u << " pointer "
                 << i << ", " << pool.threads() << " threads";
             ASSERT_EQ(to[i].log_w, 0);
+            ASSERT_EQ(carriedTo[i], carry ? static_cast<double>(ref[i]) + 0.5 : -1.0)
+                << "trial " << trial << " pointer " << i;
             moved += ref[i] != i;
         }
         cases++;

@@ -128,6 +128,20 @@ Cases iniFileCases()
          [](const fs::path& d) {
              return localizeGood(d, "", {{"a4", "nan"}});
          }},
+        {"ini-heading-drift-negative",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"heading_drift_std_deg_per_min", "-5"}});
+         }},
+        {"ini-heading-drift-needs-standard-proposal",
+         [](const fs::path& d)
+         {
+             return localizeGood(d, "",
+                                 {{"heading_drift_std_deg_per_min", "10"},
+                                  {"PF_algorithm", "1"},
+                                  {"free_space_prior", "0"},
+                                  {"recovery_trigger", "off"},
+                                  {"outage_every_s", "0"}});
+         }},
         {"rawlog-motion-model-scan-matching",
          [](const fs::path& d)
          {

@@ -249,6 +249,7 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
     res.likelihood = loc.likelihoodStats();
     res.recovery = loc.recoveryStats();
     res.initialized_from_detections = loc.initializedFromDetections();
+    res.heading_drift_deg_per_min = loc.headingDriftDegPerMin();
 
     res.outputDir = out.target();
     res.wallTime_s =

@@ -20,6 +20,7 @@
 
 #include "filter/DetectorOutage.h"
 #include "filter/Estimate.h"
+#include "filter/HeadingDrift.h"
 #include "filter/KldResampling.h"
 #include "filter/MotionSampling.h"
 #include "filter/ParticleRuns.h"
@@ -54,6 +55,7 @@ struct UpdatePass
     double* logLik;
     const detail::GaussianIncrementDrawer* drawer;
     uint64_t key;
+    const detail::DriftStep* drift;  ///< the heading drift, or nullptr
     const SensoryFrameLikelihood* likelihood;
     const FreeSpaceSampler* prior;    ///< the free-space prior's, or nullptr
     const detail::OutageMix* outage;  ///< the outage mixture, or nullptr
@@ -70,7 +72,7 @@ struct UpdatePass
                        TPose2D* out = poses + i0;
                        if (drawer)
                        {
-                           detail::movePoses(*drawer, key, p, i0, n, out);
+                           detail::movePoses(*drawer, key, p, i0, n, out, drift);
                            return;
                        }
                        for (size_t k = 0; k < n; k++)
@@ -132,7 +134,9 @@ CParallelMonteCarloLocalization2D::CParallelMonteCarloLocalization2D(size_t M)
     : CMonteCarloLocalization2D(M),
       m_executor(std::make_shared<ParallelExecutor>(1)),
       m_systematic(std::make_unique<detail::SystematicResampling>()),
-      m_outage(std::make_unique<detail::DetectorOutage>())
+      m_outage(std::make_unique<detail::DetectorOutage>()),
+      m_drift(std::make_unique<detail::HeadingDrift>()),
+      m_driftStep(std::make_unique<detail::DriftStep>())
 {
     setLoggerName("CParallelMonteCarloLocalization2D");
 }
@@ -193,6 +197,7 @@ void CParallelMonteCarloLocalization2D::resetFromSampler(size_t particleCount)
         p.d = m_sampler->draw(rng);
         p.log_w = 0;
     }
+    resetHeadingDrift();
 }
 
 void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal(
@@ -208,6 +213,11 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     }
     std::optional<detail::GaussianIncrementDrawer> drawer;
     uint64_t key = 0;
+    m_stepDrift = false;
+    if (actions && !mrptKld(PF_options))
+    {
+        prepareDrift(*actions, sf);
+    }
     if (actions)
     {
         if (mrptKld(PF_options))
@@ -262,7 +272,17 @@ void CParallelMonteCarloLocalization2D::resampleIfDegenerate(
     {
         m_systematic->setWeights(m_linW);
         const double u = mrpt::random::getRandomGenerator().drawUniform(0.0, 1.0);
-        m_systematic->resample(u, m_particles, m_resampled, *m_executor);
+        if (m_drift->enabled() && m_drift->rateVector().size() == m_particles.size())
+        {
+            const detail::CarriedValues carried{m_drift->rates(),
+                                                m_drift->resampledBuffer(m_particles.size())};
+            m_systematic->resample(u, m_particles, m_resampled, *m_executor, &carried);
+            m_drift->swapResampled();
+        }
+        else
+        {
+            m_systematic->resample(u, m_particles, m_resampled, *m_executor);
+        }
         m_particles.swap(m_resampled);
         return;
     }
@@ -298,9 +318,18 @@ void CParallelMonteCarloLocalization2D::predictOtherMotion(
             "object!");
     }
     std::vector<mrpt::poses::CPose3D> incr(M);
+    auto& rng = mrpt::random::getRandomGenerator();
     for (size_t i = 0; i < M; i++)
     {
         m_movementDrawer.drawSample(incr[i]);
+        if (m_stepDrift)
+        {
+            // The heading drift (prepareDrift): the rate off the increment's yaw, then its walk.
+            double& rate = m_driftStep->rates[i];
+            incr[i].setYawPitchRoll(incr[i].yaw() - rate * m_driftStep->dt, incr[i].pitch(),
+                                    incr[i].roll());
+            rate += m_driftStep->walk * rng.drawGaussian1D_normalized();
+        }
     }
     m_executor->forEachChunk(
         M,
@@ -390,6 +419,7 @@ WeightRange CParallelMonteCarloLocalization2D::updateParticles(
                           m_logLik.data(),
                           drawer,
                           key,
+                          m_stepDrift ? m_driftStep.get() : nullptr,
                           m_likelihood.get(),
                           m_freeSpacePrior ? m_sampler.get() : nullptr,
                           outage,
@@ -467,7 +497,17 @@ void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<si
         std::sort(sorted.begin(), sorted.end());
         idx = &sorted;
     }
-    detail::substituteParticles(*idx, m_particles, m_resampled, *m_executor);
+    if (m_drift->enabled() && m_drift->rateVector().size() == m_particles.size())
+    {
+        const detail::CarriedValues carried{m_drift->rates(),
+                                            m_drift->resampledBuffer(idx->size())};
+        detail::substituteParticles(*idx, m_particles, m_resampled, *m_executor, &carried);
+        m_drift->swapResampled();
+    }
+    else
+    {
+        detail::substituteParticles(*idx, m_particles, m_resampled, *m_executor);
+    }
     m_particles.swap(m_resampled);
 }
 

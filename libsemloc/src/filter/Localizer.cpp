@@ -292,6 +292,12 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
     m_pdf->setRecoveryOptions(o.recovery);
     m_pdf->setFreeSpacePrior(o.free_space_prior);
     m_pdf->setKldAtResampling(o.kld_at_resampling);
+    // [MotionModel] heading_drift_*: deg/min to rad/s; the walk per minute to per sqrt(s).
+    constexpr double kSecondsPerMinute = 60;
+    m_pdf->setHeadingDrift(
+        mrpt::DEG2RAD(o.motion_model.heading_drift_std_deg_per_min) / kSecondsPerMinute,
+        mrpt::DEG2RAD(o.motion_model.heading_drift_walk_deg_per_min) / kSecondsPerMinute /
+            std::sqrt(kSecondsPerMinute));
 
     TSamplingArea area;
     area.x_min = o.init_PDF_min_x;
@@ -386,6 +392,7 @@ void Localizer::reset()
             break;
         }
     }
+    m_pdf->resetHeadingDrift();
     m_last = TStepInfo();
     m_last.particles = m_pdf->size();
 }
@@ -415,6 +422,12 @@ void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs
     m_last.ess_before_resampling = ours ? m_pdf->essBeforeResampling() : stats.ESS_beforeResample;
     m_last.particles = m_pdf->size();
     m_steps++;
+}
+
+double Localizer::headingDriftDegPerMin() const
+{
+    constexpr double kSecondsPerMinute = 60;
+    return mrpt::RAD2DEG(m_pdf->headingDriftRate()) * kSecondsPerMinute;
 }
 
 void Localizer::seedFromDetections(const mrpt::obs::CActionCollection& action,

@@ -336,6 +336,13 @@ void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     loadKLD(c, kld);
     loadOdometryNoise(c, *this);
     motion_model.loadFromConfigFile(c, MotionModel::kSection);
+    if (motion_model.headingDrift() && (pf.PF_algorithm != CParticleFilter::pfStandardProposal ||
+                                        (pf.adaptiveSampleSize && !kld_at_resampling)))
+    {
+        bad(MotionModel::kSection, "heading_drift_std_deg_per_min",
+            "the heading drift state needs [PF_options] PF_algorithm = 0 (pfStandardProposal) "
+            "and, with adaptiveSampleSize = 1, kld_at_resampling = 1");
+    }
 }
 
 void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,

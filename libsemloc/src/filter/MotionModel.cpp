@@ -20,6 +20,8 @@ const std::vector<std::string> kSources = {"rawlog", "gaussian"};
 
 /** Largest a1..a4 and minStdXY accepted (the odometry of a step of kilometres stays finite). */
 constexpr double kMaxCoefficient = 1e3;
+/** Largest heading drift rate and walk accepted [deg/min] (a turn a second). */
+constexpr double kMaxDriftDegPerMin = 21600;
 
 /** True when `m` holds no raw increment although it moved: MRPT's default (0, 0, 0) left in
  *  rawOdometryIncrementReading by a writer that set the pose change only. */
@@ -40,7 +42,9 @@ void MotionModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBa
                                                const std::string& s)
 {
     using namespace semloc::config;
-    rejectUnknownKeys(c, s, {"source", "a1", "a2", "a3", "a4", "minStdXY", "minStdPHI"});
+    rejectUnknownKeys(c, s,
+                      {"source", "a1", "a2", "a3", "a4", "minStdXY", "minStdPHI",
+                       "heading_drift_std_deg_per_min", "heading_drift_walk_deg_per_min"});
     std::string src = kSources[static_cast<size_t>(source)];
     readChoice(c, s, "source", src, kSources);
     source = src == "gaussian" ? Source::Gaussian : Source::Rawlog;
@@ -50,6 +54,10 @@ void MotionModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBa
     readDouble(c, s, "a4", a4, 0, kMaxCoefficient);
     readDouble(c, s, "minStdXY", minStdXY, 0, kMaxCoefficient);
     readDouble(c, s, "minStdPHI", minStdPHI, 0, 360);
+    readDouble(c, s, "heading_drift_std_deg_per_min", heading_drift_std_deg_per_min, 0,
+               kMaxDriftDegPerMin);
+    readDouble(c, s, "heading_drift_walk_deg_per_min", heading_drift_walk_deg_per_min, 0,
+               kMaxDriftDegPerMin);
 }
 
 void MotionModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -63,6 +71,10 @@ void MotionModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     detail::writeExact(c, s, "a4", a4, "heading std per degree turned [deg/deg]");
     detail::writeExact(c, s, "minStdXY", minStdXY, "minimum position std per increment [m]");
     detail::writeExact(c, s, "minStdPHI", minStdPHI, "minimum heading std per increment [deg]");
+    detail::writeExact(c, s, "heading_drift_std_deg_per_min", heading_drift_std_deg_per_min,
+                       "heading drift state: std of a particle's initial rate [deg/min]; 0: off");
+    detail::writeExact(c, s, "heading_drift_walk_deg_per_min", heading_drift_walk_deg_per_min,
+                       "heading drift state: std of a rate's change over a minute [deg/min]");
 }
 
 CActionRobotMovement2D::TMotionModelOptions MotionModel::gaussian() const

@@ -11,6 +11,8 @@
 #include <cmath>
 #include <optional>
 
+#include "filter/HeadingDrift.h"
+
 namespace semloc
 {
 using mrpt::math::TPose2D;
@@ -52,6 +54,10 @@ void CParallelMonteCarloLocalization2D::reinitialize(const mrpt::obs::CSensoryFr
             m_recoveryStats.reinitialized_from_detections +=
                 drawRecoveryPose(detections, p.d) ? 1 : 0;
             p.log_w = 0;
+        }
+        if (m_drift->enabled())
+        {
+            m_drift->reset(m_particles.size(), mrpt::random::getRandomGenerator());
         }
     }
     else
@@ -117,13 +123,19 @@ void CParallelMonteCarloLocalization2D::injectRandomParticles(
     const auto detections = detectionSampler(sf);
     size_t injected = 0, fromDet = 0;
     const double logW = std::log(m_augmented.options().injected_weight);
-    for (auto& p : m_particles)
+    const bool drift = m_drift->enabled() && m_drift->rateVector().size() == m_particles.size();
+    for (size_t i = 0; i < m_particles.size(); i++)
     {
+        auto& p = m_particles[i];
         if (rng.drawUniform(0.0, 1.0) < pInject)
         {
             injected++;
             fromDet += drawRecoveryPose(detections, p.d) ? 1 : 0;
             p.log_w = logW;  // the resampled ones have 0
+            if (drift)
+            {
+                m_drift->redraw(i, rng);
+            }
         }
     }
     if (injected > 0)

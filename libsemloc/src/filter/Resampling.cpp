@@ -75,7 +75,7 @@ void SystematicResampling::findFirstPointers(double u, double step)
 }
 
 void SystematicResampling::copyBlock(size_t blk, double u, double step, const ParticleList& from,
-                                     ParticleList& to) const
+                                     ParticleList& to, const CarriedValues* carried) const
 {
     const size_t i0 = m_blockFirstPointer[blk], i1 = m_blockFirstPointer[blk + 1];
     if (i0 >= i1)
@@ -103,12 +103,16 @@ void SystematicResampling::copyBlock(size_t blk, double u, double step, const Pa
                        }
                        dst[k].d = src->d;
                        dst[k].log_w = 0;  // equal weights after resampling
+                       if (carried)
+                       {
+                           carried->to[d0 + k] = carried->from[j];
+                       }
                    }
                });
 }
 
 void SystematicResampling::resample(double u, const ParticleList& from, ParticleList& to,
-                                    ParallelExecutor& ex)
+                                    ParallelExecutor& ex, const CarriedValues* carried)
 {
     const size_t M = m_w->size();
     const double step = m_total / static_cast<double>(M);
@@ -120,14 +124,14 @@ void SystematicResampling::resample(double u, const ParticleList& from, Particle
         {
             for (size_t blk = b0; blk < b1; blk++)
             {
-                copyBlock(blk, u, step, from, to);
+                copyBlock(blk, u, step, from, to, carried);
             }
         },
         1);
 }
 
 void substituteParticles(const std::vector<size_t>& idx, const ParticleList& from, ParticleList& to,
-                         ParallelExecutor& ex)
+                         ParallelExecutor& ex, const CarriedValues* carried)
 {
     const size_t M = idx.size();
     to.resize(M);
@@ -140,6 +144,10 @@ void substituteParticles(const std::vector<size_t>& idx, const ParticleList& fro
             {
                 dst->d = from[idx[i]].d;
                 dst->log_w = 0;  // equal weights after resampling
+                if (carried)
+                {
+                    carried->to[i] = carried->from[idx[i]];
+                }
             }
         },
         kCopyLoopGrain);

@@ -14,6 +14,14 @@ class ParallelExecutor;
 
 namespace semloc::detail
 {
+/** A value per particle that follows its particle through a resampling: from[j] belongs to
+ *  the old particle j, to[k] receives the value of the particle that new particle k copies. */
+struct CarriedValues
+{
+    const double* from;
+    double* to;
+};
+
 /** Systematic resampling (Kitagawa 1996; Thrun et al., Probabilistic Robotics, Table 4.4):
  *  M equally spaced pointers t_i = (u + i) W / M, u in [0, 1), into the cumulative weights
  *  c_j = w_0 + ... + w_j (W = c_{M-1}); particle j takes the pointers in [c_{j-1}, c_j), the
@@ -34,15 +42,17 @@ public:
      *  resample()); throws unless their sum is positive. */
     void setWeights(const std::vector<double>& w);
     /** Writes the resampled particles of `from` (as many as weights) to `to`, log-weights 0,
-     *  for the uniform offset `u` in [0, 1). */
-    void resample(double u, const ParticleList& from, ParticleList& to, ParallelExecutor& ex);
+     *  for the uniform offset `u` in [0, 1); with `carried`, a value per particle (its
+     *  heading drift) follows its particle from carried->from to carried->to. */
+    void resample(double u, const ParticleList& from, ParticleList& to, ParallelExecutor& ex,
+                  const CarriedValues* carried = nullptr);
 
 private:
     /** The first pointer i of each block (t_i >= c at its border), for the offset u. */
     void findFirstPointers(double u, double step);
     /** Copies the particles the pointers of block `blk` point at. */
-    void copyBlock(size_t blk, double u, double step, const ParticleList& from,
-                   ParticleList& to) const;
+    void copyBlock(size_t blk, double u, double step, const ParticleList& from, ParticleList& to,
+                   const CarriedValues* carried) const;
 
     const std::vector<double>* m_w = nullptr;
     size_t m_last = 0;  ///< the last particle of positive weight
@@ -53,7 +63,8 @@ private:
     std::vector<size_t> m_blockFirstPointer;
 };
 
-/** `to` = the particles of `from` at the sorted indices `idx`, log-weights 0. */
+/** `to` = the particles of `from` at the sorted indices `idx`, log-weights 0 (and the
+ *  `carried` values with them). */
 void substituteParticles(const std::vector<size_t>& idx, const ParticleList& from, ParticleList& to,
-                         ParallelExecutor& ex);
+                         ParallelExecutor& ex, const CarriedValues* carried = nullptr);
 }  // namespace semloc::detail

@@ -115,6 +115,9 @@ public:
         CParallelMonteCarloLocalization2D::TRecoveryStats recovery;
         /** init_PDF_mode = 3: the particles drawn from the first detections. */
         size_t initialized_from_detections = 0;
+        /** [MotionModel] heading_drift_*: the particles' mean heading drift rate after the
+         *  last step [deg/min] (0 when off). */
+        double heading_drift_deg_per_min = 0;
         /** Threads of the per-particle work. */
         size_t threads = 1;
         /** "action/sensory-frame", "observations-only" or "mixed". */

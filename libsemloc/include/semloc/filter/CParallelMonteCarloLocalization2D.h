@@ -25,6 +25,8 @@ class ParallelExecutor;
 namespace detail
 {
 class GaussianIncrementDrawer;
+class HeadingDrift;
+struct DriftStep;
 class SystematicResampling;
 class DetectorOutage;
 struct OutageMix;
@@ -144,7 +146,20 @@ public:
     /** With `adaptiveSampleSize = 1`: KLD-sampling at the resampling steps (true) instead of
      *  MRPT's at every prediction (false, the default); see "Resampling". */
     void setKldAtResampling(bool on) { m_kldAtResampling = on; }
+    /** The odometry's heading drift as a state of every particle (off by default; [MotionModel]
+     *  heading_drift_std_deg_per_min, heading_drift_walk_deg_per_min): each particle's rate
+     *  starts from N(0, priorStd²) [rad/s] and walks by N(0, walkStd² dt) [rad/s per
+     *  sqrt(s)]; its prediction takes rate * dt off the odometry's heading increment, dt the
+     *  time since the previous step (needs timestamped frames). Both 0: off. */
+    void setHeadingDrift(double priorStd, double walkStd);
     /** @} */
+
+    /** Every particle's heading drift rate from the prior again and the clock forgotten (a
+     *  new run; nothing when the drift is off). */
+    void resetHeadingDrift();
+    /** The particles' weighted mean heading drift rate [rad/s]: what the odometry's heading
+     *  gains per second beyond the truth (0 when the drift is off). */
+    double headingDriftRate() const;
 
     /** @name Statistics
      *  @{ */
@@ -222,6 +237,10 @@ private:
     detail::WeightRange updateParticles(const detail::GaussianIncrementDrawer* drawer, uint64_t key,
                                         bool weigh, bool chunkwise, double powFactor,
                                         const detail::OutageMix* outage = nullptr);
+    /** This step's heading drift (nullptr when off): the elapsed time from the frame's (else
+     *  the action's) timestamp, the rates matched to the particle count. */
+    void prepareDrift(const mrpt::obs::CActionCollection& actions,
+                      const mrpt::obs::CSensoryFrame* sf);
     /** Every weight vanished: the particles re-drawn over the free space (with recovery on,
      *  from the frame's detections too), log-weights 0. */
     void reinitialize(const mrpt::obs::CSensoryFrame& sf);
@@ -266,6 +285,10 @@ private:
     double m_essBeforeResampling = 1;
     /** The detector's outage state. */
     std::unique_ptr<detail::DetectorOutage> m_outage;
+    /** The particles' heading drift rates, and this step's drift (valid when m_stepDrift). */
+    std::unique_ptr<detail::HeadingDrift> m_drift;
+    std::unique_ptr<detail::DriftStep> m_driftStep;
+    bool m_stepDrift = false;
 };
 
 }  // namespace semloc

@@ -266,6 +266,9 @@ public:
     std::string freeSpaceDescription() const;
     /** init_PDF_mode = 3: the particles drawn from the first detections (0 before them). */
     size_t initializedFromDetections() const { return m_initializedFromDetections; }
+    /** [MotionModel] heading_drift_*: the particles' weighted mean heading drift rate, what the
+     *  odometry's heading gains per minute beyond the truth [deg/min] (0 when off). */
+    double headingDriftDegPerMin() const;
     /** @} */
 
 private:

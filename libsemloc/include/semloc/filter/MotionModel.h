@@ -57,6 +57,20 @@ public:
         double minStdXY = 0.01;
         /** Minimum heading std of every increment [deg]. */
         double minStdPHI = 0.2;
+        /** The odometry's heading drift as a state of every particle
+         *  (CParallelMonteCarloLocalization2D::setHeadingDrift): the standard deviation of a
+         *  particle's initial drift rate [deg/min] (what a gyro's bias or a DVL's heading
+         *  gains per minute beyond the truth); 0 with heading_drift_walk_deg_per_min = 0: no
+         *  drift state. Needs timestamped frames and PF_algorithm = 0. */
+        double heading_drift_std_deg_per_min = 0;
+        /** The standard deviation of a drift rate's change over one minute [deg/min] (a random
+         *  walk: over dt, this times sqrt(dt / 60 s)). */
+        double heading_drift_walk_deg_per_min = 0;
+        /** True when the filter keeps a heading drift per particle. */
+        bool headingDrift() const
+        {
+            return heading_drift_std_deg_per_min > 0 || heading_drift_walk_deg_per_min > 0;
+        }
 
         /** Reads `section` strictly: an unknown key, a value out of range or not finite is an
          *  error naming [section] key. */
