@@ -232,8 +232,8 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.variants()[3].options.filter.recovery.trigger, semloc::RecoveryTrigger::Evidence);
     EXPECT_EQ(all.variants()[4].name(), "semantic_drift");
     EXPECT_FALSE(all.variants()[3].options.filter.motion_model.headingDrift());
-    EXPECT_EQ(all.variants()[4].options.filter.motion_model.heading_drift_std_deg_per_min, 10.0);
-    EXPECT_EQ(all.variants()[4].options.filter.motion_model.heading_drift_walk_deg_per_min, 2.0);
+    EXPECT_EQ(all.variants()[4].options.filter.motion_model.heading_drift_std_deg_per_min, 0.0);
+    EXPECT_EQ(all.variants()[4].options.filter.motion_model.heading_drift_walk_deg_per_min, 5.0);
 }
 
 TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)

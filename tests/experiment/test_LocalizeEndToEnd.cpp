@@ -592,7 +592,7 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
         {"semantic_norecovery", "semantic", {{"recovery_trigger", "off"}}},
         {"semantic_drift",
          "semantic",
-         {{"heading_drift_std_deg_per_min", "10"}, {"heading_drift_walk_deg_per_min", "2"}}},
+         {{"heading_drift_std_deg_per_min", "0"}, {"heading_drift_walk_deg_per_min", "5"}}},
         {"semantic_amcl",
          "semantic",
          {{"recovery_trigger", "amcl"},
