@@ -4,6 +4,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/calibration/SensorCalibration.h>
+#include <semloc/filter/MotionModel.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <cmath>
@@ -209,6 +210,38 @@ TEST(SensorCalibration, OutputIniIsTheBaseWithTheFits)
     EXPECT_EQ(c.read_int("MetricMap", "semanticMap_count", 0), 1);
     EXPECT_EQ(c.read_string("LocalizationExperiment", "variant", ""), "semantic");
     EXPECT_NE(out.find("// calibrated: n = "), std::string::npos);
+    // No heading drift in this run: the drift state stays off, and says why.
+    EXPECT_FALSE(r.headingDrifts);
+    EXPECT_EQ(c.read_double("MotionModel", "heading_drift_walk_deg_per_min", -1), 0.0);
+    EXPECT_NE(out.find("// calibrated: no heading drift ("), std::string::npos);
+}
+
+TEST(SensorCalibration, FindsTheOdometrysHeadingDriftAndTurnsTheDriftStateOn)
+{
+    // Odometry whose heading gains 15 deg a minute (the same on every reading, beyond its
+    // noise): the drift within 1 deg/min, its interval covering it, the heading noise fitted
+    // without it (within the default's 15 %), and the calibrated ini with the drift state on.
+    for (const double drift : {15.0, -6.0})
+    {
+        auto o = paperRun(4);
+        o.odometry.heading_drift_deg_per_min = drift;
+        const auto r = calibrate(o);
+        std::cout << "heading drift " << drift << ": fitted " << r.heading_drift_deg_per_min.value
+                  << " +/- " << r.heading_drift_deg_per_min.ci95 << " deg/min\n";
+        EXPECT_NEAR(r.heading_drift_deg_per_min.value, drift, 1.0);
+        EXPECT_LT(std::abs(r.heading_drift_deg_per_min.value - drift),
+                  r.heading_drift_deg_per_min.ci95 * 1.5);
+        EXPECT_GT(r.heading_drift_deg_per_min.ci95, 0);
+        EXPECT_TRUE(r.headingDrifts);
+        expectRecovered(o, r);
+        const std::string out =
+            SensorCalibration::ApplyToIni(readFile(kSemanticIni), "semantic.ini", r);
+        mrpt::config::CConfigFileMemory c(out);
+        EXPECT_EQ(c.read_double("MotionModel", "heading_drift_walk_deg_per_min", 0),
+                  semloc::MotionModel::TOptions::kCalibratedDriftWalkDegPerMin);
+        EXPECT_EQ(c.read_double("MotionModel", "heading_drift_std_deg_per_min", -1), 0.0);
+        EXPECT_NE(out.find("// calibrated: the heading drifts "), std::string::npos);
+    }
 }
 
 TEST(SensorCalibration, OutputIniErrorsNameFileLineAndKey)
@@ -318,6 +351,6 @@ TEST(SensorCalibration, ToolWritesTheIniAndTheReport)
         EXPECT_EQ(bars, 6U) << line;
         tableRows++;
     }
-    EXPECT_EQ(tableRows, 13U);
+    EXPECT_EQ(tableRows, 14U);  // 13 keys and the heading drift
 }
 #endif

@@ -178,25 +178,71 @@ std::vector<double> nonNegativeLeastSquares(const std::vector<std::vector<double
     return best;
 }
 
+namespace
+{
+/** The heading drift of the odometry from the kept increments `kept` of `sm`: the signed
+ *  heading errors' sum over the seconds they span (the least-squares rate of errors
+ *  e_k = b dt_k + noise), its 95 % half-width from the residuals; in deg/min. */
+TCalibrationFit fitHeadingDrift(const TCalibrationSamples& sm, const std::vector<size_t>& kept)
+{
+    double sumE = 0, sumDt = 0, sumDt2 = 0;
+    for (const size_t i : kept)
+    {
+        sumE += sm.odomErrPhiSigned_rad[i] * sm.odomDt_s[i];
+        sumDt2 += sm.odomDt_s[i] * sm.odomDt_s[i];
+        sumDt += sm.odomDt_s[i];
+    }
+    if (kept.size() < 4 || !(sumDt2 > 0))
+    {
+        return fit(0, kept.size(), 0, "too few timed odometry increments");
+    }
+    const double b = sumE / sumDt2;  // rad/s
+    double ss = 0;
+    for (const size_t i : kept)
+    {
+        const double res = sm.odomErrPhiSigned_rad[i] - b * sm.odomDt_s[i];
+        ss += res * res;
+    }
+    const double se = std::sqrt(ss / static_cast<double>(kept.size() - 1) / sumDt2);
+    constexpr double kPerMinute = 60 * 180 / M_PI;  // rad/s to deg/min
+    return fit(b * kPerMinute, kept.size(), kZ95 * se * kPerMinute,
+               "least squares of the signed heading errors against the seconds of their "
+               "increments (" +
+                   text(sumDt) + " s)");
+}
+}  // namespace
+
 void fitOdometry(TCalibrationResult& r)
 {
     const auto& sm = r.samples;
     // An increment whose error is 10 medians away is not noise (a kidnapping, a jump in the
     // ground truth): it is left out.
     const double limXY = 10 * median(sm.odomErrXY_m), limPhi = 10 * median(sm.odomErrPhi_rad);
-    std::vector<std::vector<double>> cols(3);
-    std::vector<double> exy, ephi;
+    std::vector<size_t> kept;
     for (size_t i = 0; i < sm.odomDist_m.size(); i++)
     {
         if (sm.odomErrXY_m[i] <= limXY && sm.odomErrPhi_rad[i] <= limPhi)
         {
-            cols[0].push_back(1.0);
-            cols[1].push_back(sm.odomDist_m[i]);
-            cols[2].push_back(sm.odomTurn_rad[i]);
-            // E|e| = std sqrt(pi/2) (2D isotropic), std sqrt(2/pi) (1D).
-            exy.push_back(sm.odomErrXY_m[i] / std::sqrt(M_PI / 2));
-            ephi.push_back(sm.odomErrPhi_rad[i] / std::sqrt(2 / M_PI));
+            kept.push_back(i);
         }
+    }
+    // The heading drift: when it is real, the heading noise is what remains without it.
+    r.heading_drift_deg_per_min = fitHeadingDrift(sm, kept);
+    const auto& drift = r.heading_drift_deg_per_min;
+    r.headingDrifts = std::abs(drift.value) > drift.ci95 &&
+                      std::abs(drift.value) >= TCalibrationResult::kMinHeadingDriftDegPerMin;
+    const double driftRate = r.headingDrifts ? drift.value * M_PI / 180 / 60 : 0;  // rad/s
+    std::vector<std::vector<double>> cols(3);
+    std::vector<double> exy, ephi;
+    for (const size_t i : kept)
+    {
+        cols[0].push_back(1.0);
+        cols[1].push_back(sm.odomDist_m[i]);
+        cols[2].push_back(sm.odomTurn_rad[i]);
+        // E|e| = std sqrt(pi/2) (2D isotropic), std sqrt(2/pi) (1D).
+        exy.push_back(sm.odomErrXY_m[i] / std::sqrt(M_PI / 2));
+        const double ePhi = sm.odomErrPhiSigned_rad[i] - driftRate * sm.odomDt_s[i];
+        ephi.push_back(std::abs(ePhi) / std::sqrt(2 / M_PI));
     }
     const size_t n = exy.size();
     std::vector<double> cxy(3, 0.0), cphi(3, 0.0), ixy(3, 0.0), iphi(3, 0.0);
@@ -206,8 +252,9 @@ void fitOdometry(TCalibrationResult& r)
         cphi = nonNegativeLeastSquares(cols, ephi, iphi);
     }
     const std::string xy = "least squares (>= 0) of |xy error| / sqrt(pi/2) against [1, d, |dphi|]";
-    const std::string ph =
-        "least squares (>= 0) of |phi error| / sqrt(2/pi) against [1, d, |dphi|]";
+    const std::string ph = std::string("least squares (>= 0) of |phi error") +
+                           (r.headingDrifts ? " - drift dt" : "") +
+                           "| / sqrt(2/pi) against [1, d, |dphi|]";
     const double d2r = M_PI / 180;
     r.minStdXY = fit(cxy[0], n, ixy[0], xy);
     r.a1 = fit(cxy[1], n, ixy[1], xy);

@@ -60,7 +60,7 @@ std::string number(double v)
 std::string keyLine(const std::string& key, const std::string& value, const std::string& comment)
 {
     std::string k = key;
-    k.resize(std::max<size_t>(key.size(), 24), ' ');
+    k.resize(std::max<size_t>(key.size() + 1, 24), ' ');  // a blank before "=" always
     std::string v = value + " ";  // MRPT reads "//" as a comment only after a blank
     v.resize(std::max<size_t>(v.size(), 10), ' ');
     return k + "= " + v + (comment.empty() ? "" : "// " + comment);
@@ -205,6 +205,18 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
     setFit(ini, mm, "a4", r.a4);
     setFit(ini, mm, "minStdXY", r.minStdXY);
     setFit(ini, mm, "minStdPHI", r.minStdPHI);
+    // A drift is the run's own (a gyro's bias changes from one power-up to the next): what
+    // carries over to another run is that it drifts, so the drift state is turned on with
+    // semantic_drift.ini's walk, not set to the rate measured here.
+    const auto& d = r.heading_drift_deg_per_min;
+    const std::string measured = number(d.value) + " +/- " + number(d.ci95) + " deg/min";
+    ini.set(mm, "heading_drift_std_deg_per_min", "0",
+            "calibrated: each particle's drift rate starts at 0");
+    ini.set(mm, "heading_drift_walk_deg_per_min",
+            r.headingDrifts ? number(MotionModel::TOptions::kCalibratedDriftWalkDegPerMin) : "0",
+            r.headingDrifts
+                ? "calibrated: the heading drifts " + measured + ": the drift state on"
+                : "calibrated: no heading drift (" + measured + "): the drift state off");
     return ini.text();
 }
 

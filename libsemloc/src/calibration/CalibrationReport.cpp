@@ -115,6 +115,11 @@ std::string markdown(const TCalibrationResult& r)
       << row("p_range_outlier", r.p_range_outlier) << row("a1", r.a1) << row("a2", r.a2)
       << row("a3", r.a3) << row("a4", r.a4) << row("minStdXY", r.minStdXY)
       << row("minStdPHI", r.minStdPHI)
+      << row("heading drift [deg/min]", r.heading_drift_deg_per_min) << "\nThe heading "
+      << (r.headingDrifts ? "drifts: the calibrated ini turns the drift state on "
+                            "([MotionModel] heading_drift_walk_deg_per_min)."
+                          : "does not drift measurably: the drift state stays off.")
+      << "\n"
       << "\n![residuals](fig_residuals.png)\n\n![detection](fig_detection.png)\n\n"
       << "![odometry](fig_odometry.png)\n";
     return m.str();

@@ -339,7 +339,10 @@ void addIncrement(const CActionRobotMovement2D& act, const GroundTruthRow& prev,
     r.samples.odomDist_m.push_back(truth.norm());
     r.samples.odomTurn_rad.push_back(std::abs(truth.phi()));
     r.samples.odomErrXY_m.push_back(std::hypot(odo.x() - truth.x(), odo.y() - truth.y()));
-    r.samples.odomErrPhi_rad.push_back(std::abs(mrpt::math::wrapToPi(odo.phi() - truth.phi())));
+    const double errPhi = mrpt::math::wrapToPi(odo.phi() - truth.phi());
+    r.samples.odomErrPhi_rad.push_back(std::abs(errPhi));
+    r.samples.odomErrPhiSigned_rad.push_back(errPhi);
+    r.samples.odomDt_s.push_back(cur.t - prev.t);
     r.increments++;
 }
 

@@ -44,6 +44,10 @@ struct TCalibrationSamples
     std::vector<double> odomTurn_rad;    //!< |true increment rotation| per step
     std::vector<double> odomErrXY_m;     //!< |position error| of the odometry per step
     std::vector<double> odomErrPhi_rad;  //!< |heading error| of the odometry per step
+    /** Signed heading error of the odometry per step (odometry minus truth) [rad]. */
+    std::vector<double> odomErrPhiSigned_rad;
+    /** Seconds of each step (between the two ground-truth rows it spans). */
+    std::vector<double> odomDt_s;
 };
 
 /** Every fit semloc-calibrate writes. The keys are those of
@@ -54,6 +58,16 @@ struct TCalibrationResult
     TCalibrationFit p_detect_near, p_detect_far;
     TCalibrationFit clutter_per_scan, p_confusion, p_range_outlier;
     TCalibrationFit a1, a2, a3, a4, minStdXY, minStdPHI;
+    /** The odometry's heading drift: what its heading gains per minute beyond the truth
+     *  [deg/min] (signed; the heading errors' sum over the time they span). */
+    TCalibrationFit heading_drift_deg_per_min;
+    /** True when that drift is real: its 95 % interval excludes 0 and it is at least
+     *  kMinHeadingDriftDegPerMin; then the heading noise (minStdPHI, a3, a4) is fitted to
+     *  the errors less the drift, and the calibrated ini turns the drift state on. */
+    bool headingDrifts = false;
+    /** The smallest drift rate the calibration turns the drift state on for [deg/min]
+     *  (1 deg/min: under 2 degrees over a two-minute silence). */
+    static constexpr double kMinHeadingDriftDegPerMin = 1;
     /** Semantic scans with a ground-truth pose, and the detector's max range of the first. */
     size_t scans = 0;
     double maxRange_m = 0;
