@@ -246,12 +246,16 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
     EXPECT_TRUE(b.scenarios()[1].simulation().kidnapping.enabled);
     for (const auto& sc : b.scenarios())
     {
-        ASSERT_EQ(sc.variants().size(), 3u);
+        ASSERT_EQ(sc.variants().size(), 4u);
         // No scenario turns recovery on: semantic_norecovery runs without, semantic_amcl with
         // augmented MCL's trigger, semantic (shipped) with the evidence trigger, both with
-        // injected particles at 3e-6 of a resampled one's weight.
+        // injected particles at 3e-6 of a resampled one's weight; semantic_drift is semantic
+        // with the heading drift state.
         EXPECT_EQ(sc.variants()[1].name(), "semantic_amcl");
         EXPECT_EQ(sc.variants()[2].name(), "semantic");
+        EXPECT_EQ(sc.variants()[3].name(), "semantic_drift");
+        EXPECT_TRUE(sc.variants()[3].options.filter.motion_model.headingDrift());
+        EXPECT_FALSE(sc.variants()[2].options.filter.motion_model.headingDrift());
         EXPECT_FALSE(sc.variants()[0].options.filter.recovery.enabled());
         EXPECT_EQ(sc.variants()[1].options.filter.recovery.trigger, semloc::RecoveryTrigger::Amcl);
         EXPECT_EQ(sc.variants()[2].options.filter.recovery.trigger,

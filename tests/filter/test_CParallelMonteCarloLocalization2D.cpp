@@ -15,6 +15,7 @@
 #include <semloc/filter/ParallelExecutor.h>
 #include <semloc/maps/CStructureMap.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -652,6 +653,72 @@ TEST(CParallelMonteCarloLocalization2D, FramesThatMeasureNothingLeaveTheRecovery
     EXPECT_EQ(interleaved.injection_steps, plain.injection_steps);
     EXPECT_EQ(interleaved.injected_particles, plain.injected_particles);
     EXPECT_EQ(interleavedMean, plainMean);
+}
+
+TEST(CParallelMonteCarloLocalization2D, HeadingDriftRatesOutliveInjectionAndReinitialization)
+{
+    // The drift rates are the odometry's, not the poses': a re-initialization keeps every
+    // particle's rate, and an injected particle keeps the rate of the resampled particle it
+    // replaces, so with no walk every rate after a step is one of the rates before it.
+    const double perMin = mrpt::DEG2RAD(1.0) / 60;
+    auto stamped = [](const mrpt::poses::CPose2D& u, double t)
+    {
+        auto acts = odometry(u);
+        acts.get(0)->timestamp = mrpt::Clock::fromDouble(t);
+        return acts;
+    };
+    {
+        const semloc::World world = semloc::World::FromFile(kPaperWorld);
+        auto mm = mrpt::maps::CMultiMetricMap::Create();
+        mm->maps.push_back(std::make_shared<CNanMap>());
+        CParallelMonteCarloLocalization2D pdf;
+        pdf.options.metricMap = mm;
+        pdf.setFreeSpaceSampler(
+            std::make_shared<semloc::FreeSpaceSampler>(semloc::FreeSpaceSampler::FromWorld(world)));
+        mrpt::random::getRandomGenerator().randomize(1);
+        pdf.resetUniform(10, 11, 10, 11, 0, 0.1, 500);
+        pdf.setHeadingDrift(10 * perMin, 0);
+        const std::vector<double> before = pdf.headingDriftRates();
+        ASSERT_EQ(before.size(), 500u);
+        mrpt::bayes::CParticleFilter pf;
+        const auto acts = stamped(mrpt::poses::CPose2D(0.5, 0, 0), 100);
+        mrpt::obs::CSensoryFrame sf;
+        sf.insert(std::make_shared<mrpt::obs::CObservation2DRangeScan>());
+        pf.executeOn(pdf, &acts, &sf);
+        ASSERT_EQ(pdf.recoveryStats().reinitializations, 1u);
+        EXPECT_EQ(pdf.headingDriftRates(), before);
+    }
+    const Maps maps(false);
+    mrpt::bayes::CParticleFilter pf;
+    pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
+    CParallelMonteCarloLocalization2D pdf;
+    withFreeSpace(pdf, maps);
+    pdf.setRecoveryOptions(semloc::AugmentedMCL::TOptions{0.001, 0.1});
+    mrpt::random::getRandomGenerator().randomize(2);
+    pdf.resetUniform(4.5, 5.5, 3.5, 4.5, -0.05, 0.05, 2000);
+    pdf.setHeadingDrift(5 * perMin, 0);
+    TPose2D truth(5, 4, 0);
+    double t = 0;
+    for (int k = 0; k < 80; k++)
+    {
+        if (k == 40)
+        {
+            truth = TPose2D(45, 30, M_PI);  // kidnapped: the injections start
+        }
+        truth.x += k < 40 ? 0.5 : -0.5;
+        const std::vector<double> before = pdf.headingDriftRates();
+        const auto acts = stamped(mrpt::poses::CPose2D(0.5, 0, 0), t += 1);
+        const auto sf = maps.frame(truth);
+        pf.executeOn(pdf, &acts, &sf);
+        const auto& after = pdf.headingDriftRates();
+        ASSERT_EQ(after.size(), pdf.size());
+        for (const double r : after)
+        {
+            ASSERT_NE(std::find(before.begin(), before.end(), r), before.end())
+                << "step " << k << ": a rate that no particle had";
+        }
+    }
+    EXPECT_GT(pdf.recoveryStats().injected_particles, 0u);
 }
 
 TEST(CParallelMonteCarloLocalization2D, InjectedParticlesEarnTheirWeightAndStillRecover)

@@ -128,20 +128,6 @@ Cases iniFileCases()
          [](const fs::path& d) {
              return localizeGood(d, "", {{"a4", "nan"}});
          }},
-        {"ini-heading-drift-negative",
-         [](const fs::path& d) {
-             return localizeGood(d, "", {{"heading_drift_std_deg_per_min", "-5"}});
-         }},
-        {"ini-heading-drift-needs-standard-proposal",
-         [](const fs::path& d)
-         {
-             return localizeGood(d, "",
-                                 {{"heading_drift_std_deg_per_min", "10"},
-                                  {"PF_algorithm", "1"},
-                                  {"free_space_prior", "0"},
-                                  {"recovery_trigger", "off"},
-                                  {"outage_every_s", "0"}});
-         }},
         {"rawlog-motion-model-scan-matching",
          [](const fs::path& d)
          {
@@ -160,6 +146,20 @@ Cases iniFileCases()
 Cases iniModelCases()
 {
     return {
+        {"ini-heading-drift-negative",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"heading_drift_std_deg_per_min", "-5"}});
+         }},
+        {"ini-heading-drift-needs-standard-proposal",
+         [](const fs::path& d)
+         {
+             return localizeGood(d, "",
+                                 {{"heading_drift_std_deg_per_min", "10"},
+                                  {"PF_algorithm", "1"},
+                                  {"free_space_prior", "0"},
+                                  {"recovery_trigger", "off"},
+                                  {"outage_every_s", "0"}});
+         }},
         {"ini-association-needs-probabilistic",
          [](const fs::path& d)
          {

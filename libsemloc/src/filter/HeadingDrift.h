@@ -22,7 +22,7 @@ namespace semloc::detail
  *  N(0, walk² dt) (a gyro's bias, Titterton & Weston ch. 4; a compass-less DVL's heading).
  *  Each r_i starts from N(0, prior²). Off (prior = walk = 0): no rate, the prediction is the
  *  odometry's alone. The rates follow their particles through resampling (substitute); a
- *  re-initialized or injected particle draws its rate from the prior again. */
+ *  re-initialized or injected particle keeps its rate (the drift is the odometry's). */
 class HeadingDrift
 {
 public:

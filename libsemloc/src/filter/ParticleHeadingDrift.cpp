@@ -53,6 +53,12 @@ double CParallelMonteCarloLocalization2D::headingDriftRate() const
     return sumW > 0 ? sum / sumW : 0;
 }
 
+const std::vector<double>& CParallelMonteCarloLocalization2D::headingDriftRates() const
+{
+    static const std::vector<double> kNone;
+    return m_drift->enabled() ? m_drift->rateVector() : kNone;
+}
+
 void CParallelMonteCarloLocalization2D::prepareDrift(const mrpt::obs::CActionCollection& actions,
                                                      const mrpt::obs::CSensoryFrame* sf)
 {

@@ -55,10 +55,7 @@ void CParallelMonteCarloLocalization2D::reinitialize(const mrpt::obs::CSensoryFr
                 drawRecoveryPose(detections, p.d) ? 1 : 0;
             p.log_w = 0;
         }
-        if (m_drift->enabled())
-        {
-            m_drift->reset(m_particles.size(), mrpt::random::getRandomGenerator());
-        }
+        // The heading drift rates stay: they are the odometry's, not the lost poses'.
     }
     else
     {
@@ -123,19 +120,15 @@ void CParallelMonteCarloLocalization2D::injectRandomParticles(
     const auto detections = detectionSampler(sf);
     size_t injected = 0, fromDet = 0;
     const double logW = std::log(m_augmented.options().injected_weight);
-    const bool drift = m_drift->enabled() && m_drift->rateVector().size() == m_particles.size();
-    for (size_t i = 0; i < m_particles.size(); i++)
+    // An injected particle keeps the heading drift rate of the resampled particle it replaces:
+    // a draw of the rates' posterior (the drift is the odometry's, not the pose's).
+    for (auto& p : m_particles)
     {
-        auto& p = m_particles[i];
         if (rng.drawUniform(0.0, 1.0) < pInject)
         {
             injected++;
             fromDet += drawRecoveryPose(detections, p.d) ? 1 : 0;
             p.log_w = logW;  // the resampled ones have 0
-            if (drift)
-            {
-                m_drift->redraw(i, rng);
-            }
         }
     }
     if (injected > 0)

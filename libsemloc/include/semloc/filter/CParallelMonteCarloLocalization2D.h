@@ -160,6 +160,9 @@ public:
     /** The particles' weighted mean heading drift rate [rad/s]: what the odometry's heading
      *  gains per second beyond the truth (0 when the drift is off). */
     double headingDriftRate() const;
+    /** Every particle's heading drift rate [rad/s], in the particles' order (empty when the
+     *  drift is off). */
+    const std::vector<double>& headingDriftRates() const;
 
     /** @name Statistics
      *  @{ */
