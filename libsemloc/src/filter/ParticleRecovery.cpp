@@ -11,8 +11,6 @@
 #include <cmath>
 #include <optional>
 
-#include "filter/HeadingDrift.h"
-
 namespace semloc
 {
 using mrpt::math::TPose2D;
