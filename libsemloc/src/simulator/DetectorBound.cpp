@@ -65,48 +65,59 @@ double gaussianMeanError(double cxx, double cxy, double cyy)
 }
 
 std::vector<TDetectorBoundStep> detectorCramerRaoBound(
-    const std::vector<TDetectorBoundInput>& steps, const TDetectorBoundSensor& sensor)
+    const std::vector<TDetectorBoundInput>& steps, const TDetectorBoundSensor& sensor,
+    bool unknownHeadingDrift)
 {
     ASSERTMSG_(sensor.sigma_range_m > 0 && sensor.sigma_bearing_rad > 0,
                "detectorCramerRaoBound: the detector's noise must be > 0");
-    const Eigen::Matrix3d prior = kPriorVariance * Eigen::Matrix3d::Identity();
+    // The state (x, y, phi, b): b, the heading drift, only with unknownHeadingDrift; without
+    // it b's block stays 0 and the recursion is the pose's alone.
+    using Matrix4d = Eigen::Matrix4d;
+    const double driftPrior = unknownHeadingDrift ? kPriorVariance : 0.0;
     std::vector<TDetectorBoundStep> out;
     out.reserve(steps.size());
-    Eigen::Matrix3d P = prior;
+    Matrix4d P = Matrix4d::Zero();
     for (size_t k = 0; k < steps.size(); k++)
     {
         const auto& st = steps[k];
         if (k == 0 || st.restart)
         {
-            P = prior;
+            const double pbb = k == 0 ? driftPrior : P(3, 3);
+            P.setZero();
+            P.topLeftCorner<3, 3>() = kPriorVariance * Eigen::Matrix3d::Identity();
+            P(3, 3) = pbb;
         }
         else
         {
-            // Prediction through x_k = x_{k-1} ⊕ u_k, u_k's covariance in x_{k-1}'s frame.
+            // Prediction through x_k = x_{k-1} ⊕ (u_k - (0, 0, b dt)), u_k's covariance in
+            // x_{k-1}'s frame.
             const auto& x0 = steps[k - 1].pose;
             const mrpt::poses::CPose2D u = mrpt::poses::CPose2D(st.pose) - mrpt::poses::CPose2D(x0);
             const double c = std::cos(x0.phi), s = std::sin(x0.phi);
-            Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+            Matrix4d F = Matrix4d::Identity();
             F(0, 2) = -s * u.x() - c * u.y();
             F(1, 2) = c * u.x() - s * u.y();
-            Eigen::Matrix3d G = Eigen::Matrix3d::Identity();
+            F(2, 3) = -st.dt_s;
+            Eigen::Matrix<double, 4, 3> G = Eigen::Matrix<double, 4, 3>::Zero();
+            G.topLeftCorner<3, 3>().setIdentity();
             G.topLeftCorner<2, 2>() << c, -s, s, c;
             P = F * P * F.transpose() + G * st.incrementCov.asEigen() * G.transpose();
         }
         if (!st.silent && !st.visible.empty())
         {
-            Eigen::Matrix3d J = Eigen::Matrix3d::Zero();
+            Matrix4d J = Matrix4d::Zero();
             for (const auto& p : st.visible)
             {
                 double range = 0;
                 const Eigen::Matrix3d I = detectionInformation(st.pose, p, sensor, range);
-                J += std::clamp(sensor.detectionProbability(range), 0.0, 1.0) * I;
+                J.topLeftCorner<3, 3>() +=
+                    std::clamp(sensor.detectionProbability(range), 0.0, 1.0) * I;
             }
             // (P⁻¹ + J)⁻¹ = P (I + J P)⁻¹: no inverse of a nearly singular P.
-            P = P * (Eigen::Matrix3d::Identity() + J * P).inverse();
+            P = P * (Matrix4d::Identity() + J * P).inverse();
             P = 0.5 * (P + P.transpose());
         }
-        out.push_back(summarize(P));
+        out.push_back(summarize(P.topLeftCorner<3, 3>()));
     }
     return out;
 }
@@ -137,13 +148,14 @@ std::vector<TDetectorBoundStep> detectorCramerRaoBound(const Simulator& simulato
             a.computeFromOdometry(
                 mrpt::poses::CPose2D(st.pose) - mrpt::poses::CPose2D(steps[k - 1].pose), model);
             st.incrementCov = a.poseChange->getCovariance();
+            st.dt_s = run.groundTruth[k].t - run.groundTruth[k - 1].t;
         }
         for (const auto& v : detector.visibleObjects(st.pose))
         {
             st.visible.push_back(simulator.world().objects[v.index].center);
         }
     }
-    return detectorCramerRaoBound(steps, sensor);
+    return detectorCramerRaoBound(steps, sensor, o.odometry.heading_drift_deg_per_min != 0);
 }
 
 }  // namespace semloc

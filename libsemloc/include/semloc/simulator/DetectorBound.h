@@ -41,6 +41,8 @@ struct TDetectorBoundInput
     /** The vehicle was teleported at this step (a kidnapping): the bound starts again from
      *  no knowledge, as the filter cannot know the new pose from the odometry. */
     bool restart = false;
+    /** Seconds since the previous step (the heading drift's lever; ignored without it). */
+    double dt_s = 0;
 };
 
 /** The detector's noise and detection probability, as the bound uses them. */
@@ -68,13 +70,21 @@ struct TDetectorBoundSensor
  *  - the map is the world (no object moved, removed or added).
  *  Recursion in covariance form, P_k = ((F P_{k-1} Fᵀ + G Σ_k Gᵀ)⁻¹ + Σ_j P_D HⱼᵀR⁻¹Hⱼ)⁻¹ with
  *  F, G the Jacobians of the pose composition x ⊕ u and Hⱼ the Jacobian of object j's range
- *  and bearing from the sensor; P_0 is a vague prior (1e6 in x, y and phi). */
+ *  and bearing from the sensor; P_0 is a vague prior (1e6 in x, y and phi).
+ *
+ *  With `unknownHeadingDrift`, the odometry's heading increments carry a constant drift b
+ *  [rad/s] that no estimator is told: the state is (x, y, phi, b), each prediction adds
+ *  -b dt_s to phi, b has a vague prior and no process noise, and a restart forgets the pose
+ *  but keeps what the detections told of b (the drift is the odometry's). The bound is then
+ *  that of an estimator that must learn the drift from the detections. */
 std::vector<TDetectorBoundStep> detectorCramerRaoBound(
-    const std::vector<TDetectorBoundInput>& steps, const TDetectorBoundSensor& sensor);
+    const std::vector<TDetectorBoundInput>& steps, const TDetectorBoundSensor& sensor,
+    bool unknownHeadingDrift = false);
 
 /** detectorCramerRaoBound() of a simulated run: the simulator's detector (noise, P_D, sensor
  *  pose, visibility with occlusion and field of view), its odometry's motion model at the
- *  true increments, its silences and kidnapping, and the world it simulated. */
+ *  true increments, its heading drift (unknown to the estimator) when it has one, its
+ *  silences and kidnapping, and the world it simulated. */
 std::vector<TDetectorBoundStep> detectorCramerRaoBound(const Simulator& simulator,
                                                        const SimulationResult& run);
 
