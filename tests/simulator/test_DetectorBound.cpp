@@ -31,6 +31,23 @@ std::vector<TDetectorBoundInput> staticScene(size_t steps)
     return in;
 }
 
+/** Straight ahead 1 m and 1 s per step for `steps` steps, seeing two objects that keep
+ *  their place relative to the vehicle, with a little odometry noise; silent from step 3. */
+std::vector<TDetectorBoundInput> movingScene(size_t steps)
+{
+    auto in = staticScene(steps);
+    for (size_t k = 0; k < in.size(); k++)
+    {
+        in[k].pose = {static_cast<double>(k), 0, 0};
+        in[k].visible = {{10.0 + static_cast<double>(k), 0}, {static_cast<double>(k), 10}};
+        in[k].incrementCov = mrpt::math::CMatrixDouble33(
+            Eigen::Vector3d(0.01, 0.01, 1e-4).asDiagonal().toDenseMatrix());
+        in[k].silent = k >= 3;
+        in[k].dt_s = 1;
+    }
+    return in;
+}
+
 TDetectorBoundSensor sensor(double pd)
 {
     TDetectorBoundSensor s;
@@ -113,15 +130,7 @@ TEST(DetectorBound, DetectionProbabilityScalesTheInformation)
 TEST(DetectorBound, MotionAndSilencesOnlyPredict)
 {
     // Straight ahead 1 m per step, heading known well after three scans, then silent.
-    auto in = staticScene(6);
-    for (size_t k = 0; k < in.size(); k++)
-    {
-        in[k].pose = {static_cast<double>(k), 0, 0};
-        in[k].visible = {{10.0 + static_cast<double>(k), 0}, {static_cast<double>(k), 10}};
-        in[k].incrementCov = mrpt::math::CMatrixDouble33(
-            Eigen::Vector3d(0.01, 0.01, 1e-4).asDiagonal().toDenseMatrix());
-        in[k].silent = k >= 3;
-    }
+    auto in = movingScene(6);
     const auto out = detectorCramerRaoBound(in, sensor(1.0));
     // A silent step gains nothing: the bound grows with the motion noise.
     for (size_t k = 3; k < out.size(); k++)
@@ -147,20 +156,11 @@ TEST(DetectorBound, MotionAndSilencesOnlyPredict)
 
 TEST(DetectorBound, AnUnknownHeadingDriftOnlyRaisesTheBound)
 {
-    // The moving scene of MotionAndSilencesOnlyPredict, a step a second: with a heading drift
-    // no estimator is told, the bound is at least the known odometry's at every step (equal
-    // at the first, where nothing has moved), and through the silence it grows faster: the
-    // drift learned from three scans is uncertain and turns the heading.
-    auto in = staticScene(8);
-    for (size_t k = 0; k < in.size(); k++)
-    {
-        in[k].pose = {static_cast<double>(k), 0, 0};
-        in[k].visible = {{10.0 + static_cast<double>(k), 0}, {static_cast<double>(k), 10}};
-        in[k].incrementCov = mrpt::math::CMatrixDouble33(
-            Eigen::Vector3d(0.01, 0.01, 1e-4).asDiagonal().toDenseMatrix());
-        in[k].silent = k >= 3;
-        in[k].dt_s = 1;
-    }
+    // movingScene(): with a heading drift no estimator is told, the bound is at least the
+    // known odometry's at every step (equal at the first, where nothing has moved), and
+    // through the silence it grows faster: the drift learned from three scans is uncertain
+    // and turns the heading.
+    auto in = movingScene(8);
     const auto known = detectorCramerRaoBound(in, sensor(1.0));
     const auto unknown = detectorCramerRaoBound(in, sensor(1.0), true);
     ASSERT_EQ(unknown.size(), known.size());

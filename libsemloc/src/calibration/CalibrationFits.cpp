@@ -2,6 +2,7 @@
 #include "calibration/CalibrationFits.h"
 
 #include <mrpt/core/bits_math.h>
+#include <semloc/filter/MotionModel.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -204,8 +205,8 @@ TCalibrationFit fitHeadingDrift(const TCalibrationSamples& sm, const std::vector
         ss += res * res;
     }
     const double se = std::sqrt(ss / static_cast<double>(kept.size() - 1) / sumDt2);
-    constexpr double kPerMinute = 60 * 180 / M_PI;  // rad/s to deg/min
-    return fit(b * kPerMinute, kept.size(), kZ95 * se * kPerMinute,
+    constexpr double k = kRadPerSecondPerDegPerMinute;
+    return fit(b / k, kept.size(), kZ95 * se / k,
                "least squares of the signed heading errors against the seconds of their "
                "increments (" +
                    text(sumDt) + " s)");
@@ -231,7 +232,7 @@ void fitOdometry(TCalibrationResult& r)
     const auto& drift = r.heading_drift_deg_per_min;
     r.headingDrifts = std::abs(drift.value) > drift.ci95 &&
                       std::abs(drift.value) >= TCalibrationResult::kMinHeadingDriftDegPerMin;
-    const double driftRate = r.headingDrifts ? drift.value * M_PI / 180 / 60 : 0;  // rad/s
+    const double driftRate = r.headingDrifts ? drift.value * kRadPerSecondPerDegPerMinute : 0;
     std::vector<std::vector<double>> cols(3);
     std::vector<double> exy, ephi;
     for (const size_t i : kept)

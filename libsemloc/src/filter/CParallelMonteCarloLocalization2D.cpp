@@ -272,18 +272,10 @@ void CParallelMonteCarloLocalization2D::resampleIfDegenerate(
     {
         m_systematic->setWeights(m_linW);
         const double u = mrpt::random::getRandomGenerator().drawUniform(0.0, 1.0);
-        if (m_drift->enabled() && m_drift->rateVector().size() == m_particles.size())
-        {
-            const detail::CarriedValues carried{m_drift->rates(),
-                                                m_drift->resampledBuffer(m_particles.size())};
-            m_systematic->resample(u, m_particles, m_resampled, *m_executor, &carried);
-            m_drift->swapResampled();
-        }
-        else
-        {
-            m_systematic->resample(u, m_particles, m_resampled, *m_executor);
-        }
-        m_particles.swap(m_resampled);
+        const auto carried = carriedDrift(m_particles.size());
+        m_systematic->resample(u, m_particles, m_resampled, *m_executor,
+                               carried ? &*carried : nullptr);
+        swapResampled(carried.has_value());
         return;
     }
     std::vector<double> logW(m_particles.size());
@@ -497,18 +489,10 @@ void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<si
         std::sort(sorted.begin(), sorted.end());
         idx = &sorted;
     }
-    if (m_drift->enabled() && m_drift->rateVector().size() == m_particles.size())
-    {
-        const detail::CarriedValues carried{m_drift->rates(),
-                                            m_drift->resampledBuffer(idx->size())};
-        detail::substituteParticles(*idx, m_particles, m_resampled, *m_executor, &carried);
-        m_drift->swapResampled();
-    }
-    else
-    {
-        detail::substituteParticles(*idx, m_particles, m_resampled, *m_executor);
-    }
-    m_particles.swap(m_resampled);
+    const auto carried = carriedDrift(idx->size());
+    detail::substituteParticles(*idx, m_particles, m_resampled, *m_executor,
+                                carried ? &*carried : nullptr);
+    swapResampled(carried.has_value());
 }
 
 void CParallelMonteCarloLocalization2D::getMean(mrpt::poses::CPose2D& mean) const

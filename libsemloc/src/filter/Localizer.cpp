@@ -293,11 +293,10 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
     m_pdf->setFreeSpacePrior(o.free_space_prior);
     m_pdf->setKldAtResampling(o.kld_at_resampling);
     // [MotionModel] heading_drift_*: deg/min to rad/s; the walk per minute to per sqrt(s).
-    constexpr double kSecondsPerMinute = 60;
     m_pdf->setHeadingDrift(
-        mrpt::DEG2RAD(o.motion_model.heading_drift_std_deg_per_min) / kSecondsPerMinute,
-        mrpt::DEG2RAD(o.motion_model.heading_drift_walk_deg_per_min) / kSecondsPerMinute /
-            std::sqrt(kSecondsPerMinute));
+        o.motion_model.heading_drift_std_deg_per_min * kRadPerSecondPerDegPerMinute,
+        o.motion_model.heading_drift_walk_deg_per_min * kRadPerSecondPerDegPerMinute /
+            std::sqrt(60.0));
 
     TSamplingArea area;
     area.x_min = o.init_PDF_min_x;
@@ -426,8 +425,7 @@ void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs
 
 double Localizer::headingDriftDegPerMin() const
 {
-    constexpr double kSecondsPerMinute = 60;
-    return mrpt::RAD2DEG(m_pdf->headingDriftRate()) * kSecondsPerMinute;
+    return m_pdf->headingDriftRate() / kRadPerSecondPerDegPerMinute;
 }
 
 void Localizer::seedFromDetections(const mrpt::obs::CActionCollection& action,

@@ -12,6 +12,8 @@
 
 #include "filter/HeadingDrift.h"
 #include "filter/MotionSampling.h"
+#include "filter/Resampling.h"
+#include "filter/Weights.h"
 
 namespace semloc
 {
@@ -31,6 +33,24 @@ void CParallelMonteCarloLocalization2D::resetHeadingDrift()
     m_drift->forgetClock();
 }
 
+std::optional<detail::CarriedValues> CParallelMonteCarloLocalization2D::carriedDrift(size_t count)
+{
+    if (!m_drift->enabled() || m_drift->rateVector().size() != m_particles.size())
+    {
+        return std::nullopt;
+    }
+    return detail::CarriedValues{m_drift->rates(), m_drift->resampledBuffer(count)};
+}
+
+void CParallelMonteCarloLocalization2D::swapResampled(bool drift)
+{
+    m_particles.swap(m_resampled);
+    if (drift)
+    {
+        m_drift->swapResampled();
+    }
+}
+
 double CParallelMonteCarloLocalization2D::headingDriftRate() const
 {
     const auto& r = m_drift->rateVector();
@@ -38,11 +58,7 @@ double CParallelMonteCarloLocalization2D::headingDriftRate() const
     {
         return 0;
     }
-    double maxW = m_particles[0].log_w;
-    for (const auto& p : m_particles)
-    {
-        maxW = std::max(maxW, p.log_w);
-    }
+    const double maxW = detail::minMaxLogWeights(m_particles, *m_executor).max;
     double sum = 0, sumW = 0;
     for (size_t i = 0; i < r.size(); i++)
     {

@@ -27,6 +27,7 @@ namespace detail
 class GaussianIncrementDrawer;
 class HeadingDrift;
 struct DriftStep;
+struct CarriedValues;
 class SystematicResampling;
 class DetectorOutage;
 struct OutageMix;
@@ -244,6 +245,11 @@ private:
      *  the action's) timestamp, the rates matched to the particle count. */
     void prepareDrift(const mrpt::obs::CActionCollection& actions,
                       const mrpt::obs::CSensoryFrame* sf);
+    /** The heading drift rates a resampling to `count` particles carries (nothing when the
+     *  drift is off or its rates are not the particles'). */
+    std::optional<detail::CarriedValues> carriedDrift(size_t count);
+    /** The resampled particles (and, when `drift`, the carried rates) become the set. */
+    void swapResampled(bool drift);
     /** Every weight vanished: the particles re-drawn over the free space (with recovery on,
      *  from the frame's detections too), log-weights 0. */
     void reinitialize(const mrpt::obs::CSensoryFrame& sf);

@@ -11,6 +11,9 @@
 
 namespace semloc
 {
+/** A heading drift rate in the ini's deg/min, in the filter's rad/s (and back: divide). */
+constexpr double kRadPerSecondPerDegPerMinute = 3.14159265358979323846 / 180.0 / 60.0;
+
 /** Where the noise of the odometry comes from ([MotionModel] source).
  *
  *  - `rawlog` (default, as MRPT's pf-localization): the Gaussian every CActionRobotMovement2D
