@@ -20,8 +20,9 @@ function(write_ini name jobs extra)
 endfunction()
 
 function(run_app name expect_ok)
+  # A run that hangs is ended after 300 s (a few seconds is the norm), its output printed.
   execute_process(COMMAND ${APP} ${dir}/${name}.ini OUTPUT_VARIABLE o ERROR_VARIABLE e
-                  RESULT_VARIABLE rc)
+                  RESULT_VARIABLE rc TIMEOUT 300)
   message(STATUS "semloc-benchmark ${name}.ini (${rc}):\n${o}${e}")
   set(out "${o}${e}" PARENT_SCOPE)
   if(expect_ok AND NOT rc EQUAL 0)

@@ -212,7 +212,22 @@ void startWatchdog()
     sigaddset(&block, SIGINT);
     sigaddset(&block, SIGTERM);
     ::pthread_sigmask(SIG_BLOCK, &block, &old);
-    std::thread(watchdog, fds[0]).detach();
+    // Returns once the thread runs: from then on it waits in read() and holds no lock, so a
+    // fork() by the job (semloc-benchmark's runs) never copies a lock it held mid-start
+    // (a thread's start allocates; AddressSanitizer's allocator has no fork handler, and its
+    // child would wait forever on that lock).
+    std::atomic<bool> running{false};
+    std::thread(
+        [fd = fds[0], &running]
+        {
+            running.store(true);
+            watchdog(fd);
+        })
+        .detach();
+    while (!running.load())
+    {
+        std::this_thread::yield();
+    }
     ::pthread_sigmask(SIG_SETMASK, &old, nullptr);
     g_wakeFd.store(fds[1]);
     std::atexit(markExiting);

@@ -25,8 +25,9 @@ namespace semloc
  *  ## Parallel runs and MRPT's random generator
  *  Localizer seeds and draws from mrpt::random::getRandomGenerator(), one generator per
  *  process, so two filters in one process would interleave their draws. Each run therefore
- *  executes in a child process (fork(), no exec: the parent is single-threaded when it
- *  forks); at most `jobs` children run at once. A run's results depend only on its seed,
+ *  executes in a child process (fork(), no exec: the parent runs no filter, and its only
+ *  other thread, the interrupt watchdog, waits in read() holding no lock); at most `jobs`
+ *  children run at once. A run's results depend only on its seed,
  *  never on `jobs`.
  *
  *  ## Outputs (in `output_dir`, written to a staging directory and renamed at the end)
