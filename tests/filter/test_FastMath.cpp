@@ -199,3 +199,115 @@ TEST(FastMath, LaneOperationsAreSse2sOnEveryBuild)
     EXPECT_EQ(buf[0], 10.0);
     EXPECT_EQ(buf[2], 9.0);
 }
+
+#if defined(SEMLOC_HAVE_SSE2)
+namespace
+{
+/** Doubles that tell lane operations apart: signed zeros, NaNs of both signs, infinities,
+ *  subnormals, the int32 range's edges, halves (rounding), and random bit patterns. */
+std::vector<double> laneValues()
+{
+    volatile double nan = std::nan("");  // read at run time: no folding of the conversions
+    std::vector<double> v = {
+        0.0,           -0.0,          1.0,           -1.0,      0.5,     -0.5,         1.5,
+        -2.5,          3.0,           -3.0,          1e6,       -1e6,    nan,          -nan,
+        HUGE_VAL,      -HUGE_VAL,     4.9e-324,      -4.9e-324, 1.7e308, 2147483647.9, 2147483648.0,
+        -2147483648.0, -2147483648.9, -2147483649.0, 1e300,     -1e300};
+    mrpt::random::CRandomGenerator rng(7);
+    for (int i = 0; i < 40; i++)
+    {
+        v.push_back(rng.drawUniform(-1e3, 1e3));
+        uint64_t bits =
+            (static_cast<uint64_t>(rng.drawUniform32bit()) << 32) | rng.drawUniform32bit();
+        double d = 0;
+        std::memcpy(&d, &bits, sizeof d);
+        v.push_back(d);
+    }
+    return v;
+}
+
+/** Both lanes of a and b have the same bits. */
+bool sameLanes(semloc::detail::Vec2 a, semloc::detail::Vec2 b)
+{
+    return sameBits(a[0], b[0]) && sameBits(a[1], b[1]);
+}
+}  // namespace
+
+TEST(FastMath, PortableLaneOperationsGiveSse2sBits)
+{
+    using semloc::detail::Vec2;
+    namespace p = semloc::detail::portable;
+    namespace s = semloc::detail::sse2;
+    const std::vector<double> vals = laneValues();
+    size_t cases = 0;
+    std::vector<std::string> differ;  // the operation and the lanes of each difference
+    size_t i = 0, j = 0;
+    auto check = [&](const char* op, bool same)
+    {
+        cases++;
+        if (!same && differ.size() < 10)
+        {
+            differ.push_back(std::string(op) + " at " + std::to_string(i) + ", " +
+                             std::to_string(j));
+        }
+    };
+    for (i = 0; i + 1 < vals.size(); i++)
+    {
+        for (j = 0; j + 1 < vals.size(); j++)
+        {
+            const Vec2 a{vals[i], vals[i + 1]}, b{vals[j], vals[j + 1]};
+            check("lessEqualBits", p::lessEqualBits(a, b) == s::lessEqualBits(a, b));
+            check("lessBits", p::lessBits(a, b) == s::lessBits(a, b));
+            check("lessEqualMask", sameLanes(p::lessEqualMask(a, b), s::lessEqualMask(a, b)));
+            check("lessMask", sameLanes(p::lessMask(a, b), s::lessMask(a, b)));
+            check("greaterEqualMask",
+                  sameLanes(p::greaterEqualMask(a, b), s::greaterEqualMask(a, b)));
+            check("minLanes", sameLanes(p::minLanes(a, b), s::minLanes(a, b)));
+            check("maxLanes", sameLanes(p::maxLanes(a, b), s::maxLanes(a, b)));
+            // Bitwise: any bits, masks or not.
+            check("xorLanes", sameLanes(p::xorLanes(a, b), s::xorLanes(a, b)));
+            check("andLanes", sameLanes(p::andLanes(a, b), s::andLanes(a, b)));
+            check("orLanes", sameLanes(p::orLanes(a, b), s::orLanes(a, b)));
+            check("negateLanes", sameLanes(p::negateLanes(a, b), s::negateLanes(a, b)));
+            const Vec2 m = s::lessMask(a, b);
+            check("selectLanes", sameLanes(p::selectLanes(m, a, b), s::selectLanes(m, a, b)));
+            check("selectIf", sameBits(p::selectIf(vals[j] < 0, vals[i], vals[j]),
+                                       s::selectIf(vals[j] < 0, vals[i], vals[j])));
+        }
+        const Vec2 a{vals[i], vals[i + 1]};
+        check("maskBits", p::maskBits(a) == s::maskBits(a));
+        check("absLanes", sameLanes(p::absLanes(a), s::absLanes(a)));
+        check("sqrtLanes", sameLanes(p::sqrtLanes(a), s::sqrtLanes(a)));
+        check("truncInt32Lanes", sameLanes(p::truncInt32Lanes(a), s::truncInt32Lanes(a)));
+        int32_t p0 = 0, p1 = 0, s0 = 0, s1 = 0;
+        p::truncToInt32(a, p0, p1);
+        s::truncToInt32(a, s0, s1);
+        check("truncToInt32", p0 == s0 && p1 == s1);
+        check("negateIf", sameBits(p::negateIf(true, vals[i]), s::negateIf(true, vals[i])) &&
+                              sameBits(p::negateIf(false, vals[i]), s::negateIf(false, vals[i])));
+        if (!std::isnan(vals[i]) && !std::signbit(vals[i]))  // copySignLanes: a magnitude, +0 up
+        {
+            check("copySignLanes",
+                  sameLanes(p::copySignLanes(vals[i], a), s::copySignLanes(vals[i], a)));
+        }
+        if (std::abs(vals[i]) < 2147483648.0 && std::abs(vals[i + 1]) < 2147483648.0)
+        {
+            Vec2 po, pt, so, st;  // truncLanes: |v| < 2^31
+            check("truncLanes", sameLanes(p::truncLanes(a, po, pt), s::truncLanes(a, so, st)) &&
+                                    sameLanes(po, so) && sameLanes(pt, st));
+        }
+        double pb[3] = {1, 2, 3}, sb[3] = {1, 2, 3};
+        p::storeLanes(pb, p::loadLanes(&vals[i]));
+        s::storeLanes(sb, s::loadLanes(&vals[i]));
+        p::storeLane1(pb + 2, a);
+        s::storeLane1(sb + 2, a);
+        p::storeLane0(pb + 1, a);
+        s::storeLane0(sb + 1, a);
+        check("loadLanes/storeLanes/storeLane0/storeLane1",
+              sameBits(pb[0], sb[0]) && sameBits(pb[1], sb[1]) && sameBits(pb[2], sb[2]));
+    }
+    EXPECT_TRUE(differ.empty()) << differ.size() << " of " << cases << " cases differ, first "
+                                << (differ.empty() ? std::string() : differ.front());
+    EXPECT_GT(cases, 100000u);
+}
+#endif
