@@ -230,10 +230,12 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.variants()[2].options.filter.recovery.trigger, semloc::RecoveryTrigger::Amcl);
     EXPECT_TRUE(all.variants()[2].options.filter.recovery.enabled());
     EXPECT_EQ(all.variants()[3].options.filter.recovery.trigger, semloc::RecoveryTrigger::Evidence);
-    EXPECT_EQ(all.variants()[4].name(), "semantic_drift");
-    EXPECT_FALSE(all.variants()[3].options.filter.motion_model.headingDrift());
-    EXPECT_EQ(all.variants()[4].options.filter.motion_model.heading_drift_std_deg_per_min, 0.0);
-    EXPECT_EQ(all.variants()[4].options.filter.motion_model.heading_drift_walk_deg_per_min, 5.0);
+    EXPECT_EQ(all.variants()[4].name(), "semantic_nodrift");
+    EXPECT_TRUE(all.variants()[3].options.filter.motion_model.headingDrift());
+    EXPECT_EQ(all.variants()[3].options.filter.motion_model.heading_drift_std_deg_per_min, 0.0);
+    EXPECT_EQ(all.variants()[3].options.filter.motion_model.heading_drift_walk_deg_per_min, 5.0);
+    EXPECT_FALSE(all.variants()[4].options.filter.motion_model.headingDrift());
+    EXPECT_FALSE(all.variants()[0].options.filter.motion_model.headingDrift());
 }
 
 TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
@@ -249,13 +251,13 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
         ASSERT_EQ(sc.variants().size(), 4u);
         // No scenario turns recovery on: semantic_norecovery runs without, semantic_amcl with
         // augmented MCL's trigger, semantic (shipped) with the evidence trigger, both with
-        // injected particles at 3e-6 of a resampled one's weight; semantic_drift is semantic
-        // with the heading drift state.
+        // injected particles at 3e-6 of a resampled one's weight; semantic_nodrift is semantic
+        // without the heading drift state.
         EXPECT_EQ(sc.variants()[1].name(), "semantic_amcl");
         EXPECT_EQ(sc.variants()[2].name(), "semantic");
-        EXPECT_EQ(sc.variants()[3].name(), "semantic_drift");
-        EXPECT_TRUE(sc.variants()[3].options.filter.motion_model.headingDrift());
-        EXPECT_FALSE(sc.variants()[2].options.filter.motion_model.headingDrift());
+        EXPECT_EQ(sc.variants()[3].name(), "semantic_nodrift");
+        EXPECT_FALSE(sc.variants()[3].options.filter.motion_model.headingDrift());
+        EXPECT_TRUE(sc.variants()[2].options.filter.motion_model.headingDrift());
         EXPECT_FALSE(sc.variants()[0].options.filter.recovery.enabled());
         EXPECT_EQ(sc.variants()[1].options.filter.recovery.trigger, semloc::RecoveryTrigger::Amcl);
         EXPECT_EQ(sc.variants()[2].options.filter.recovery.trigger,

@@ -230,8 +230,8 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
     const std::vector<std::pair<std::string, std::string>> runs = {
         {"semantic", "semantic.ini"},
         {"semantic_kld",
-         patchedConfig("semantic.ini", {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}},
-                       "semantic_kld")},
+         patchedConfig("semantic_nodrift.ini",  // MRPT's KLD carries no drift rates
+                       {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}}, "semantic_kld")},
         {"geometric_kld",
          patchedConfig("geometric.ini", {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}},
                        "geometric_kld")},
@@ -311,7 +311,7 @@ TEST(LocalizeHeadingDrift, TheDriftStateLearnsTheOdometrysDriftAndKeepsTheTrack)
     const std::string rawlog = (kOut / "drift15.rawlog").string();
     const semloc::Simulator sim(so);
     sim.writeDataset(sim.run(), rawlog);
-    const auto off = localize(kConfig + "semantic.ini", rawlog, "drift_off", 2000, 1);
+    const auto off = localize(kConfig + "semantic_nodrift.ini", rawlog, "drift_off", 2000, 1);
     const auto on = localize(patchedConfig("semantic.ini",
                                            {{"heading_drift_std_deg_per_min", "15"},
                                             {"heading_drift_walk_deg_per_min", "1"}},
@@ -341,7 +341,9 @@ TEST_F(LocalizeEndToEnd, EveryWeightVanishingReinitializesAndSaysSo)
         std::vector<std::pair<std::string, std::string>> keys = {{"map_file", tiny.string()}};
         if (kld)
         {
-            keys.insert(keys.end(), {{"adaptiveSampleSize", "1"}, {"resamplingMethod", "0"}});
+            keys.insert(keys.end(), {{"adaptiveSampleSize", "1"},
+                                     {"resamplingMethod", "0"},
+                                     {"heading_drift_walk_deg_per_min", "0"}});
         }
         const auto ini = patchedConfig("semantic.ini", keys, name);
         testing::internal::CaptureStdout();
@@ -590,9 +592,7 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
         {"semantic_existence", "semantic", {{"map_file", "../maps/paper_50x50_existence.yaml"}}},
         {"semantic_classes", "semantic", {{"map_file", "../maps/paper_50x50_classes.yaml"}}},
         {"semantic_norecovery", "semantic", {{"recovery_trigger", "off"}}},
-        {"semantic_drift",
-         "semantic",
-         {{"heading_drift_std_deg_per_min", "0"}, {"heading_drift_walk_deg_per_min", "5"}}},
+        {"semantic_nodrift", "semantic", {{"heading_drift_walk_deg_per_min", "0"}}},
         {"semantic_amcl",
          "semantic",
          {{"recovery_trigger", "amcl"},
@@ -601,6 +601,7 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
         {"semantic_basic",
          "semantic",
          {{"init_PDF_mode", "0"},
+          {"heading_drift_walk_deg_per_min", "0"},
           {"recovery_trigger", "off"},
           {"recovery_injected_weight", "1"},
           {"outage_every_s", "0"}}},

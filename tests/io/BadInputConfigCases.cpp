@@ -187,6 +187,7 @@ Cases iniModelCases()
                                  {{"outage_every_s", "300"},
                                   {"PF_algorithm", "1"},
                                   {"free_space_prior", "0"},
+                                  {"heading_drift_walk_deg_per_min", "0"},
                                   {"recovery_trigger", "off"}});
          }},
         {"ini-recovery-trigger-unknown",

@@ -207,7 +207,7 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
     setFit(ini, mm, "minStdPHI", r.minStdPHI);
     // A drift is the run's own (a gyro's bias changes from one power-up to the next): what
     // carries over to another run is that it drifts, so the drift state is turned on with
-    // semantic_drift.ini's walk, not set to the rate measured here.
+    // semantic.ini's walk, not set to the rate measured here.
     const auto& d = r.heading_drift_deg_per_min;
     const std::string measured = number(d.value) + " +/- " + number(d.ci95) + " deg/min";
     ini.set(mm, "heading_drift_std_deg_per_min", "0",

@@ -70,7 +70,7 @@ public:
          *  walk: over dt, this times sqrt(dt / 60 s)). */
         double heading_drift_walk_deg_per_min = 0;
         /** The walk semloc-calibrate sets when the odometry's heading drifts, and
-         *  config/semantic_drift.ini's [deg/min]. */
+         *  config/semantic.ini's [deg/min]. */
         static constexpr double kCalibratedDriftWalkDegPerMin = 5;
         /** True when the filter keeps a heading drift per particle. */
         bool headingDrift() const
