@@ -517,11 +517,7 @@ TEST(InterruptDeathTest, AForkRightAfterTheHandlersCopiesNoLockOfTheWatchdog)
                     ::_exit(v.size() == 4000 ? 0 : 1);
                 }
                 int status = 0;
-                for (int t = 0; t < 1000 && ::waitpid(pid, &status, WNOHANG) != pid; t++)
-                {
-                    std::this_thread::sleep_for(std::chrono::milliseconds(10));
-                }
-                if (::kill(pid, 0) == 0 && ::waitpid(pid, &status, WNOHANG) != pid)
+                if (!waitUntil([&] { return ::waitpid(pid, &status, WNOHANG) == pid; }, 10))
                 {
                     ::kill(pid, SIGKILL);
                     std::fprintf(stderr, "the forked child hung\n");
