@@ -445,3 +445,33 @@ TEST(Benchmark, ScenarioSectionsOverlayTheVariantsOwn)
     const auto msg = errorOf(writeIni("bench_overlay_main.ini", "scenarios = " + scenario + "\n"));
     EXPECT_NE(msg.find("sigma_rnge_m"), std::string::npos) << msg;
 }
+
+TEST(Benchmark, PairedTableComparesEachVariantWithTheReferenceRunByRun)
+{
+    using R = semloc::Benchmark::TRunResult;
+    auto result = [](int run, const std::string& variant, bool converged, double err)
+    {
+        R r;
+        r.run = run;
+        r.variant = variant;
+        r.metrics.converged = converged;
+        r.metrics.mean_err_after_conv_m = converged ? err : std::nan("");
+        return r;
+    };
+    // "semantic" is the reference whatever its place. Runs 1-3 both converge (differences
+    // -0.1, +0.2, -0.4: mean -0.1, standard error sqrt(0.09)/sqrt(3)); run 4 only "other",
+    // run 5 only "semantic"; run 6 has no "semantic" result and is left out.
+    const std::vector<R> runs = {
+        result(1, "other", true, 0.9), result(1, "semantic", true, 1.0),
+        result(2, "other", true, 1.2), result(2, "semantic", true, 1.0),
+        result(3, "other", true, 0.6), result(3, "semantic", true, 1.0),
+        result(4, "other", true, 0.5), result(4, "semantic", false, 0),
+        result(5, "other", false, 0),  result(5, "semantic", true, 0.5),
+        result(6, "other", true, 9.0),
+    };
+    const std::string t = semloc::Benchmark::pairedTable(runs, {"other", "semantic"});
+    EXPECT_NE(t.find("| other | semantic | 3 | -0.1000 | 0.1732 | 2 | 1 | 1 |"), std::string::npos)
+        << t;
+    EXPECT_EQ(t.find("| semantic | semantic"), std::string::npos) << t;
+    EXPECT_TRUE(semloc::Benchmark::pairedTable(runs, {"semantic"}).empty());
+}

@@ -1,4 +1,4 @@
-/* semloc tests — the experiment's small statistics: median, mean, percentiles. */
+/* semloc tests — the experiment's small statistics: median, mean, percentiles, standard error. */
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,6 +9,7 @@
 using semloc::detail::mean;
 using semloc::detail::median;
 using semloc::detail::percentile;
+using semloc::detail::standardError;
 
 TEST(Statistics, MedianMeanAndEmptyInputs)
 {
@@ -29,4 +30,13 @@ TEST(Statistics, PercentilesInterpolateBetweenClosestRanks)
     EXPECT_DOUBLE_EQ(percentile(v, 0.1), 14.0);  // rank 0.4: 10 + 0.4 * (20 - 10)
     EXPECT_DOUBLE_EQ(percentile(v, 0.9), 46.0);
     EXPECT_EQ(percentile({7.0}, 0.9), 7.0);
+}
+
+TEST(Statistics, StandardErrorOfTheMean)
+{
+    // Sample standard deviation of {1, 2, 3, 4} is sqrt(5/3); over sqrt(4).
+    EXPECT_DOUBLE_EQ(standardError({1.0, 2.0, 3.0, 4.0}), std::sqrt(5.0 / 3.0) / 2.0);
+    EXPECT_EQ(standardError({2.0, 2.0, 2.0}), 0.0);
+    EXPECT_TRUE(std::isnan(standardError({5.0})));
+    EXPECT_TRUE(std::isnan(standardError({})));
 }

@@ -157,6 +157,7 @@ std::string scenariosCsv(const std::vector<Benchmark::TScenarioSummary>& summari
 }  // namespace detail
 
 using detail::mean;
+using detail::standardError;
 
 double Benchmark::TRunResult::detectorBoundAfterConvergence() const
 {
@@ -271,6 +272,60 @@ std::string Benchmark::reportTable(const std::vector<TRunResult>& runs,
           << " | " << cell("%.3f", mean(s.filter)) << " | " << cell("%.3f", mean(s.perParticle))
           << " | " << cell("%.3f", mean(s.wall)) << " | "
           << cell("%.2f", mean(s.filter) / refFilter) << " |\n";
+    }
+    return o.str();
+}
+
+std::string Benchmark::pairedTable(const std::vector<TRunResult>& runs,
+                                   const std::vector<std::string>& variants)
+{
+    if (variants.size() < 2)
+    {
+        return {};
+    }
+    const std::string ref = detail::referenceVariant(variants);
+    // Per run index: the reference's metrics.
+    std::map<int, const RunMetrics*> reference;
+    for (const auto& r : runs)
+    {
+        if (r.variant == ref)
+        {
+            reference[r.run] = &r.metrics;
+        }
+    }
+    std::ostringstream o;
+    o << "| variant | against | runs both converged | mean difference of the err after conv. "
+         "[m] | standard error [m] | runs with the lower error | converged only by the "
+         "variant | converged only by "
+      << ref << " |\n|---|---|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& v : variants)
+    {
+        if (v == ref)
+        {
+            continue;
+        }
+        std::vector<double> diff;
+        size_t lower = 0, onlyVariant = 0, onlyRef = 0;
+        for (const auto& r : runs)
+        {
+            const auto it = reference.find(r.run);
+            if (r.variant != v || it == reference.end())
+            {
+                continue;
+            }
+            const RunMetrics& a = r.metrics;
+            const RunMetrics& b = *it->second;
+            if (a.converged && b.converged)
+            {
+                diff.push_back(a.mean_err_after_conv_m - b.mean_err_after_conv_m);
+                lower += diff.back() < 0 ? 1 : 0;
+            }
+            onlyVariant += a.converged && !b.converged ? 1 : 0;
+            onlyRef += b.converged && !a.converged ? 1 : 0;
+        }
+        o << "| " << v << " | " << ref << " | " << diff.size() << " | " << cell("%+.4f", mean(diff))
+          << " | " << cell("%.4f", standardError(diff)) << " | " << lower << " | " << onlyVariant
+          << " | " << onlyRef << " |\n";
     }
     return o.str();
 }

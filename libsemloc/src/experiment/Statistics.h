@@ -36,6 +36,24 @@ inline double mean(const std::vector<double>& v)
     return s / static_cast<double>(v.size());
 }
 
+/** The standard error of the mean of `v`: the sample standard deviation (n - 1) over
+ *  sqrt(n); NaN with fewer than two values. */
+inline double standardError(const std::vector<double>& v)
+{
+    if (v.size() < 2)
+    {
+        return std::numeric_limits<double>::quiet_NaN();
+    }
+    const double m = mean(v);
+    double ss = 0;
+    for (double x : v)
+    {
+        ss += (x - m) * (x - m);
+    }
+    const auto n = static_cast<double>(v.size());
+    return std::sqrt(ss / (n - 1) / n);
+}
+
 /** The `p` quantile (0..1) of `v`, sorted: linear interpolation between closest ranks; NaN if
  *  `v` is empty. */
 inline double percentile(const std::vector<double>& v, double p)

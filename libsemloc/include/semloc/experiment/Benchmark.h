@@ -240,6 +240,14 @@ public:
     static std::string reportTable(const std::vector<TRunResult>& runs,
                                    const std::vector<std::string>& variants);
 
+    /** report.md's paired comparison: each variant against the reference of reportTable()
+     *  on the same runs (same simulation, same filter seed). Per variant: the runs both
+     *  converged, the mean over them of (the variant's mean error after convergence - the
+     *  reference's) with its standard error, the runs where the variant's error is lower,
+     *  and the runs only one of the two converged. Empty with fewer than two variants. */
+    static std::string pairedTable(const std::vector<TRunResult>& runs,
+                                   const std::vector<std::string>& variants);
+
     /** The table of scenarios.csv / report.md with scenarios: per scenario and variant the
      *  success rate, convergence and recovery. */
     static std::string scenariosTable(const std::vector<TScenarioSummary>& summaries);
