@@ -226,7 +226,8 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
     // Same inputs and seed: every output file the same byte for byte, except the timing
     // (update_us; wall_time_s, total_update_s, mean_update_us_per_particle) and the thread
     // count itself (the `threads` key of summary.yaml and config.ini). KLD on and off (MRPT's
-    // and at the resampling steps), a map of uncertain objects, misread ranges.
+    // and at the resampling steps), a map of uncertain objects, misread ranges, the marginal
+    // association.
     const std::vector<std::pair<std::string, std::string>> runs = {
         {"semantic", "semantic.ini"},
         {"semantic_kld",
@@ -238,6 +239,7 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
         {"grid_lf", "grid_lf.ini"},
         {"fused", "fused.ini"},
         {"semantic_surveyed", "semantic_surveyed.ini"},
+        {"semantic_marginal", "semantic_marginal.ini"},
         {"semantic_misread", "semantic_misread.ini"},
         {"semantic_kld_at_resampling", "semantic_kld.ini"},
         {"semantic_drift", patchedConfig("semantic.ini",

@@ -168,6 +168,10 @@ Cases iniModelCases()
                  d, writeConfig(d, "semantic", {{"model", "paper"}, {"association", "marginal"}}),
                  d / "data.rawlog");
          }},
+        {"ini-association-unknown",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"association", "permanent"}});
+         }},
         {"ini-outage-needs-probabilistic",
          [](const fs::path& d)
          {

@@ -414,6 +414,11 @@ Cases importCases()
          [](const fs::path& d) {
              return importCsv(d, {{"lm.csv", "id,label,x,y\n2,buoy,9,5\n2,rock,12,6\n"}});
          }},
+        {"import-csv-landmark-sigma-alone",
+         [](const fs::path& d) {
+             return importCsv(d,
+                              {{"lm.csv", "id,label,x,y,sigma_x_m,sigma_y_m\n1,buoy,9,5,0.5,\n"}});
+         }},
         {"import-csv-fov-out-of-range",
          [](const fs::path& d) {
              return importCsv(d, {}, {"--fov-deg", "400"});

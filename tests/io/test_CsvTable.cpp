@@ -56,6 +56,27 @@ TEST(CsvTable, ReadsColumnsByNameInAnyOrderSkippingComments)
     EXPECT_EQ(errorOf("t,x\n1,2\n"), "");
 }
 
+TEST(CsvTable, FailNamesAColumnTheHeaderLacksWithoutANumber)
+{
+    const auto t = CsvTable::FromText("t,x\n1,2\n", "f.csv", {"t", "x"}, {"id"});
+    auto message = [&](const std::string& column)
+    {
+        try
+        {
+            t.fail(0, column, "bad");
+        }
+        catch (const std::exception& e)
+        {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(message("x").find("f.csv:2: column 2 'x': bad"), std::string::npos);
+    EXPECT_NE(message("id").find("f.csv:2: 'id' (not a column of the header): bad"),
+              std::string::npos)
+        << message("id");
+}
+
 TEST(CsvTable, UnknownColumn)
 {
     expectError("t,x,speed\n1,2,3\n",

@@ -8,6 +8,7 @@
 #include <mrpt/poses/CPose2D.h>
 #include <semloc/io/DatasetImport.h>
 #include <semloc/simulator/Simulator.h>
+#include <semloc/world/World.h>
 
 #include <sys/wait.h>
 
@@ -151,12 +152,24 @@ TEST(DatasetImport, StepsAtScansWithOdometryOnlyStepsInLongGaps)
 TEST(DatasetImport, LandmarksRejectDuplicateIds)
 {
     const auto d = freshDir("landmarks");
-    const auto lm = DatasetImport::readLandmarks(
-        write(d / "lm.csv", "label,id,x,y,sigma_x_m\nbuoy,3,1,2,0.5\nrock,7,4,5,\n"));
+    const auto lm = DatasetImport::readLandmarks(write(
+        d / "lm.csv", "label,id,x,y,sigma_x_m,sigma_y_m\nbuoy,3,1,2,0.5,1.0\nrock,7,4,5,,\n"));
     ASSERT_EQ(lm.size(), 2u);
     EXPECT_EQ(lm[1].object.id, 7);
     EXPECT_DOUBLE_EQ(lm[0].sigma_x_m, 0.5);
     EXPECT_TRUE(std::isnan(lm[1].sigma_x_m));
+    // The world's isotropic sigma of the same total variance; none without them.
+    EXPECT_DOUBLE_EQ(lm[0].object.sigma_m, std::sqrt((0.25 + 1.0) / 2));
+    EXPECT_EQ(lm[1].object.sigma_m, 0.0);
+    const std::string half = errorOf(
+        [&] {
+            DatasetImport::readLandmarks(
+                write(d / "h.csv", "id,label,x,y,sigma_x_m\n3,a,0,0,0.5\n"));
+        });
+    EXPECT_NE(half.find("h.csv:2: column 5 'sigma_x_m': given without sigma_y_m"),
+              std::string::npos)
+        << half;
+    EXPECT_NE(half.find("give both standard deviations or neither"), std::string::npos) << half;
     const std::string dup = errorOf(
         [&]
         { DatasetImport::readLandmarks(write(d / "d.csv", "id,label,x,y\n3,a,0,0\n3,b,1,1\n")); });
@@ -270,6 +283,13 @@ TEST(DatasetImport, SimulatedDatasetImportedAndLocalized)
     for (const char* f : {"run.rawlog", "run_gt.txt", "run_world.yaml"})
     {
         EXPECT_TRUE(fs::exists(d / f)) << f;
+    }
+    // The landmarks' standard deviations (0.1 m in x and y) are the map's sigma_m.
+    const semloc::World world = semloc::World::FromFile((d / "run_world.yaml").string());
+    ASSERT_FALSE(world.objects.empty());
+    for (const auto& ob : world.objects)
+    {
+        EXPECT_DOUBLE_EQ(ob.sigma_m, 0.1) << ob.id;
     }
     writeIni(d, 3000);
     ASSERT_EQ(runTool("cd " + d.string() + " && " + kBin + "/semloc-localize loc.ini run.rawlog -q",

@@ -50,7 +50,8 @@ public:
      *  throws naming the line, the column and the line before otherwise. */
     void checkIncreasing(const std::string& column, bool strictly) const;
 
-    /** Throws "<file>:<line>: column <n> '<column>': <what>". */
+    /** Throws "<file>:<line>: column <n> '<column>': <what>" ("<file>:<line>: '<column>' (not
+     *  a column of the header): <what>" for an optional column the header lacks). */
     [[noreturn]] void fail(size_t row, const std::string& column, const std::string& what) const;
 
 private:

@@ -289,6 +289,16 @@ std::vector<ImportedLandmark> DatasetImport::readLandmarks(const std::string& pa
                 t.fail(r, col, "a standard deviation must be >= 0");
             }
         }
+        const bool hasX = !std::isnan(l.sigma_x_m), hasY = !std::isnan(l.sigma_y_m);
+        if (hasX != hasY)
+        {
+            t.fail(r, hasX ? "sigma_x_m" : "sigma_y_m",
+                   std::string("given without ") + (hasX ? "sigma_y_m" : "sigma_x_m") +
+                       ": give both standard deviations or neither");
+        }
+        // The world's position uncertainty is isotropic: the one of the same total variance.
+        l.object.sigma_m =
+            hasX ? std::sqrt(0.5 * (l.sigma_x_m * l.sigma_x_m + l.sigma_y_m * l.sigma_y_m)) : 0.0;
         out.push_back(l);
     }
     if (out.empty())

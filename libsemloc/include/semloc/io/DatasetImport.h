@@ -60,10 +60,11 @@ struct DetectionScan
 /** A landmark of the landmarks file: a point object and its position's uncertainty. */
 struct ImportedLandmark
 {
-    /** The point object (id, label, centre). */
+    /** The point object (id, label, centre; sigma_m from the standard deviations below). */
     WorldObject object;
     /** Standard deviations of the position [m] (`sigma_x_m`, `sigma_y_m`; NaN when not
-     *  given). The world file has no such key: they are read, checked and not written. */
+     *  given: both or neither). The world's uncertainty is isotropic: object.sigma_m =
+     *  sqrt((sigma_x_m^2 + sigma_y_m^2) / 2), the same total variance (0 without them). */
     double sigma_x_m = std::numeric_limits<double>::quiet_NaN();
     /** See sigma_x_m. */
     double sigma_y_m = std::numeric_limits<double>::quiet_NaN();
