@@ -149,7 +149,7 @@ TEST(DatasetImport, StepsAtScansWithOdometryOnlyStepsInLongGaps)
     EXPECT_GT(move->poseChange->getCovariance()(0, 0), 0);
 }
 
-TEST(DatasetImport, LandmarksRejectDuplicateIds)
+TEST(DatasetImport, LandmarksCarryTheirSigmasAndRejectDuplicateIds)
 {
     const auto d = freshDir("landmarks");
     const auto lm = DatasetImport::readLandmarks(write(
@@ -170,6 +170,15 @@ TEST(DatasetImport, LandmarksRejectDuplicateIds)
               std::string::npos)
         << half;
     EXPECT_NE(half.find("give both standard deviations or neither"), std::string::npos) << half;
+    const std::string huge = errorOf(
+        [&]
+        {
+            DatasetImport::readLandmarks(
+                write(d / "u.csv", "id,label,x,y,sigma_x_m,sigma_y_m\n3,a,0,0,1,1e300\n"));
+        });
+    EXPECT_NE(huge.find("u.csv:2: column 6 'sigma_y_m': a standard deviation must be in [0, 1e7]"),
+              std::string::npos)
+        << huge;
     const std::string dup = errorOf(
         [&]
         { DatasetImport::readLandmarks(write(d / "d.csv", "id,label,x,y\n3,a,0,0\n3,b,1,1\n")); });

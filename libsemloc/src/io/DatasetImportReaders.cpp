@@ -284,9 +284,9 @@ std::vector<ImportedLandmark> DatasetImport::readLandmarks(const std::string& pa
              {std::pair{"sigma_x_m", &l.sigma_x_m}, {"sigma_y_m", &l.sigma_y_m}})
         {
             *sigma = t.numberOr(r, col, std::numeric_limits<double>::quiet_NaN());
-            if (*sigma < 0)
+            if (*sigma < 0 || *sigma > kMaxWorldCoordinate_m)
             {
-                t.fail(r, col, "a standard deviation must be >= 0");
+                t.fail(r, col, "a standard deviation must be in [0, 1e7] [m]");
             }
         }
         const bool hasX = !std::isnan(l.sigma_x_m), hasY = !std::isnan(l.sigma_y_m);
