@@ -168,10 +168,6 @@ Cases iniModelCases()
                  d, writeConfig(d, "semantic", {{"model", "paper"}, {"association", "marginal"}}),
                  d / "data.rawlog");
          }},
-        {"ini-association-unknown",
-         [](const fs::path& d) {
-             return localizeGood(d, "", {{"association", "permanent"}});
-         }},
         {"ini-outage-needs-probabilistic",
          [](const fs::path& d)
          {
@@ -232,6 +228,10 @@ Cases iniModelCases()
 Cases iniMapCases()
 {
     return {
+        {"ini-association-unknown",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"association", "permanent"}});
+         }},
         {"ini-unknown-map",
          [](const fs::path& d) { return localizeGood(d, "[MetricMap]\nsemantikMap_count = 1"); }},
         {"ini-map-inf",
