@@ -161,27 +161,19 @@ TEST(DatasetImport, LandmarksCarryTheirSigmasAndRejectDuplicateIds)
     // The world's isotropic sigma of the same total variance; none without them.
     EXPECT_DOUBLE_EQ(lm[0].object.sigma_m, std::sqrt((0.25 + 1.0) / 2));
     EXPECT_EQ(lm[1].object.sigma_m, 0.0);
-    const std::string half = errorOf(
-        [&] {
-            DatasetImport::readLandmarks(
-                write(d / "h.csv", "id,label,x,y,sigma_x_m\n3,a,0,0,0.5\n"));
-        });
+    auto landmarksError = [&](const char* name, const char* text)
+    { return errorOf([&] { DatasetImport::readLandmarks(write(d / name, text)); }); };
+    const std::string half = landmarksError("h.csv", "id,label,x,y,sigma_x_m\n3,a,0,0,0.5\n");
     EXPECT_NE(half.find("h.csv:2: column 5 'sigma_x_m': given without sigma_y_m"),
               std::string::npos)
         << half;
     EXPECT_NE(half.find("give both standard deviations or neither"), std::string::npos) << half;
-    const std::string huge = errorOf(
-        [&]
-        {
-            DatasetImport::readLandmarks(
-                write(d / "u.csv", "id,label,x,y,sigma_x_m,sigma_y_m\n3,a,0,0,1,1e300\n"));
-        });
+    const std::string huge =
+        landmarksError("u.csv", "id,label,x,y,sigma_x_m,sigma_y_m\n3,a,0,0,1,1e300\n");
     EXPECT_NE(huge.find("u.csv:2: column 6 'sigma_y_m': a standard deviation must be in [0, 1e7]"),
               std::string::npos)
         << huge;
-    const std::string dup = errorOf(
-        [&]
-        { DatasetImport::readLandmarks(write(d / "d.csv", "id,label,x,y\n3,a,0,0\n3,b,1,1\n")); });
+    const std::string dup = landmarksError("d.csv", "id,label,x,y\n3,a,0,0\n3,b,1,1\n");
     EXPECT_NE(dup.find("d.csv:3: column 1 'id': duplicate id 3 (first on line 2)"),
               std::string::npos)
         << dup;

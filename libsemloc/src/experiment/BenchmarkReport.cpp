@@ -164,11 +164,12 @@ std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
        << res.table;
     if (const std::string paired = Benchmark::pairedTable(res.runs, names); !paired.empty())
     {
-        md << "\n## Paired against `" << referenceVariant(names) << "`\n\n"
-           << "Every variant ran the same simulated runs as `" << referenceVariant(names)
+        const std::string ref = referenceVariant(names);
+        md << "\n## Paired against `" << ref << "`\n\n"
+           << "Every variant ran the same simulated runs as `" << ref
            << "`, so their errors compare run by run: the difference of the mean error after "
               "convergence (the variant's minus `"
-           << referenceVariant(names)
+           << ref
            << "`'s) over the runs both converged, its mean and the standard error of that "
               "mean (a difference within about two standard errors of 0 is not one these runs "
               "can tell), the runs where the variant's error was the lower, and the runs only "

@@ -163,14 +163,11 @@ bool CsvTable::empty(size_t row, const std::string& column) const
 void CsvTable::fail(size_t row, const std::string& column, const std::string& what) const
 {
     const size_t c = index(column);
-    if (c == std::numeric_limits<size_t>::max())
-    {
-        THROW_EXCEPTION(mrpt::format("%s:%zu: '%s' (not a column of the header): %s",
-                                     m_name.c_str(), m_lines.at(row), column.c_str(),
-                                     what.c_str()));
-    }
-    THROW_EXCEPTION(mrpt::format("%s:%zu: column %zu '%s': %s", m_name.c_str(), m_lines.at(row),
-                                 c + 1, column.c_str(), what.c_str()));
+    const std::string where = c == std::numeric_limits<size_t>::max()
+                                  ? "'" + column + "' (not a column of the header)"
+                                  : mrpt::format("column %zu '%s'", c + 1, column.c_str());
+    THROW_EXCEPTION(mrpt::format("%s:%zu: %s: %s", m_name.c_str(), m_lines.at(row), where.c_str(),
+                                 what.c_str()));
 }
 
 double CsvTable::number(size_t row, const std::string& column) const
