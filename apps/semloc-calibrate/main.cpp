@@ -21,7 +21,6 @@
 #include <vector>
 
 #include "common/AppMain.h"
-#include "common/ReplaceFiles.h"
 
 namespace
 {
@@ -63,7 +62,10 @@ void run()
                       report = argReport.getValue(), base = argBase.getValue();
     const std::vector<std::string> inputs = {rawlogPath, argWorld.getValue(),
                                              argGroundTruth.getValue(), base};
-    semloc::checkOutputFile(out, inputs);
+    semloc::checkOutputFile(
+        out, inputs,
+        [](const std::string& p)
+        { return semloc::fileStartsWith(p, semloc::SensorCalibration::kIniHeader); });
     std::unique_ptr<semloc::StagedDirectory> staged;
     if (!report.empty())
     {
@@ -90,14 +92,14 @@ void run()
     {
         semloc::SensorCalibration::WriteReport(result, *staged);
     }
-    semloc::apps::replaceAll({out},
-                             [&]
+    semloc::writeOutputFiles({out},
+                             [&](const std::vector<std::string>& tmp)
                              {
-                                 std::ofstream f(out + ".tmp", std::ios::binary);
+                                 std::ofstream f(tmp[0], std::ios::binary);
                                  f << ini;
                                  if (!f.flush())
                                  {
-                                     throw std::runtime_error("cannot write '" + out + ".tmp'");
+                                     throw std::runtime_error("cannot write '" + out + "'");
                                  }
                              });
     if (staged)

@@ -21,7 +21,6 @@
 #include <vector>
 
 #include "common/AppMain.h"
-#include "common/ReplaceFiles.h"
 
 namespace
 {
@@ -45,7 +44,7 @@ TCLAP::ValueArg<double> argMargin("", "margin", "World bounds margin around land
 void checkOutputs(const std::string& out, const std::string& worldOut, const std::string& gtOut,
                   const std::vector<std::string>& inputs)
 {
-    semloc::checkOutputFile(out, inputs);
+    semloc::checkOutputFile(out, inputs, semloc::RawlogReader::IsSemlocRawlog);
     semloc::checkOutputFile(gtOut, inputs, semloc::Simulator::isGroundTruthFile);
     semloc::checkOutputFile(worldOut, inputs,
                             [](const std::string& p)
@@ -91,13 +90,13 @@ void run()
     // Everything is checked; write the outputs.
     // Ctrl-C: exit 130, the temporary files removed, the outputs as they were.
     semloc::installInterruptHandlers();
-    semloc::apps::replaceAll({gtOut, worldOut, out},
-                             [&]
+    semloc::writeOutputFiles({gtOut, worldOut, out},
+                             [&](const std::vector<std::string>& tmp)
                              {
-                                 LandmarkImport::writeGroundTruth(times, path, gtOut + ".tmp");
-                                 world.saveToFile(worldOut + ".tmp");
-                                 semloc::saveRawlog(
-                                     log, out + ".tmp");  // its errors name the file and why
+                                 LandmarkImport::writeGroundTruth(times, path, tmp[0]);
+                                 world.saveToFile(tmp[1]);
+                                 // Its errors name the file and why.
+                                 semloc::saveRawlog(log, tmp[2], "semloc-import-landmarks");
                              });
     std::cout << "Converted " << n << " observations of " << world.objects.size()
               << " landmarks: " << out << ", " << worldOut << ", " << gtOut << "\n";

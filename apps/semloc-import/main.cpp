@@ -11,6 +11,7 @@
 #include <semloc/io/DatasetImport.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/io/RawlogReader.h>
 #include <semloc/io/RawlogWriter.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>
@@ -23,7 +24,6 @@
 #include <vector>
 
 #include "common/AppMain.h"
-#include "common/ReplaceFiles.h"
 
 namespace
 {
@@ -129,7 +129,7 @@ void run()
                         "' collides with its ground-truth or world file name (give it an "
                         "extension such as .rawlog)");
     }
-    semloc::checkOutputFile(out, inputs);
+    semloc::checkOutputFile(out, inputs, semloc::RawlogReader::IsSemlocRawlog);
     std::vector<std::string> outputs = {out};
     if (!gtIn.empty())
     {
@@ -165,17 +165,18 @@ void run()
 
     // Ctrl-C: exit 130, the temporary files removed, the outputs as they were.
     semloc::installInterruptHandlers();
-    semloc::apps::replaceAll(outputs,
-                             [&]
+    semloc::writeOutputFiles(outputs,
+                             [&](const std::vector<std::string>& tmp)
                              {
-                                 semloc::saveRawlog(log, out + ".tmp");
+                                 semloc::saveRawlog(log, tmp[0], "semloc-import");
+                                 size_t next = 1;
                                  if (!gtRows.empty())
                                  {
-                                     DatasetImport::writeGroundTruth(gtRows, gtOut + ".tmp");
+                                     DatasetImport::writeGroundTruth(gtRows, tmp[next++]);
                                  }
                                  if (!landmarks.empty())
                                  {
-                                     world.saveToFile(worldOut + ".tmp");
+                                     world.saveToFile(tmp[next]);
                                  }
                              });
     printSummary(out, stats, outputs);

@@ -4,7 +4,6 @@
 #include <mrpt/core/exceptions.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
-#include <semloc/io/OutputPaths.h>
 #include <semloc/world/WorldPlot.h>
 
 #include <algorithm>
@@ -29,7 +28,8 @@ void run()
     {
         THROW_EXCEPTION("--size must be in [100, 10000]");
     }
-    semloc::checkOutputFile(argOut.getValue(), {argWorld.getValue()});
+    semloc::WorldPlot::checkPngOutputs(argOut.getValue(), {argWorld.getValue()},
+                                       argKeep.getValue());
     // Ctrl-C (or SIGTERM): gnuplot ended, exit 130, no PNG and no temporary file left.
     semloc::installInterruptHandlers("semloc-plot-world");
     const auto world = semloc::World::FromFile(argWorld.getValue());

@@ -331,6 +331,14 @@ Cases outputDirectoryCases()
              a[4] = (d / "afile").string();
              return a;
          }},
+        {"out-dir-dangling-link",
+         [](const fs::path& d)
+         {
+             fs::create_directory_symlink(d / "gone", d / "link");
+             auto a = localizeGood(d);
+             a[4] = (d / "link").string();
+             return a;
+         }},
         {"out-dir-unwritable",
          [](const fs::path& d)
          {
@@ -397,6 +405,29 @@ Cases outputFileCases()
              writeText(d / "notes.ini", "my notes\n");
              return std::vector<std::string>{"semloc-simulate", kSrc + "/config/simulate.ini", "-o",
                                              (d / "notes.rawlog").string()};
+         }},
+        {"simulate-out-not-semloc",
+         [](const fs::path& d)
+         {
+             writeText(d / "my.rawlog", plainBytes(d));  // MRPT's rawlog, not semloc's
+             return std::vector<std::string>{"semloc-simulate", kSrc + "/config/simulate.ini", "-o",
+                                             (d / "my.rawlog").string()};
+         }},
+        {"plot-out-not-semloc",
+         [](const fs::path& d)
+         {
+             writeText(d / "photo.png", "\x89PNG\r\n\x1a\n a photograph");
+             auto a = plotWorld(d, kBounds + "objects: []\n");
+             a[3] = (d / "photo.png").string();
+             return a;
+         }},
+        {"plot-out-dangling-link",
+         [](const fs::path& d)
+         {
+             fs::create_symlink(d / "nowhere" / "w.png", d / "link.png");
+             auto a = plotWorld(d, kBounds + "objects: []\n");
+             a[3] = (d / "link.png").string();
+             return a;
          }},
         {"plot-out-is-input",
          [](const fs::path& d)

@@ -410,6 +410,14 @@ Cases importCases()
              a[2] = "det.csv";
              return a;
          }},
+        {"import-csv-out-not-semloc",
+         [](const fs::path& d)
+         {
+             auto a = importCsv(d, {});
+             writeText(d / "notes.txt", "my notes\n");
+             a[2] = "notes.txt";
+             return a;
+         }},
         {"import-csv-landmark-duplicate-id",
          [](const fs::path& d) {
              return importCsv(d, {{"lm.csv", "id,label,x,y\n2,buoy,9,5\n2,rock,12,6\n"}});
@@ -473,6 +481,12 @@ Cases calibrateCases()
          }},
         {"calibrate-out-is-input",
          [](const fs::path& d) { return calibrate(d, 100, "semantic", "base.ini"); }},
+        {"calibrate-out-not-semloc",
+         [](const fs::path& d)
+         {
+             writeText(d / "mytuned.ini", "[PF_options]\nBETA = 0.4\n");
+             return calibrate(d, 100, "semantic", "mytuned.ini");
+         }},
     };
 }
 

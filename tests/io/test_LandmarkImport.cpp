@@ -225,7 +225,7 @@ TEST(LandmarkImport, WriteErrorsNameTheFileAndTheReason)
     catch (const std::exception& e)
     {
         const std::string m = e.what();
-        EXPECT_NE(m.find("/no/such/dir/gt.txt.tmp': No such file or directory"), std::string::npos)
+        EXPECT_NE(m.find("/no/such/dir/gt.txt': No such file or directory"), std::string::npos)
             << m;
     }
 }

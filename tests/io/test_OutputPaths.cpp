@@ -49,8 +49,10 @@ protected:
             return e.what();
         }
     }
-    static std::string fileError(const std::string& file, const std::vector<std::string>& in = {},
-                                 const std::function<bool(const std::string&)>& previous = nullptr)
+    static std::string fileError(
+        const std::string& file, const std::vector<std::string>& in = {},
+        const std::function<bool(const std::string&)>& previous = [](const std::string&)
+        { return false; })
     {
         try
         {
@@ -162,3 +164,105 @@ TEST_F(OutputPaths, StagedDirectoryMarksItsOutputAndFollowsTheUmask)
 }
 
 }  // namespace
+
+namespace
+{
+std::string readAll(const fs::path& p)
+{
+    std::ifstream f(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+/** The entries of `dir` whose names start with `prefix`. */
+size_t countStartingWith(const fs::path& dir, const std::string& prefix)
+{
+    size_t n = 0;
+    for (const auto& e : fs::directory_iterator(dir))
+    {
+        n += e.path().filename().string().rfind(prefix, 0) == 0 ? 1 : 0;
+    }
+    return n;
+}
+}  // namespace
+
+TEST_F(OutputPaths, OutputsAreWrittenThroughASymbolicLink)
+{
+    const auto ours = [](const std::string& p) { return semloc::fileStartsWith(p, "# semloc"); };
+    fs::create_directory(m_dir / "elsewhere");
+    write(m_dir / "elsewhere" / "out.txt", "# semloc previous\n");
+    fs::create_symlink(m_dir / "elsewhere" / "out.txt", "link.txt");
+    EXPECT_EQ(fileError("link.txt", {}, ours), "");
+    semloc::writeOutputFiles({"link.txt"}, [](const std::vector<std::string>& tmp)
+                             { std::ofstream(tmp[0]) << "# semloc new\n"; });
+    EXPECT_TRUE(fs::is_symlink("link.txt")) << "the link was replaced";
+    EXPECT_EQ(readAll(m_dir / "elsewhere" / "out.txt"), "# semloc new\n");
+    EXPECT_EQ(countStartingWith(m_dir / "elsewhere", ".out.txt.tmp-"), 0u);
+
+    // A link to a file of the user's is refused as the file itself; a link to nothing too.
+    write(m_dir / "elsewhere" / "mine.txt", "mine\n");
+    fs::create_symlink(m_dir / "elsewhere" / "mine.txt", "mine.txt");
+    EXPECT_NE(fileError("mine.txt", {}, ours).find("is not a previous output"), std::string::npos);
+    fs::create_symlink(m_dir / "nowhere" / "x.txt", "dangling.txt");
+    EXPECT_NE(fileError("dangling.txt", {}, ours).find("is a symbolic link to"), std::string::npos);
+
+    // A directory: the previous output the link points at is replaced, the link stays.
+    {
+        semloc::StagedDirectory first((m_dir / "elsewhere" / "run").string());
+        std::ofstream(first.path("a.txt")) << "1";
+        first.commit();
+    }
+    fs::create_directory_symlink(m_dir / "elsewhere" / "run", "runlink");
+    {
+        semloc::StagedDirectory second("runlink");
+        std::ofstream(second.path("a.txt")) << "2";
+        second.commit();
+    }
+    EXPECT_TRUE(fs::is_symlink("runlink"));
+    EXPECT_EQ(readAll(m_dir / "elsewhere" / "run" / "a.txt"), "2");
+    EXPECT_EQ(countStartingWith(m_dir / "work", ".runlink"), 0u);
+    EXPECT_EQ(countStartingWith(m_dir / "elsewhere", ".run."), 0u);
+}
+
+TEST_F(OutputPaths, AKilledRunsLeftoversAreRemovedByTheNextRunNotALiveOnes)
+{
+    // A killed run's staging directory: its marker is not locked. A live one's is.
+    fs::create_directory(".out.staging-dead01");
+    write(fs::path(".out.staging-dead01") / semloc::kOutputMarker, "");
+    write(fs::path(".out.staging-dead01") / "steps.csv", "x");
+    semloc::StagedDirectory live("other");  // holds the lock on its marker
+    const std::string liveStaging = fs::path(live.path("")).parent_path().filename().string();
+    fs::rename(fs::path(live.path("")).parent_path(), ".out.staging-live01");
+    EXPECT_EQ(semloc::removeStaleStagingDirectories("out"), 1u);
+    EXPECT_FALSE(fs::exists(".out.staging-dead01"));
+    EXPECT_TRUE(fs::exists(".out.staging-live01")) << "a running process's staging was removed";
+    fs::rename(".out.staging-live01", liveStaging);
+
+    // A killed run's temporary file (unlocked) goes when the same output is written again.
+    write(".f.txt.tmp-dead01", "half");
+    semloc::writeOutputFiles(
+        {"f.txt"}, [](const std::vector<std::string>& tmp) { std::ofstream(tmp[0]) << "whole"; });
+    EXPECT_FALSE(fs::exists(".f.txt.tmp-dead01"));
+    EXPECT_EQ(readAll("f.txt"), "whole");
+}
+
+TEST_F(OutputPaths, AnErrorLeavesTheOutputsAsTheyWere)
+{
+    write("a.txt", "old a");
+    try
+    {
+        semloc::writeOutputFiles({"a.txt", "b.txt"},
+                                 [](const std::vector<std::string>& tmp)
+                                 {
+                                     std::ofstream(tmp[0]) << "new a";
+                                     throw std::runtime_error("disk full");
+                                 });
+        FAIL() << "the error was swallowed";
+    }
+    catch (const std::runtime_error& e)
+    {
+        EXPECT_STREQ(e.what(), "disk full");
+    }
+    EXPECT_EQ(readAll("a.txt"), "old a");
+    EXPECT_FALSE(fs::exists("b.txt"));
+    EXPECT_EQ(countStartingWith(".", ".a.txt.tmp-") + countStartingWith(".", ".b.txt.tmp-"), 0u);
+}

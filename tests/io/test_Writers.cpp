@@ -1,10 +1,14 @@
 /* semloc tests — the writers refuse what the readers would refuse (labels beyond
  * kMaxLabelLength), and a rawlog that cannot be written names the file and the reason. */
 #include <gtest/gtest.h>
+#include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/io/CFileGZOutputStream.h>
 #include <mrpt/io/CMemoryStream.h>
+#include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
+#include <semloc/io/PngText.h>
+#include <semloc/io/RawlogReader.h>
 #include <semloc/io/RawlogWriter.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
@@ -44,12 +48,26 @@ std::string writeError(const mrpt::serialization::CSerializable& o)
     return {};
 }
 
-std::string readBytes(const std::string& path)
+/** The uncompressed bytes of a gz file. */
+std::string gunzip(const std::string& path)
 {
-    std::ifstream f(path, std::ios::binary);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    return ss.str();
+    mrpt::io::CFileGZInputStream in(path);
+    std::string out;
+    char buf[4096];
+    for (size_t n; (n = in.Read(buf, sizeof(buf))) > 0;)
+    {
+        out.append(buf, n);
+    }
+    return out;
+}
+
+/** Bytes of `obj` as an archive writes it. */
+size_t serializedSize(const mrpt::serialization::CSerializable& obj)
+{
+    mrpt::io::CMemoryStream m;
+    auto a = mrpt::serialization::archiveFrom(m);
+    a << obj;
+    return static_cast<size_t>(m.getTotalBytesCount());
 }
 
 semloc::CObservationSemantic observation(const std::string& label)
@@ -105,7 +123,7 @@ TEST(Writers, SemanticMapRefusesALabelItsReaderWouldRefuse)
         << m;
 }
 
-TEST(Writers, SaveRawlogWritesTheBytesMrptWrites)
+TEST(Writers, SaveRawlogWritesTheSignatureThenTheBytesMrptWrites)
 {
     std::filesystem::create_directories(kOut);
     mrpt::obs::CRawlog log;
@@ -117,17 +135,35 @@ TEST(Writers, SaveRawlogWritesTheBytesMrptWrites)
         log.insert(sf);
     }
     const std::string ours = kOut + "/ours.rawlog", mrpts = kOut + "/mrpt.rawlog";
-    semloc::saveRawlog(log, ours);
+    // The signature comment comes first, as MRPT writes a comment (its timestamp: the time of
+    // writing); the entries after it are MRPT's bytes.
+    log.setCommentText("semloc: a dataset");
+    semloc::saveRawlog(log, ours, "test");
     ASSERT_TRUE(log.saveToRawLogFile(mrpts));
-    EXPECT_EQ(readBytes(ours), readBytes(mrpts));
+    mrpt::obs::CObservationComment comment;
+    comment.text = log.getCommentText();
+    const size_t skip = serializedSize(comment);  // its timestamp differs: the time of writing
+    const std::string a = gunzip(ours), b = gunzip(mrpts);
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_GT(a.size(), skip);
+    EXPECT_EQ(a.substr(skip), b.substr(skip));
+    EXPECT_TRUE(semloc::RawlogReader::IsSemlocRawlog(ours));
 
-    // A comment text comes first, as MRPT writes it (its timestamp: the time of writing).
+    // A log without the signature gets it, with the tool's name, before its own comment.
     log.setCommentText("a dataset");
-    semloc::saveRawlog(log, ours);
+    semloc::saveRawlog(log, ours, "semloc-test");
     mrpt::obs::CRawlog back;
     ASSERT_TRUE(back.loadFromRawLogFile(ours));
-    EXPECT_EQ(back.getCommentText(), "a dataset");
+    EXPECT_EQ(back.getCommentText(), "semloc: semloc-test\na dataset");
     EXPECT_EQ(back.size(), 50u);
+    EXPECT_TRUE(semloc::RawlogReader::IsSemlocRawlog(ours));
+    // MRPT's own rawlog, with or without a comment, is not semloc's.
+    ASSERT_TRUE(log.saveToRawLogFile(mrpts));
+    EXPECT_FALSE(semloc::RawlogReader::IsSemlocRawlog(mrpts));
+    log.setCommentText("");
+    ASSERT_TRUE(log.saveToRawLogFile(mrpts));
+    EXPECT_FALSE(semloc::RawlogReader::IsSemlocRawlog(mrpts));
+    EXPECT_FALSE(semloc::RawlogReader::IsSemlocRawlog(kOut + "/no-such.rawlog"));
 }
 
 TEST(Writers, AFullDiskNamesTheFileAndTheReason)
@@ -140,7 +176,7 @@ TEST(Writers, AFullDiskNamesTheFileAndTheReason)
     log.insert(sf);
     try
     {
-        semloc::saveRawlog(log, "/dev/full");
+        semloc::saveRawlog(log, "/dev/full", "test");
         FAIL() << "a full disk went unnoticed";
     }
     catch (const std::exception& e)
@@ -170,7 +206,7 @@ TEST(Writers, AFullDiskNamesTheFileAndTheReason)
     // A directory that does not exist.
     try
     {
-        semloc::saveRawlog(log, kOut + "/no/such/dir/x.rawlog");
+        semloc::saveRawlog(log, kOut + "/no/such/dir/x.rawlog", "test");
         FAIL() << "wrote into a missing directory";
     }
     catch (const std::exception& e)
@@ -182,4 +218,28 @@ TEST(Writers, AFullDiskNamesTheFileAndTheReason)
                   std::string::npos)
             << m;
     }
+}
+
+TEST(Writers, PngTextIsAddedAndReadBack)
+{
+    std::filesystem::create_directories(kOut);
+    // The smallest PNG: signature, IHDR (1x1 grey), IDAT, IEND (CRCs of the real chunks).
+    const unsigned char png[] = {0x89, 'P', 'N', 'G',  '\r', '\n', 0x1a, '\n', 0,    0, 0, 13,
+                                 'I',  'H', 'D', 'R',  0,    0,    0,    1,    0,    0, 0, 1,
+                                 8,    0,   0,   0,    0,    0x3a, 0x7e, 0x9b, 0x55, 0, 0, 0,
+                                 10,   'I', 'D', 'A',  'T',  0x78, 0x9c, 0x63, 0x60, 0, 0, 0,
+                                 2,    0,   1,   0x48, 0xaf, 0xa4, 0x71, 0,    0,    0, 0, 'I',
+                                 'E',  'N', 'D', 0xae, 0x42, 0x60, 0x82};
+    const std::string path = kOut + "/tiny.png";
+    std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(png), sizeof(png));
+    EXPECT_FALSE(semloc::isSemlocPng(path));
+    semloc::addPngText(path, "Software", "semloc (test)");
+    EXPECT_EQ(semloc::pngText(path, "Software").value_or(""), "semloc (test)");
+    EXPECT_TRUE(semloc::isSemlocPng(path));
+    EXPECT_FALSE(semloc::pngText(path, "Author").has_value());
+    // Not a PNG: refused naming the file, and never taken for semloc's.
+    const std::string text = kOut + "/notes.png";
+    std::ofstream(text) << "my notes\n";
+    EXPECT_FALSE(semloc::isSemlocPng(text));
+    EXPECT_THROW(semloc::addPngText(text, "Software", "semloc"), std::exception);
 }

@@ -179,6 +179,7 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
 {
     CheckBase(baseIni, baseName);
     IniText ini(baseIni, baseName);
+    const std::string header = std::string(kIniHeader) + "the fits written into " + baseName + "\n";
     if (!worldPath.empty())
     {
         ini.set("LocalizationExperiment", "map_file",
@@ -195,7 +196,7 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
     setFit(ini, kLikelihood, "p_range_outlier", r.p_range_outlier);
     if (r.increments < 4)
     {
-        return ini.text();
+        return header + ini.text();
     }
     const char* mm = MotionModel::kSection;
     ini.set(mm, "source", "gaussian", "calibrated: the model below, from the odometry's errors");
@@ -217,7 +218,7 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
             r.headingDrifts
                 ? "calibrated: the heading drifts " + measured + ": the drift state on"
                 : "calibrated: no heading drift (" + measured + "): the drift state off");
-    return ini.text();
+    return header + ini.text();
 }
 
 }  // namespace semloc

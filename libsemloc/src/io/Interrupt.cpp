@@ -27,6 +27,9 @@ namespace semloc
 namespace
 {
 std::atomic<bool> g_interrupt{false};
+/** Set by a second signal: the watchdog cleans up and ends the process without the grace
+ *  period. */
+std::atomic<bool> g_urgent{false};
 /** Incremented by clearInterrupt(): the watchdog stands down when a job handled the signal
  *  and cleared the request. */
 std::atomic<unsigned> g_generation{0};
@@ -56,13 +59,13 @@ Registry& registry()
 void onSignal(int /*sig*/)
 {
     const int savedErrno = errno;
+    // A second Ctrl-C or SIGTERM ends the process at once, but through the watchdog's cleanup:
+    // the handler stays in place (a default action would leave the temporary paths behind).
+    if (g_interrupt.load())
+    {
+        g_urgent.store(true);
+    }
     requestInterrupt();
-    // A second Ctrl-C or SIGTERM ends the process at once.
-    struct sigaction dfl = {};
-    dfl.sa_handler = SIG_DFL;
-    sigemptyset(&dfl.sa_mask);
-    ::sigaction(SIGINT, &dfl, nullptr);
-    ::sigaction(SIGTERM, &dfl, nullptr);
     const int fd = g_wakeFd.load();
     if (fd >= 0)
     {
@@ -172,11 +175,11 @@ void watchdog(int fd)
         const auto until = std::chrono::steady_clock::now() +
                            std::chrono::duration<double>(kInterruptGracePeriod_s);
         auto standDown = [&] { return !g_interrupt.load() || g_generation.load() != generation; };
-        while (std::chrono::steady_clock::now() < until && !standDown())
+        while (std::chrono::steady_clock::now() < until && !standDown() && !g_urgent.load())
         {
             sleepMs(10);
         }
-        if (standDown())
+        if (standDown() && !g_urgent.load())
         {
             // The job stopped and cleared the request (a library user, a test): wait for the
             // next signal, forgetting the bytes of this one.
@@ -249,6 +252,7 @@ bool interruptRequested() noexcept
 void clearInterrupt() noexcept
 {
     g_interrupt.store(false);
+    g_urgent.store(false);
     g_generation.fetch_add(1);
 }
 

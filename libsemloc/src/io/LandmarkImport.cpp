@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "io/Text.h"
+#include "io/TextFiles.h"
 
 namespace semloc
 {
@@ -268,32 +269,13 @@ void LandmarkImport::writeGroundTruth(const std::vector<double>& times,
                                      static_cast<unsigned>(path.size()),
                                      static_cast<unsigned>(times.size())));
     }
-    const std::string tmp = outPath + ".tmp";
-    auto fail = [&](const std::string& file, int errnum)
+    std::string text;
+    for (size_t i = 0; i < times.size(); i++)
     {
-        std::remove(tmp.c_str());
-        THROW_EXCEPTION("cannot write '" + file +
-                        "': " + (errnum ? std::strerror(errnum) : "write error"));
-    };
-    {
-        errno = 0;
-        std::ofstream f(tmp);
-        f.precision(17);
-        for (size_t i = 0; i < times.size(); i++)
-        {
-            f << times[i] << " " << path[i].x << " " << path[i].y << " " << path[i].phi << "\n";
-        }
-        f.close();
-        if (!f)
-        {
-            fail(tmp, errno);
-        }
+        text += detail::fixedText(times[i]) + ' ' + detail::fixedText(path[i].x) + ' ' +
+                detail::fixedText(path[i].y) + ' ' + detail::fixedText(path[i].phi) + '\n';
     }
-    errno = 0;
-    if (std::rename(tmp.c_str(), outPath.c_str()) != 0)
-    {
-        fail(outPath, errno);
-    }
+    detail::writeFile(outPath, text);  // its errors name the file and the reason
 }
 
 }  // namespace semloc

@@ -4,9 +4,11 @@
 #include <mrpt/io/CFileGZInputStream.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservation.h>
+#include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/io/RawlogReader.h>
+#include <semloc/io/RawlogWriter.h>
 
 #include <filesystem>
 #include <new>
@@ -48,7 +50,13 @@ bool isRawlogEntry(const mrpt::serialization::CSerializable& obj)
 }
 }  // namespace
 
-RawlogReader::TResult RawlogReader::Read(const std::string& path)
+struct RawlogReader::TStream
+{
+    mrpt::io::CFileGZInputStream in;
+    std::optional<mrpt::serialization::CArchiveStreamBase<mrpt::io::CFileGZInputStream>> arch;
+};
+
+RawlogReader::RawlogReader(const std::string& path) : m_path(path), m_stream(new TStream)
 {
     std::error_code ec;
     if (!std::filesystem::exists(path, ec))
@@ -59,73 +67,134 @@ RawlogReader::TResult RawlogReader::Read(const std::string& path)
     {
         THROW_EXCEPTION("rawlog '" + path + "' is a directory, not a file");
     }
-    mrpt::io::CFileGZInputStream in;
     std::string why;
-    if (!in.open(path, why))
+    if (!m_stream->in.open(path, why))
     {
         THROW_EXCEPTION("cannot open rawlog '" + path + "': " + why);
     }
-    auto arch = mrpt::serialization::archiveFrom(in);
+    m_stream->arch.emplace(m_stream->in);
+}
 
+RawlogReader::~RawlogReader() = default;
+
+bool RawlogReader::readObject(mrpt::serialization::CSerializable::Ptr& obj)
+{
+    auto& in = m_stream->in;
+    const uint64_t byte = m_byte = in.getPosition();
+    auto fail = [&](Kind kind, std::string className, std::string detail) {
+        m_defect = TDefect{kind, m_entry, byte, std::move(className), std::move(detail)};
+    };
+    try
+    {
+        obj = m_stream->arch->ReadObject();
+    }
+    catch (const mrpt::serialization::CExceptionEOF&)
+    {
+        // CArchive throws this when the entry's first byte cannot be read: a clean end
+        // only if the stream really is at its end (a damaged gz stream fails here too).
+        if (!in.checkEOF())
+        {
+            fail(Kind::Corrupted, "", "unreadable (damaged compressed stream?)");
+        }
+        return false;
+    }
+    catch (const std::bad_alloc&)
+    {
+        fail(Kind::Corrupted, "", "a corrupted size asked for more memory than exists");
+        return false;
+    }
+    catch (const std::exception& e)
+    {
+        const std::string what = mrpt::exception_to_str(e);
+        if (auto cls = unregisteredClass(what); !cls.empty())
+        {
+            fail(Kind::UnknownClass, cls, "");
+        }
+        else
+        {
+            fail(in.checkEOF() ? Kind::Truncated : Kind::Corrupted, "", innermostMessage(what));
+        }
+        return false;
+    }
+    if (!obj)
+    {
+        fail(Kind::Corrupted, "", "a null object");
+        return false;
+    }
+    return true;
+}
+
+mrpt::serialization::CSerializable::Ptr RawlogReader::next()
+{
+    if (m_whole)
+    {
+        if (m_wholeNext < m_whole->size())
+        {
+            m_entry++;
+            return m_whole->getAsGeneric(m_wholeNext++);
+        }
+        return nullptr;
+    }
+    mrpt::serialization::CSerializable::Ptr obj;
+    if (m_ended || !readObject(obj))
+    {
+        m_ended = true;
+        return nullptr;
+    }
+    if (const auto whole = std::dynamic_pointer_cast<mrpt::obs::CRawlog>(obj))
+    {
+        m_ended = true;  // the whole rawlog as one object (MRPT's other format)
+        m_whole.emplace();
+        m_whole->swap(*whole);
+        return next();
+    }
+    if (const auto comment = std::dynamic_pointer_cast<mrpt::obs::CObservationComment>(obj))
+    {
+        m_comment += (m_comment.empty() ? "" : "\n") + comment->text;  // not an entry
+        return next();
+    }
+    if (!isRawlogEntry(*obj))
+    {
+        m_defect =
+            TDefect{Kind::NotAnEntry, m_entry, m_byte, obj->GetRuntimeClass()->className, ""};
+        m_ended = true;
+        return nullptr;
+    }
+    m_entry++;
+    return obj;
+}
+
+RawlogReader::TResult RawlogReader::Read(const std::string& path)
+{
+    RawlogReader reader(path);
     TResult res;
     res.path = path;
-    for (size_t entry = 0;; entry++)
+    while (const auto obj = reader.next())
     {
-        const uint64_t byte = in.getPosition();
-        auto fail = [&](Kind kind, std::string className, std::string detail) {
-            res.defect = TDefect{kind, entry, byte, std::move(className), std::move(detail)};
-        };
-        mrpt::serialization::CSerializable::Ptr obj;
-        try
-        {
-            obj = arch.ReadObject();
-        }
-        catch (const mrpt::serialization::CExceptionEOF&)
-        {
-            // CArchive throws this when the entry's first byte cannot be read: a clean end
-            // only if the stream really is at its end (a damaged gz stream fails here too).
-            if (!in.checkEOF())
-            {
-                fail(Kind::Corrupted, "", "unreadable (damaged compressed stream?)");
-            }
-            break;
-        }
-        catch (const std::bad_alloc&)
-        {
-            fail(Kind::Corrupted, "", "a corrupted size asked for more memory than exists");
-            break;
-        }
-        catch (const std::exception& e)
-        {
-            const std::string what = mrpt::exception_to_str(e);
-            if (auto cls = unregisteredClass(what); !cls.empty())
-            {
-                fail(Kind::UnknownClass, cls, "");
-            }
-            else
-            {
-                fail(in.checkEOF() ? Kind::Truncated : Kind::Corrupted, "", innermostMessage(what));
-            }
-            break;
-        }
-        if (!obj)
-        {
-            fail(Kind::Corrupted, "", "a null object");
-            break;
-        }
-        if (const auto whole = std::dynamic_pointer_cast<mrpt::obs::CRawlog>(obj))
-        {
-            res.rawlog.swap(*whole);  // the whole rawlog as one object (MRPT's other format)
-            break;
-        }
-        if (!isRawlogEntry(*obj))
-        {
-            fail(Kind::NotAnEntry, obj->GetRuntimeClass()->className, "");
-            break;
-        }
         res.rawlog.insert(obj);
     }
+    res.rawlog.setCommentText(reader.comment());
+    res.defect = reader.defect();
     return res;
+}
+
+bool RawlogReader::IsSemlocRawlog(const std::string& path)
+{
+    try
+    {
+        RawlogReader reader(path);
+        mrpt::serialization::CSerializable::Ptr first;
+        if (!reader.readObject(first))
+        {
+            return false;
+        }
+        const auto comment = std::dynamic_pointer_cast<mrpt::obs::CObservationComment>(first);
+        return comment && comment->text.rfind(kRawlogSignature, 0) == 0;
+    }
+    catch (const std::exception&)
+    {
+        return false;
+    }
 }
 
 mrpt::obs::CRawlog RawlogReader::Load(const std::string& path)

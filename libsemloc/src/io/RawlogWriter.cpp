@@ -115,15 +115,30 @@ std::string GzOutputFile::getStreamDescription() const
     return "gz file '" + m_path + "'";
 }
 
-void saveRawlog(const mrpt::obs::CRawlog& log, const std::string& path)
+const char* const kRawlogSignature = "semloc";
+
+void writeRawlogSignature(mrpt::serialization::CArchive& out, const std::string& text)
+{
+    mrpt::obs::CObservationComment c;
+    c.timestamp = INVALID_TIMESTAMP;  // the same bytes for the same dataset
+    c.text = std::string(kRawlogSignature) + ": " + text;
+    out << c;
+}
+
+void saveRawlog(const mrpt::obs::CRawlog& log, const std::string& path, const std::string& tool)
 {
     GzOutputFile f(path);
     auto a = mrpt::serialization::archiveFrom(f);
-    if (const std::string comment = log.getCommentText(); !comment.empty())
+    const std::string comment = log.getCommentText();
+    if (comment.rfind(kRawlogSignature, 0) == 0)
     {
         mrpt::obs::CObservationComment c;
         c.text = comment;
         a << c;
+    }
+    else
+    {
+        writeRawlogSignature(a, tool + (comment.empty() ? "" : "\n" + comment));
     }
     for (size_t i = 0; i < log.size(); i++)
     {

@@ -3,20 +3,25 @@
 
 #include <mrpt/core/exceptions.h>
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <string>
 
 namespace semloc::detail
 {
-/** Writes `text` to `path` (replacing it); throws naming the path on any error. */
+/** Writes `text` to `path` (replacing it); throws "cannot write 'PATH': REASON" on any
+ *  error. */
 inline void writeFile(const std::string& path, const std::string& text)
 {
+    errno = 0;
     std::ofstream f(path, std::ios::binary);
     f << text;
     f.close();
     if (!f)
     {
-        THROW_EXCEPTION("cannot write '" + path + "'");
+        const int e = errno;
+        THROW_EXCEPTION("cannot write '" + path + "': " + (e ? std::strerror(e) : "write error"));
     }
 }
 

@@ -15,6 +15,7 @@
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/io/RawlogReader.h>
 #include <semloc/io/RawlogWriter.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/simulator/TrajectoryFollower.h>
@@ -409,75 +410,42 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
     ASSERTMSG_(!rawlogPath.empty(), "Simulator::writeDataset: empty output path");
     checkDatasetPaths(rawlogPath, {m_options.simulation.world_file});
     const std::string gtPath = groundTruthPath(rawlogPath), iniPath = configPath(rawlogPath);
-    // Temporary names beside the outputs (same file system: rename is atomic).
-    const std::vector<std::pair<std::string, std::string>> files = {
-        {rawlogPath + ".tmp", rawlogPath}, {gtPath + ".tmp", gtPath}, {iniPath + ".tmp", iniPath}};
-    size_t renamed = 0;
-    for (const auto& f : files)
-    {
-        registerTemporaryPath(f.first);  // removed if the process is ended at Ctrl-C
-    }
-    const auto unregister = [&]
-    {
-        for (const auto& f : files)
+    writeOutputFiles(
+        {rawlogPath, gtPath, iniPath},
+        [&](const std::vector<std::string>& tmp)
         {
-            unregisterTemporaryPath(f.first);
-        }
-    };
-    try
-    {
-        {
-            GzOutputFile out(files[0].first);  // its errors name the file and the reason
+            GzOutputFile out(tmp[0]);  // its errors name the file and the reason
             auto ar = mrpt::serialization::archiveFrom(out);
+            writeRawlogSignature(ar, "semloc-simulate: seed " +
+                                         std::to_string(m_options.simulation.seed) + ", world " +
+                                         m_options.simulation.world_file);
             for (const auto& obj : result.rawlog)
             {
                 ar << *obj;
                 if (interruptRequested())
                 {
-                    throw Interrupted();  // the catch below removes what was written
+                    throw Interrupted();  // the temporary files are removed
                 }
             }
             out.close();
-        }
 
-        std::string gt;
-        for (const auto& r : result.groundTruth)
-        {
-            gt += detail::fixedText(r.t) + ' ' + detail::fixedText(r.x) + ' ' +
-                  detail::fixedText(r.y) + ' ' + detail::fixedText(r.phi) + '\n';
-        }
-        detail::writeFile(files[1].first, gt);
+            std::string gt;
+            for (const auto& r : result.groundTruth)
+            {
+                gt += detail::fixedText(r.t) + ' ' + detail::fixedText(r.x) + ' ' +
+                      detail::fixedText(r.y) + ' ' + detail::fixedText(r.phi) + '\n';
+            }
+            detail::writeFile(tmp[1], gt);
 
-        TSimulatorOptions effective = m_options;
-        effective.simulation.output_rawlog = rawlogPath;
-        mrpt::config::CConfigFileMemory ini;
-        effective.saveToConfigFile(ini);
-        detail::writeFile(files[2].first,
-                          kConfigHeader + std::string("the effective configuration of ") +
-                              rawlogPath + " (every key; rerunning it reproduces the dataset)\n" +
-                              ini.getContent());
-
-        if (interruptRequested())
-        {
-            throw Interrupted();  // before the first rename: the outputs as they were
-        }
-        const InterruptExitDeferral whole;  // all three renamed, or none
-        for (; renamed < files.size(); renamed++)
-        {
-            std::filesystem::rename(files[renamed].first, files[renamed].second);
-        }
-    }
-    catch (...)
-    {
-        std::error_code ec;
-        for (size_t i = 0; i < files.size(); i++)
-        {
-            std::filesystem::remove(i < renamed ? files[i].second : files[i].first, ec);
-        }
-        unregister();
-        throw;
-    }
-    unregister();
+            TSimulatorOptions effective = m_options;
+            effective.simulation.output_rawlog = rawlogPath;
+            mrpt::config::CConfigFileMemory ini;
+            effective.saveToConfigFile(ini);
+            detail::writeFile(
+                tmp[2], kConfigHeader + std::string("the effective configuration of ") +
+                            rawlogPath + " (every key; rerunning it reproduces the dataset)\n" +
+                            ini.getContent());
+        });
 }
 
 void Simulator::checkDatasetPaths(const std::string& rawlogPath,
@@ -490,7 +458,7 @@ void Simulator::checkDatasetPaths(const std::string& rawlogPath,
                         "' collides with its ground-truth or ini file name (give it an "
                         "extension such as .rawlog)");
     }
-    checkOutputFile(rawlogPath, inputs);
+    checkOutputFile(rawlogPath, inputs, RawlogReader::IsSemlocRawlog);
     checkOutputFile(gtPath, inputs, isGroundTruthFile);
     checkOutputFile(iniPath, inputs,
                     [](const std::string& p) { return fileStartsWith(p, kConfigHeader); });

@@ -2,6 +2,8 @@
 #include <mrpt/core/exceptions.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/io/OutputPaths.h>
+#include <semloc/io/PngText.h>
 #include <semloc/world/WorldPlot.h>
 #include <sys/wait.h>
 
@@ -85,12 +87,31 @@ void WorldPlot::addWorldTrajectory()
     }
 }
 
+namespace
+{
+/** The first line of a data file or script savePng() keeps beside the PNG. */
+const char* const kKeptHeader = "# semloc-plot-world: ";
+}  // namespace
+
+void WorldPlot::checkPngOutputs(const std::string& pngPath, const std::vector<std::string>& inputs,
+                                bool keepScript)
+{
+    checkOutputFile(pngPath, inputs, isSemlocPng);
+    if (keepScript)
+    {
+        const auto kept = [](const std::string& p) { return fileStartsWith(p, kKeptHeader); };
+        checkOutputFile(pngPath + ".dat", inputs, kept);
+        checkOutputFile(pngPath + ".gp", inputs, kept);
+    }
+}
+
 std::string WorldPlot::data() const
 {
     // Block 0: outlines (closed polylines separated by blank lines); block 1: point objects;
     // blocks 2..: paths.
     std::ostringstream o;
     o.precision(10);
+    o << kKeptHeader << "the data of a world figure\n";
     o << "# outlines\n";
     bool any = false;
     for (const auto& ob : m_world.objects)
@@ -188,6 +209,7 @@ std::string WorldPlot::script(const std::string& dataPath, const std::string& pn
                               int heightPx) const
 {
     std::ostringstream s;
+    s << kKeptHeader << "the script of a world figure\n";
     s << "set terminal pngcairo size " << widthPx << "," << heightPx
       << " enhanced font 'Sans,10'\n";
     s << "set output " << quoted(pngPath) << "\n";
@@ -245,28 +267,34 @@ void WorldPlot::savePng(const std::string& pngPath, int widthPx, int heightPx,
         THROW_EXCEPTION("gnuplot failed drawing '" + pngPath + "' (it " + waitStatusText(status) +
                         "): " + log.str());
     }
-    std::vector<std::pair<std::string, std::string>> moves = {{tmpPng, pngPath}};
+    addPngText(tmpPng, "Software", std::string(kPngSoftware) + " (semloc-plot-world)");
+    std::vector<std::pair<std::string, std::string>> files = {{tmpPng, pngPath}};
     if (keepScript)
     {
         // The kept script reads the kept data and draws the PNG beside it.
         const std::string keptData = pngPath + ".dat", keptScript = pngPath + ".gp";
         writeFile(tmp.path("kept.gp"), script(keptData, pngPath, widthPx, heightPx));
-        moves.insert(moves.begin(), {{dataPath, keptData}, {tmp.path("kept.gp"), keptScript}});
+        files.insert(files.begin(), {{dataPath, keptData}, {tmp.path("kept.gp"), keptScript}});
     }
-    if (interruptRequested())
+    std::vector<std::string> outputs;
+    for (const auto& f : files)
     {
-        throw Interrupted();  // nothing renamed yet
+        outputs.push_back(f.second);
     }
-    const InterruptExitDeferral defer;  // the renames are not cut in the middle
-    for (const auto& [from, to] : moves)
-    {
-        std::error_code ec;
-        fs::rename(from, to, ec);
-        if (ec)
+    writeOutputFiles(
+        outputs,
+        [&](const std::vector<std::string>& temporaries)
         {
-            THROW_EXCEPTION("cannot write '" + to + "': " + ec.message());
-        }
-    }
+            for (size_t i = 0; i < files.size(); i++)
+            {
+                std::error_code ec;
+                fs::rename(files[i].first, temporaries[i], ec);
+                if (ec)
+                {
+                    THROW_EXCEPTION("cannot write '" + files[i].second + "': " + ec.message());
+                }
+            }
+        });
 }
 
 }  // namespace semloc

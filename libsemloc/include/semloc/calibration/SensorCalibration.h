@@ -149,7 +149,12 @@ public:
      *  `baseName`) has no semantic map whose noise the fits could fill. */
     static void CheckBase(const std::string& baseIni, const std::string& baseName);
 
-    /** The text of `baseIni` (read from `baseName`) with the fitted values in place: each key
+    /** The first line of every ini ApplyToIni() writes: semloc-calibrate replaces only a file
+     *  that starts with it. */
+    static constexpr const char* kIniHeader = "// semloc-calibrate: ";
+
+    /** kIniHeader's line, then the text of `baseIni` (read from `baseName`) with the fitted
+     *  values in place: each key
      *  of [MetricMap_semanticMap_00_likelihoodOpts] and [MotionModel] replaced (or added) with
      *  a comment giving its fit, `model = probabilistic` and `source = gaussian`. Throws naming
      *  the file and [section] key when the base has no semantic map. */

@@ -25,17 +25,18 @@ void requestInterrupt() noexcept;
 bool interruptRequested() noexcept;
 void clearInterrupt() noexcept;
 
-/** Makes SIGINT and SIGTERM call requestInterrupt() (the tools do this). A second signal
- *  gets the default action: the process ends at once. Installed without SA_RESTART, so a
- *  blocking wait returns and the job sees the request.
+/** Makes SIGINT and SIGTERM call requestInterrupt() (the tools do this). The handler stays in
+ *  place: a second signal makes the watchdog end the process at once, with the same cleanup
+ *  (children ended, temporary paths removed); more signals change nothing. Installed without
+ *  SA_RESTART, so a blocking wait returns and the job sees the request.
  *
  *  It also starts a watchdog thread (once per process): a job that has not returned within
- *  kInterruptGracePeriod_s of the first signal (a step inside MRPT that has no check, such
- *  as KLD sampling) is ended by the watchdog, unless clearInterrupt() was called meanwhile.
- *  It kills the registered child processes (SIGKILL, and waits for them), removes the
- *  registered temporary paths, prints "<tool>: interrupted; no output written" (`tool`: a
- *  string that lives as long as the process, such as a literal; the program's name when
- *  null) and ends the process with _exit(130). */
+ *  kInterruptGracePeriod_s of the first signal (or at once after a second one) (a step inside MRPT
+ * that has no check, such as KLD sampling) is ended by the watchdog, unless clearInterrupt() was
+ * called meanwhile. It kills the registered child processes (SIGKILL, and waits for them), removes
+ * the registered temporary paths, prints "<tool>: interrupted; no output written" (`tool`: a string
+ * that lives as long as the process, such as a literal; the program's name when null) and ends the
+ * process with _exit(130). */
 void installInterruptHandlers(const char* tool = nullptr);
 
 /** How long the watchdog lets a job stop by itself after the first signal [s]. */

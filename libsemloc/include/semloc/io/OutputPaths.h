@@ -19,14 +19,30 @@ extern const char* const kOutputMarker;
  *  of `inputs` (files or directories the run reads; empty entries are ignored). */
 void checkOutputDirectory(const std::string& dir, const std::vector<std::string>& inputs = {});
 
-/** Checks, before any work, that `file` may be written (created or replaced). Refused, with
- *  an error naming `file` and the reason: an existing directory; one of `inputs` (the same
- *  file by any name); a missing or non-directory parent; an existing file for which
- *  `isPreviousOutput(path)` is false when that test is given (for files whose names a tool
- *  derives from the one the user gave, so that a file the user never named is replaced
- *  only when it is a previous output of the same kind). */
-void checkOutputFile(const std::string& file, const std::vector<std::string>& inputs = {},
-                     const std::function<bool(const std::string&)>& isPreviousOutput = nullptr);
+/** Checks, before any work, that `file` may be written (created or replaced): the rule every
+ *  tool applies to a single output file. Refused, with an error naming `file` and the reason:
+ *  an existing directory; one of `inputs` (the same file by any name); a missing or
+ *  non-directory parent; a symbolic link to nothing; an existing file for which
+ *  `isPreviousOutput(path)` is false (a file semloc did not write as an output of this kind:
+ *  a tool replaces only its own previous outputs, recognized by their content). A symbolic
+ *  link is followed: what it points at is checked, and replaced by writeOutputFiles(). */
+void checkOutputFile(const std::string& file, const std::vector<std::string>& inputs,
+                     const std::function<bool(const std::string&)>& isPreviousOutput);
+
+/** Where an output named `path` is written: absolute and normal, through its symbolic links
+ *  (a link to nothing is refused, naming it). */
+std::string resolvedOutputPath(const std::string& path);
+
+/** The one way semloc writes single output files. Each of `outputs` is written under a unique
+ *  temporary name beside the file it replaces (through a symbolic link: beside what the link
+ *  points at), locked while the process writes it; `write(temporaries)` gets those names in
+ *  the order of `outputs`. Once all are written they are renamed into place together (Ctrl-C
+ *  waits for the renames). On an error or an interrupt request the temporary files are removed,
+ *  the outputs stay as they were, and the error is rethrown. Temporary files of the same
+ *  outputs left by a process that was killed are removed first. Call checkOutputFile() on
+ *  each output before any work. */
+void writeOutputFiles(const std::vector<std::string>& outputs,
+                      const std::function<void(const std::vector<std::string>&)>& write);
 
 /** True when the file at `path` starts with `prefix` (a header semloc writes). */
 bool fileStartsWith(const std::string& path, const std::string& prefix);

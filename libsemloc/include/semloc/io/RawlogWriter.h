@@ -3,6 +3,7 @@
 
 #include <mrpt/io/CStream.h>
 #include <mrpt/obs/CRawlog.h>
+#include <mrpt/serialization/CArchive.h>
 
 #include <string>
 
@@ -47,9 +48,18 @@ private:
     uint64_t m_written = 0;
 };
 
-/** Writes `log` to `path` as CRawlog::saveToRawLogFile does (its comment text first if it has
- *  one, time-stamped now, then each entry: otherwise the same bytes); throws "cannot write
- *  'PATH': REASON" on any error. */
-void saveRawlog(const mrpt::obs::CRawlog& log, const std::string& path);
+/** How every rawlog semloc writes begins: its first entry is a CObservationComment whose text
+ *  starts with this ("semloc"), so that a tool recognizes its own previous output
+ *  (RawlogReader::IsSemlocRawlog) and replaces nothing else. */
+extern const char* const kRawlogSignature;
+
+/** Writes the signature comment, `kRawlogSignature` + ": " + `text` (the first entry). */
+void writeRawlogSignature(mrpt::serialization::CArchive& out, const std::string& text);
+
+/** Writes `log` to `path` as CRawlog::saveToRawLogFile does (each entry: the same bytes),
+ *  after the signature comment (its text: `log`'s comment text if it starts with the
+ *  signature, else the signature, `tool` and the comment text); throws "cannot write 'PATH':
+ *  REASON" on any error. */
+void saveRawlog(const mrpt::obs::CRawlog& log, const std::string& path, const std::string& tool);
 
 }  // namespace semloc

@@ -48,10 +48,18 @@ public:
     /** The data file the script reads (gnuplot indexed blocks). */
     std::string data() const;
 
-    /** Renders to `pngPath`: gnuplot (a child process) draws in a temporary directory beside
-     *  it, and the finished files are renamed into place. Throws with gnuplot's output if
-     *  gnuplot is missing or fails; throws semloc::Interrupted at an interrupt request
-     *  (semloc/Interrupt.h), gnuplot ended. Nothing is left behind on any error. */
+    /** Checks, before any work, that savePng() may write `pngPath` (and, with `keepScript`,
+     *  `<pngPath>.dat` and `<pngPath>.gp`): checkOutputFile's rule, where a previous output is a
+     *  PNG semloc drew (isSemlocPng) and a script or data file that starts with semloc's
+     *  header. */
+    static void checkPngOutputs(const std::string& pngPath, const std::vector<std::string>& inputs,
+                                bool keepScript);
+
+    /** Renders to `pngPath` (tagged with a `Software` text entry, isSemlocPng): gnuplot (a child
+     * process) draws in a temporary directory beside it, and the finished files are renamed into
+     * place. Throws with gnuplot's output if gnuplot is missing or fails; throws
+     * semloc::Interrupted at an interrupt request (semloc/Interrupt.h), gnuplot ended. Nothing is
+     * left behind on any error. */
     void savePng(const std::string& pngPath, int widthPx = 900, int heightPx = 900,
                  bool keepScript = false) const;
 
