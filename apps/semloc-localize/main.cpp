@@ -89,7 +89,9 @@ void run()
     semloc::LocalizationExperiment::TResult result;
     try
     {
-        result = experiment.run(bar ? showProgress : std::function<void(size_t, size_t)>());
+        // The steps are streamed to steps.csv: memory does not grow with the rawlog's length.
+        result = experiment.run(bar ? showProgress : std::function<void(size_t, size_t)>(),
+                                semloc::LocalizationExperiment::Records::Stream);
     }
     catch (const semloc::Interrupted&)
     {

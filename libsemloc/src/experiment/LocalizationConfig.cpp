@@ -207,67 +207,93 @@ void checkInputFiles(LocalizationExperiment::TOptions& o)
     requireFile("ground_truth_path_file", o.ground_truth_path_file);
 }
 
-/** A rawlog's readable entries and, with --allow-truncated, where it broke. */
-struct RawlogEntries
+/** What the streamed check of a rawlog found (its entries are not kept). */
+struct RawlogScan
 {
-    mrpt::obs::CRawlog rawlog;
+    /** Intact entries (those the run uses). */
+    size_t entries = 0;
     std::optional<size_t> truncatedAt;
     /** What was wrong and what is used; empty for a complete rawlog. */
     std::string warning;
+    /** How far from a step's time its ground-truth row may be (groundTruthTolerance). */
+    double gtTolerance = 0;
 };
 
-/** Reads the whole rawlog; a defect is an error unless `allowTruncated` and an entry before
- *  it is intact. */
-RawlogEntries readRawlog(const std::string& path, bool allowTruncated)
+/** The defect of the rawlog `reader` read: an error unless `allowTruncated` and an entry
+ *  before it is intact; else what `scan` records of it. */
+void acceptDefect(const RawlogReader& reader, bool allowTruncated, RawlogScan& scan)
 {
-    auto read = RawlogReader::Read(path);
-    if (read.defect && read.defect->entry == 0)
+    RawlogReader::TResult read;  // for its defectMessage()
+    read.path = reader.path();
+    read.defect = reader.defect();
+    if (!read.defect)
+    {
+        return;
+    }
+    if (read.defect->entry == 0)
     {
         THROW_EXCEPTION(read.defectMessage() + ": nothing to localize");  // with or without
     }                                                                     // --allow-truncated
-    RawlogEntries out;
-    if (read.defect)
+    if (!allowTruncated)
     {
-        if (!allowTruncated)
-        {
-            THROW_EXCEPTION(read.defectMessage() +
-                            " (semloc-localize --allow-truncated uses the intact entries)");
-        }
-        out.truncatedAt = read.defect->entry;
-        out.warning =
-            read.defectMessage() + mrpt::format(
-                                       ": --allow-truncated: localizing with the %zu intact "
-                                       "entries",
-                                       read.defect->entry);
+        THROW_EXCEPTION(read.defectMessage() +
+                        " (semloc-localize --allow-truncated uses the intact entries)");
     }
-    out.rawlog.swap(read.rawlog);
-    return out;
+    scan.truncatedAt = read.defect->entry;
+    scan.warning = read.defectMessage() + mrpt::format(
+                                              ": --allow-truncated: localizing with the %zu "
+                                              "intact entries",
+                                              read.defect->entry);
 }
 
-/** What the run needs of the rawlog (detail::checkRawlog), a rawlog_offset that leaves a
- *  step, and with ground truth step times that increase and match it. */
-void checkSteps(const mrpt::obs::CRawlog& rawlog, const LocalizationExperiment::TOptions& o,
-                const mrpt::maps::CMetricMap& maps, const GroundTruth& gt)
+/** Reads the rawlog entry by entry (nothing is kept: memory does not grow with its length)
+ *  and checks what the run needs of it (detail::checkRawlog), a rawlog_offset that leaves a
+ *  step, and with ground truth step times that increase and match it. A defect is an error
+ *  unless `allowTruncated` and an entry before it is intact. */
+RawlogScan scanRawlog(const LocalizationExperiment::TOptions& o, bool allowTruncated,
+                      const mrpt::maps::CMetricMap& maps, const GroundTruth& gt)
 {
-    if (rawlog.empty())
-    {
-        THROW_EXCEPTION("rawlog '" + o.rawlog_file + "' holds no entries");
-    }
-    detail::checkRawlog(rawlog, o.rawlog_file, maps, o.filter);
-    auto steps = detail::stepTimes(rawlog);
+    RawlogReader reader(o.rawlog_file);
+    RawlogScan scan;
+    detail::StepTimer timer;
+    scan.entries = detail::checkRawlog(
+        [&]
+        {
+            auto obj = reader.next();
+            if (!obj)
+            {
+                acceptDefect(reader, allowTruncated, scan);  // before the whole-file checks
+                if (reader.entriesRead() == 0)
+                {
+                    THROW_EXCEPTION("rawlog '" + o.rawlog_file + "' holds no entries");
+                }
+            }
+            return obj;
+        },
+        [&](const mrpt::serialization::CSerializable::Ptr& obj, size_t i) { timer.add(obj, i); },
+        o.rawlog_file, maps, o.filter);
+    auto steps = timer.finish();
     if (o.rawlog_offset > 0 && static_cast<size_t>(o.rawlog_offset) >= steps.size())
     {
         THROW_EXCEPTION(mrpt::format(
             "ini [%s] rawlog_offset: %d skips every step: rawlog '%s' holds %zu step%s (%zu "
             "entries)",
             kSection.c_str(), o.rawlog_offset, o.rawlog_file.c_str(), steps.size(),
-            steps.size() == 1 ? "" : "s", rawlog.size()));
+            steps.size() == 1 ? "" : "s", scan.entries));
     }
     if (!gt.empty())
     {
         steps.erase(steps.begin(), steps.begin() + o.rawlog_offset);
         detail::checkGroundTruthTimes(steps, gt, o.ground_truth_path_file, o.rawlog_file);
+        std::vector<double> times;
+        times.reserve(steps.size());
+        for (const auto& st : steps)
+        {
+            times.push_back(st.t);
+        }
+        scan.gtTolerance = detail::groundTruthTolerance(gt, times);
     }
+    return scan;
 }
 }  // namespace
 
@@ -385,15 +411,15 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
         o.variant = e.m_maps.variant();
     }
 
-    auto read = readRawlog(o.rawlog_file, ov.allow_truncated);
-    e.m_truncatedAt = read.truncatedAt;
-    if (!read.warning.empty())
+    const auto scan = scanRawlog(o, ov.allow_truncated, *e.m_maps.map, e.m_groundTruth);
+    e.m_entries = scan.entries;
+    e.m_truncatedAt = scan.truncatedAt;
+    e.m_gtTolerance = scan.gtTolerance;
+    if (!scan.warning.empty())
     {
-        e.m_rawlogWarning = read.warning;
+        e.m_rawlogWarning = scan.warning;
         e.m_warnings.push_back(e.m_rawlogWarning);
     }
-    checkSteps(read.rawlog, o, *e.m_maps.map, e.m_groundTruth);
-    e.m_rawlog.swap(read.rawlog);
     return e;
 }
 

@@ -1,11 +1,13 @@
 /* semloc — LocalizationExperiment's run: the rawlog fed to the Localizer step by step, the
  * ground truth matched to the steps, the outputs written. The configuration and the checks
  * before the run are in LocalizationConfig.cpp. */
+#include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/obs/CRawlog.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/io/RawlogReader.h>
 #include <semloc/io/StagedDirectory.h>
 
 #include <chrono>
@@ -31,16 +33,15 @@ using detail::writeFile;
 class RawlogPlayback
 {
 public:
-    /** `skip` steps skipped first (rawlog_offset); each step run appends its record. */
-    RawlogPlayback(Localizer& loc, size_t skip, std::vector<TStepRecord>& records)
-        : m_loc(loc), m_records(records), m_skip(skip)
+    /** `skip` steps skipped first (rawlog_offset); `onStep` is called with the record of each
+     *  step run (which it may complete: its ground truth). */
+    RawlogPlayback(Localizer& loc, size_t skip, std::function<void(TStepRecord&)> onStep)
+        : m_loc(loc), m_skip(skip), m_onStep(std::move(onStep))
     {
     }
 
-    /** Entry `i` of `rawlog`. */
-    void entry(const mrpt::obs::CRawlog& rawlog, size_t i);
-    /** Called after each step run with its record. */
-    void onStep(std::function<void(const TStepRecord&)> f) { m_onStep = std::move(f); }
+    /** The rawlog's next entry. */
+    void entry(const mrpt::serialization::CSerializable::Ptr& obj);
     /** After the last entry: the frame still grouped. */
     void finish() { flush(); }
     /** "action/sensory-frame", "observations-only" or "mixed". */
@@ -58,16 +59,12 @@ private:
                 const mrpt::obs::CActionCollection* action = nullptr)
     {
         TStepRecord r = m_loc.lastStepRecord(sf);
-        r.step = m_records.size();
+        r.step = m_steps++;
         if (std::isnan(r.t) && action)
         {
             r.t = detail::actionTime(*action);
         }
-        m_records.push_back(r);
-        if (m_onStep)
-        {
-            m_onStep(m_records.back());
-        }
+        m_onStep(r);
     }
     /** The observations grouped so far as one step (or one skipped). */
     void flush();
@@ -75,7 +72,7 @@ private:
     void observation(const mrpt::obs::CObservation::Ptr& obs);
 
     Localizer& m_loc;
-    std::vector<TStepRecord>& m_records;
+    size_t m_steps = 0;
     // pf-localization's rawlog_offset skips steps (pairs, or observations), not entries. An
     // odometry reading met while skipping is handed over when the first step runs, so that
     // step moves by zero and the next by the increment since it.
@@ -85,7 +82,7 @@ private:
     mrpt::obs::CSensoryFrame m_group;
     bool m_sawPairs = false, m_sawObservations = false;
     mrpt::obs::CActionCollection::Ptr m_action;
-    std::function<void(const TStepRecord&)> m_onStep;
+    std::function<void(TStepRecord&)> m_onStep;
 };
 
 void RawlogPlayback::flush()
@@ -111,24 +108,22 @@ void RawlogPlayback::flush()
     m_group.clear();
 }
 
-void RawlogPlayback::entry(const mrpt::obs::CRawlog& rawlog, size_t i)
+void RawlogPlayback::entry(const mrpt::serialization::CSerializable::Ptr& obj)
 {
-    switch (rawlog.getType(i))
+    if (auto acts = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(obj))
     {
-        case mrpt::obs::CRawlog::etActionCollection:
-            flush();
-            m_action = rawlog.getAsAction(i);
-            break;
-        case mrpt::obs::CRawlog::etSensoryFrame:
-            flush();
-            sensoryFrame(*rawlog.getAsObservations(i));
-            break;
-        case mrpt::obs::CRawlog::etObservation:
-            m_sawObservations = true;
-            observation(rawlog.getAsObservation(i));
-            break;
-        default:
-            break;
+        flush();
+        m_action = std::move(acts);
+    }
+    else if (const auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(obj))
+    {
+        flush();
+        sensoryFrame(*sf);
+    }
+    else if (const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(obj))
+    {
+        m_sawObservations = true;
+        observation(obs);
     }
 }
 
@@ -179,32 +174,10 @@ void RawlogPlayback::observation(const mrpt::obs::CObservation::Ptr& obs)
     }
 }
 
-/** Ground truth by timestamp: each record gets the nearest row within half a step. */
-void matchRecords(std::vector<TStepRecord>& records, const GroundTruth& gt)
-{
-    if (gt.empty())
-    {
-        return;
-    }
-    std::vector<double> times;
-    times.reserve(records.size());
-    for (const auto& r : records)
-    {
-        times.push_back(r.t);
-    }
-    const auto rows = detail::matchGroundTruth(gt, times);
-    for (size_t k = 0; k < rows.size(); k++)
-    {
-        if (rows[k])
-        {
-            records[k].gt = rows[k]->pose();
-        }
-    }
-}
 }  // namespace
 
 LocalizationExperiment::TResult LocalizationExperiment::run(
-    const std::function<void(size_t, size_t)>& progress) const
+    const std::function<void(size_t, size_t)>& progress, Records records) const
 {
     const auto wall0 = std::chrono::steady_clock::now();
     const auto& o = m_options;
@@ -216,36 +189,67 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
     res.variant = o.variant;
     res.threads = loc.threads();
 
-    RawlogPlayback playback(loc, static_cast<size_t>(o.rawlog_offset), res.records);
+    // Each step's record goes to steps.csv, the metrics and particles.csv as it comes: memory
+    // does not grow with the rawlog's length (unless the records are kept).
     std::optional<detail::ParticlesCsv> particles;
     if (o.particles_save_every > 0)
     {
         particles.emplace(out.path("particles.csv"), o.particles_save_every);
-        playback.onStep([&](const TStepRecord& r) { particles->step(r, loc.pdf()); });
     }
-    const size_t n = m_rawlog.size();
-    for (size_t i = 0; i < n; i++)
+    detail::StepsCsv steps(out.path("steps.csv"));
+    RunMetricsAccumulator metrics(o.convergence);
+    std::optional<TStepRecord> last;
+    RawlogPlayback playback(loc, static_cast<size_t>(o.rawlog_offset),
+                            [&](TStepRecord& r)
+                            {
+                                if (const auto* row = m_groundTruth.nearest(r.t, m_gtTolerance))
+                                {
+                                    r.gt = row->pose();
+                                }
+                                steps.add(r);
+                                metrics.add(r);
+                                if (particles)
+                                {
+                                    particles->step(r, loc.pdf());
+                                }
+                                if (records == Records::Keep)
+                                {
+                                    res.records.push_back(r);
+                                }
+                                last = r;
+                            });
+    RawlogReader reader(o.rawlog_file);
+    for (size_t i = 0; i < m_entries; i++)
     {
         if (interruptRequested())
         {
             throw Interrupted();  // Ctrl-C (installInterruptHandlers): no output directory
         }
-        playback.entry(m_rawlog, i);
+        const auto obj = reader.next();
+        if (!obj)
+        {
+            THROW_EXCEPTION(
+                mrpt::format("rawlog '%s' changed during the run: entry %zu of the "
+                             "%zu read before it is missing now",
+                             o.rawlog_file.c_str(), i, m_entries));
+        }
+        playback.entry(obj);
         if (progress)
         {
-            progress(i + 1, n);
+            progress(i + 1, m_entries);
         }
     }
     playback.finish();
-    if (particles && !res.records.empty())
+    if (particles && last)
     {
-        particles->finish(res.records.back(), loc.pdf());
+        particles->finish(*last, loc.pdf());
     }
+    steps.finish();
     res.rawlogTruncatedAtEntry = m_truncatedAt;
     res.rawlogFormat = playback.format();
-    matchRecords(res.records, m_groundTruth);
+    res.final_particles = last ? last->n_particles : 0;
 
-    res.metrics = RunMetrics::compute(res.records, o.convergence);
+    res.metrics = metrics.result();
     res.likelihood = loc.likelihoodStats();
     res.recovery = loc.recoveryStats();
     res.initialized_from_detections = loc.initializedFromDetections();
@@ -254,7 +258,6 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
     res.outputDir = out.target();
     res.wallTime_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    writeFile(out.path("steps.csv"), detail::stepsCsv(res.records));
     writeFile(out.path("summary.yaml"), detail::summaryYaml(res, o));
     writeFile(out.path("config.ini"), detail::effectiveConfigText(o, m_carried, m_maps, *m_ini));
     if (interruptRequested())
@@ -271,8 +274,8 @@ std::string LocalizationExperiment::TResult::summaryParagraph() const
     std::string s = mrpt::format(
         "%s: %zu steps with %zu particles on %zu thread%s, %.2f s of "
         "filter updates (%.3f us per particle).",
-        variant.c_str(), m.steps, records.empty() ? size_t(0) : records.front().n_particles,
-        threads, threads == 1 ? "" : "s", m.total_update_s, m.mean_update_us_per_particle);
+        variant.c_str(), m.steps, final_particles, threads, threads == 1 ? "" : "s",
+        m.total_update_s, m.mean_update_us_per_particle);
     if (m.steps_with_ground_truth == 0)
     {
         s += " No ground truth: errors unknown.";

@@ -45,21 +45,55 @@ std::string yamlString(const std::string& s)
 }
 }  // namespace
 
+namespace
+{
+const char* const kStepsHeader =
+    "step,t,gt_x,gt_y,gt_phi,est_x,est_y,est_phi,err_xy,err_phi,var_xy,ess,n_particles,"
+    "update_us\n";
+
+void stepsRow(std::ostream& o, const TStepRecord& r)
+{
+    o << r.step << ',' << (std::isnan(r.t) ? "" : mrpt::format("%.6f", r.t)) << ','
+      << (r.gt ? num(r.gt->x) : "") << ',' << (r.gt ? num(r.gt->y) : "") << ','
+      << (r.gt ? num(r.gt->phi) : "") << ',' << num(r.est.x) << ',' << num(r.est.y) << ','
+      << num(r.est.phi) << ',' << num(r.errXY()) << ',' << num(r.errPhi()) << ',' << num(r.var_xy)
+      << ',' << num(r.ess) << ',' << r.n_particles << ',' << mrpt::format("%.1f", r.update_us)
+      << '\n';
+}
+}  // namespace
+
 std::string stepsCsv(const std::vector<TStepRecord>& records)
 {
     std::ostringstream o;
-    o << "step,t,gt_x,gt_y,gt_phi,est_x,est_y,est_phi,err_xy,err_phi,var_xy,ess,n_particles,"
-         "update_us\n";
+    o << kStepsHeader;
     for (const auto& r : records)
     {
-        o << r.step << ',' << (std::isnan(r.t) ? "" : mrpt::format("%.6f", r.t)) << ','
-          << (r.gt ? num(r.gt->x) : "") << ',' << (r.gt ? num(r.gt->y) : "") << ','
-          << (r.gt ? num(r.gt->phi) : "") << ',' << num(r.est.x) << ',' << num(r.est.y) << ','
-          << num(r.est.phi) << ',' << num(r.errXY()) << ',' << num(r.errPhi()) << ','
-          << num(r.var_xy) << ',' << num(r.ess) << ',' << r.n_particles << ','
-          << mrpt::format("%.1f", r.update_us) << '\n';
+        stepsRow(o, r);
     }
     return o.str();
+}
+
+StepsCsv::StepsCsv(const std::string& path) : m_path(path), m_out(path, std::ios::binary)
+{
+    m_out << kStepsHeader;
+    if (!m_out)
+    {
+        THROW_EXCEPTION("cannot write '" + m_path + "': " + std::strerror(errno));
+    }
+}
+
+void StepsCsv::add(const TStepRecord& r)
+{
+    stepsRow(m_out, r);
+}
+
+void StepsCsv::finish()
+{
+    m_out.close();
+    if (!m_out)
+    {
+        THROW_EXCEPTION("cannot write '" + m_path + "' (disk full?)");
+    }
 }
 
 std::string summaryYaml(const LocalizationExperiment::TResult& res,
@@ -83,7 +117,7 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "final_err_m: " << yamlNum(m.final_err_m) << "\n"
       << "total_update_s: " << yamlNum(m.total_update_s) << "\n"
       << "mean_update_us_per_particle: " << yamlNum(m.mean_update_us_per_particle) << "\n"
-      << "final_particles: " << (res.records.empty() ? 0 : res.records.back().n_particles) << "\n"
+      << "final_particles: " << res.final_particles << "\n"
       << "convergence_criterion: {max_err_xy_m: " << num(c.max_err_xy_m)
       << ", max_var_xy_m2: " << num(c.max_var_xy_m2) << ", min_steps: " << c.min_steps << "}\n"
       << "# observations and detections the maps could not use, non-finite likelihoods\n"

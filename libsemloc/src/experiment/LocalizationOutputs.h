@@ -16,6 +16,22 @@ namespace semloc::detail
  *  unknown values. */
 std::string stepsCsv(const std::vector<TStepRecord>& records);
 
+/** steps.csv written row by row while the run goes (stepsCsv's text). */
+class StepsCsv
+{
+public:
+    /** Writes the header to `path`. */
+    explicit StepsCsv(const std::string& path);
+    /** The row of `r`. */
+    void add(const TStepRecord& r);
+    /** Closes the file; throws naming it if a write failed. */
+    void finish();
+
+private:
+    std::string m_path;
+    std::ofstream m_out;
+};
+
 /** summary.yaml of the run `res` configured by `o`; unknown values are `null`. */
 std::string summaryYaml(const LocalizationExperiment::TResult& res,
                         const LocalizationExperiment::TOptions& o);

@@ -168,13 +168,26 @@ void RawlogInventory::check(const Localizer::TOptions& filter) const
 void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
                  const mrpt::maps::CMetricMap& maps, const Localizer::TOptions& filter)
 {
+    size_t i = 0;
+    checkRawlog([&] { return i < rawlog.size() ? rawlog.getAsGeneric(i++) : nullptr; },
+                [](const mrpt::serialization::CSerializable::Ptr&, size_t) {}, path, maps, filter);
+}
+
+size_t checkRawlog(
+    const std::function<mrpt::serialization::CSerializable::Ptr()>& next,
+    const std::function<void(const mrpt::serialization::CSerializable::Ptr&, size_t)>& visit,
+    const std::string& path, const mrpt::maps::CMetricMap& maps, const Localizer::TOptions& filter)
+{
     const MotionModel motion(filter.motion_model);
     RawlogInventory inventory(path, maps, motion);
-    for (size_t i = 0; i < rawlog.size(); i++)
+    size_t i = 0;
+    for (auto obj = next(); obj; obj = next(), i++)
     {
-        inventory.add(rawlog.getAsGeneric(i), i);
+        inventory.add(obj, i);
+        visit(obj, i);
     }
     inventory.check(filter);
+    return i;
 }
 
 }  // namespace semloc::detail

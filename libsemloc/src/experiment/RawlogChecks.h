@@ -5,6 +5,8 @@
 #include <mrpt/obs/CRawlog.h>
 #include <semloc/filter/Localizer.h>
 
+#include <cstddef>
+#include <functional>
 #include <string>
 
 namespace semloc::detail
@@ -16,5 +18,13 @@ namespace semloc::detail
  *  canComputeObservationLikelihood). */
 void checkRawlog(const mrpt::obs::CRawlog& rawlog, const std::string& path,
                  const mrpt::maps::CMetricMap& maps, const Localizer::TOptions& filter);
+
+/** checkRawlog() over the entries `next()` returns in order until it returns null (a rawlog
+ *  streamed: nothing is kept), each also handed to `visit(entry, index)`; the number of
+ *  entries. */
+size_t checkRawlog(
+    const std::function<mrpt::serialization::CSerializable::Ptr()>& next,
+    const std::function<void(const mrpt::serialization::CSerializable::Ptr&, size_t)>& visit,
+    const std::string& path, const mrpt::maps::CMetricMap& maps, const Localizer::TOptions& filter);
 
 }  // namespace semloc::detail

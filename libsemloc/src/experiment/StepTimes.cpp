@@ -4,7 +4,9 @@
 #include <mrpt/core/Clock.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
+#include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/obs/CSensoryFrame.h>
 
 #include <algorithm>
 #include <cmath>
@@ -38,76 +40,65 @@ double actionTime(const mrpt::obs::CActionCollection& actions)
                : std::numeric_limits<double>::quiet_NaN();
 }
 
-std::vector<StepTime> stepTimes(const mrpt::obs::CRawlog& rawlog)
+void StepTimer::flush()
 {
-    std::vector<StepTime> steps;
-    std::optional<StepTime> group;  // observations-only: one timestamp, one step
-    mrpt::Clock::time_point groupStamp;
-    double actionT = std::numeric_limits<double>::quiet_NaN();  // the pending action's time
-    auto flush = [&]
+    if (m_group)
     {
-        if (group)
-        {
-            steps.push_back(*group);
-            group.reset();
-        }
-    };
-    for (size_t i = 0; i < rawlog.size(); i++)
-    {
-        switch (rawlog.getType(i))
-        {
-            case mrpt::obs::CRawlog::etActionCollection:
-                flush();
-                actionT = actionTime(*rawlog.getAsAction(i));
-                break;
-            case mrpt::obs::CRawlog::etSensoryFrame:
-            {
-                flush();
-                const auto sf = rawlog.getAsObservations(i);
-                steps.push_back(
-                    {i, sf->size() > 0 ? timeOf(*sf->getObservationByIndex(0)) : actionT});
-                actionT = std::numeric_limits<double>::quiet_NaN();
-                break;
-            }
-            case mrpt::obs::CRawlog::etObservation:
-            {
-                const auto obs = rawlog.getAsObservation(i);
-                if (obs && IS_CLASS(*obs, mrpt::obs::CObservationOdometry))
-                {
-                    flush();
-                }
-                else if (obs)
-                {
-                    if (group && groupStamp != obs->timestamp)
-                    {
-                        flush();
-                    }
-                    if (!group)
-                    {
-                        group = StepTime{i, timeOf(*obs)};
-                        groupStamp = obs->timestamp;
-                    }
-                }
-                break;
-            }
-            default:
-                break;
-        }
+        m_steps.push_back(*m_group);
+        m_group.reset();
     }
-    flush();
-    return steps;
 }
 
-/** The ground-truth row of each step time (null: none): the nearest row within half the
- *  median step period (the rows' median period if the steps have none). */
-std::vector<const GroundTruthRow*> matchGroundTruth(const GroundTruth& gt,
-                                                    const std::vector<double>& times)
+void StepTimer::add(const mrpt::serialization::CSerializable::Ptr& entry, size_t i)
 {
-    std::vector<const GroundTruthRow*> rows(times.size(), nullptr);
-    if (gt.empty())
+    if (const auto acts = std::dynamic_pointer_cast<mrpt::obs::CActionCollection>(entry))
     {
-        return rows;
+        flush();
+        m_actionT = actionTime(*acts);
     }
+    else if (const auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(entry))
+    {
+        flush();
+        m_steps.push_back({i, sf->size() > 0 ? timeOf(*sf->getObservationByIndex(0)) : m_actionT});
+        m_actionT = std::numeric_limits<double>::quiet_NaN();
+    }
+    else if (const auto obs = std::dynamic_pointer_cast<mrpt::obs::CObservation>(entry))
+    {
+        if (IS_CLASS(*obs, mrpt::obs::CObservationOdometry))
+        {
+            flush();
+            return;
+        }
+        if (m_group && m_groupStamp != obs->timestamp)
+        {
+            flush();
+        }
+        if (!m_group)
+        {
+            m_group = StepTime{i, timeOf(*obs)};
+            m_groupStamp = obs->timestamp;
+        }
+    }
+}
+
+std::vector<StepTime> StepTimer::finish()
+{
+    flush();
+    return std::move(m_steps);
+}
+
+std::vector<StepTime> stepTimes(const mrpt::obs::CRawlog& rawlog)
+{
+    StepTimer timer;
+    for (size_t i = 0; i < rawlog.size(); i++)
+    {
+        timer.add(rawlog.getAsGeneric(i), i);
+    }
+    return timer.finish();
+}
+
+double groundTruthTolerance(const GroundTruth& gt, const std::vector<double>& times)
+{
     std::vector<double> dt;
     for (size_t k = 1; k < times.size(); k++)
     {
@@ -117,11 +108,19 @@ std::vector<const GroundTruthRow*> matchGroundTruth(const GroundTruth& gt,
             dt.push_back(d);
         }
     }
-    double tol = 0.5 * (dt.empty() ? gt.medianPeriod() : median(dt));
-    if (!(tol > 0))
+    const double tol = 0.5 * (dt.empty() ? gt.medianPeriod() : median(dt));
+    return tol > 0 ? tol : 1e-6;
+}
+
+std::vector<const GroundTruthRow*> matchGroundTruth(const GroundTruth& gt,
+                                                    const std::vector<double>& times)
+{
+    std::vector<const GroundTruthRow*> rows(times.size(), nullptr);
+    if (gt.empty())
     {
-        tol = 1e-6;
+        return rows;
     }
+    const double tol = groundTruthTolerance(gt, times);
     for (size_t k = 0; k < times.size(); k++)
     {
         rows[k] = gt.nearest(times[k], tol);

@@ -5,7 +5,11 @@
 #include <mrpt/obs/CRawlog.h>
 #include <semloc/experiment/GroundTruth.h>
 
+#include <mrpt/core/Clock.h>
+
 #include <cstddef>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,12 +27,33 @@ struct StepTime
 /** The time [s] of an action collection: its first action's timestamp (NaN if it has none). */
 double actionTime(const mrpt::obs::CActionCollection& actions);
 
-/** The steps run() makes of `rawlog`: action / sensory-frame pairs, or consecutive
- *  observations with one timestamp. */
+/** The steps run() makes of a rawlog, entry by entry: action / sensory-frame pairs, or
+ *  consecutive observations with one timestamp. */
+class StepTimer
+{
+public:
+    /** Entry `i`. */
+    void add(const mrpt::serialization::CSerializable::Ptr& entry, size_t i);
+    /** After the last entry: the steps. */
+    std::vector<StepTime> finish();
+
+private:
+    void flush();
+    std::vector<StepTime> m_steps;
+    std::optional<StepTime> m_group;  // observations-only: one timestamp, one step
+    mrpt::Clock::time_point m_groupStamp;
+    double m_actionT = std::numeric_limits<double>::quiet_NaN();  // the pending action's time
+};
+
+/** The steps run() makes of `rawlog` (StepTimer over its entries). */
 std::vector<StepTime> stepTimes(const mrpt::obs::CRawlog& rawlog);
 
-/** The ground-truth row of each step time (null: none): the nearest row within half the
- *  median step period (the rows' median period if the steps have none). */
+/** How far from a step's time its ground-truth row may be: half the median step period of
+ *  `times` (the rows' median period if the steps have none). */
+double groundTruthTolerance(const GroundTruth& gt, const std::vector<double>& times);
+
+/** The ground-truth row of each step time (null: none): the nearest row within
+ *  groundTruthTolerance(). */
 std::vector<const GroundTruthRow*> matchGroundTruth(const GroundTruth& gt,
                                                     const std::vector<double>& times);
 

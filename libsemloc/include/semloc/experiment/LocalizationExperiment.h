@@ -107,8 +107,11 @@ public:
         std::string outputDir;
         /** Convergence, errors, timing. */
         RunMetrics metrics;
-        /** One record per step (the rows of steps.csv). */
+        /** One record per step (the rows of steps.csv) when run() was asked to keep them
+         *  (Records::Keep); empty otherwise. */
         std::vector<TStepRecord> records;
+        /** Particles after the last step (0 without a step). */
+        size_t final_particles = 0;
         /** Observations used/skipped, invalid/unknown detections. */
         SensoryFrameLikelihood::TStats likelihood;
         /** Re-initializations, injected particles. */
@@ -149,9 +152,19 @@ public:
         return FromConfigFile(iniPath, TOverrides());
     }
 
-    /** Runs the filter over the rawlog and writes the outputs; `progress(done, total)` is
-     *  called after every rawlog entry. On error nothing is left in logOutput_dir. */
-    TResult run(const std::function<void(size_t, size_t)>& progress = {}) const;
+    /** Whether run() keeps every step's record in TResult::records (memory that grows with
+     *  the rawlog's length) or only streams them to steps.csv and the metrics. */
+    enum class Records
+    {
+        Keep,
+        Stream
+    };
+
+    /** Runs the filter over the rawlog, read again entry by entry, and writes the outputs as
+     *  it goes (steps.csv, particles.csv); `progress(done, total)` is called after every
+     *  rawlog entry. On error nothing is left in logOutput_dir. */
+    TResult run(const std::function<void(size_t, size_t)>& progress = {},
+                Records records = Records::Keep) const;
 
     /** The validated options (overrides applied, input paths absolute). */
     const TOptions& options() const { return m_options; }
@@ -173,8 +186,10 @@ private:
     std::string m_iniPath;
     TOptions m_options;
     LocalizationMap m_maps;
-    /** The rawlog's readable entries. */
-    mrpt::obs::CRawlog m_rawlog;
+    /** The rawlog's intact entries (run() reads them again, one at a time). */
+    size_t m_entries = 0;
+    /** See detail::groundTruthTolerance. */
+    double m_gtTolerance = 0;
     /** See TResult::rawlogTruncatedAtEntry. */
     std::optional<size_t> m_truncatedAt;
     std::string m_rawlogWarning;

@@ -87,4 +87,41 @@ struct RunMetrics
                               const TConvergenceCriterion& criterion, long kidnapStep = -1);
 };
 
+/** RunMetrics::compute() one record at a time, in step order, in constant memory: what a run of any
+ *  length keeps of its steps. */
+class RunMetricsAccumulator
+{
+public:
+    explicit RunMetricsAccumulator(const RunMetrics::TConvergenceCriterion& criterion,
+                                   long kidnapStep = -1);
+    /** The next record. */
+    void add(const TStepRecord& r);
+    /** The metrics of the records added so far (as compute() gives them). */
+    RunMetrics result() const;
+
+private:
+    /** Where the criterion settles from a start step on: the first step of a run of
+     *  steps that satisfy it for `min_steps` steps or to the end. */
+    struct Settling
+    {
+        std::optional<size_t> candidate;  // first step of the current run of good steps
+        double candidateT = 0;
+        size_t length = 0;
+        bool settled = false;
+        /** Errors (steps with ground truth) from the candidate on. */
+        double errSum = 0;
+        size_t errCount = 0;
+        void add(const TStepRecord& r, bool ok, size_t minSteps);
+        /** The settling step, if any (a run of good steps to the end counts). */
+        std::optional<size_t> step() const { return candidate; }
+    };
+
+    RunMetrics::TConvergenceCriterion m_criterion;
+    long m_kidnapStep;
+    Settling m_convergence, m_recovery;
+    RunMetrics m_m;
+    double m_firstT = 0, m_sum2 = 0, m_updates = 0, m_particleUpdates = 0;
+    bool m_any = false;
+};
+
 }  // namespace semloc
