@@ -86,9 +86,10 @@ void run()
         semloc::SensorCalibration::ApplyToIni(baseText, base, result, argWorld.getValue());
 
     semloc::installInterruptHandlers();
+    std::vector<semloc::TFigureWarning> figureWarnings;
     if (staged)
     {
-        semloc::SensorCalibration::WriteReport(result, *staged);
+        figureWarnings = semloc::SensorCalibration::WriteReport(result, *staged);
     }
     semloc::apps::replaceAll({out},
                              [&]
@@ -103,6 +104,10 @@ void run()
     if (staged)
     {
         staged->commit();
+    }
+    for (const auto& w : figureWarnings)
+    {
+        std::cerr << "semloc-calibrate: warning: " << w.text() << "\n";
     }
     std::cout << "semloc-calibrate: " << result.scans << " scans, " << result.increments
               << " odometry increments: sigma_range_m " << result.sigma_range_m.value
