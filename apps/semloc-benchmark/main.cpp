@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <iostream>
 
 #include "common/AppMain.h"
@@ -31,15 +32,54 @@ std::string clock(double s)
     return mrpt::format("%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
 }
 
-void run()
+/** SEMLOC_BENCHMARK_RUNS (docs/testing.md): the most runs of any benchmark, whatever the ini
+ *  or --runs say (the doc-commands test runs the documented benchmarks reduced); 0: unset. */
+int runsCap()
+{
+    const char* env = std::getenv("SEMLOC_BENCHMARK_RUNS");
+    if (env == nullptr || *env == '\0')
+    {
+        return 0;
+    }
+    char* end = nullptr;
+    const long v = std::strtol(env, &end, 10);
+    if (*end != '\0' || v < 1 || v > semloc::Benchmark::TOptions::kMaxRuns)
+    {
+        THROW_EXCEPTION("environment SEMLOC_BENCHMARK_RUNS: '" + std::string(env) +
+                        "' is not a number of runs in [1, " +
+                        std::to_string(semloc::Benchmark::TOptions::kMaxRuns) + "]");
+    }
+    return static_cast<int>(v);
+}
+
+semloc::Benchmark load()
 {
     constexpr int kMaxRuns = semloc::Benchmark::TOptions::kMaxRuns;  // as [Benchmark] runs
     if (argRuns.isSet() && (argRuns.getValue() < 1 || argRuns.getValue() > kMaxRuns))
     {
         THROW_EXCEPTION("--runs: must be in [1, " + std::to_string(kMaxRuns) + "]");
     }
-    const auto bench =
+    const int cap = runsCap();
+    auto bench =
         semloc::Benchmark::FromConfigFile(argIni.getValue(), argOut.getValue(), argRuns.getValue());
+    if (cap > 0 && bench.options().runs > cap)
+    {
+        std::cerr << "semloc-benchmark: SEMLOC_BENCHMARK_RUNS=" << cap << ": " << cap
+                  << " run(s) instead of " << bench.options().runs
+                  << " (a reduced benchmark: its figures are not the documented ones)\n";
+        bench = semloc::Benchmark::FromConfigFile(argIni.getValue(), argOut.getValue(), cap);
+    }
+    return bench;
+}
+
+void run()
+{
+    const auto bench = load();
+    for (const auto& w : bench.mapWarnings())
+    {
+        std::cerr << "semloc-benchmark: warning: the map differs from the simulated world: " << w
+                  << "\n";
+    }
     // Ctrl-C: the running runs end, nothing is written (the staging directory is removed).
     semloc::installInterruptHandlers();
     const auto& o = bench.options();
@@ -78,6 +118,10 @@ void run()
                 std::cerr << "\n";
             }
         });
+    for (const auto& w : res.figureWarnings)
+    {
+        std::cerr << "semloc-benchmark: warning: " << w.text() << "\n";
+    }
     std::cout << "\n"
               << res.table << "\nsemloc-benchmark: " << res.runs.size() << " results in "
               << res.outputDir

@@ -88,9 +88,10 @@ void run()
         semloc::SensorCalibration::ApplyToIni(baseText, base, result, argWorld.getValue());
 
     semloc::installInterruptHandlers();
+    std::vector<semloc::TFigureWarning> figureWarnings;
     if (staged)
     {
-        semloc::SensorCalibration::WriteReport(result, *staged);
+        figureWarnings = semloc::SensorCalibration::WriteReport(result, *staged);
     }
     semloc::writeOutputFiles({out},
                              [&](const std::vector<std::string>& tmp)
@@ -105,6 +106,10 @@ void run()
     if (staged)
     {
         staged->commit();
+    }
+    for (const auto& w : figureWarnings)
+    {
+        std::cerr << "semloc-calibrate: warning: " << w.text() << "\n";
     }
     std::cout << "semloc-calibrate: " << result.scans << " scans, " << result.increments
               << " odometry increments: sigma_range_m " << result.sigma_range_m.value

@@ -7,6 +7,7 @@
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <iostream>
 #include <sstream>
@@ -66,9 +67,24 @@ void run()
     semloc::checkOutputDirectory(argOut.getValue(), {argRun.getValue(), argWorld.getValue()});
     const auto plot = semloc::RunPlot::FromDirectory(argRun.getValue(), argWorld.getValue());
     semloc::installInterruptHandlers("semloc-plot-run");
-    plot.save(argOut.getValue(), o);
-    std::cout << "Wrote " << argOut.getValue() << ": run.png, error.png"
-              << (o.gif && !plot.clouds().empty() ? ", run.gif" : "")
+    const auto warnings = plot.save(argOut.getValue(), o);
+    std::string drawn;
+    for (const std::string f : {"run.png", "error.png", "run.gif"})
+    {
+        const bool wanted = f != "run.gif" || (o.gif && !plot.clouds().empty());
+        const bool failed =
+            std::any_of(warnings.begin(), warnings.end(),
+                        [&](const semloc::TFigureWarning& w) { return w.figure == f; });
+        if (wanted && !failed)
+        {
+            drawn += (drawn.empty() ? "" : ", ") + f;
+        }
+    }
+    for (const auto& w : warnings)
+    {
+        std::cerr << "semloc-plot-run: warning: " << w.text() << "\n";
+    }
+    std::cout << "Wrote " << argOut.getValue() << ": " << (drawn.empty() ? "run.gp" : drawn)
               << (plot.clouds().empty() ? " (no particles.csv: semloc-localize --save-particles N "
                                           "adds the clouds and the GIF)"
                                         : "")

@@ -353,4 +353,43 @@ TEST(SensorCalibration, ToolWritesTheIniAndTheReport)
     }
     EXPECT_EQ(tableRows, 14U);  // 13 keys and the heading drift
 }
+
+// One scan: no odometry increment, a single residual (a zero standard deviation) or a few.
+// The ini and the whole report are written, every figure drawn (a panel without data says so).
+TEST(SensorCalibration, ToolCalibratesOneScanAndDrawsEveryFigure)
+{
+    namespace fs = std::filesystem;
+    for (const uint32_t seed : {2U, 3U})
+    {
+        const fs::path dir =
+            fs::path(SEMLOC_TEST_OUT) / ("calibrate_one_scan_" + std::to_string(seed));
+        fs::remove_all(dir);
+        fs::create_directories(dir);
+        auto o = TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini");
+        o.simulation.max_steps = 1;
+        o.simulation.seed = seed;
+        const Simulator sim(o);
+        const std::string rawlog = (dir / "one.rawlog").string();
+        sim.writeDataset(sim.run(), rawlog);
+        const std::string cmd =
+            std::string(SEMLOC_BIN_DIR) + "/semloc-calibrate " + rawlog + " --world " + kPaper +
+            " --ground-truth " + Simulator::groundTruthPath(rawlog) + " --base " + kSemanticIni +
+            " -o " + (dir / "out.ini").string() + " --report " + (dir / "report").string() + " > " +
+            (dir / "stdout").string() + " 2> " + (dir / "stderr").string();
+        ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n"
+                                               << readFile((dir / "stderr").string());
+        EXPECT_NE(readFile((dir / "stdout").string()).find("1 scans, 0 odometry increments"),
+                  std::string::npos);
+        EXPECT_EQ(readFile((dir / "stderr").string()), "");
+        EXPECT_GT(fs::file_size(dir / "out.ini"), 0U);
+        for (const char* f :
+             {"report.md", "fig_residuals.png", "fig_detection.png", "fig_odometry.png"})
+        {
+            EXPECT_TRUE(fs::exists(dir / "report" / f) && fs::file_size(dir / "report" / f) > 0)
+                << seed << ": " << f;
+        }
+        EXPECT_EQ(readFile((dir / "report" / "report.md").string()).find("not drawn"),
+                  std::string::npos);
+    }
+}
 #endif

@@ -50,12 +50,12 @@ class RunPlotTest : public ::testing::Test
 protected:
     /** A run of config/semantic.ini (300 particles, particles of every 50th step) on the paper
      *  dataset; with `save` 0 no particles.csv. */
-    static fs::path localize(const std::string& name, int save)
+    static fs::path localize(const std::string& name, int save, int particles = 300)
     {
         LocalizationExperiment::TOverrides ov;
         ov.rawlog_file = rawlog;
         ov.logOutput_dir = (kOut / name).string();
-        ov.particles_count = 300;
+        ov.particles_count = particles;
         ov.particles_save_every = save;
         LocalizationExperiment::FromConfigFile(SEMLOC_SOURCE_DIR "/config/semantic.ini", ov).run();
         return kOut / name;
@@ -148,6 +148,29 @@ TEST_F(RunPlotTest, DrawsTheRunTheErrorAndAnAnimatedGif)
     const std::string before = readText(dir / "steps.csv");
     EXPECT_NE(errorOf([&] { plot.save(dir.string(), o); }), "");
     EXPECT_EQ(readText(dir / "steps.csv"), before);
+}
+
+// One particle: no spread at any step (zero on error.png's log axis); every figure is drawn.
+TEST_F(RunPlotTest, OneParticleRunIsDrawnWhole)
+{
+    const std::string tag = std::to_string(::getpid());
+    const auto run = localize("one_particle_" + tag, 50, 1);
+    const auto plot = RunPlot::FromDirectory(run.string());
+    for (const auto& r : plot.records())
+    {
+        ASSERT_EQ(r.var_xy, 0.0);
+    }
+    const fs::path figs = kOut / ("one_particle_figs_" + tag);
+    RunPlot::TOptions o;
+    o.maxGifFrames = 3;
+    const auto warnings = plot.save(figs.string(), o);
+    for (const auto& w : warnings)
+    {
+        ADD_FAILURE() << w.text();
+    }
+    EXPECT_TRUE(isPng(figs / "run.png"));
+    EXPECT_TRUE(isPng(figs / "error.png"));
+    EXPECT_EQ(gifFrames(figs / "run.gif"), 3u);
 }
 
 TEST_F(RunPlotTest, WithoutParticlesTheRunAndErrorAreDrawnAndCloudsAskForThem)

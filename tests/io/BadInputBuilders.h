@@ -82,6 +82,15 @@ std::vector<std::string> localizeEditedWithGroundTruth(
     double timeScale = 1);
 
 /** Every observation of the rawlog's sensory frames, in order. */
+/** semloc-calibrate: the simulated dataset, its first `gtRows` ground-truth rows, the base
+ *  config/<base>.ini copied as base.ini, the calibrated ini written to `out`. */
+std::vector<std::string> calibrate(const fs::path& d, size_t gtRows, const std::string& base,
+                                   const std::string& out);
+/** A gnuplot in `d`/fake-bin (test_BadInput puts that directory first on the tool's PATH)
+ *  that refuses to draw `figure` with a gnuplot-like error line and runs the real one for
+ *  every other. */
+void gnuplotRefusing(const fs::path& d, const std::string& figure);
+
 std::vector<mrpt::obs::CObservation::Ptr> allObservations(mrpt::obs::CRawlog& log);
 
 /** The first sensory frame's observation of class T. */
@@ -139,13 +148,15 @@ Cases observationCases();
 Cases importCases();
 Cases calibrateCases();
 Cases runPlotCases();
+Cases figureCases();
 
 inline std::vector<Cases> allCaseGroups()
 {
-    return {
-        commandLineCases(),     iniFileCases(),       iniMapCases(),         iniModelCases(),
-        outputDirectoryCases(), outputFileCases(),    worldSyntaxCases(),    worldContentCases(),
-        rawlogFileCases(),      rawlogDamagedCases(), rawlogOdometryCases(), timeCases(),
-        observationCases(),     importCases(),        calibrateCases(),      runPlotCases()};
+    return {commandLineCases(),   iniFileCases(),         iniMapCases(),
+            iniModelCases(),      outputDirectoryCases(), outputFileCases(),
+            worldSyntaxCases(),   worldContentCases(),    rawlogFileCases(),
+            rawlogDamagedCases(), rawlogOdometryCases(),  timeCases(),
+            observationCases(),   importCases(),          calibrateCases(),
+            runPlotCases(),       figureCases()};
 }
 }  // namespace semloc::test::bad_input

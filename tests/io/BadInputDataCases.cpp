@@ -434,10 +434,6 @@ Cases importCases()
     };
 }
 
-/** semloc-calibrate: the simulated dataset, its first `gtRows` ground-truth rows, the base
- *  config/<base>.ini copied as base.ini, the calibrated ini written to `out`. */
-namespace
-{
 std::vector<std::string> calibrate(const fs::path& d, size_t gtRows, const std::string& base,
                                    const std::string& out)
 {
@@ -463,7 +459,6 @@ std::vector<std::string> calibrate(const fs::path& d, size_t gtRows, const std::
             "-o",
             (d / out).string()};
 }
-}  // namespace
 
 Cases calibrateCases()
 {

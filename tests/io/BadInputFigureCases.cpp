@@ -1,7 +1,12 @@
-/* semloc tests — the bad inputs of semloc-plot-run in docs/bad-input.md's table. Each case
- * writes a small semloc-localize output by hand in a fresh directory and returns the tool's
- * command line (test_BadInput.cpp runs it and checks the row). */
+/* semloc tests — the bad inputs of semloc-plot-run in docs/bad-input.md's table, and the
+ * figures gnuplot cannot draw (semloc-plot-run, semloc-benchmark, semloc-calibrate: a warning,
+ * every other output written). Each case writes its input in a fresh directory and returns the
+ * tool's command line (test_BadInput.cpp runs it and checks the row). */
+#include <unistd.h>
+
+#include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -60,6 +65,57 @@ Cases runPlotCases()
         {"plot-run-steps-not-saved",
          [](const fs::path& d) {
              return plotRun(d, kParticles, {"--steps", "0,1"});
+         }},
+    };
+}
+
+void gnuplotRefusing(const fs::path& d, const std::string& figure)
+{
+    std::string real;
+    std::istringstream path(std::getenv("PATH") ? std::getenv("PATH") : "");
+    for (std::string dir; real.empty() && std::getline(path, dir, ':');)
+    {
+        if (!dir.empty() && ::access((dir + "/gnuplot").c_str(), X_OK) == 0)
+        {
+            real = dir + "/gnuplot";
+        }
+    }
+    const fs::path bin = d / "fake-bin";
+    fs::create_directories(bin);
+    // The tools run `gnuplot -e "figure='NAME'" SCRIPT`.
+    writeText(bin / "gnuplot", "#!/bin/sh\ncase \"$2\" in *\"'" + figure +
+                                   "'\"*) echo \"\\\"$3\\\" line 1: this gnuplot refuses " +
+                                   figure + "\"; exit 1 ;; esac\nexec '" + real + "' \"$@\"\n");
+    fs::permissions(bin / "gnuplot", fs::perms::owner_all);
+}
+
+Cases figureCases()
+{
+    return {
+        {"plot-run-figure-not-drawn",
+         [](const fs::path& d)
+         {
+             gnuplotRefusing(d, "error.png");
+             return plotRun(d, kParticles);
+         }},
+        {"benchmark-figure-not-drawn",
+         [](const fs::path& d)
+         {
+             gnuplotRefusing(d, "fig_variance.png");
+             writeText(d / "bench.ini",
+                       "[Benchmark]\nruns = 1\nmax_steps = 10\nparticles = 100\n"
+                       "variants = " +
+                           kSrc + "/config/semantic.ini\nsimulate_ini = " + kSrc +
+                           "/config/simulate.ini\noutput_dir = out\n");
+             return std::vector<std::string>{"semloc-benchmark", (d / "bench.ini").string()};
+         }},
+        {"calibrate-figure-not-drawn",
+         [](const fs::path& d)
+         {
+             gnuplotRefusing(d, "fig_detection.png");
+             auto a = calibrate(d, 100, "semantic", "out.ini");
+             a.insert(a.end(), {"--report", (d / "report").string()});
+             return a;
          }},
     };
 }

@@ -47,37 +47,100 @@ void writeData(const TCalibrationResult& r, const StagedDirectory& out)
     writeFile(out.path("odometry.dat"), odo.str());
 }
 
-std::string script(const TCalibrationResult& r)
+/** A panel with nothing to show but `why` (gnuplot refuses a plot without a defined point). */
+std::string emptyPanel(const std::string& why)
+{
+    return "set label 99 '" + why +
+           "' at graph 0.5, graph 0.5 center\nplot [0:1][0:1] NaN notitle\nunset label 99\n";
+}
+
+/** fig_residuals.png: the residual histograms with the fitted normal densities. */
+std::string residualsFigure(const TCalibrationResult& r)
 {
     const double sr = r.sigma_range_m.value, sb = r.sigma_bearing_deg.value;
+    std::ostringstream g;
+    g << "set output 'fig_residuals.png'\nset multiplot layout 1,2\n";
+    g << "set xlabel 'range residual [m]'\nset ylabel 'detections'\n";
+    if (r.samples.rangeResiduals_m.empty() || !(sr > 0) || !std::isfinite(sr))
+    {
+        g << emptyPanel("no range residual to fit");
+    }
+    else
+    {
+        g << "sr = " << sr << "\nnr = " << r.samples.rangeResiduals_m.size() << "\nwr = sr / 4.0\n"
+          << "plot [-4*sr:4*sr] 'residuals_range.dat' u (bin($1, wr)):(1) smooth freq w boxes t "
+             "'matched', nr * wr / (sr * sqrt(2*pi)) * exp(-0.5 * (x / sr)**2) lw 2 t 'fit'\n";
+    }
+    g << "set xlabel 'bearing residual [deg]'\n";
+    if (r.samples.bearingResiduals_deg.empty() || !(sb > 0) || !std::isfinite(sb))
+    {
+        g << emptyPanel("no bearing residual to fit");
+    }
+    else
+    {
+        g << "sb = " << sb << "\nnb = " << r.samples.bearingResiduals_deg.size()
+          << "\nwb = sb / 4.0\n"
+          << "plot [-4*sb:4*sb] 'residuals_bearing.dat' u (bin($1, wb)):(1) smooth freq w boxes t "
+             "'matched', nb * wb / (sb * sqrt(2*pi)) * exp(-0.5 * (x / sb)**2) lw 2 t 'fit'\n";
+    }
+    g << "unset multiplot\nunset output\n";
+    return g.str();
+}
+
+/** fig_detection.png: the detected share of the objects in view against their range. */
+std::string detectionFigure(const TCalibrationResult& r)
+{
     const double R = r.maxRange_m > 0 ? r.maxRange_m : 1.0;
     std::ostringstream g;
-    g << "# semloc-calibrate: the report's figures (gnuplot figures.gp)\n"
-      << "set terminal pngcairo size 1000,420 noenhanced\nset grid\n"
+    g << "set output 'fig_detection.png'\nset xlabel 'range [m]'\n"
+      << "set ylabel 'detected share of in-view objects'\nset yrange [0:1.05]\n";
+    if (r.samples.visibleRanges_m.empty())
+    {
+        g << emptyPanel("no object in view");
+    }
+    else
+    {
+        g << "plot 'detection.dat' u (bin($1, " << R / 10 << ")):2 smooth unique w lp t 'data', "
+          << r.p_detect_near.value << " + (" << r.p_detect_far.value << " - "
+          << r.p_detect_near.value << ") * x / " << R << " lw 2 t 'fitted P_D(r)'\n";
+    }
+    g << "set autoscale y\nunset output\n";
+    return g.str();
+}
+
+/** fig_odometry.png: the odometry errors against the distance travelled. */
+std::string odometryFigure(const TCalibrationResult& r)
+{
+    std::ostringstream g;
+    g << "set output 'fig_odometry.png'\nset multiplot layout 1,2\n"
+      << "set xlabel 'distance travelled in a step [m]'\nset ylabel '|position error| [m]'\n";
+    if (r.samples.odomDist_m.empty())
+    {
+        g << emptyPanel("no odometry increment") << "set ylabel '|heading error| [deg]'\n"
+          << emptyPanel("no odometry increment");
+    }
+    else
+    {
+        g << "plot 'odometry.dat' u 1:3 pt 7 ps 0.4 t 'steps', (" << r.minStdXY.value << " + "
+          << r.a1.value << " * x) * sqrt(pi/2) lw 2 t 'fitted mean (no turn)'\n"
+          << "set ylabel '|heading error| [deg]'\n"
+          << "plot 'odometry.dat' u 1:4 pt 7 ps 0.4 t 'steps', (" << r.minStdPHI.value << " + "
+          << r.a3.value << " * x) * sqrt(2/pi) lw 2 t 'fitted mean (no turn)'\n";
+    }
+    g << "unset multiplot\nunset output\n";
+    return g.str();
+}
+
+std::string script(const TCalibrationResult& r)
+{
+    std::ostringstream g;
+    g << "# semloc-calibrate: the report's figures (gnuplot figures.gp; gnuplot -e\n"
+      << "# \"figure='fig_odometry.png'\" figures.gp draws only that one)\n"
+      << detail::figureSelector() << "set terminal pngcairo size 1000,420 noenhanced\nset grid\n"
       << "bin(x, w) = w * floor(x / w) + w / 2\n"
-      << "set output 'fig_residuals.png'\nset multiplot layout 1,2\n"
-      << "sr = " << sr << "\nsb = " << sb << "\nnr = " << r.samples.rangeResiduals_m.size()
-      << "\nnb = " << r.samples.bearingResiduals_deg.size() << "\nwr = sr / 4.0\nwb = sb / 4.0\n"
-      << "set xlabel 'range residual [m]'\nset ylabel 'detections'\n"
-      << "plot [-4*sr:4*sr] 'residuals_range.dat' u (bin($1, wr)):(1) smooth freq w boxes t "
-         "'matched', nr * wr / (sr * sqrt(2*pi)) * exp(-0.5 * (x / sr)**2) lw 2 t 'fit'\n"
-      << "set xlabel 'bearing residual [deg]'\n"
-      << "plot [-4*sb:4*sb] 'residuals_bearing.dat' u (bin($1, wb)):(1) smooth freq w boxes t "
-         "'matched', nb * wb / (sb * sqrt(2*pi)) * exp(-0.5 * (x / sb)**2) lw 2 t 'fit'\n"
-      << "unset multiplot\n"
-      << "set output 'fig_detection.png'\nset xlabel 'range [m]'\n"
-      << "set ylabel 'detected share of in-view objects'\nset yrange [0:1.05]\n"
-      << "plot 'detection.dat' u (bin($1, " << R / 10 << ")):2 smooth unique w lp t 'data', "
-      << r.p_detect_near.value << " + (" << r.p_detect_far.value << " - " << r.p_detect_near.value
-      << ") * x / " << R << " lw 2 t 'fitted P_D(r)'\n"
-      << "set autoscale y\nset output 'fig_odometry.png'\nset multiplot layout 1,2\n"
-      << "set xlabel 'distance travelled in a step [m]'\nset ylabel '|position error| [m]'\n"
-      << "plot 'odometry.dat' u 1:3 pt 7 ps 0.4 t 'steps', (" << r.minStdXY.value << " + "
-      << r.a1.value << " * x) * sqrt(pi/2) lw 2 t 'fitted mean (no turn)'\n"
-      << "set ylabel '|heading error| [deg]'\n"
-      << "plot 'odometry.dat' u 1:4 pt 7 ps 0.4 t 'steps', (" << r.minStdPHI.value << " + "
-      << r.a3.value << " * x) * sqrt(2/pi) lw 2 t 'fitted mean (no turn)'\n"
-      << "unset multiplot\n";
+      << detail::figureBlock("fig_residuals.png", residualsFigure(r))
+      << detail::figureBlock("fig_detection.png", detectionFigure(r))
+      << detail::figureBlock("fig_odometry.png", odometryFigure(r));
     return g.str();
 }
 
@@ -126,13 +189,15 @@ std::string markdown(const TCalibrationResult& r)
 }
 }  // namespace
 
-void SensorCalibration::WriteReport(const TCalibrationResult& r, const StagedDirectory& out)
+std::vector<TFigureWarning> SensorCalibration::WriteReport(const TCalibrationResult& r,
+                                                           const StagedDirectory& out)
 {
     writeData(r, out);
     writeFile(out.path("figures.gp"), script(r));
-    writeFile(out.path("report.md"), markdown(r));
-    detail::runGnuplot(out, "figures.gp",
-                       {"fig_residuals.png", "fig_detection.png", "fig_odometry.png"});
+    const auto warnings = detail::drawFigures(
+        out, "figures.gp", {"fig_residuals.png", "fig_detection.png", "fig_odometry.png"});
+    writeFile(out.path("report.md"), markdown(r) + figureWarningsMarkdown(warnings));
+    return warnings;
 }
 
 }  // namespace semloc

@@ -156,7 +156,7 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
     }
     writeFile(out.path("results.csv"), detail::resultsCsv(res.runs));
     writeFile(out.path("curves.csv"), detail::curvesCsv(res.runs, names));
-    detail::writeFigures(out, names, m_simulation, res.runs);
+    res.figureWarnings = detail::writeFigures(out, names, m_simulation, res.runs);
 
     res.table = reportTable(res.runs, names);
     res.summaries = summarize(res.runs);
@@ -190,6 +190,12 @@ Benchmark::TResult Benchmark::runScenarios(
             });
         res.runs.insert(res.runs.end(), r.runs.begin(), r.runs.end());
         res.summaries.insert(res.summaries.end(), r.summaries.begin(), r.summaries.end());
+        for (auto w : r.figureWarnings)
+        {
+            w.figure = sc.m_scenario.name + "/" + w.figure;
+            w.script = sc.m_scenario.name + "/" + w.script;
+            res.figureWarnings.push_back(std::move(w));
+        }
     }
     res.table = scenariosTable(res.summaries);
     writeFile(out.path("scenarios.csv"), detail::scenariosCsv(res.summaries));

@@ -27,8 +27,8 @@ namespace
 using detail::trim;
 const std::string kSection = "Benchmark";
 const std::vector<std::string> kKeys = {
-    "runs",           "variants",  "simulate_ini", "output_dir",  "jobs",
-    "filter_threads", "max_steps", "particles",    "same_filter", "scenarios"};
+    "runs",      "variants",  "simulate_ini", "output_dir", "jobs",          "filter_threads",
+    "max_steps", "particles", "same_filter",  "scenarios",  "map_from_world"};
 const std::string kScenarioSection = "Scenario";
 const std::vector<std::string> kScenarioKeys = {"name",
                                                 "description",
@@ -178,7 +178,7 @@ Benchmark::TVariant readVariant(const mrpt::config::CConfigFileBase& ini,
         v.options.loadFromConfigFile(vini, "LocalizationExperiment");
         if (!mapFile.empty())
         {
-            v.options.map_file = mapFile;  // the scenario's world (map_from_world)
+            v.options.map_file = mapFile;  // the simulated world (map_from_world)
         }
         v.maps = LocalizationMap::FromConfig(vini, v.options.map_file);
     }
@@ -218,6 +218,7 @@ void Benchmark::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     readInt(c, s, "max_steps", max_steps, 0, std::numeric_limits<int>::max());
     readInt(c, s, "particles", particles, 0, 100000000);
     readBool(c, s, "same_filter", same_filter);
+    readBool(c, s, "map_from_world", map_from_world);
     if (output_dir.empty())
     {
         THROW_EXCEPTION("ini [" + s + "] output_dir: empty");
@@ -241,6 +242,7 @@ void Benchmark::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     c.write(s, "particles", particles);
     c.write(s, "same_filter", same_filter ? "true" : "false");
     c.write(s, "scenarios", joinList(scenarios));
+    c.write(s, "map_from_world", map_from_world ? "true" : "false");
 }
 
 void Benchmark::TScenario::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
@@ -259,7 +261,12 @@ void Benchmark::TScenario::loadFromConfigFile(const mrpt::config::CConfigFileBas
     readDouble(c, s, "recovery_alpha_slow", recovery_alpha_slow, 0, 1);
     readDouble(c, s, "recovery_alpha_fast", recovery_alpha_fast, 0, 1);
     readInt(c, s, "recovery_max_steps", recovery_max_steps, 0, std::numeric_limits<int>::max());
-    readBool(c, s, "map_from_world", map_from_world);
+    if (c.keyExists(s, "map_from_world") && !trim(c.read_string(s, "map_from_world", "")).empty())
+    {
+        bool fromWorld = true;
+        readBool(c, s, "map_from_world", fromWorld);
+        map_from_world = fromWorld;
+    }
     readInt(c, s, "init_PDF_mode", init_PDF_mode, -1, 3);
     readDouble(c, s, "world_shift_sigma_m", world_changes.shift_sigma_m, 0, 1e3);
     readDouble(c, s, "world_removed_share", world_changes.removed_share, 0, 1);
@@ -290,7 +297,9 @@ void Benchmark::TScenario::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     detail::writeExact(c, s, "recovery_alpha_slow", recovery_alpha_slow, "");
     detail::writeExact(c, s, "recovery_alpha_fast", recovery_alpha_fast, "");
     c.write(s, "recovery_max_steps", recovery_max_steps);
-    c.write(s, "map_from_world", map_from_world ? "true" : "false");
+    // Unset (an empty value, written without a comment): [Benchmark]'s.
+    c.write(s, "map_from_world",
+            map_from_world ? std::string(*map_from_world ? "true" : "false") : std::string());
     c.write(s, "init_PDF_mode", init_PDF_mode);
     detail::writeExact(c, s, "world_shift_sigma_m", world_changes.shift_sigma_m,
                        "simulated world: objects moved by N(0, this) along x, y [m]");
@@ -421,8 +430,7 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
     {
         TVariant v = readVariant(
             ini, m_iniPath, name,
-            m_scenario.map_from_world ? m_simulation.simulation.world_file : std::string(),
-            m_variantOverlay);
+            mapFromWorld() ? m_simulation.simulation.world_file : std::string(), m_variantOverlay);
         for (const auto& w : m_variants)
         {
             if (w.name() == v.name())
@@ -437,6 +445,7 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
     {
         THROW_EXCEPTION("ini [" + kSection + "] variants: empty");
     }
+    checkMaps();
 
     // Only the likelihood differs between variants: the first one's filter for all.
     const auto reference = m_variants.front().options;

@@ -22,27 +22,51 @@ namespace
 constexpr double kPaperSemanticNs = 1171934146.0;
 constexpr double kPaperGeometricNs = 6977878010.0;
 
-std::string figuresScript(const std::vector<std::string>& variants)
+/** Every value of `field` over every step of every run. */
+template <typename Field>
+std::vector<double> stepValues(const std::vector<Benchmark::TRunResult>& runs, Field field)
 {
-    // Fig. 3 of the paper: average particle variance and average error over time.
-    std::ostringstream g;
-    g << "# semloc-benchmark: the paper's Fig. 3 from curves.csv (gnuplot figures.gp)\n"
-      << "set datafile separator ','\n"
-      << "set terminal pngcairo size 1000,600 noenhanced\n"
-      << "set key outside right top\nset grid\nset logscale y\nset xlabel 'time [s]'\n";
-    auto plot = [&](const std::string& png, const std::string& ylabel, int col)
+    std::vector<double> v;
+    for (const auto& r : runs)
     {
-        g << "set output '" << png << "'\nset ylabel '" << ylabel << "'\nplot ";
+        for (const auto& s : r.records)
+        {
+            v.push_back(field(s));
+        }
+    }
+    return v;
+}
+
+std::string figuresScript(const std::vector<std::string>& variants,
+                          const std::vector<Benchmark::TRunResult>& runs)
+{
+    // Fig. 3 of the paper: average particle variance and average error over time, on a log
+    // axis unless nothing is positive (one particle: no variance).
+    std::ostringstream g;
+    g << "# semloc-benchmark: the paper's Fig. 3 from curves.csv (gnuplot figures.gp; gnuplot -e\n"
+      << "# \"figure='fig_error.png'\" figures.gp draws only that one)\n"
+      << figureSelector() << "set datafile separator ','\n"
+      << "set terminal pngcairo size 1000,600 noenhanced\n"
+      << "set key outside right top\nset grid\nset xlabel 'time [s]'\n";
+    auto plot = [&](const std::string& png, const std::string& ylabel, int col,
+                    const std::vector<double>& values)
+    {
+        std::ostringstream b;
+        b << axisY(values, true, "no data") << "set output '" << png << "'\nset ylabel '" << ylabel
+          << "'\nplot ";
         for (size_t i = 0; i < variants.size(); i++)
         {
-            g << (i ? ", \\\n     " : "") << "'curves.csv' skip 1 using 3:(strcol(1) eq '"
+            b << (i ? ", \\\n     " : "") << "'curves.csv' skip 1 using 3:(strcol(1) eq '"
               << variants[i] << "' ? $" << col << " : 1/0) with lines lw 2 title '" << variants[i]
               << "'";
         }
-        g << "\nunset output\n";
+        b << "\nunset output\n" << unsetAxisY();
+        g << figureBlock(png, b.str());
     };
-    plot("fig_variance.png", "mean particle variance var_xy [m^2]", 9);
-    plot("fig_error.png", "mean position error err_xy [m]", 5);
+    plot("fig_variance.png", "mean particle variance var_xy [m^2]", 9,
+         stepValues(runs, [](const TStepRecord& s) { return s.var_xy; }));
+    plot("fig_error.png", "mean position error err_xy [m]", 5,
+         stepValues(runs, [](const TStepRecord& s) { return s.errXY(); }));
     return g.str();
 }
 
@@ -73,8 +97,9 @@ std::string paperTable(const std::vector<Benchmark::TRunResult>& runs)
 
 /** world_paths.gp and its data: one panel per variant, the world, run 1's true path and the
  *  variant's estimate coloured by its error, where it converged; drawn as world_paths.png. */
-void drawWorldPaths(const StagedDirectory& out, const TSimulatorOptions& simulation,
-                    const std::vector<Benchmark::TRunResult>& runs)
+std::vector<TFigureWarning> drawWorldPaths(const StagedDirectory& out,
+                                           const TSimulatorOptions& simulation,
+                                           const std::vector<Benchmark::TRunResult>& runs)
 {
     const Simulator simulator(simulation);
     const World& world = simulator.world();
@@ -93,8 +118,7 @@ void drawWorldPaths(const StagedDirectory& out, const TSimulatorOptions& simulat
     const int panelW = 600, panelH = static_cast<int>(panelW * aspect) + 130;
     writeFile(out.path("world_paths_world.dat"), WorldPlot(world).data());
     std::ostringstream g;
-    g << "# semloc-benchmark: run 1 of each variant over the world (gnuplot world_paths.gp)\n"
-      << "set terminal pngcairo size " << cols * panelW << "," << rows * panelH
+    g << "set terminal pngcairo size " << cols * panelW << "," << rows * panelH
       << " enhanced font 'Sans,9'\nset output 'world_paths.png'\nset multiplot layout " << rows
       << "," << cols << "\n";
     for (size_t k = 0; k < run1.size(); k++)
@@ -112,8 +136,28 @@ void drawWorldPaths(const StagedDirectory& out, const TSimulatorOptions& simulat
           << trackLayers(data, true, conv ? r.metrics.convergence_step : -1) << "\nunset label\n";
     }
     g << "unset multiplot\nunset output\n";
-    writeFile(out.path("world_paths.gp"), g.str());
-    runGnuplot(out, "world_paths.gp", {"world_paths.png"});
+    writeFile(
+        out.path("world_paths.gp"),
+        "# semloc-benchmark: run 1 of each variant over the world (gnuplot world_paths.gp)\n" +
+            figureSelector() + figureBlock("world_paths.png", g.str()));
+    return drawFigures(out, "world_paths.gp", {"world_paths.png"});
+}
+
+/** report.md's lines on the map: the one every variant localizes against, and each one
+ *  that differs from the simulated world. */
+std::string mapLines(const Benchmark& b)
+{
+    std::ostringstream md;
+    md << "- map: "
+       << (b.mapFromWorld() ? "the simulated world `" + b.simulation().simulation.world_file +
+                                  "` for every variant (map_from_world = true)"
+                            : std::string("each variant's own map_file (map_from_world = false)"))
+       << "\n";
+    for (const auto& w : b.mapWarnings())
+    {
+        md << "- **warning: the map differs from the simulated world**: " << w << "\n";
+    }
+    return md.str();
 }
 
 /** report.md's title and "the experiment": scenario, runs, steps, particles, threads. */
@@ -138,7 +182,8 @@ std::string experimentSection(const Benchmark& b, const Benchmark::TResult& res,
                                b.variants().front().name() + "`)"
                          : " (each variant's own filter)")
        << "\n- filter threads: " << o.filter_threads << ", parallel runs: " << jobs
-       << "\n- total wall time: " << mrpt::format("%.1f", res.wallTime_s) << " s\n\n";
+       << "\n- total wall time: " << mrpt::format("%.1f", res.wallTime_s) << " s\n"
+       << mapLines(b) << "\n";
     return md.str();
 }
 
@@ -181,13 +226,18 @@ std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
 
 }  // namespace
 
-void writeFigures(const StagedDirectory& out, const std::vector<std::string>& variants,
-                  const TSimulatorOptions& simulation,
-                  const std::vector<Benchmark::TRunResult>& runs)
+std::vector<TFigureWarning> writeFigures(const StagedDirectory& out,
+                                         const std::vector<std::string>& variants,
+                                         const TSimulatorOptions& simulation,
+                                         const std::vector<Benchmark::TRunResult>& runs)
 {
-    writeFile(out.path("figures.gp"), figuresScript(variants));
-    runGnuplot(out, "figures.gp", {"fig_variance.png", "fig_error.png"});
-    drawWorldPaths(out, simulation, runs);
+    writeFile(out.path("figures.gp"), figuresScript(variants, runs));
+    auto warnings = drawFigures(out, "figures.gp", {"fig_variance.png", "fig_error.png"});
+    for (auto& w : drawWorldPaths(out, simulation, runs))
+    {
+        warnings.push_back(std::move(w));
+    }
+    return warnings;
 }
 
 std::string reportMarkdown(const Benchmark& b, const Benchmark::TResult& res, size_t jobs,
@@ -212,7 +262,8 @@ std::string reportMarkdown(const Benchmark& b, const Benchmark::TResult& res, si
        << "- `fig_variance.png`, `fig_error.png`: mean particle variance and mean error "
           "over time per variant (the paper's Fig. 3; data in `curves.csv`, script "
           "`figures.gp`)\n"
-       << "- `world_paths.png`: the world, run 1's true path and each variant's estimate\n";
+       << "- `world_paths.png`: the world, run 1's true path and each variant's estimate\n"
+       << figureWarningsMarkdown(res.figureWarnings);
     return md.str();
 }
 
@@ -231,7 +282,16 @@ std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult
        << " consecutive steps); with a kidnapping, the same criterion met again from the kidnap "
           "step on within the scenario's bound (recovery steps = first such step - kidnap "
           "step).\n\n"
-       << res.table << "\n## Scenarios\n\n";
+       << res.table;
+    if (!b.mapWarnings().empty())
+    {
+        md << "\n## Maps\n\n";
+        for (const auto& w : b.mapWarnings())
+        {
+            md << "- **warning: the map differs from the simulated world**: " << w << "\n";
+        }
+    }
+    md << "\n## Scenarios\n\n";
     for (size_t i = 0; i < scenarios.size(); i++)
     {
         const auto& sc = scenarios[i];
@@ -239,6 +299,7 @@ std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult
         md << "- [" << name << "](" << name << "/report.md): " << sc.scenario().description << " (`"
            << sc.options().simulate_ini << "` + `" << b.options().scenarios[i] << "`)\n";
     }
+    md << figureWarningsMarkdown(res.figureWarnings);
     return md.str();
 }
 

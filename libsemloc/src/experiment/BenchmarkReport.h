@@ -12,10 +12,12 @@ namespace semloc::detail
 {
 /** Writes figures.gp (the paper's Fig. 3 from curves.csv, one curve per variant), draws
  *  fig_variance.png and fig_error.png with gnuplot and writes world_paths.png (the world of
- *  `simulation`, run 1's true path and each variant's estimate) in `out`. */
-void writeFigures(const StagedDirectory& out, const std::vector<std::string>& variants,
-                  const TSimulatorOptions& simulation,
-                  const std::vector<Benchmark::TRunResult>& runs);
+ *  `simulation`, run 1's true path and each variant's estimate) in `out`; returns the figures
+ *  gnuplot could not draw (left out). */
+std::vector<TFigureWarning> writeFigures(const StagedDirectory& out,
+                                         const std::vector<std::string>& variants,
+                                         const TSimulatorOptions& simulation,
+                                         const std::vector<Benchmark::TRunResult>& runs);
 
 /** report.md of benchmark `b`, whose runs (`jobs` at once) gave `res` (runs, table,
  *  summaries, wall time); `kidnapStep` -1 without a kidnapping. */

@@ -136,7 +136,6 @@ std::string RunPlot::script(const TOptions& o, const std::vector<size_t>& shown)
     const std::string name = m_variant.empty() ? std::string("run") : m_variant;
     WorldPlot world(m_world, name + ": true path, estimate and particles");
     std::ostringstream s;
-    s << "# semloc-plot-run: gnuplot run.gp (in this directory) draws the figures again.\n";
     s << "set terminal pngcairo size " << o.widthPx << "," << heightFor(m_world, o.widthPx)
       << " enhanced font 'Sans,10'\nset output 'run.png'\n";
     s << world.settings() << detail::errorPalette();
@@ -150,12 +149,35 @@ std::string RunPlot::script(const TOptions& o, const std::vector<size_t>& shown)
     }
     s << detail::trackLayers("track.dat", gt, conv) << "\n";
     s << "unset output\n";
-    // error.png: error and spread over time.
-    const std::string axis = detail::timeAxisLabel(m_records);
+    std::string all =
+        "# semloc-plot-run: gnuplot run.gp (in this directory) draws the figures again;\n"
+        "# gnuplot -e \"figure='error.png'\" run.gp only that one.\n" +
+        detail::figureSelector() + detail::figureBlock("run.png", s.str()) +
+        detail::figureBlock("error.png", errorScript(o, conv));
+    if (o.gif && !m_clouds.empty())
+    {
+        all += detail::figureBlock("run.gif", gifScript(o, gt, conv));
+    }
+    return all;
+}
+
+std::string RunPlot::errorScript(const TOptions& o, long conv) const
+{
+    // error.png: error and spread over time (a linear axis where nothing is positive: one
+    // particle has no spread; a run without ground truth has no error).
+    const std::string name = m_variant.empty() ? std::string("run") : m_variant;
+    std::vector<double> err, spread;
+    for (const auto& r : m_records)
+    {
+        err.push_back(r.errXY());
+        spread.push_back(std::sqrt(std::max(r.var_xy, 0.0)));
+    }
+    std::ostringstream s;
     s << "reset\nset terminal pngcairo size " << o.widthPx << "," << o.widthPx * 2 / 3
       << " enhanced font 'Sans,10'\nset output 'error.png'\n";
     s << "set multiplot layout 2,1 title " << gnuplotQuoted(name + ": error and spread")
-      << " noenhanced\nset grid\nset logscale y\nset xlabel " << gnuplotQuoted(axis) << "\n";
+      << " noenhanced\nset grid\nset xlabel " << gnuplotQuoted(detail::timeAxisLabel(m_records))
+      << "\n";
     if (conv >= 0)
     {
         const double t = m_records[conv].t - m_records.front().t;
@@ -165,14 +187,12 @@ std::string RunPlot::script(const TOptions& o, const std::vector<size_t>& shown)
           << ", graph 1 nohead dt 2 lc rgb '#000000'\nset label 1 'converged' at "
           << detail::shortestText(x) << ", graph 0.92 offset 0.5,0\n";
     }
-    s << "set ylabel 'position error [m]'\nplot 'track.dat' using 2:7 with lines lw 1.5 lc rgb "
-         "'#d62728' notitle\n";
-    s << "set ylabel 'particle spread sqrt(var_{xy}) [m]'\nplot 'track.dat' using 2:8 with lines "
+    s << detail::axisY(err, true, "no ground truth: no error")
+      << "set ylabel 'position error [m]'\nplot 'track.dat' using 2:7 with lines lw 1.5 lc rgb "
+         "'#d62728' notitle\n"
+      << detail::unsetAxisY() << detail::axisY(spread, true, "no spread")
+      << "set ylabel 'particle spread sqrt(var_{xy}) [m]'\nplot 'track.dat' using 2:8 with lines "
          "lw 1.5 lc rgb '#1f77b4' notitle\nunset multiplot\nunset output\n";
-    if (o.gif && !m_clouds.empty())
-    {
-        s << gifScript(o, gt, conv);
-    }
     return s.str();
 }
 
@@ -201,7 +221,7 @@ std::string RunPlot::gifScript(const TOptions& o, bool gt, long conv) const
     return s.str();
 }
 
-void RunPlot::save(const std::string& outDir, const TOptions& o) const
+std::vector<TFigureWarning> RunPlot::save(const std::string& outDir, const TOptions& o) const
 {
     checkOptions(o);
     const auto shown = chooseCloudSteps(o);
@@ -210,17 +230,18 @@ void RunPlot::save(const std::string& outDir, const TOptions& o) const
     detail::writeFile(out.path("track.dat"), detail::trackData(m_records));
     detail::writeFile(out.path("clouds.dat"), cloudsData());
     detail::writeFile(out.path("run.gp"), script(o, shown));
-    std::vector<std::string> outputs = {"run.png", "error.png"};
+    std::vector<std::string> figures = {"run.png", "error.png"};
     if (o.gif && !m_clouds.empty())
     {
-        outputs.emplace_back("run.gif");
+        figures.emplace_back("run.gif");
     }
-    detail::runGnuplot(out, "run.gp", outputs);
+    auto warnings = detail::drawFigures(out, "run.gp", figures);
     if (interruptRequested())
     {
         throw Interrupted();
     }
     out.commit();
+    return warnings;
 }
 
 }  // namespace semloc

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <mrpt/obs/CRawlog.h>
+#include <semloc/io/FigureWarning.h>
 #include <semloc/io/StagedDirectory.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>
@@ -167,8 +168,10 @@ public:
      *  histograms with the fitted Gaussians; fig_detection.png: the detected share by range
      *  with the fitted P_D(r); fig_odometry.png: the odometry errors against the distance
      *  travelled with the fitted standard deviations), the data in *.dat and figures.gp.
-     *  Throws when gnuplot fails. */
-    static void WriteReport(const TCalibrationResult& result, const StagedDirectory& out);
+     *  A figure gnuplot cannot draw is left out and returned as a warning (report.md names
+     *  it with gnuplot's first error line). */
+    static std::vector<TFigureWarning> WriteReport(const TCalibrationResult& result,
+                                                   const StagedDirectory& out);
 };
 
 }  // namespace semloc

@@ -5,6 +5,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/experiment/RunMetrics.h>
+#include <semloc/io/FigureWarning.h>
 #include <semloc/maps/LocalizationMap.h>
 #include <semloc/simulator/DetectorBound.h>
 #include <semloc/simulator/Simulator.h>
@@ -13,6 +14,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -78,6 +80,12 @@ public:
         /** Scenario files (overlays of simulate_ini with a [Scenario] section; resolved next
          *  to benchmark.ini); empty: the one scenario of simulate_ini. */
         std::vector<std::string> scenarios;
+        /** true: every variant localizes against the simulated world (the [Simulation]
+         *  world_file of simulate_ini, or of a scenario that sets its own), its map_file
+         *  replaced; false: each variant against its own map_file. A scenario's
+         *  map_from_world replaces this one. A map that differs from the simulated world is
+         *  a warning (stderr, report.md) either way. */
+        bool map_from_world = true;
 
         /** Reads the [Benchmark] section strictly: an unknown key or a bad value is an error
          *  naming it. */
@@ -109,10 +117,9 @@ public:
         /** With a kidnapping: a run succeeds if it recovers (RunMetrics::recovery_steps)
          *  within this many steps of the kidnapping. */
         int recovery_max_steps = 100;
-        /** true: every variant localizes in the scenario's simulated world (its map_file
-         *  replaced by the simulation's [Simulation] world_file), for scenarios in another
-         *  world than the variants' own. */
-        bool map_from_world = false;
+        /** [Benchmark] map_from_world for this scenario; unset (the key empty or absent):
+         *  [Benchmark]'s. */
+        std::optional<bool> map_from_world;
         /** Every variant's init_PDF_mode (0..3, Localizer::InitMode); -1: their own. */
         int init_PDF_mode = -1;
         /** The world the runs are simulated in, changed from the world file (the maps the
@@ -218,6 +225,9 @@ public:
         std::string table;
         /** Wall time of the whole benchmark [s]. */
         double wallTime_s = 0;
+        /** The figures gnuplot could not draw (left out; the other outputs are written);
+         *  with scenarios, each figure's path starts with its scenario's directory. */
+        std::vector<TFigureWarning> figureWarnings;
     };
 
     /** Reads [Benchmark], the simulation ini and every variant ini (strictly) before any
@@ -264,6 +274,13 @@ public:
     const TSimulatorOptions& simulation() const { return m_simulation; }
     /** Jobs actually used. */
     size_t effectiveJobs() const;
+    /** True when the variants localize against the simulated world (map_from_world). */
+    bool mapFromWorld() const;
+    /** One line per variant whose map differs from the world it is simulated in (another
+     *  file whose objects or bounds differ, a map that is not a world file, or a world the
+     *  scenario changes), naming both; with scenarios, every scenario's, each starting with
+     *  `scenario 'NAME': `. To be shown on stderr; report.md lists them too. */
+    std::vector<std::string> mapWarnings() const;
 
 private:
     Benchmark() = default;
@@ -276,6 +293,8 @@ private:
     std::vector<TScenarioSummary> summarize(const std::vector<TRunResult>& runs) const;
     /** run() with scenarios. */
     TResult runScenarios(const std::function<void(size_t, size_t)>& progress) const;
+    /** Fills m_mapWarnings: the variants' maps compared with the simulated world. */
+    void checkMaps();
     /** The files the benchmark reads (its ini, the simulation's ini and world, the
      *  variants' inis and maps, the scenarios' too): the output directory holds none. */
     std::vector<std::string> inputFiles() const;
@@ -289,6 +308,8 @@ private:
     /** The changed world the runs are simulated in (TScenario::world_changes), if any. */
     std::shared_ptr<const World> m_changedWorld;
     std::vector<TVariant> m_variants;
+    /** checkMaps()'s lines (this benchmark's variants only). */
+    std::vector<std::string> m_mapWarnings;
     TScenario m_scenario;
     std::vector<Benchmark> m_scenarios;
 };

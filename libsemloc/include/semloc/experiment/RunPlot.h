@@ -4,6 +4,7 @@
 
 #include <mrpt/math/TPoint2D.h>
 #include <semloc/experiment/RunMetrics.h>
+#include <semloc/io/FigureWarning.h>
 #include <semloc/world/World.h>
 
 #include <optional>
@@ -52,9 +53,10 @@ public:
     /** Writes `outDir` (a new directory or a previous output of semloc, replaced as a whole,
      *  never half-written): run.png, error.png, run.gif (with particles and `o.gif`), the
      *  gnuplot script run.gp and its data (world.dat, track.dat, clouds.dat), so a figure can
-     *  be restyled by hand. Throws with gnuplot's output if gnuplot is missing or fails,
+     *  be restyled by hand. A figure gnuplot cannot draw (or every figure, without gnuplot)
+     *  is left out and returned as a warning: the other outputs are written all the same.
      *  semloc::Interrupted at an interrupt request. */
-    void save(const std::string& outDir, const TOptions& o) const;
+    std::vector<TFigureWarning> save(const std::string& outDir, const TOptions& o) const;
 
     /** The run's steps (steps.csv). */
     const std::vector<TStepRecord>& records() const { return m_records; }
@@ -74,6 +76,7 @@ private:
     std::vector<std::string> inputFiles() const;
     std::vector<size_t> chooseCloudSteps(const TOptions& o) const;
     std::string script(const TOptions& o, const std::vector<size_t>& shown) const;
+    std::string errorScript(const TOptions& o, long convergenceStep) const;
     std::string gifScript(const TOptions& o, bool groundTruth, long convergenceStep) const;
     std::string cloudsData() const;
 };
