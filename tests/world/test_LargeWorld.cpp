@@ -5,11 +5,6 @@
  * near that of the 50 x 50 m paper world (about 110 MB). */
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -20,9 +15,8 @@
 #include <vector>
 
 #include "LargeWorld.h"
+#include "ProcessRun.h"
 #include "TestHelpers.h"
-
-extern char** environ;
 
 namespace fs = std::filesystem;
 
@@ -37,39 +31,11 @@ const std::string kBin = SEMLOC_BIN_DIR;
 
 using semloc::test::readText;
 
-/** Runs `args` (args[0] in the build's bin directory), stdout and stderr to `log`; returns
- *  the exit status (-1: did not exit normally) and sets `maxRss_MiB` to its peak resident set
- *  (wait4's ru_maxrss). */
-int run(const std::vector<std::string>& args, const fs::path& log, double& maxRss_MiB)
+/** Runs `args` (args[0] in the build's bin directory): semloc::test::runMeasured. */
+int run(std::vector<std::string> args, const fs::path& log, double& maxRss_MiB)
 {
-    std::vector<std::string> a = args;
-    a[0] = kBin + "/" + a[0];
-    std::vector<char*> argv;
-    argv.reserve(a.size() + 1);
-    for (auto& s : a)
-    {
-        argv.push_back(s.data());
-    }
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    pid_t pid = 0;
-    const int rc = posix_spawn(&pid, argv[0], &fa, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0)
-    {
-        return -1;
-    }
-    int status = 0;
-    rusage ru{};
-    if (wait4(pid, &status, 0, &ru) != pid)
-    {
-        return -1;
-    }
-    maxRss_MiB = static_cast<double>(ru.ru_maxrss) / 1024.0;  // ru_maxrss is in KiB
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    args[0] = kBin + "/" + args[0];
+    return semloc::test::runMeasured(args, log, maxRss_MiB);
 }
 
 /** `ini` with each `key = value` line of `keys` replaced (each key must be there). */
