@@ -41,8 +41,8 @@ inline uint32_t seedOption(long long v)
 /** Parses the command line (taking over its TCLAP output) and calls `run()`: exit 0 on
  *  success and after --help/--version, 1 on any error (a bad command line included), printed
  *  as "<tool>: <message>" (SEMLOC_DEBUG=1 adds MRPT's details; TCLAP's own format for the
- *  command line), 130 when a job that installed semloc::installInterruptHandlers() stopped at
- *  Ctrl-C. */
+ *  command line), 130 at Ctrl-C or SIGTERM (semloc::installInterruptHandlers(), installed
+ *  before `run()`: nothing is left behind). */
 template <typename RUN>
 int runMain(TCLAP::CmdLine& cmd, int argc, char** argv, const char* tool, RUN&& run)
 {
@@ -60,6 +60,9 @@ int runMain(TCLAP::CmdLine& cmd, int argc, char** argv, const char* tool, RUN&& 
         {
             return output.failed ? 1 : 0;  // a parse error, or --help / --version printed
         }
+        // Ctrl-C from the start: while the inputs are read, nothing is written yet and the
+        // watchdog ends the process; later a job stops at its next check (exit 130 always).
+        semloc::installInterruptHandlers(tool);
         run();
         return 0;
     }
