@@ -11,7 +11,6 @@
 #include <semloc/io/DatasetImport.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
-#include <semloc/io/RawlogWriter.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>
 
@@ -156,8 +155,8 @@ void run()
     const auto landmarks =
         lmIn.empty() ? std::vector<semloc::ImportedLandmark>{} : DatasetImport::readLandmarks(lmIn);
     semloc::TDatasetImportStats stats;
-    const auto steps = DatasetImport::steps(scans, odometry, o.maxStep_s, stats);
-    const auto log = DatasetImport::makeRawlog(steps, scans, odometry, o, stats);
+    const auto steps = DatasetImport::steps(scans, odometry, o.maxStep_s, stats,
+                                            argOdometry.getValue(), argDetections.getValue());
     const auto gtRows = gt.empty() ? gt : DatasetImport::groundTruthAtSteps(gt, steps, gtIn);
     const auto world =
         landmarks.empty() ? semloc::World{}
@@ -168,7 +167,9 @@ void run()
     semloc::apps::replaceAll(outputs,
                              [&]
                              {
-                                 semloc::saveRawlog(log, out + ".tmp");
+                                 // Entry by entry: memory holds the parsed files only.
+                                 DatasetImport::writeRawlog(steps, scans, odometry, o, stats,
+                                                            out + ".tmp");
                                  if (!gtRows.empty())
                                  {
                                      DatasetImport::writeGroundTruth(gtRows, gtOut + ".tmp");
