@@ -67,11 +67,18 @@ std::vector<std::pair<std::string, unsigned>> definitionAliases(
     return out;
 }
 
-/** `message` of a map definition that rejected its sections, prefixed by the section and key
- *  it names (MRPT's messages name the key, `key='likelihoodMethod'`, not the section). */
+/** `message` of a map definition that rejected its sections, as "ini 'FILE': [section] key:
+ *  message": MRPT's messages name the key (`key='likelihoodMethod'`), not the section; ours
+ *  ("ini [section] key: ...") name both, and get the file only. */
 std::string mapSectionError(const mrpt::config::CConfigFileBase& ini, const std::string& prefix,
                             const std::string& message)
 {
+    const std::string file = config::iniFileOf(ini);
+    const std::string head = file.empty() ? "ini " : "ini '" + file + "': ";
+    if (message.rfind("ini [", 0) == 0)
+    {
+        return head + message.substr(4);
+    }
     std::smatch m;
     if (std::regex_search(message, m, std::regex("key='([^']+)'")))
     {
@@ -81,13 +88,11 @@ std::string mapSectionError(const mrpt::config::CConfigFileBase& ini, const std:
         {
             if (s.rfind(prefix + "_", 0) == 0 && ini.keyExists(s, m[1].str()))
             {
-                std::string error = "ini [";
-                error.append(s).append("] ").append(m[1].str()).append(": ").append(message);
-                return error;
+                return head + "[" + s + "] " + shownValue(m[1].str()) + ": " + message;
             }
         }
     }
-    return "ini [" + prefix + "_*]: " + message;
+    return head + "[" + prefix + "_*]: " + message;
 }
 
 /** What TSetOfMetricMapInitializers::loadFromConfigFile does, owning each definition from its

@@ -62,6 +62,16 @@ private:
     std::string m_path;
 };
 
+/** The file `source` was read from (a CConfigFile or an IniFileInMemory), "" if none. */
+std::string iniFileOf(const mrpt::config::CConfigFileBase& source);
+
+/** "file 'WRITTEN' does not exist", and when `written` is relative and `source` came from a
+ *  file, the paths tried: "(tried 'DIR/WRITTEN' next to the ini 'INI' and 'WRITTEN' from the
+ *  working directory)", DIR the ini's directory as given (a symlinked ini's own, not its
+ *  target's). */
+std::string missingFileMessage(const mrpt::config::CConfigFileBase& source,
+                               const std::string& written);
+
 /** `file` as given if it exists (or is absolute or empty), else resolved next to the ini
  *  file `source` was read from (a CConfigFile or an IniFileInMemory), if it exists there: ini
  *  files name their maps relative to themselves, as users expect, while MRPT's own tools
