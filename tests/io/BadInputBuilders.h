@@ -122,7 +122,7 @@ using Builder = std::function<std::vector<std::string>(const fs::path&)>;
 using Cases = std::map<std::string, Builder>;
 
 // The cases, by what is wrong (BadInputConfigCases.cpp, BadInputDataCases.cpp,
-// BadInputFigureCases.cpp).
+// BadInputImportCases.cpp, BadInputFigureCases.cpp).
 Cases commandLineCases();
 Cases iniFileCases();
 Cases iniMapCases();
@@ -137,6 +137,9 @@ Cases rawlogOdometryCases();
 Cases timeCases();
 Cases observationCases();
 Cases importCases();
+Cases csvBytesCases();
+Cases csvValueCases();
+Cases iniMessageCases();
 Cases calibrateCases();
 Cases runPlotCases();
 
@@ -146,6 +149,7 @@ inline std::vector<Cases> allCaseGroups()
         commandLineCases(),     iniFileCases(),       iniMapCases(),         iniModelCases(),
         outputDirectoryCases(), outputFileCases(),    worldSyntaxCases(),    worldContentCases(),
         rawlogFileCases(),      rawlogDamagedCases(), rawlogOdometryCases(), timeCases(),
-        observationCases(),     importCases(),        calibrateCases(),      runPlotCases()};
+        observationCases(),     importCases(),        csvBytesCases(),       csvValueCases(),
+        iniMessageCases(),      calibrateCases(),     runPlotCases()};
 }
 }  // namespace semloc::test::bad_input

@@ -43,8 +43,8 @@ mrpt::math::TPose2D integrate(const mrpt::math::TPose2D& p, double v, double w, 
     return q;
 }
 
-/** A cell that must be a number within [-limit, limit] (`unit` and `what` for the message:
- *  "x 1e+308 is beyond +-1e+07 m"). */
+/** A cell that must be a number within [-limit, limit] (`unit` for the message: "x 1e+308 is
+ *  beyond +-1e+07 m"). */
 double boundedCell(const CsvTable& t, size_t row, const std::string& col, double limit,
                    const char* unit)
 {

@@ -67,17 +67,15 @@ std::vector<std::pair<std::string, unsigned>> definitionAliases(
     return out;
 }
 
-/** `message` of a map definition that rejected its sections, as "ini 'FILE': [section] key:
- *  message": MRPT's messages name the key (`key='likelihoodMethod'`), not the section; ours
- *  ("ini [section] key: ...") name both, and get the file only. */
+/** `message` of a map definition that rejected its sections, as "ini [section] key: message":
+ *  MRPT's messages name the key (`key='likelihoodMethod'`), not the section; ours name both
+ *  already and are kept as they are. */
 std::string mapSectionError(const mrpt::config::CConfigFileBase& ini, const std::string& prefix,
                             const std::string& message)
 {
-    const std::string file = config::iniFileOf(ini);
-    const std::string head = file.empty() ? "ini " : "ini '" + file + "': ";
     if (message.rfind("ini [", 0) == 0)
     {
-        return head + message.substr(4);
+        return message;
     }
     std::smatch m;
     if (std::regex_search(message, m, std::regex("key='([^']+)'")))
@@ -88,11 +86,23 @@ std::string mapSectionError(const mrpt::config::CConfigFileBase& ini, const std:
         {
             if (s.rfind(prefix + "_", 0) == 0 && ini.keyExists(s, m[1].str()))
             {
-                return head + "[" + s + "] " + shownValue(m[1].str()) + ": " + message;
+                return "ini [" + s + "] " + shownValue(m[1].str()) + ": " + message;
             }
         }
     }
-    return head + "[" + prefix + "_*]: " + message;
+    return "ini [" + prefix + "_*]: " + message;
+}
+
+/** `message` naming the ini file: "ini [section] key: ..." as "ini 'FILE': [section] key: ..."
+ *  (unchanged when `ini` came from no file, or when the message is not about the ini). */
+std::string namingTheIni(const mrpt::config::CConfigFileBase& ini, const std::string& message)
+{
+    const std::string file = config::iniFileOf(ini);
+    if (file.empty() || message.rfind("ini [", 0) != 0)
+    {
+        return message;
+    }
+    return "ini '" + file + "': " + message.substr(4);
 }
 
 /** What TSetOfMetricMapInitializers::loadFromConfigFile does, owning each definition from its
@@ -379,6 +389,19 @@ std::vector<std::string> fillMaps(LocalizationMap& lm,
 }  // namespace
 
 LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase& ini,
+                                            const std::string& mapFile, const std::string& section)
+{
+    try
+    {
+        return fromConfig(ini, mapFile, section);
+    }
+    catch (const std::exception& e)
+    {
+        THROW_EXCEPTION(namingTheIni(ini, errorMessage(e)));
+    }
+}
+
+LocalizationMap LocalizationMap::fromConfig(const mrpt::config::CConfigFileBase& ini,
                                             const std::string& mapFile, const std::string& section)
 {
     validateSections(ini, section);
