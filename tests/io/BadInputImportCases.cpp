@@ -2,6 +2,7 @@
  * (hostile bytes, implausible times and values) and for the messages of the ini's map
  * sections. Each case builds its input in a fresh directory and returns the tool's command
  * line (test_BadInput.cpp runs it and checks the row). */
+#include <algorithm>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -93,6 +94,15 @@ Cases iniMessageCases()
         {"ini-map-value-names-the-file",
          [](const fs::path& d) {
              return localizeGood(d, "", {{"sigma_range_m", "-1"}});
+         }},
+        {"ini-cr-line-ends",  // as MRPT reads it
+         [](const fs::path& d)
+         {
+             auto a = localizeGood(d, "", {{"convergence_min_steps", "9"}});
+             std::string text = readText(d / "loc.ini");
+             std::replace(text.begin(), text.end(), '\n', '\r');
+             writeText(d / "loc.ini", text);
+             return a;
          }},
         {"ini-symlinked-map-missing",
          [](const fs::path& d)

@@ -139,3 +139,15 @@ TEST(ConfigHelpers, AMissingFileShowsThePathTriedNextToTheIni)
     EXPECT_EQ(semloc::config::missingFileMessage(c, "/abs/w.yaml"),
               "file '/abs/w.yaml' does not exist");
 }
+
+TEST(ConfigHelpers, LinesEndWithLfCrLfOrACrAloneAsMrptReadsThem)
+{
+    EXPECT_EQ(problem("[A]\rx = 1\ry = 2\r[B]\rx = 3\r"), "");
+    const std::string m = problem("[A]\rx = 1\rx 2\r");
+    EXPECT_NE(m.find("config file 'x.ini':3: 'x 2' is neither a [section] nor key = value"),
+              std::string::npos)
+        << m;
+    EXPECT_NE(
+        problem("[A]\r\nx = 1\r\nx = 2\r\n").find("x.ini':3: [A] x: set twice (also on line 2"),
+        std::string::npos);
+}

@@ -42,6 +42,22 @@ bool readRaw(const mrpt::config::CConfigFileBase& c, const std::string& section,
     return true;
 }
 
+/** `text` with every line ended by LF: CRLF and a CR alone (old Mac files) are line ends for
+ *  MRPT's ini reader too. */
+std::string lfLineEnds(const std::string& text)
+{
+    std::string out;
+    out.reserve(text.size());
+    for (size_t i = 0; i < text.size(); i++)
+    {
+        const bool crlf = text[i] == '\r' && i + 1 < text.size() && text[i + 1] == '\n';
+        if (!crlf)
+        {
+            out += text[i] == '\r' ? '\n' : text[i];
+        }
+    }
+    return out;
+}
 }  // namespace
 
 void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
@@ -186,7 +202,7 @@ void checkIniText(const std::string& text, const std::string& file)
     // Per section (lower case): its name as first written and the first line of each key.
     std::map<std::string, std::pair<std::string, std::map<std::string, size_t>>> sections;
     auto* current = &sections[""];
-    std::istringstream in(text);
+    std::istringstream in(lfLineEnds(text));
     std::string line;
     for (size_t n = 1; std::getline(in, line); n++)
     {

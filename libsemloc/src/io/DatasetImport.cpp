@@ -60,7 +60,7 @@ void checkStepCount(const std::vector<DetectionScan>& scans, const OdometryTrack
             "detections '%s': times span %s s (from %s to %s): %s steps at --max-step-s %s, more "
             "than the %zu allowed; is --max-step-s too short, or are the times not in seconds? "
             "semloc-import takes seconds",
-            detectionsName.c_str(), detail::shortestText(last - first).c_str(), num(first).c_str(),
+            detectionsName.c_str(), num(last - first).c_str(), num(first).c_str(),
             num(last).c_str(), detail::shortestText(count).c_str(),
             detail::shortestText(maxStep_s).c_str(), kMaxImportSteps));
     }
@@ -137,7 +137,7 @@ void DatasetImport::checkTimeUnit(const std::vector<DetectionScan>& scans,
             "times of '%s' and '%s' (%s to %s): the median time between consecutive rows is %s "
             "s, more than %s s: are the times in %s? semloc-import takes seconds",
             odometryName.c_str(), detectionsName.c_str(), num(t.front()).c_str(),
-            num(t.back()).c_str(), detail::shortestText(median).c_str(),
+            num(t.back()).c_str(), num(median).c_str(),
             detail::shortestText(kMaxImportMedianInterval_s).c_str(), likelyTimeUnit(median)));
     }
 }

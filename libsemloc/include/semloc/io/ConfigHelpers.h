@@ -21,7 +21,8 @@ void checkIniFile(const std::string& path, const std::string& kind = "config fil
  *  - a key set twice in one section (MRPT keeps the last value silently). Section and key
  *    names match regardless of ASCII case, as in MRPT. A section may appear more than once:
  *    its keys are merged, as MRPT does.
- *  A UTF-8 byte-order mark at the start of the text is skipped, as MRPT skips it. */
+ *  A UTF-8 byte-order mark at the start of the text is skipped, as MRPT skips it; lines end
+ *  with LF, CRLF or a CR alone, as MRPT reads them. */
 void checkIniText(const std::string& text, const std::string& file);
 
 /** Reads a finite number in [lo, hi]; keeps `value` when the key is absent.
