@@ -93,14 +93,14 @@ std::string mapSectionError(const mrpt::config::CConfigFileBase& ini, const std:
     return "ini [" + prefix + "_*]: " + message;
 }
 
-/** `message` naming the ini file: "ini [section] key: ..." as "ini 'FILE': [section] key: ..."
- *  (unchanged when `ini` came from no file, or when the message is not about the ini). */
+/** "ini 'FILE': [section] key: ..." for the message "ini [section] key: ..." of an ini that
+ *  came from a file; "" for any other (kept as it is). */
 std::string namingTheIni(const mrpt::config::CConfigFileBase& ini, const std::string& message)
 {
     const std::string file = config::iniFileOf(ini);
     if (file.empty() || message.rfind("ini [", 0) != 0)
     {
-        return message;
+        return {};
     }
     return "ini '" + file + "': " + message.substr(4);
 }
@@ -397,7 +397,11 @@ LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase&
     }
     catch (const std::exception& e)
     {
-        THROW_EXCEPTION(namingTheIni(ini, errorMessage(e)));
+        if (const std::string m = namingTheIni(ini, errorMessage(e)); !m.empty())
+        {
+            THROW_EXCEPTION(m);
+        }
+        throw;  // not about the ini (a map file, an interrupt): as it is
     }
 }
 
