@@ -53,7 +53,7 @@ double boundedCell(const CsvTable& t, size_t row, const std::string& col, double
     {
         t.fail(row, col,
                col + " " + detail::shortestText(v) + " is beyond +-" + detail::shortestText(limit) +
-                   " " + unit + " (semloc-import's bound: docs/tools.md, \"semloc-import\")");
+                   " " + unit);
     }
     return v;
 }
