@@ -7,6 +7,7 @@
 #include <mrpt/system/filesystem.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/ConfigHelpers.h>
+#include <semloc/io/ErrorMessage.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
 
@@ -104,7 +105,7 @@ void checkSections(const mrpt::config::CConfigFileBase& ini, const std::string& 
             THROW_EXCEPTION(
                 mrpt::format("ini [%s]: unknown section (semloc-localize reads %s and "
                              "[MetricMap_<map>_<NN>_...])",
-                             s.c_str(), list.c_str()));
+                             shownValue(s).c_str(), list.c_str()));
         }
     }
     if (!ini.sectionExists(kSection))

@@ -209,7 +209,8 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
             {
                 THROW_EXCEPTION(mrpt::format(
                     "ini [%s] %s: unknown map '%s' (MRPT would ignore it silently); known maps: %s",
-                    section.c_str(), key.c_str(), name.c_str(), known.c_str()));
+                    section.c_str(), shownValue(key).c_str(), shownValue(name).c_str(),
+                    known.c_str()));
             }
             int n = 0;
             config::readInt(ini, section, key, n, 0, 99);
@@ -218,7 +219,7 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
         {
             THROW_EXCEPTION(mrpt::format(
                 "ini [%s] %s: unknown key (expected <map>_count, e.g. semanticMap_count = 1)",
-                section.c_str(), key.c_str()));
+                section.c_str(), shownValue(key).c_str()));
         }
     }
 
@@ -242,8 +243,9 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
             const double d = v.empty() ? 0 : std::strtod(v.c_str(), &end);
             if (!v.empty() && end == v.c_str() + v.size() && !std::isfinite(d))
             {
-                THROW_EXCEPTION(mrpt::format("ini [%s] %s: '%s' is not a finite number", s.c_str(),
-                                             detail::trimValue(key).c_str(), v.c_str()));
+                THROW_EXCEPTION(mrpt::format(
+                    "ini [%s] %s: '%s' is not a finite number", shownValue(s).c_str(),
+                    shownValue(detail::trimValue(key)).c_str(), shownValue(v).c_str()));
             }
         }
         std::smatch m;
@@ -252,7 +254,7 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
             THROW_EXCEPTION(mrpt::format(
                 "ini [%s]: unknown section (map sections are [%s_<map>_<NN>_<creationOpts|"
                 "likelihoodOpts|insertOpts|...>] with a known map: %s)",
-                s.c_str(), section.c_str(), known.c_str()));
+                shownValue(s).c_str(), section.c_str(), known.c_str()));
         }
         const auto count = ini.read_uint64_t(section, m[1].str() + kCount, 0);
         if (static_cast<uint64_t>(std::stoul(m[2].str())) >= count)
