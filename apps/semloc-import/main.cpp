@@ -12,7 +12,6 @@
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
-#include <semloc/io/RawlogWriter.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>
 
@@ -156,8 +155,8 @@ void run()
     const auto landmarks =
         lmIn.empty() ? std::vector<semloc::ImportedLandmark>{} : DatasetImport::readLandmarks(lmIn);
     semloc::TDatasetImportStats stats;
-    const auto steps = DatasetImport::steps(scans, odometry, o.maxStep_s, stats);
-    const auto log = DatasetImport::makeRawlog(steps, scans, odometry, o, stats);
+    const auto steps = DatasetImport::steps(scans, odometry, o.maxStep_s, stats,
+                                            argOdometry.getValue(), argDetections.getValue());
     const auto gtRows = gt.empty() ? gt : DatasetImport::groundTruthAtSteps(gt, steps, gtIn);
     const auto world =
         landmarks.empty() ? semloc::World{}
@@ -168,7 +167,9 @@ void run()
     semloc::writeOutputFiles(outputs,
                              [&](const std::vector<std::string>& tmp)
                              {
-                                 semloc::saveRawlog(log, tmp[0], "semloc-import");
+                                 // Entry by entry: memory holds the parsed files only.
+                                 DatasetImport::writeRawlog(steps, scans, odometry, o, stats,
+                                                            tmp[0]);
                                  size_t next = 1;
                                  if (!gtRows.empty())
                                  {

@@ -131,7 +131,7 @@ using Builder = std::function<std::vector<std::string>(const fs::path&)>;
 using Cases = std::map<std::string, Builder>;
 
 // The cases, by what is wrong (BadInputConfigCases.cpp, BadInputDataCases.cpp,
-// BadInputFigureCases.cpp).
+// BadInputImportCases.cpp, BadInputFigureCases.cpp).
 Cases commandLineCases();
 Cases iniFileCases();
 Cases iniMapCases();
@@ -146,17 +146,20 @@ Cases rawlogOdometryCases();
 Cases timeCases();
 Cases observationCases();
 Cases importCases();
+Cases csvBytesCases();
+Cases csvValueCases();
+Cases iniMessageCases();
 Cases calibrateCases();
 Cases runPlotCases();
 Cases figureCases();
 
 inline std::vector<Cases> allCaseGroups()
 {
-    return {commandLineCases(),   iniFileCases(),         iniMapCases(),
-            iniModelCases(),      outputDirectoryCases(), outputFileCases(),
-            worldSyntaxCases(),   worldContentCases(),    rawlogFileCases(),
-            rawlogDamagedCases(), rawlogOdometryCases(),  timeCases(),
-            observationCases(),   importCases(),          calibrateCases(),
-            runPlotCases(),       figureCases()};
+    return {
+        commandLineCases(),     iniFileCases(),       iniMapCases(),         iniModelCases(),
+        outputDirectoryCases(), outputFileCases(),    worldSyntaxCases(),    worldContentCases(),
+        rawlogFileCases(),      rawlogDamagedCases(), rawlogOdometryCases(), timeCases(),
+        observationCases(),     importCases(),        csvBytesCases(),       csvValueCases(),
+        iniMessageCases(),      calibrateCases(),     runPlotCases(),        figureCases()};
 }
 }  // namespace semloc::test::bad_input

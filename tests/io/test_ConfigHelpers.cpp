@@ -4,6 +4,7 @@
 #include <mrpt/config/CConfigFile.h>
 #include <semloc/io/ConfigHelpers.h>
 
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -68,9 +69,9 @@ TEST(ConfigHelpers, SkipsAUtf8ByteOrderMarkAsMrptDoes)
 {
     const std::string bom = "\xEF\xBB\xBF";
     EXPECT_EQ(problem(bom + "[LocalizationExperiment]\nrawlog_offset = 3\n"), "");
-    // Only at the start of the text: elsewhere it is part of the line.
+    // Only at the start of the text: elsewhere it is part of the line, shown escaped.
     const std::string m = problem("[A]\n" + bom + "[B]\n");
-    EXPECT_NE(m.find("x.ini':2: '" + bom + "[B]' is neither"), std::string::npos) << m;
+    EXPECT_NE(m.find("x.ini':2: '\\xEF\\xBB\\xBF[B]' is neither"), std::string::npos) << m;
 
     // checkIniFile on a file with the mark, and MRPT's reader on the same file.
     const std::string path = std::string(SEMLOC_TEST_OUT) + "/bom.ini";
@@ -98,4 +99,55 @@ TEST(ConfigHelpers, CheckIniFileNamesTheFile)
             << m;
     }
     EXPECT_THROW(checkIniFile(std::string(SEMLOC_TEST_OUT) + "/no-such.ini"), std::exception);
+}
+
+TEST(ConfigHelpers, ValuesInMessagesAreEscapedAndCut)
+{
+    const std::string m = problem("[A]\n\x1b[2J" + std::string(500, 'q') + "\n");
+    EXPECT_NE(m.find("x.ini':2: '\\x1B[2Jqqq"), std::string::npos) << m.substr(0, 300);
+    EXPECT_EQ(m.find('\x1b'), std::string::npos);
+    EXPECT_EQ(m.find(std::string(100, 'q')), std::string::npos);
+    mrpt::config::CConfigFileMemory ini("[A]\nx = \x01" + std::string(200, '9') + "\n");
+    double x = 0;
+    try
+    {
+        semloc::config::readDouble(ini, "A", "x", x, 0, 1);
+        FAIL() << "no error";
+    }
+    catch (const std::exception& e)
+    {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("ini [A] x: '\\x01999"), std::string::npos) << what.substr(0, 300);
+        EXPECT_EQ(what.find(std::string(100, '9')), std::string::npos);
+    }
+}
+
+TEST(ConfigHelpers, AMissingFileShowsThePathTriedNextToTheIni)
+{
+    const auto dir = std::filesystem::path(SEMLOC_TEST_OUT) / "config_helpers_missing";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir / "real");
+    std::filesystem::create_directories(dir / "link");
+    std::ofstream(dir / "real" / "a.ini") << "[A]\nmap_file = ../maps/w.yaml\n";
+    std::filesystem::create_symlink("../real/a.ini", dir / "link" / "a.ini");
+    const std::string ini = (dir / "link" / "a.ini").string();
+    const mrpt::config::CConfigFile c(ini);
+    EXPECT_EQ(semloc::config::missingFileMessage(c, "../maps/w.yaml"),
+              "file '../maps/w.yaml' does not exist (tried '" + (dir / "link").string() +
+                  "/../maps/w.yaml' next to the ini '" + ini +
+                  "' and '../maps/w.yaml' from the working directory)");
+    EXPECT_EQ(semloc::config::missingFileMessage(c, "/abs/w.yaml"),
+              "file '/abs/w.yaml' does not exist");
+}
+
+TEST(ConfigHelpers, LinesEndWithLfCrLfOrACrAloneAsMrptReadsThem)
+{
+    EXPECT_EQ(problem("[A]\rx = 1\ry = 2\r[B]\rx = 3\r"), "");
+    const std::string m = problem("[A]\rx = 1\rx 2\r");
+    EXPECT_NE(m.find("config file 'x.ini':3: 'x 2' is neither a [section] nor key = value"),
+              std::string::npos)
+        << m;
+    EXPECT_NE(
+        problem("[A]\r\nx = 1\r\nx = 2\r\n").find("x.ini':3: [A] x: set twice (also on line 2"),
+        std::string::npos);
 }

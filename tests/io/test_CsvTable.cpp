@@ -1,9 +1,11 @@
 /* semloc tests — CsvTable: semloc-import's CSV files read strictly, every error naming the
  * file, the line and the column. */
 #include <gtest/gtest.h>
+#include <semloc/io/ErrorMessage.h>
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include "io/CsvTable.h"
@@ -29,7 +31,7 @@ std::string errorOf(const std::string& text, bool strictTime = true)
     }
     catch (const std::exception& e)
     {
-        return e.what();
+        return semloc::errorMessage(e);  // the message alone, as the tools print it
     }
 }
 
@@ -144,6 +146,107 @@ TEST(CsvTable, FromFileNamesThePath)
     }
     EXPECT_THROW(CsvTable::FromFile((dir / "nope.csv").string(), {"t"}), std::exception);
     EXPECT_THROW(CsvTable::FromFile(dir.string(), {"t"}), std::exception);
+}
+
+TEST(CsvTable, ByteOrderMarkBeforeTheHeaderIsSkipped)
+{
+    const auto t = CsvTable::FromText("\xEF\xBB\xBFt,x\n1,2\n", "f.csv", {"t", "x"});
+    ASSERT_EQ(t.rows(), 1u);
+    EXPECT_DOUBLE_EQ(t.number(0, "t"), 1);
+    // Anywhere else it is text, shown escaped.
+    expectError(
+        "t,x\n1,\xEF\xBB\xBF"
+        "2\n",
+        "f.csv:2: column 2 'x': '\\xEF\\xBB\\xBF2' is not a number");
+}
+
+TEST(CsvTable, LinesEndWithLfCrLfOrCr)
+{
+    for (const char* end : {"\n", "\r\n", "\r"})
+    {
+        const std::string e = end;
+        const auto t =
+            CsvTable::FromText("t,x" + e + "1,2" + e + "# c" + e + "3,4" + e, "f.csv", {"t", "x"});
+        ASSERT_EQ(t.rows(), 2u) << "line end " << (e == "\r" ? "CR" : "LF/CRLF");
+        EXPECT_EQ(t.line(1), 4u);
+        EXPECT_DOUBLE_EQ(t.number(1, "x"), 4);
+    }
+    expectError("t,x\r1,2\r2,q\r", "f.csv:3: column 2 'x': 'q' is not a number");
+}
+
+TEST(CsvTable, LongLinesAndNulBytesAreRefusedWhileReading)
+{
+    // A stream that would never end (a device file): the cap stops it.
+    struct Endless : std::streambuf
+    {
+        int underflow() override
+        {
+            setg(buf, buf, buf + sizeof(buf));
+            return 'a';
+        }
+        char buf[4096] = {};
+    };
+    Endless endless;
+    for (char& c : endless.buf)
+    {
+        c = 'a';
+    }
+    std::istream in(&endless);
+    try
+    {
+        (void)CsvTable::FromStream(in, "f.csv", {"t"});
+        FAIL() << "no error";
+    }
+    catch (const std::exception& e)
+    {
+        EXPECT_NE(std::string(e.what()).find("f.csv:1: the line is longer than 1048576 bytes"),
+                  std::string::npos)
+            << std::string(e.what()).substr(0, 200);
+    }
+    expectError("t,x\n" + std::string(2 << 20, '7') + ",1\n",
+                "f.csv:2: the line is longer than 1048576 bytes (1 MiB)");
+    expectError(std::string("t,x\n1,2\0\n", 9), "f.csv:2: byte 4 of the line is a NUL byte");
+}
+
+TEST(CsvTable, ValuesInMessagesAreEscapedAndCut)
+{
+    const std::string cell = "\x1b[2J" + std::string(200, 'z');
+    const std::string e = errorOf("t,x\n1," + cell + "\n");
+    EXPECT_NE(e.find("f.csv:2: column 2 'x': '\\x1B[2Jzzz"), std::string::npos) << e;
+    EXPECT_NE(e.find("z\u2026' is not a number"), std::string::npos) << e;
+    EXPECT_EQ(e.find('\x1b'), std::string::npos) << e;
+    EXPECT_LT(e.size(), 200u) << e;
+    const std::string header = errorOf(std::string(100000, 'h') + ",t,x\n1,2,3\n");
+    EXPECT_LT(header.size(), 200u) << header.substr(0, 300);
+    EXPECT_NE(header.find("column 1 'hhh"), std::string::npos) << header;
+}
+
+TEST(CsvTable, TimesInMessagesAreFixedPoint)
+{
+    expectError("t,x\n1700000039,0\n1700000000,0\n",
+                "time 1700000000 goes back: it is before 1700000039 (line 2)");
+}
+
+TEST(ShownValue, EscapesWhatDoesNotPrintAndCuts)
+{
+    using semloc::shownValue;
+    EXPECT_EQ(shownValue("range_m"), "range_m");
+    EXPECT_EQ(shownValue("a\tb\r\x7f"), "a\\x09b\\x0D\\x7F");
+    EXPECT_EQ(shownValue("\xEF\xBB\xBFt"), "\\xEF\\xBB\\xBFt");  // U+FEFF prints nothing
+    EXPECT_EQ(shownValue("\xC3\xA9pave"), "\xC3\xA9pave");       // UTF-8 text is kept
+    EXPECT_EQ(shownValue("\xC3("), "\\xC3(");                    // not UTF-8
+    EXPECT_EQ(shownValue(std::string(60, 'a')), std::string(60, 'a'));
+    EXPECT_EQ(shownValue(std::string(61, 'a')), std::string(60, 'a') + "\u2026");
+    EXPECT_EQ(shownValue(std::string(100, '\x01')),
+              []
+              {
+                  std::string s;
+                  for (int i = 0; i < 15; i++)
+                  {
+                      s += "\\x01";
+                  }
+                  return s + "\u2026";
+              }());
 }
 
 }  // namespace

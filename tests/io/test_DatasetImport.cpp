@@ -7,11 +7,14 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
 #include <semloc/io/DatasetImport.h>
+#include <semloc/io/ErrorMessage.h>
+#include <semloc/io/RawlogWriter.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>
 
 #include <sys/wait.h>
 
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -55,7 +58,7 @@ std::string errorOf(F&& f)
     }
     catch (const std::exception& e)
     {
-        return e.what();
+        return semloc::errorMessage(e);
     }
     return "";
 }
@@ -177,6 +180,154 @@ TEST(DatasetImport, LandmarksCarryTheirSigmasAndRejectDuplicateIds)
     EXPECT_NE(dup.find("d.csv:3: column 1 'id': duplicate id 3 (first on line 2)"),
               std::string::npos)
         << dup;
+}
+
+/** The message reading `text` as `name` with `reader` (DatasetImport::readOdometry...). */
+template <typename Reader>
+std::string readError(const fs::path& d, const char* name, const std::string& text, Reader reader)
+{
+    return errorOf([&] { reader(write(d / name, text)); });
+}
+
+TEST(DatasetImport, AbsurdValuesAreRefusedNamingTheCell)
+{
+    const auto d = freshDir("bounds");
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {readError(d, "o.csv", "t,x,y,phi\n1,0,0,0\n2,1e308,0,0\n", DatasetImport::readOdometry),
+         "o.csv:3: column 2 'x': x 1e+308 is beyond +-1e+07 m"},
+        {readError(d, "p.csv", "t,x,y,phi\n1,0,0,1e300\n2,1,0,0\n", DatasetImport::readOdometry),
+         "p.csv:2: column 4 'phi': phi 1e+300 is beyond +-1e+06 rad"},
+        {readError(d, "v.csv", "t,v,w\n1,1e300,0\n2,0,0\n", DatasetImport::readOdometry),
+         "v.csv:2: column 2 'v': v 1e+300 is beyond +-100 m/s"},
+        {readError(d, "w.csv", "t,v,w\n1,0,0\n2,0,-500\n", DatasetImport::readOdometry),
+         "w.csv:3: column 3 'w': w -500 is beyond +-100 rad/s"},
+        {readError(d, "i.csv", "t,v,w\n1,100,0\n1e6,0,0\n", DatasetImport::readOdometry),
+         "i.csv:3: column 1 't': the speeds integrated to this row's time reach (99999900, 0) m"},
+        {readError(d, "g.csv", "t,x,y,phi\n1,0,-2e7,0\n", DatasetImport::readGroundTruth),
+         "g.csv:2: column 3 'y': y -2e+07 is beyond +-1e+07 m"},
+        {readError(d, "l.csv", "id,label,x,y\n1,buoy,1e300,0\n", DatasetImport::readLandmarks),
+         "l.csv:2: column 3 'x': x 1e+300 is beyond +-1e+07 m"},
+        {readError(d, "r.csv", "t,label,range_m,bearing_rad\n1,buoy,1e300,0\n",
+                   DatasetImport::readDetections),
+         "r.csv:2: column 3 'range_m': range_m 1e+300 is beyond +-1e+07 m"},
+        {readError(d, "n.csv", "t,label,range_m,bearing_rad\n1.7e18,buoy,1,0\n",
+                   DatasetImport::readDetections),
+         "n.csv:2: column 1 't': time 1.7e+18 is beyond +-1e11 s (3170 years): are the times in "
+         "nanoseconds? semloc-import takes seconds"},
+        {readError(d, "u.csv", "t,x,y,phi\n1700000000000000,0,0,0\n",
+                   DatasetImport::readGroundTruth),
+         "are the times in microseconds?"},
+        {readError(d, "m.csv", "t,x,y,phi\n1700000000000,0,0,0\n", DatasetImport::readGroundTruth),
+         "are the times in milliseconds?"},
+    };
+    for (const auto& [error, expected] : cases)
+    {
+        EXPECT_NE(error.find(expected), std::string::npos) << error << "\nexpected: " << expected;
+    }
+}
+
+TEST(DatasetImport, BearingsBeyondPiLookLikeDegrees)
+{
+    const auto d = freshDir("degrees");
+    const char* header = "t,label,range_m,bearing_rad\n";
+    for (const char* b : {"3.2", "-45", "90"})
+    {
+        const std::string e =
+            readError(d, "b.csv", header + std::string("1,buoy,3,0.1\n2,buoy,3,") + b + "\n",
+                      DatasetImport::readDetections);
+        EXPECT_NE(e.find("b.csv:3: column 4 'bearing_rad': bearing " + std::string(b) +
+                         " is outside [-pi, pi]: are the bearings in degrees? semloc-import takes "
+                         "radians"),
+                  std::string::npos)
+            << e;
+    }
+    EXPECT_EQ(readError(d, "ok.csv", header + std::string("1,buoy,3,3.14159\n2,buoy,3,-3.14159\n"),
+                        DatasetImport::readDetections),
+              "");
+}
+
+/** An odometry track and scans at `times` (a straight line, 1 m/s). */
+std::pair<semloc::OdometryTrack, std::vector<semloc::DetectionScan>> track(
+    const std::vector<double>& times)
+{
+    semloc::OdometryTrack odo;
+    std::vector<semloc::DetectionScan> scans;
+    for (const double t : times)
+    {
+        odo.t.push_back(t);
+        odo.pose.emplace_back(t - times.front(), 0, 0);
+        scans.push_back({t, {}});
+    }
+    return {odo, scans};
+}
+
+TEST(DatasetImport, TimesThatLookLikeMillisecondsAreRefused)
+{
+    std::vector<double> ms;
+    for (int k = 0; k < 79; k++)
+    {
+        ms.push_back(1000.0 * (k + 1));  // 79 scans a second apart, in milliseconds
+    }
+    const auto [odo, scans] = track(ms);
+    semloc::TDatasetImportStats stats;
+    const std::string e =
+        errorOf([&] { DatasetImport::steps(scans, odo, 0.5, stats, "odom.csv", "det.csv"); });
+    EXPECT_NE(e.find("times of 'odom.csv' and 'det.csv' (1000 to 79000): the median time between "
+                     "consecutive rows is 1000 s, more than 10 s: are the times in milliseconds? "
+                     "semloc-import takes seconds"),
+              std::string::npos)
+        << e;
+    EXPECT_STREQ(DatasetImport::likelyTimeUnit(1e5), "microseconds");
+    EXPECT_STREQ(DatasetImport::likelyTimeUnit(1e8), "nanoseconds");
+    // In seconds, 10 s apart: imported.
+    std::vector<double> s;
+    for (int k = 0; k < 10; k++)
+    {
+        s.push_back(1700000000.0 + 10 * k);
+    }
+    const auto [odo10, scans10] = track(s);
+    EXPECT_EQ(DatasetImport::steps(scans10, odo10, 0.5, stats).size(), 9u * 20 + 1);
+}
+
+TEST(DatasetImport, TooManyStepsAreRefusedBeforeAnyIsMade)
+{
+    std::vector<double> t;
+    for (int k = 0; k <= 3600; k++)
+    {
+        t.push_back(1700000000.0 + k);  // an hour at 1 Hz
+    }
+    const auto [odo, scans] = track(t);
+    semloc::TDatasetImportStats stats;
+    const auto start = std::chrono::steady_clock::now();
+    const std::string e =
+        errorOf([&] { DatasetImport::steps(scans, odo, 1e-4, stats, "odom.csv", "det.csv"); });
+    EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(2));
+    EXPECT_NE(e.find("detections 'det.csv': times span 3600 s (from 1700000000 to 1700003600): "
+                     "36000001 steps at --max-step-s 1e-04, more than the 10000000 allowed"),
+              std::string::npos)
+        << e;
+}
+
+TEST(DatasetImport, RawlogWrittenEntryByEntryHasTheBytesOfTheWholeOne)
+{
+    const auto d = freshDir("streamed");
+    const auto [odo, scans0] = track({1, 2, 3, 6});
+    auto scans = scans0;
+    semloc::TSemanticDetection det;
+    det.label = "buoy";
+    det.range_m = 3;
+    det.bearing_rad = 0.25;
+    scans[1].detections = {det, det};
+    semloc::TDatasetImportStats stats, streamedStats;
+    const auto steps = DatasetImport::steps(scans, odo, 0.5, stats);
+    semloc::TDatasetImportOptions o;
+    semloc::saveRawlog(DatasetImport::makeRawlog(steps, scans, odo, o, stats),
+                       (d / "whole.rawlog").string(), "semloc-import");
+    DatasetImport::writeRawlog(steps, scans, odo, o, streamedStats,
+                               (d / "streamed.rawlog").string());
+    EXPECT_EQ(readText(d / "streamed.rawlog"), readText(d / "whole.rawlog"));
+    EXPECT_EQ(streamedStats.steps, stats.steps);
+    EXPECT_EQ(streamedStats.detections, 2u);
 }
 
 // ------------------------------------------------------------------ end to end

@@ -1,10 +1,12 @@
 /* semloc tests — LocalizationMap: [MetricMap] read strictly, maps filled from a world file. */
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/maps/LocalizationMap.h>
 
+#include <fstream>
 #include <string>
 
 #include "TestHelpers.h"
@@ -87,4 +89,30 @@ likelihoodMethod = 1
         errorOf([&] { fromText("[MetricMap]\noccupancyGrid_count = 1\n", kPaperWorld + ".txt"); })
             .find("does not exist"),
         std::string::npos);
+}
+
+TEST(LocalizationMap, MessagesShowKeysEscapedAndCut)
+{
+    const std::string key = "semantic\x1b[2J" + std::string(300, 'M') + "_count";
+    const std::string e = errorOf(
+        [&]
+        { semloc::LocalizationMap::FromConfig(iniText("[MetricMap]\n" + key + " = 1\n"), ""); });
+    EXPECT_NE(e.find("ini [MetricMap] semantic\\x1B[2JMMM"), std::string::npos) << e.substr(0, 400);
+    EXPECT_EQ(e.find('\x1b'), std::string::npos);
+    EXPECT_EQ(e.find(std::string(100, 'M')), std::string::npos);
+}
+
+TEST(LocalizationMap, AMapSectionsErrorNamesSectionAndKeyOnceAndTheIniFile)
+{
+    const std::string path = std::string(SEMLOC_TEST_OUT) + "/localization_map_names_file.ini";
+    std::ofstream(path) << "[MetricMap]\nsemanticMap_count = 1\n"
+                           "[MetricMap_semanticMap_00_likelihoodOpts]\nsigma_range_m = -1\n";
+    const std::string e = errorOf(
+        [&] { semloc::LocalizationMap::FromConfig(mrpt::config::CConfigFile(path), kPaperWorld); });
+    EXPECT_NE(e.find("ini '" + path +
+                     "': [MetricMap_semanticMap_00_likelihoodOpts] sigma_range_m: value -1 is "
+                     "out of range"),
+              std::string::npos)
+        << e;
+    EXPECT_EQ(e.find("ini [MetricMap_semanticMap_00_*]"), std::string::npos) << e;
 }

@@ -7,6 +7,7 @@
 #include <mrpt/system/filesystem.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/ConfigHelpers.h>
+#include <semloc/io/ErrorMessage.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
 
@@ -71,12 +72,19 @@ const std::vector<std::string> kRunKeys = {"rawlog_file",
                                            "use_3D_poses",
                                            "experimentRepetitions"};
 
-void requireFile(const std::string& key, const std::string& path)
+/** Throws if `path` (the value of `key`, resolved next to the ini) does not exist; when it is
+ *  the ini's own value, the message gives the paths tried (config::missingFileMessage). */
+void requireFile(const std::string& key, const std::string& path,
+                 const mrpt::config::CConfigFileBase& ini)
 {
-    if (!path.empty() && !mrpt::system::fileExists(path))
+    if (path.empty() || mrpt::system::fileExists(path))
     {
-        THROW_EXCEPTION("ini [" + kSection + "] " + key + ": file '" + path + "' does not exist");
+        return;
     }
+    const bool fromIni = trimValue(ini.read_string(kSection, key, "")) == path;
+    THROW_EXCEPTION(
+        "ini [" + kSection + "] " + key + ": " +
+        (fromIni ? config::missingFileMessage(ini, path) : "file '" + path + "' does not exist"));
 }
 
 /** Refuses a section semloc-localize does not read, and an ini without [LocalizationExperiment]. */
@@ -97,7 +105,7 @@ void checkSections(const mrpt::config::CConfigFileBase& ini, const std::string& 
             THROW_EXCEPTION(
                 mrpt::format("ini [%s]: unknown section (semloc-localize reads %s and "
                              "[MetricMap_<map>_<NN>_...])",
-                             s.c_str(), list.c_str()));
+                             shownValue(s).c_str(), list.c_str()));
         }
     }
     if (!ini.sectionExists(kSection))
@@ -185,7 +193,7 @@ std::vector<std::string> resourceWarnings(const Localizer::TOptions& f,
 
 /** The rawlog and the output directory are set, the input files exist; an empty
  *  ground_truth_path_file takes semloc-simulate's `<rawlog stem>_gt.txt` if it exists. */
-void checkInputFiles(LocalizationExperiment::TOptions& o)
+void checkInputFiles(LocalizationExperiment::TOptions& o, const mrpt::config::CConfigFileBase& ini)
 {
     if (o.rawlog_file.empty())
     {
@@ -197,14 +205,14 @@ void checkInputFiles(LocalizationExperiment::TOptions& o)
     {
         THROW_EXCEPTION("ini [" + kSection + "] logOutput_dir: missing");
     }
-    requireFile("rawlog_file", o.rawlog_file);
+    requireFile("rawlog_file", o.rawlog_file, ini);
     if (o.ground_truth_path_file.empty() &&
         mrpt::system::fileExists(Simulator::groundTruthPath(o.rawlog_file)))
     {
         o.ground_truth_path_file = Simulator::groundTruthPath(o.rawlog_file);  // semloc-simulate's
     }
-    requireFile("map_file", o.map_file);
-    requireFile("ground_truth_path_file", o.ground_truth_path_file);
+    requireFile("map_file", o.map_file, ini);
+    requireFile("ground_truth_path_file", o.ground_truth_path_file, ini);
 }
 
 /** What the streamed check of a rawlog found (its entries are not kept). */
@@ -389,7 +397,7 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     e.m_carried = carriedKeys(*ini);
     applyOverrides(o, ov);
     e.m_warnings = resourceWarnings(o.filter, ov);
-    checkInputFiles(o);
+    checkInputFiles(o, *ini);
     if (!o.ground_truth_path_file.empty())
     {
         e.m_groundTruth = GroundTruth::FromFile(o.ground_truth_path_file);  // a bad file fails

@@ -5,6 +5,7 @@
 #include <mrpt/core/format.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/io/ConfigHelpers.h>
+#include <semloc/io/ErrorMessage.h>
 
 #include <algorithm>
 #include <charconv>
@@ -23,12 +24,11 @@ namespace
 using detail::shortestText;
 using detail::trim;
 
-/** The UTF-8 byte-order mark some editors put at the start of a text file. */
-const char* const kUtf8Bom = "\xEF\xBB\xBF";
+using detail::kUtf8Bom;
 
 [[noreturn]] void fail(const std::string& section, const std::string& key, const std::string& what)
 {
-    THROW_EXCEPTION("ini [" + section + "] " + key + ": " + what);
+    THROW_EXCEPTION("ini [" + shownValue(section) + "] " + shownValue(key) + ": " + what);
 }
 
 bool readRaw(const mrpt::config::CConfigFileBase& c, const std::string& section,
@@ -42,6 +42,22 @@ bool readRaw(const mrpt::config::CConfigFileBase& c, const std::string& section,
     return true;
 }
 
+/** `text` with every line ended by LF: CRLF and a CR alone (old Mac files) are line ends for
+ *  MRPT's ini reader too. */
+std::string lfLineEnds(const std::string& text)
+{
+    std::string out;
+    out.reserve(text.size());
+    for (size_t i = 0; i < text.size(); i++)
+    {
+        const bool crlf = text[i] == '\r' && i + 1 < text.size() && text[i + 1] == '\n';
+        if (!crlf)
+        {
+            out += text[i] == '\r' ? '\n' : text[i];
+        }
+    }
+    return out;
+}
 }  // namespace
 
 void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
@@ -61,17 +77,17 @@ void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& secti
     const auto r = std::from_chars(b, s.data() + s.size(), v);
     if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size())
     {
-        fail(section, key, "'" + s + "' is not a number");
+        fail(section, key, "'" + shownValue(s) + "' is not a number");
     }
     if (!std::isfinite(v))
     {
-        fail(section, key, "'" + s + "' is not a finite number");
+        fail(section, key, "'" + shownValue(s) + "' is not a finite number");
     }
     if (v < lo || v > hi)
     {
-        fail(
-            section, key,
-            "value " + s + " is out of range [" + shortestText(lo) + ", " + shortestText(hi) + "]");
+        fail(section, key,
+             "value " + shownValue(s) + " is out of range [" + shortestText(lo) + ", " +
+                 shortestText(hi) + "]");
     }
     value = v;
 }
@@ -93,13 +109,13 @@ void readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
     const auto r = std::from_chars(b, s.data() + s.size(), v);
     if (s.empty() || r.ec != std::errc() || r.ptr != s.data() + s.size())
     {
-        fail(section, key, "'" + s + "' is not an integer");
+        fail(section, key, "'" + shownValue(s) + "' is not an integer");
     }
     if (v < lo || v > hi)
     {
         fail(section, key,
-             "value " + s + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                 "]");
+             "value " + shownValue(s) + " is out of range [" + std::to_string(lo) + ", " +
+                 std::to_string(hi) + "]");
     }
     value = static_cast<int>(v);
 }
@@ -125,7 +141,7 @@ void readBool(const mrpt::config::CConfigFileBase& c, const std::string& section
     }
     else
     {
-        fail(section, key, "'" + s + "' is not a boolean (true/false)");
+        fail(section, key, "'" + shownValue(s) + "' is not a boolean (true/false)");
     }
 }
 
@@ -144,7 +160,7 @@ void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& secti
         {
             list += (list.empty() ? "" : ", ") + ch;
         }
-        fail(section, key, "'" + s + "' is not one of: " + list);
+        fail(section, key, "'" + shownValue(s) + "' is not one of: " + list);
     }
     value = s;
 }
@@ -186,7 +202,7 @@ void checkIniText(const std::string& text, const std::string& file)
     // Per section (lower case): its name as first written and the first line of each key.
     std::map<std::string, std::pair<std::string, std::map<std::string, size_t>>> sections;
     auto* current = &sections[""];
-    std::istringstream in(text);
+    std::istringstream in(lfLineEnds(text));
     std::string line;
     for (size_t n = 1; std::getline(in, line); n++)
     {
@@ -208,7 +224,7 @@ void checkIniText(const std::string& text, const std::string& file)
         if (!section && !keyValue)
         {
             THROW_EXCEPTION(mrpt::format("%s:%zu: '%s' is neither a [section] nor key = value",
-                                         file.c_str(), n, content.c_str()));
+                                         file.c_str(), n, shownValue(content).c_str()));
         }
         if (section)
         {
@@ -227,7 +243,8 @@ void checkIniText(const std::string& text, const std::string& file)
             THROW_EXCEPTION(mrpt::format(
                 "%s:%zu: [%s] %s: set twice (also on line %zu; MRPT would silently use the "
                 "last value): keep one",
-                file.c_str(), n, current->first.c_str(), key.c_str(), it->second));
+                file.c_str(), n, shownValue(current->first).c_str(), shownValue(key).c_str(),
+                it->second));
         }
     }
 }
@@ -264,32 +281,58 @@ IniFileInMemory::IniFileInMemory(const std::string& path) : m_path(path)
     setContent(text.str());
 }
 
+std::string iniFileOf(const mrpt::config::CConfigFileBase& source)
+{
+    if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
+    {
+        return f->getAssociatedFile();
+    }
+    if (const auto* m = dynamic_cast<const IniFileInMemory*>(&source))
+    {
+        return m->path();
+    }
+    return {};
+}
+
+namespace
+{
+/** `file` joined to the directory of the ini `origin`. */
+std::string nextToIni(const std::string& origin, const std::string& file)
+{
+    // MRPT 2.5's extractFileDirectory() drops the trailing separator: join explicitly.
+    const std::string dir = mrpt::system::extractFileDirectory(origin);
+    return mrpt::system::pathJoin({dir.empty() ? "." : dir, file});
+}
+}  // namespace
+
 std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file)
 {
     if (file.empty() || file[0] == '/' || mrpt::system::fileExists(file))
     {
         return file;
     }
-    std::string origin;
-    if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
+    if (const std::string origin = iniFileOf(source); !origin.empty())
     {
-        origin = f->getAssociatedFile();
-    }
-    else if (const auto* m = dynamic_cast<const IniFileInMemory*>(&source))
-    {
-        origin = m->path();
-    }
-    if (!origin.empty())
-    {
-        // MRPT 2.5's extractFileDirectory() drops the trailing separator: join explicitly.
-        const std::string dir = mrpt::system::extractFileDirectory(origin);
-        std::string joined = mrpt::system::pathJoin({dir.empty() ? "." : dir, file});
+        std::string joined = nextToIni(origin, file);
         if (mrpt::system::fileExists(joined))
         {
             return joined;
         }
     }
     return file;
+}
+
+std::string missingFileMessage(const mrpt::config::CConfigFileBase& source,
+                               const std::string& written)
+{
+    std::string m = "file '" + written + "' does not exist";
+    const std::string origin = iniFileOf(source);
+    if (!written.empty() && written[0] != '/' && !origin.empty())
+    {
+        m += " (tried '" + nextToIni(origin, written) + "' next to the ini '" + origin + "' and '" +
+             written + "' from the working directory)";
+    }
+    return m;
 }
 
 std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o)

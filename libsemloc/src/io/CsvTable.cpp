@@ -3,6 +3,7 @@
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
+#include <semloc/io/ErrorMessage.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +19,50 @@ namespace semloc::detail
 {
 namespace
 {
+/** Reads the next line of `in` (ended by LF, CRLF, CR or the end of the stream) into `line`
+ *  without its end; false at the end of the stream. Throws "<name>:<n>: ..." for a line
+ *  longer than kMaxCsvLineBytes or holding a NUL byte, before reading further. */
+bool readLine(std::istream& in, std::string& line, const std::string& name, size_t n)
+{
+    line.clear();
+    std::streambuf* buf = in.rdbuf();
+    for (bool any = false;; any = true)
+    {
+        const int c = buf->sbumpc();
+        if (c == std::char_traits<char>::eof())
+        {
+            return any;
+        }
+        if (c == '\n')
+        {
+            return true;
+        }
+        if (c == '\r')
+        {
+            if (buf->sgetc() == '\n')
+            {
+                buf->sbumpc();
+            }
+            return true;
+        }
+        if (c == '\0')
+        {
+            THROW_EXCEPTION(
+                mrpt::format("%s:%zu: byte %zu of the line is a NUL byte: not a text "
+                             "file",
+                             name.c_str(), n, line.size() + 1));
+        }
+        if (line.size() >= kMaxCsvLineBytes)
+        {
+            THROW_EXCEPTION(
+                mrpt::format("%s:%zu: the line is longer than %zu bytes (1 MiB): not a "
+                             "CSV file?",
+                             name.c_str(), n, kMaxCsvLineBytes));
+        }
+        line.push_back(static_cast<char>(c));
+    }
+}
+
 /** The trimmed cells of one line. */
 std::vector<std::string> splitCells(const std::string& line)
 {
@@ -56,7 +101,7 @@ void checkHeader(const std::vector<std::string>& header, const std::string& at,
         if (std::find(known.begin(), known.end(), header[c]) == known.end())
         {
             THROW_EXCEPTION(mrpt::format("%s column %zu '%s': unknown column (known: %s)",
-                                         at.c_str(), c + 1, header[c].c_str(),
+                                         at.c_str(), c + 1, shownValue(header[c]).c_str(),
                                          joined(known).c_str()));
         }
         if (std::find(header.begin(), header.begin() + static_cast<long>(c), header[c]) !=
@@ -89,45 +134,49 @@ CsvTable CsvTable::FromFile(const std::string& path, const std::vector<std::stri
     {
         THROW_EXCEPTION("cannot read '" + path + "'");
     }
-    std::ostringstream text;
-    text << f.rdbuf();
-    return FromText(text.str(), path, required, optional);
+    return FromStream(f, path, required, optional);
 }
 
 CsvTable CsvTable::FromText(const std::string& text, const std::string& name,
                             const std::vector<std::string>& required,
                             const std::vector<std::string>& optional)
 {
+    std::istringstream in(text);
+    return FromStream(in, name, required, optional);
+}
+
+CsvTable CsvTable::FromStream(std::istream& in, const std::string& name,
+                              const std::vector<std::string>& required,
+                              const std::vector<std::string>& optional)
+{
     CsvTable t;
     t.m_name = name;
-    std::istringstream in(text);
     bool haveHeader = false;
     std::string line;
-    for (size_t n = 1; std::getline(in, line); n++)
+    for (size_t n = 1; readLine(in, line, name, n); n++)
     {
+        if (n == 1 && line.rfind(kUtf8Bom, 0) == 0)
+        {
+            line.erase(0, std::string(kUtf8Bom).size());  // as some editors write it
+        }
         const std::string trimmed = trim(line);
         if (trimmed.empty() || trimmed[0] == '#')
         {
             continue;
         }
-        auto cells = splitCells(line);
-        const std::string at = mrpt::format("%s:%zu:", name.c_str(), n);
-        if (!haveHeader)
+        if (haveHeader)
         {
-            checkHeader(cells, at, required, optional);
-            t.m_header = std::move(cells);
-            t.m_headerLine = n;
-            haveHeader = true;
+            t.addRow(line, n);
             continue;
         }
-        if (cells.size() != t.m_header.size())
-        {
-            THROW_EXCEPTION(mrpt::format("%s expected %zu cells (%s), found %zu", at.c_str(),
-                                         t.m_header.size(), joined(t.m_header).c_str(),
-                                         cells.size()));
-        }
-        t.m_rows.push_back(std::move(cells));
-        t.m_lines.push_back(n);
+        t.m_header = splitCells(line);
+        checkHeader(t.m_header, mrpt::format("%s:%zu:", name.c_str(), n), required, optional);
+        t.m_headerLine = n;
+        haveHeader = true;
+    }
+    if (in.bad())
+    {
+        THROW_EXCEPTION("cannot read '" + name + "'");
     }
     if (!haveHeader)
     {
@@ -135,6 +184,22 @@ CsvTable CsvTable::FromText(const std::string& text, const std::string& name,
                         joined(required) + ")");
     }
     return t;
+}
+
+void CsvTable::addRow(const std::string& line, size_t lineNumber)
+{
+    const size_t cells = static_cast<size_t>(std::count(line.begin(), line.end(), ',')) + 1;
+    if (cells != m_header.size())
+    {
+        THROW_EXCEPTION(mrpt::format("%s:%zu: expected %zu cells (%s), found %zu", m_name.c_str(),
+                                     lineNumber, m_header.size(), joined(m_header).c_str(), cells));
+    }
+    for (const auto& c : splitCells(line))
+    {
+        m_cells += c;
+        m_cellEnd.push_back(m_cells.size());
+    }
+    m_lines.push_back(lineNumber);
 }
 
 size_t CsvTable::index(const std::string& column) const
@@ -152,7 +217,13 @@ bool CsvTable::has(const std::string& column) const
 std::string CsvTable::text(size_t row, const std::string& column) const
 {
     const size_t c = index(column);
-    return c == std::numeric_limits<size_t>::max() ? std::string() : m_rows.at(row)[c];
+    if (c == std::numeric_limits<size_t>::max())
+    {
+        return {};
+    }
+    const size_t k = row * m_header.size() + c;
+    const size_t b = k == 0 ? 0 : m_cellEnd.at(k - 1);
+    return m_cells.substr(b, m_cellEnd.at(k) - b);
 }
 
 bool CsvTable::empty(size_t row, const std::string& column) const
@@ -182,11 +253,11 @@ double CsvTable::number(size_t row, const std::string& column) const
     const double v = std::strtod(s.c_str(), &end);
     if (end == s.c_str() || *end != '\0')
     {
-        fail(row, column, "'" + s + "' is not a number");
+        fail(row, column, "'" + shownValue(s) + "' is not a number");
     }
     if (!std::isfinite(v))
     {
-        fail(row, column, "'" + s + "' is not a finite number");
+        fail(row, column, "'" + shownValue(s) + "' is not a finite number");
     }
     return v;
 }
@@ -198,15 +269,15 @@ double CsvTable::numberOr(size_t row, const std::string& column, double fallback
 
 void CsvTable::checkIncreasing(const std::string& column, bool strictly) const
 {
-    for (size_t r = 1; r < m_rows.size(); r++)
+    for (size_t r = 1; r < rows(); r++)
     {
         const double prev = number(r - 1, column), t = number(r, column);
         if (t < prev || (strictly && t == prev))
         {
             fail(r, column,
-                 "time " + shortestText(t) +
-                     (t < prev ? " goes back: it is before " : " is not after ") +
-                     shortestText(prev) + mrpt::format(" (line %zu): times must ", m_lines[r - 1]) +
+                 "time " + timeText(t) +
+                     (t < prev ? " goes back: it is before " : " is not after ") + timeText(prev) +
+                     mrpt::format(" (line %zu): times must ", m_lines[r - 1]) +
                      (strictly ? "increase" : "not go back"));
         }
     }

@@ -2,16 +2,25 @@
 #pragma once
 
 #include <cstddef>
+#include <istream>
 #include <string>
 #include <vector>
 
 namespace semloc::detail
 {
+/** Longest line of a CSV file [bytes]: a longer one (a binary file, /dev/zero) is refused
+ *  before it is held in memory. */
+constexpr size_t kMaxCsvLineBytes = size_t{1} << 20;
+
 /** A CSV file of semloc-import's dataset format (docs/tools.md, "semloc-import"): a header row
- *  naming the columns (any order), then one row per line; lines that are blank or start with
+ *  naming the columns (any order), then one row per line; lines end with LF, CRLF or CR; a
+ *  UTF-8 byte-order mark before the first line is skipped; lines that are blank or start with
  *  `#` are skipped; cells are separated by commas and trimmed of blanks (no quoting: a cell
- *  holds no comma). Every error names the file, the line and, for a cell, its column (number
- *  and name): `det.csv:7: column 3 'range_m': 'abc' is not a number`. */
+ *  holds no comma). A line longer than kMaxCsvLineBytes or holding a NUL byte is refused.
+ *  Every error names the file, the line and, for a cell, its column (number and name), and
+ *  quotes values through shownValue(): `det.csv:7: column 3 'range_m': 'abc' is not a
+ *  number`. The cells are held in one string (memory: about the file's size plus 8 bytes a
+ *  cell). */
 class CsvTable
 {
 public:
@@ -20,7 +29,11 @@ public:
      *  than the header and a file without a header are errors. */
     static CsvTable FromFile(const std::string& path, const std::vector<std::string>& required,
                              const std::vector<std::string>& optional = {});
-    /** The same from `text`, `name` standing for the file in messages. */
+    /** The same from a stream, `name` standing for the file in messages. */
+    static CsvTable FromStream(std::istream& in, const std::string& name,
+                               const std::vector<std::string>& required,
+                               const std::vector<std::string>& optional = {});
+    /** The same from `text`. */
     static CsvTable FromText(const std::string& text, const std::string& name,
                              const std::vector<std::string>& required,
                              const std::vector<std::string>& optional = {});
@@ -28,7 +41,7 @@ public:
     /** The file's name as messages give it. */
     const std::string& name() const { return m_name; }
     /** Number of data rows. */
-    size_t rows() const { return m_rows.size(); }
+    size_t rows() const { return m_lines.size(); }
     /** True when the header names `column`. */
     bool has(const std::string& column) const;
     /** The line (from 1) of the header row. */
@@ -56,10 +69,14 @@ public:
 
 private:
     size_t index(const std::string& column) const;
+    void addRow(const std::string& line, size_t lineNumber);
 
     std::string m_name;
     std::vector<std::string> m_header;
-    std::vector<std::vector<std::string>> m_rows;
+    /** Every cell's trimmed text, one after the other; cell k (row r, column c: k = r *
+     *  columns + c) is m_cells[m_cellEnd[k - 1], m_cellEnd[k]) (from 0 for k = 0). */
+    std::string m_cells;
+    std::vector<size_t> m_cellEnd;
     std::vector<size_t> m_lines;
     size_t m_headerLine = 0;
 };

@@ -4,6 +4,7 @@
 #include <mrpt/core/format.h>
 #include <mrpt/math/wrap2pi.h>
 #include <semloc/io/DatasetImport.h>
+#include <semloc/io/ErrorMessage.h>
 #include <semloc/observation/Labels.h>
 
 #include <algorithm>
@@ -42,6 +43,42 @@ mrpt::math::TPose2D integrate(const mrpt::math::TPose2D& p, double v, double w, 
     return q;
 }
 
+/** A cell that must be a number within [-limit, limit] (`unit` for the message: "x 1e+308 is
+ *  beyond +-1e+07 m"). */
+double boundedCell(const CsvTable& t, size_t row, const std::string& col, double limit,
+                   const char* unit)
+{
+    const double v = t.number(row, col);
+    if (std::abs(v) > limit)
+    {
+        t.fail(row, col,
+               col + " " + detail::shortestText(v) + " is beyond +-" + detail::shortestText(limit) +
+                   " " + unit);
+    }
+    return v;
+}
+
+/** A position cell: within the world's bound, +-1e7 m. */
+double positionCell(const CsvTable& t, size_t row, const std::string& col)
+{
+    return boundedCell(t, row, col, kMaxWorldCoordinate_m, "m");
+}
+
+/** A time cell [s]: within +-kMaxImportTime_s, else refused with the unit it looks like. */
+double timeCell(const CsvTable& t, size_t row, const std::string& col)
+{
+    const double v = t.number(row, col);
+    if (std::abs(v) > kMaxImportTime_s)
+    {
+        t.fail(row, col,
+               "time " + detail::timeText(v) +
+                   " is beyond +-1e11 s (3170 years): are the times in " +
+                   DatasetImport::likelyTimeUnit(std::abs(v) / 2e9) +
+                   "? semloc-import takes seconds (e.g. since 1970)");
+    }
+    return v;
+}
+
 /** A cell that must be a whole number in [lo, hi]. */
 long integerCell(const CsvTable& t, size_t row, const std::string& col, long lo, long hi)
 {
@@ -49,7 +86,8 @@ long integerCell(const CsvTable& t, size_t row, const std::string& col, long lo,
     if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
     {
         t.fail(row, col,
-               "'" + t.text(row, col) + mrpt::format("' is not an integer in [%ld, %ld]", lo, hi));
+               "'" + shownValue(t.text(row, col)) +
+                   mrpt::format("' is not an integer in [%ld, %ld]", lo, hi));
     }
     return static_cast<long>(v);
 }
@@ -63,20 +101,24 @@ TSemanticDetection detectionRow(const CsvTable& t, size_t r)
     {
         t.fail(r, "label", p);
     }
-    d.range_m = t.number(r, "range_m");
+    d.range_m = boundedCell(t, r, "range_m", kMaxWorldCoordinate_m, "m");
     if (d.range_m < 0)
     {
         t.fail(r, "range_m", "range " + detail::shortestText(d.range_m) + " is negative");
     }
     d.bearing_rad = t.number(r, "bearing_rad");
-    if (std::abs(d.bearing_rad) > 4 * M_PI)
+    if (std::abs(d.bearing_rad) > M_PI)
     {
-        t.fail(r, "bearing_rad", "bearing " + t.text(r, "bearing_rad") + " is beyond +-4 pi");
+        t.fail(r, "bearing_rad",
+               "bearing " + detail::shortestText(d.bearing_rad) +
+                   " is outside [-pi, pi]: are the bearings in degrees? semloc-import takes "
+                   "radians in [-pi, pi]");
     }
     d.confidence = t.numberOr(r, "confidence", 1.0);
     if (!(d.confidence >= 0 && d.confidence <= 1))
     {
-        t.fail(r, "confidence", "confidence " + t.text(r, "confidence") + " is not in [0, 1]");
+        t.fail(r, "confidence",
+               "confidence " + shownValue(t.text(r, "confidence")) + " is not in [0, 1]");
     }
     d.object_id = t.empty(r, "id") ? -1
                                    : static_cast<int32_t>(integerCell(
@@ -177,21 +219,29 @@ OdometryTrack DatasetImport::readOdometry(const std::string& path)
     mrpt::math::TPose2D p(0, 0, 0);
     for (size_t r = 0; r < t.rows(); r++)
     {
-        odo.t.push_back(t.number(r, "t"));
+        odo.t.push_back(timeCell(t, r, "t"));
         if (poses)
         {
-            p = {t.number(r, "x"), t.number(r, "y"), mrpt::math::wrapToPi(t.number(r, "phi"))};
+            p = {positionCell(t, r, "x"), positionCell(t, r, "y"),
+                 mrpt::math::wrapToPi(boundedCell(t, r, "phi", kMaxImportHeading_rad, "rad"))};
         }
         else if (r > 0)
         {
             p = integrate(p, t.number(r - 1, "v"), t.number(r - 1, "w"), odo.t[r] - odo.t[r - 1]);
+            if (std::abs(p.x) > kMaxWorldCoordinate_m || std::abs(p.y) > kMaxWorldCoordinate_m)
+            {
+                t.fail(r, "t",
+                       "the speeds integrated to this row's time reach (" +
+                           detail::shortestText(p.x) + ", " + detail::shortestText(p.y) +
+                           ") m, beyond the world's bound of +-1e7 m");
+            }
+        }
+        if (!poses)
+        {
+            boundedCell(t, r, "v", kMaxImportSpeed_mps, "m/s");
+            boundedCell(t, r, "w", kMaxImportYawRate_radps, "rad/s");
         }
         odo.pose.push_back(p);
-    }
-    if (!poses)
-    {
-        (void)t.number(t.rows() - 1, "v");  // the last row's speeds are checked too
-        (void)t.number(t.rows() - 1, "w");
     }
     return odo;
 }
@@ -205,7 +255,7 @@ std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path
     bool markedEmpty = false;  // the current scan has a row without a label
     for (size_t r = 0; r < t.rows(); r++)
     {
-        const double time = t.number(r, "t");
+        const double time = timeCell(t, r, "t");
         if (time == 0)
         {
             t.fail(r, "t",
@@ -229,7 +279,7 @@ std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path
         if ((emptyRow && !scans.back().detections.empty()) || (!emptyRow && markedEmpty))
         {
             t.fail(r, "label",
-                   "the scan at time " + t.text(r, "t") +
+                   "the scan at time " + detail::timeText(time) +
                        " is marked empty (a row without a label) and has detections");
         }
         markedEmpty = markedEmpty || emptyRow;
@@ -248,8 +298,9 @@ std::vector<GroundTruthRow> DatasetImport::readGroundTruth(const std::string& pa
     std::vector<GroundTruthRow> rows;
     for (size_t r = 0; r < t.rows(); r++)
     {
-        rows.push_back({t.number(r, "t"), t.number(r, "x"), t.number(r, "y"),
-                        mrpt::math::wrapToPi(t.number(r, "phi"))});
+        rows.push_back(
+            {timeCell(t, r, "t"), positionCell(t, r, "x"), positionCell(t, r, "y"),
+             mrpt::math::wrapToPi(boundedCell(t, r, "phi", kMaxImportHeading_rad, "rad"))});
     }
     if (rows.empty())
     {
@@ -279,7 +330,7 @@ std::vector<ImportedLandmark> DatasetImport::readLandmarks(const std::string& pa
             t.fail(r, "label", p);
         }
         l.object.shape = ShapeType::Point;
-        l.object.center = {t.number(r, "x"), t.number(r, "y")};
+        l.object.center = {positionCell(t, r, "x"), positionCell(t, r, "y")};
         for (auto [col, sigma] :
              {std::pair{"sigma_x_m", &l.sigma_x_m}, {"sigma_y_m", &l.sigma_y_m}})
         {

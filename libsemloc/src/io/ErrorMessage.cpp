@@ -2,11 +2,79 @@
 #include <mrpt/core/exceptions.h>
 #include <semloc/io/ErrorMessage.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
 namespace semloc
 {
+namespace
+{
+/** Length of the valid UTF-8 sequence (2 to 4 bytes) of a printable character beyond ASCII at
+ *  the start of `s`, or 0 (invalid, a C1 control, or a character that prints nothing). */
+size_t printableUtf8(std::string_view s)
+{
+    const auto b = [&](size_t i) { return static_cast<unsigned char>(s[i]); };
+    const unsigned char c = b(0);
+    const size_t n = c >= 0xF0 && c <= 0xF4 ? 4 : c >= 0xE0 ? 3 : c >= 0xC2 && c <= 0xDF ? 2 : 0;
+    if (n == 0 || n > s.size())
+    {
+        return 0;
+    }
+    unsigned cp = c & (0xFFu >> (n + 1));
+    for (size_t i = 1; i < n; i++)
+    {
+        if ((b(i) & 0xC0) != 0x80)
+        {
+            return 0;
+        }
+        cp = (cp << 6) | (b(i) & 0x3Fu);
+    }
+    const unsigned minimum[] = {0, 0, 0x80, 0x800, 0x10000};
+    const bool invisible = cp < 0xA0 || cp == 0xAD || cp == 0xFEFF ||
+                           (cp >= 0x200B && cp <= 0x200F) || (cp >= 0x2028 && cp <= 0x202E) ||
+                           (cp >= 0x2060 && cp <= 0x2069);
+    const bool valid = cp >= minimum[n] && cp <= 0x10FFFF && !(cp >= 0xD800 && cp <= 0xDFFF);
+    return valid && !invisible ? n : 0;
+}
+}  // namespace
+
+std::string shownValue(std::string_view value)
+{
+    std::string out;
+    size_t shown = 0;  // characters written
+    for (size_t i = 0; i < value.size();)
+    {
+        const auto c = static_cast<unsigned char>(value[i]);
+        std::string piece;
+        size_t used = 1;
+        if (c >= 0x20 && c < 0x7F)
+        {
+            piece.assign(1, static_cast<char>(c));
+        }
+        else if (const size_t n = c >= 0x80 ? printableUtf8(value.substr(i)) : 0; n > 0)
+        {
+            piece.assign(value.substr(i, n));
+            used = n;
+        }
+        else
+        {
+            char esc[8];
+            std::snprintf(esc, sizeof(esc), "\\x%02X", c);
+            piece = esc;
+        }
+        const size_t width = used > 1 ? 1 : piece.size();  // a UTF-8 character: one
+        if (shown + width > kMaxShownValue)
+        {
+            return out + "\u2026";
+        }
+        out += piece;
+        shown += width;
+        i += used;
+    }
+    return out;
+}
+
 std::string errorMessage(const std::exception& e)
 {
     std::string full = mrpt::exception_to_str(e);

@@ -2,10 +2,15 @@
 #pragma once
 
 #include <charconv>
+#include <cmath>
 #include <string>
 
 namespace semloc::detail
 {
+/** The UTF-8 byte-order mark some editors put at the start of a text file; the readers of
+ *  text files (ini, CSV) skip it. */
+inline constexpr char kUtf8Bom[] = "\xEF\xBB\xBF";
+
 /** `s` without the blanks, tabs, CRs and LFs at either end. */
 inline std::string trim(const std::string& s)
 {
@@ -41,6 +46,14 @@ inline std::string fixedText(double v)
     char buf[400];  // fixed notation of any double fits
     const auto r = std::to_chars(buf, buf + sizeof(buf), v, std::chars_format::fixed);
     return std::string(buf, r.ptr);
+}
+
+/** A time [s] as every message of the importers writes it: fixed-point, the shortest text
+ *  that reads back (1700000000.25), or the shortest text with an exponent from 1e15 on
+ *  (1.7e+18), where fixed-point would print digits that mean nothing. */
+inline std::string timeText(double t)
+{
+    return std::abs(t) < 1e15 ? fixedText(t) : shortestText(t);
 }
 
 }  // namespace semloc::detail

@@ -67,11 +67,16 @@ std::vector<std::pair<std::string, unsigned>> definitionAliases(
     return out;
 }
 
-/** `message` of a map definition that rejected its sections, prefixed by the section and key
- *  it names (MRPT's messages name the key, `key='likelihoodMethod'`, not the section). */
+/** `message` of a map definition that rejected its sections, as "ini [section] key: message":
+ *  MRPT's messages name the key (`key='likelihoodMethod'`), not the section; ours name both
+ *  already and are kept as they are. */
 std::string mapSectionError(const mrpt::config::CConfigFileBase& ini, const std::string& prefix,
                             const std::string& message)
 {
+    if (message.rfind("ini [", 0) == 0)
+    {
+        return message;
+    }
     std::smatch m;
     if (std::regex_search(message, m, std::regex("key='([^']+)'")))
     {
@@ -81,13 +86,23 @@ std::string mapSectionError(const mrpt::config::CConfigFileBase& ini, const std:
         {
             if (s.rfind(prefix + "_", 0) == 0 && ini.keyExists(s, m[1].str()))
             {
-                std::string error = "ini [";
-                error.append(s).append("] ").append(m[1].str()).append(": ").append(message);
-                return error;
+                return "ini [" + s + "] " + shownValue(m[1].str()) + ": " + message;
             }
         }
     }
     return "ini [" + prefix + "_*]: " + message;
+}
+
+/** "ini 'FILE': [section] key: ..." for the message "ini [section] key: ..." of an ini that
+ *  came from a file; "" for any other (kept as it is). */
+std::string namingTheIni(const mrpt::config::CConfigFileBase& ini, const std::string& message)
+{
+    const std::string file = config::iniFileOf(ini);
+    if (file.empty() || message.rfind("ini [", 0) != 0)
+    {
+        return {};
+    }
+    return "ini '" + file + "': " + message.substr(4);
 }
 
 /** What TSetOfMetricMapInitializers::loadFromConfigFile does, owning each definition from its
@@ -194,7 +209,8 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
             {
                 THROW_EXCEPTION(mrpt::format(
                     "ini [%s] %s: unknown map '%s' (MRPT would ignore it silently); known maps: %s",
-                    section.c_str(), key.c_str(), name.c_str(), known.c_str()));
+                    section.c_str(), shownValue(key).c_str(), shownValue(name).c_str(),
+                    known.c_str()));
             }
             int n = 0;
             config::readInt(ini, section, key, n, 0, 99);
@@ -203,7 +219,7 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
         {
             THROW_EXCEPTION(mrpt::format(
                 "ini [%s] %s: unknown key (expected <map>_count, e.g. semanticMap_count = 1)",
-                section.c_str(), key.c_str()));
+                section.c_str(), shownValue(key).c_str()));
         }
     }
 
@@ -227,8 +243,9 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
             const double d = v.empty() ? 0 : std::strtod(v.c_str(), &end);
             if (!v.empty() && end == v.c_str() + v.size() && !std::isfinite(d))
             {
-                THROW_EXCEPTION(mrpt::format("ini [%s] %s: '%s' is not a finite number", s.c_str(),
-                                             detail::trimValue(key).c_str(), v.c_str()));
+                THROW_EXCEPTION(mrpt::format(
+                    "ini [%s] %s: '%s' is not a finite number", shownValue(s).c_str(),
+                    shownValue(detail::trimValue(key)).c_str(), shownValue(v).c_str()));
             }
         }
         std::smatch m;
@@ -237,7 +254,7 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
             THROW_EXCEPTION(mrpt::format(
                 "ini [%s]: unknown section (map sections are [%s_<map>_<NN>_<creationOpts|"
                 "likelihoodOpts|insertOpts|...>] with a known map: %s)",
-                s.c_str(), section.c_str(), known.c_str()));
+                shownValue(s).c_str(), section.c_str(), known.c_str()));
         }
         const auto count = ini.read_uint64_t(section, m[1].str() + kCount, 0);
         if (static_cast<uint64_t>(std::stoul(m[2].str())) >= count)
@@ -374,6 +391,23 @@ std::vector<std::string> fillMaps(LocalizationMap& lm,
 }  // namespace
 
 LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase& ini,
+                                            const std::string& mapFile, const std::string& section)
+{
+    try
+    {
+        return fromConfig(ini, mapFile, section);
+    }
+    catch (const std::exception& e)
+    {
+        if (const std::string m = namingTheIni(ini, errorMessage(e)); !m.empty())
+        {
+            THROW_EXCEPTION(m);
+        }
+        throw;  // not about the ini (a map file, an interrupt): as it is
+    }
+}
+
+LocalizationMap LocalizationMap::fromConfig(const mrpt::config::CConfigFileBase& ini,
                                             const std::string& mapFile, const std::string& section)
 {
     validateSections(ini, section);

@@ -73,9 +73,7 @@ void TSimulationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase&
         const std::string found = config::resolveNextToIni(c, given);
         if (!mrpt::system::fileExists(found))
         {
-            THROW_EXCEPTION("ini [" + s + "] world_file: file '" + given +
-                            "' not found (relative paths are tried next to the ini file and "
-                            "in the working directory)");
+            THROW_EXCEPTION("ini [" + s + "] world_file: " + config::missingFileMessage(c, given));
         }
         world_file = mrpt::system::toAbsolutePath(found, true);
     }

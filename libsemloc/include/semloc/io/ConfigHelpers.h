@@ -21,7 +21,8 @@ void checkIniFile(const std::string& path, const std::string& kind = "config fil
  *  - a key set twice in one section (MRPT keeps the last value silently). Section and key
  *    names match regardless of ASCII case, as in MRPT. A section may appear more than once:
  *    its keys are merged, as MRPT does.
- *  A UTF-8 byte-order mark at the start of the text is skipped, as MRPT skips it. */
+ *  A UTF-8 byte-order mark at the start of the text is skipped, as MRPT skips it; lines end
+ *  with LF, CRLF or a CR alone, as MRPT reads them. */
 void checkIniText(const std::string& text, const std::string& file);
 
 /** Reads a finite number in [lo, hi]; keeps `value` when the key is absent.
@@ -61,6 +62,16 @@ public:
 private:
     std::string m_path;
 };
+
+/** The file `source` was read from (a CConfigFile or an IniFileInMemory), "" if none. */
+std::string iniFileOf(const mrpt::config::CConfigFileBase& source);
+
+/** "file 'WRITTEN' does not exist", and when `written` is relative and `source` came from a
+ *  file, the paths tried: "(tried 'DIR/WRITTEN' next to the ini 'INI' and 'WRITTEN' from the
+ *  working directory)", DIR the ini's directory as given (a symlinked ini's own, not its
+ *  target's). */
+std::string missingFileMessage(const mrpt::config::CConfigFileBase& source,
+                               const std::string& written);
 
 /** `file` as given if it exists (or is absolute or empty), else resolved next to the ini
  *  file `source` was read from (a CConfigFile or an IniFileInMemory), if it exists there: ini

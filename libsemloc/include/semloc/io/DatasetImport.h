@@ -15,6 +15,26 @@
 
 namespace semloc
 {
+// semloc-import's bounds on the values of its files (docs/tools.md, "semloc-import"): a value
+// beyond them is refused naming the file, the line and the column. Positions (odometry, ground
+// truth, landmarks) and ranges lie within kMaxWorldCoordinate_m (1e7 m).
+
+/** Largest time [s]: 1e11 s (3170 years); times since 1970 in milliseconds or finer are
+ *  beyond it. */
+constexpr double kMaxImportTime_s = 1e11;
+/** Largest odometry speed `v` [m/s]. */
+constexpr double kMaxImportSpeed_mps = 100;
+/** Largest odometry yaw rate `w` [rad/s]. */
+constexpr double kMaxImportYawRate_radps = 100;
+/** Largest heading `phi` [rad] (unwrapped headings are fine; beyond this a double's heading
+ *  has lost its precision). */
+constexpr double kMaxImportHeading_rad = 1e6;
+/** Largest median time between consecutive distinct times of the odometry and detections
+ *  together [s]: above it the times look like milliseconds or finer and are refused. */
+constexpr double kMaxImportMedianInterval_s = 10;
+/** Most steps an import makes (scans and odometry-only steps), checked before any is made. */
+constexpr size_t kMaxImportSteps = 10'000'000;
+
 /** The options of semloc-import (docs/tools.md, "semloc-import"). */
 struct TDatasetImportOptions
 {
@@ -111,10 +131,25 @@ public:
 
     /** The steps: one per scan within the odometry's time span (the others are counted in
      *  `stats.scansOutsideOdometry`), and evenly spaced odometry-only steps between two scans
-     *  more than `maxStep_s` apart, so that no gap is longer. Throws if no scan is left. */
+     *  more than `maxStep_s` apart, so that no gap is longer. Throws if no scan is left, and
+     *  before making any step if the times look like milliseconds or finer (checkTimeUnit)
+     *  or if there would be more than kMaxImportSteps steps; `odometryName` and
+     *  `detectionsName` name the files in the messages. */
     static std::vector<ImportStep> steps(const std::vector<DetectionScan>& scans,
                                          const OdometryTrack& odometry, double maxStep_s,
-                                         TDatasetImportStats& stats);
+                                         TDatasetImportStats& stats,
+                                         const std::string& odometryName = "odometry",
+                                         const std::string& detectionsName = "detections");
+    /** Throws if the median time between consecutive distinct times of the odometry and the
+     *  scans together is above kMaxImportMedianInterval_s: "times of 'odom.csv' and
+     *  'det.csv': the median time between consecutive rows is 1000 s, more than 10 s: are the
+     *  times in milliseconds? semloc-import takes seconds". */
+    static void checkTimeUnit(const std::vector<DetectionScan>& scans,
+                              const OdometryTrack& odometry, const std::string& odometryName,
+                              const std::string& detectionsName);
+    /** The unit times seem to be in when they read `ratio` times what seconds would:
+     *  "milliseconds" (below 3e4), "microseconds" (below 3e7) or "nanoseconds". */
+    static const char* likelyTimeUnit(double ratio);
 
     /** The rawlog of `steps`: per step a CActionCollection holding a CActionRobotMovement2D
      *  (the odometry increment since the previous step, zero for the first; its Gaussian from
@@ -126,6 +161,13 @@ public:
                                          const OdometryTrack& odometry,
                                          const TDatasetImportOptions& options,
                                          TDatasetImportStats& stats);
+    /** Writes the rawlog makeRawlog() makes to `path` (gz-compressed, the bytes
+     *  saveRawlog(log, path, "semloc-import") writes of it: the signature first) entry by entry, never holding more than one step in memory; throws
+     *  "cannot write 'PATH': REASON" on an error. */
+    static void writeRawlog(const std::vector<ImportStep>& steps,
+                            const std::vector<DetectionScan>& scans, const OdometryTrack& odometry,
+                            const TDatasetImportOptions& options, TDatasetImportStats& stats,
+                            const std::string& path);
 
     /** The ground truth at each step time within its span, interpolated as OdometryTrack::at
      *  does. Throws naming `path` if it covers no step. */

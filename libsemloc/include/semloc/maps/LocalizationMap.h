@@ -32,7 +32,9 @@ class LocalizationMap
 {
 public:
     /** Reads `[section]` (normally "MetricMap") of `ini` and fills the maps from `mapFile`
-     *  (resolved by the caller; may be empty). */
+     *  (resolved by the caller; may be empty). An error about the ini names its file, the
+     *  section and the key once: "ini 'loc.ini': [MetricMap_semanticMap_00_likelihoodOpts]
+     *  sigma_range_m: ..." ("ini [...] ..." for an ini that came from no file). */
     static LocalizationMap FromConfig(const mrpt::config::CConfigFileBase& ini,
                                       const std::string& mapFile,
                                       const std::string& section = "MetricMap");
@@ -63,6 +65,10 @@ public:
     static std::string kindOf(const mrpt::maps::CMetricMap& m);
 
 private:
+    /** FromConfig without the ini's file in its messages. */
+    static LocalizationMap fromConfig(const mrpt::config::CConfigFileBase& ini,
+                                      const std::string& mapFile, const std::string& section);
+
     /** Map file actually used for each semantic/structure map (for the effective ini). */
     std::vector<std::string> m_worldFiles;
 };

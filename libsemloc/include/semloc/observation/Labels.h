@@ -1,6 +1,8 @@
 /* semloc — the rule every object label follows (world files, maps, rawlogs, --label). */
 #pragma once
 
+#include <semloc/io/ErrorMessage.h>
+
 #include <cstddef>
 #include <string>
 
@@ -41,7 +43,8 @@ inline std::string labelProblem(const std::string& label)
         const auto u = static_cast<unsigned char>(c);
         if (u <= 0x20 || u == 0x7F)
         {
-            return "label '" + label + "' holds a blank or control character (a label is one word)";
+            return "label '" + shownValue(label) +
+                   "' holds a blank or control character (a label is one word)";
         }
     }
     return {};
