@@ -138,6 +138,7 @@ Cases iniMapCases();
 Cases iniModelCases();
 Cases outputDirectoryCases();
 Cases outputFileCases();
+Cases outputOverUserFileCases();
 Cases worldSyntaxCases();
 Cases worldContentCases();
 Cases rawlogFileCases();
@@ -155,11 +156,12 @@ Cases figureCases();
 
 inline std::vector<Cases> allCaseGroups()
 {
-    return {
-        commandLineCases(),     iniFileCases(),       iniMapCases(),         iniModelCases(),
-        outputDirectoryCases(), outputFileCases(),    worldSyntaxCases(),    worldContentCases(),
-        rawlogFileCases(),      rawlogDamagedCases(), rawlogOdometryCases(), timeCases(),
-        observationCases(),     importCases(),        csvBytesCases(),       csvValueCases(),
-        iniMessageCases(),      calibrateCases(),     runPlotCases(),        figureCases()};
+    return {commandLineCases(),   iniFileCases(),         iniMapCases(),
+            iniModelCases(),      outputDirectoryCases(), outputFileCases(),
+            worldSyntaxCases(),   worldContentCases(),    rawlogFileCases(),
+            rawlogDamagedCases(), rawlogOdometryCases(),  timeCases(),
+            observationCases(),   importCases(),          csvBytesCases(),
+            csvValueCases(),      iniMessageCases(),      calibrateCases(),
+            runPlotCases(),       figureCases(),          outputOverUserFileCases()};
 }
 }  // namespace semloc::test::bad_input

@@ -406,6 +406,27 @@ Cases outputFileCases()
              return std::vector<std::string>{"semloc-simulate", kSrc + "/config/simulate.ini", "-o",
                                              (d / "notes.rawlog").string()};
          }},
+        {"plot-out-is-input",
+         [](const fs::path& d)
+         {
+             auto a = plotWorld(d, kBounds + "objects: []\n");
+             a[3] = (d / "w.yaml").string();
+             return a;
+         }},
+        {"import-out-is-input",
+         [](const fs::path& d)
+         {
+             writeText(d / "in.rawlog", plainBytes(d));
+             return std::vector<std::string>{"semloc-import-landmarks", (d / "in.rawlog").string(),
+                                             "-o", (d / "in.rawlog").string()};
+         }},
+    };
+}
+
+/** Outputs over files semloc did not write, and through symbolic links: refused. */
+Cases outputOverUserFileCases()
+{
+    return {
         {"simulate-out-not-semloc",
          [](const fs::path& d)
          {
@@ -428,20 +449,6 @@ Cases outputFileCases()
              auto a = plotWorld(d, kBounds + "objects: []\n");
              a[3] = (d / "link.png").string();
              return a;
-         }},
-        {"plot-out-is-input",
-         [](const fs::path& d)
-         {
-             auto a = plotWorld(d, kBounds + "objects: []\n");
-             a[3] = (d / "w.yaml").string();
-             return a;
-         }},
-        {"import-out-is-input",
-         [](const fs::path& d)
-         {
-             writeText(d / "in.rawlog", plainBytes(d));
-             return std::vector<std::string>{"semloc-import-landmarks", (d / "in.rawlog").string(),
-                                             "-o", (d / "in.rawlog").string()};
          }},
     };
 }

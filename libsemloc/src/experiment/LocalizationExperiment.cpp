@@ -174,6 +174,93 @@ void RawlogPlayback::observation(const mrpt::obs::CObservation::Ptr& obs)
     }
 }
 
+/** Where each step's record goes as it is run: its ground truth matched, then steps.csv, the
+ *  metrics, particles.csv and (Records::Keep) the kept records. */
+struct StepSinks
+{
+    StepSinks(const StagedDirectory& out, const LocalizationExperiment::TOptions& o,
+              const GroundTruth& gt, double gtTolerance, LocalizationExperiment::Records keep,
+              std::vector<TStepRecord>& kept)
+        : steps(out.path("steps.csv")),
+          metrics(o.convergence),
+          m_gt(gt),
+          m_gtTolerance(gtTolerance),
+          m_keep(keep == LocalizationExperiment::Records::Keep),
+          m_kept(kept)
+    {
+        if (o.particles_save_every > 0)
+        {
+            particles.emplace(out.path("particles.csv"), o.particles_save_every);
+        }
+    }
+    void add(TStepRecord& r, const Localizer& loc)
+    {
+        if (const auto* row = m_gt.nearest(r.t, m_gtTolerance))
+        {
+            r.gt = row->pose();
+        }
+        steps.add(r);
+        metrics.add(r);
+        if (particles)
+        {
+            particles->step(r, loc.pdf());
+        }
+        if (m_keep)
+        {
+            m_kept.push_back(r);
+        }
+        last = r;
+    }
+    /** After the last step: the files closed (the last cloud written). */
+    void finish(const Localizer& loc)
+    {
+        if (particles && last)
+        {
+            particles->finish(*last, loc.pdf());
+        }
+        steps.finish();
+    }
+
+    detail::StepsCsv steps;
+    RunMetricsAccumulator metrics;
+    std::optional<detail::ParticlesCsv> particles;
+    std::optional<TStepRecord> last;
+
+private:
+    const GroundTruth& m_gt;
+    double m_gtTolerance;
+    bool m_keep;
+    std::vector<TStepRecord>& m_kept;
+};
+
+/** Reads the `entries` intact entries of the rawlog at `path` again, one at a time, into
+ *  `playback`; throws Interrupted at a request, and when the file changed since it was
+ *  checked. */
+void replay(const std::string& path, size_t entries, RawlogPlayback& playback,
+            const std::function<void(size_t, size_t)>& progress)
+{
+    RawlogReader reader(path);
+    for (size_t i = 0; i < entries; i++)
+    {
+        if (interruptRequested())
+        {
+            throw Interrupted();  // Ctrl-C (installInterruptHandlers): no output directory
+        }
+        const auto obj = reader.next();
+        if (!obj)
+        {
+            THROW_EXCEPTION(
+                mrpt::format("rawlog '%s' changed during the run: entry %zu of the "
+                             "%zu read before it is missing now",
+                             path.c_str(), i, entries));
+        }
+        playback.entry(obj);
+        if (progress)
+        {
+            progress(i + 1, entries);
+        }
+    }
+}
 }  // namespace
 
 LocalizationExperiment::TResult LocalizationExperiment::run(
@@ -191,65 +278,17 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
 
     // Each step's record goes to steps.csv, the metrics and particles.csv as it comes: memory
     // does not grow with the rawlog's length (unless the records are kept).
-    std::optional<detail::ParticlesCsv> particles;
-    if (o.particles_save_every > 0)
-    {
-        particles.emplace(out.path("particles.csv"), o.particles_save_every);
-    }
-    detail::StepsCsv steps(out.path("steps.csv"));
-    RunMetricsAccumulator metrics(o.convergence);
-    std::optional<TStepRecord> last;
+    StepSinks sinks(out, o, m_groundTruth, m_gtTolerance, records, res.records);
     RawlogPlayback playback(loc, static_cast<size_t>(o.rawlog_offset),
-                            [&](TStepRecord& r)
-                            {
-                                if (const auto* row = m_groundTruth.nearest(r.t, m_gtTolerance))
-                                {
-                                    r.gt = row->pose();
-                                }
-                                steps.add(r);
-                                metrics.add(r);
-                                if (particles)
-                                {
-                                    particles->step(r, loc.pdf());
-                                }
-                                if (records == Records::Keep)
-                                {
-                                    res.records.push_back(r);
-                                }
-                                last = r;
-                            });
-    RawlogReader reader(o.rawlog_file);
-    for (size_t i = 0; i < m_entries; i++)
-    {
-        if (interruptRequested())
-        {
-            throw Interrupted();  // Ctrl-C (installInterruptHandlers): no output directory
-        }
-        const auto obj = reader.next();
-        if (!obj)
-        {
-            THROW_EXCEPTION(
-                mrpt::format("rawlog '%s' changed during the run: entry %zu of the "
-                             "%zu read before it is missing now",
-                             o.rawlog_file.c_str(), i, m_entries));
-        }
-        playback.entry(obj);
-        if (progress)
-        {
-            progress(i + 1, m_entries);
-        }
-    }
+                            [&](TStepRecord& r) { sinks.add(r, loc); });
+    replay(o.rawlog_file, m_entries, playback, progress);
     playback.finish();
-    if (particles && last)
-    {
-        particles->finish(*last, loc.pdf());
-    }
-    steps.finish();
+    sinks.finish(loc);
     res.rawlogTruncatedAtEntry = m_truncatedAt;
     res.rawlogFormat = playback.format();
-    res.final_particles = last ? last->n_particles : 0;
+    res.final_particles = sinks.last ? sinks.last->n_particles : 0;
 
-    res.metrics = metrics.result();
+    res.metrics = sinks.metrics.result();
     res.likelihood = loc.likelihoodStats();
     res.recovery = loc.recoveryStats();
     res.initialized_from_detections = loc.initializedFromDetections();
