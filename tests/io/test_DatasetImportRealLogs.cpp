@@ -111,9 +111,9 @@ TEST(DatasetImportRealLogs, GroupingThatMayJoinTwoScansIsWarned)
                                         "1.003,a,3.1,0,5\n2,a,3,0,5\n"),
                                   0.01, &s);
     EXPECT_TRUE(warned(s,
-                       "r.csv': 1 scans grouped within --scan-window-s 0.01 s hold one id "
+                       "r.csv': 1 scan grouped within --scan-window-s 0.01 s holds one id "
                        "twice (the first on line 3)"));
-    // Scans 12 ms apart with a window of 10 ms: every reading joins its neighbour.
+    // Readings 6 ms apart, a window of 10 ms: pairs, scans 12 ms apart (less than 5 windows).
     TDatasetImportStats p;
     std::string fast = "t,label,range_m,bearing_rad\n";
     for (int k = 0; k < 20; k++)

@@ -247,9 +247,10 @@ void warnGrouping(const std::vector<DetectionScan>& scans, double window_s, size
     if (repeatingId > 0)
     {
         stats.warnings.push_back(mrpt::format(
-            "%s: %zu scans grouped within --scan-window-s %s s hold one id twice (the first on "
-            "line %zu): are they readings of two scans? a shorter window keeps them apart",
-            what.c_str(), repeatingId, w.c_str(), line));
+            "%s: %zu %s within --scan-window-s %s s %s one id twice (the first on line %zu): "
+            "are they readings of two scans? a shorter window keeps them apart",
+            what.c_str(), repeatingId, repeatingId == 1 ? "scan grouped" : "scans grouped",
+            w.c_str(), repeatingId == 1 ? "holds" : "hold", line));
     }
     std::vector<double> dt;
     for (size_t k = 1; k < scans.size(); k++)

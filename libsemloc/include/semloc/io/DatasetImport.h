@@ -86,10 +86,11 @@ struct OdometryTrack
     mrpt::math::TPose2D at(double time) const;
 };
 
-/** The detections of one scan: every row of the detections file with one time. */
+/** The detections of one scan: the rows of the detections file from its first one to the
+ *  scan window after it (TDatasetImportOptions::scanWindow_s). */
 struct DetectionScan
 {
-    /** Time [s]. */
+    /** Time [s]: its first row's. */
     double t = 0;
     /** The detections (empty: the detector looked and recognized nothing). */
     std::vector<TSemanticDetection> detections;
