@@ -3,7 +3,10 @@
  *   semloc-import -o run.rawlog --odometry odom.csv --detections det.csv \
  *                 --ground-truth gt.csv --landmarks lm.csv
  * writes run.rawlog, run_gt.txt (with --ground-truth) and run_world.yaml (with --landmarks).
- * The format: docs/tools.md, "semloc-import". */
+ * Each file may be gz-compressed. The summary line counts what real logs bring (repeated
+ * times, a scan's readings milliseconds apart, detections of no landmark, ground-truth gaps)
+ * and a warning says where a rule may have made the result wrong. The format: docs/tools.md,
+ * "semloc-import". */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/core/exceptions.h>
@@ -28,7 +31,7 @@ namespace
 {
 TCLAP::CmdLine cmd(
     "semloc-import: a CSV dataset (odometry, detections, ground truth, "
-    "landmarks) as a semantic rawlog",
+    "landmarks; plain or gz-compressed) as a semantic rawlog",
     ' ', "0.1");
 TCLAP::ValueArg<std::string> argOut("o", "output", "Rawlog to write", true, "", "out.rawlog", cmd);
 TCLAP::ValueArg<std::string> argOdometry("", "odometry", "Odometry CSV: t,x,y,phi or t,v,w", true,
