@@ -3,7 +3,10 @@
  *   semloc-import -o run.rawlog --odometry odom.csv --detections det.csv \
  *                 --ground-truth gt.csv --landmarks lm.csv
  * writes run.rawlog, run_gt.txt (with --ground-truth) and run_world.yaml (with --landmarks).
- * The format: docs/tools.md, "semloc-import". */
+ * Each file may be gz-compressed. The summary line counts what real logs bring (repeated
+ * times, a scan's readings milliseconds apart, detections of no landmark, ground-truth gaps)
+ * and a warning says where a rule may have made the result wrong. The format: docs/tools.md,
+ * "semloc-import". */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/core/exceptions.h>
@@ -28,7 +31,7 @@ namespace
 {
 TCLAP::CmdLine cmd(
     "semloc-import: a CSV dataset (odometry, detections, ground truth, "
-    "landmarks) as a semantic rawlog",
+    "landmarks; plain or gz-compressed) as a semantic rawlog",
     ' ', "0.1");
 TCLAP::ValueArg<std::string> argOut("o", "output", "Rawlog to write", true, "", "out.rawlog", cmd);
 TCLAP::ValueArg<std::string> argOdometry("", "odometry", "Odometry CSV: t,x,y,phi or t,v,w", true,
@@ -54,6 +57,16 @@ TCLAP::ValueArg<double> argMaxStep("", "max-step-s",
                                    "S", cmd);
 TCLAP::ValueArg<double> argMargin("", "margin-m", "World bounds margin [m] (default 10)", false,
                                   10.0, "M", cmd);
+TCLAP::ValueArg<double> argScanWindow(
+    "", "scan-window-s",
+    "Detection rows at most this long after a scan's first row are of that scan [s] (default "
+    "0.01; 0: only rows of one time)",
+    false, semloc::kDefaultScanWindow_s, "W", cmd);
+TCLAP::ValueArg<double> argGtMaxGap(
+    "", "gt-max-gap-s",
+    "Longest ground-truth gap interpolated across [s]; steps inside a longer one have no ground "
+    "truth (default: the larger of 1 s and 10 times the ground truth's median period)",
+    false, 0.0, "G", cmd);
 
 /** `x,y,yaw_deg` as a pose (yaw in radians). */
 mrpt::math::TPose2D sensorPose(const std::string& text)
@@ -85,13 +98,19 @@ bool isWorldFile(const std::string& p)
 void printSummary(const std::string& out, const semloc::TDatasetImportStats& s,
                   const std::vector<std::string>& written)
 {
+    const std::string counts = semloc::DatasetImport::summaryCounts(s);
     std::cout << "semloc-import: " << out << ": " << s.steps << " steps (" << s.scans << " scans, "
-              << s.odometryOnlySteps << " odometry-only), " << s.detections << " detections; wrote";
+              << s.odometryOnlySteps << " odometry-only), " << s.detections << " detections"
+              << (counts.empty() ? "" : ", " + counts) << "; wrote";
     for (const auto& f : written)
     {
         std::cout << " " << f;
     }
     std::cout << "\n";
+    for (const auto& w : s.warnings)
+    {
+        std::cerr << "semloc-import: warning: " << w << "\n";
+    }
     if (s.scansOutsideOdometry > 0)
     {
         std::cerr << "semloc-import: warning: " << s.scansOutsideOdometry
@@ -114,6 +133,8 @@ void run()
     o.sensorPose = sensorPose(argSensorPose.getValue());
     o.maxStep_s = argMaxStep.getValue();
     o.margin_m = argMargin.getValue();
+    o.scanWindow_s = argScanWindow.getValue();
+    o.gtMaxGap_s = argGtMaxGap.getValue();
     o.check();
     const std::string out = argOut.getValue(), gtIn = argGroundTruth.getValue(),
                       lmIn = argLandmarks.getValue();
@@ -148,16 +169,19 @@ void run()
     }
 
     // Everything is read and checked before anything is written.
-    const auto odometry = DatasetImport::readOdometry(argOdometry.getValue());
-    const auto scans = DatasetImport::readDetections(argDetections.getValue());
-    const auto gt =
-        gtIn.empty() ? std::vector<semloc::GroundTruthRow>{} : DatasetImport::readGroundTruth(gtIn);
+    semloc::TDatasetImportStats stats;
+    const auto odometry = DatasetImport::readOdometry(argOdometry.getValue(), &stats);
+    const auto scans =
+        DatasetImport::readDetections(argDetections.getValue(), o.scanWindow_s, &stats);
+    const auto gt = gtIn.empty() ? std::vector<semloc::GroundTruthRow>{}
+                                 : DatasetImport::readGroundTruth(gtIn, &stats);
     const auto landmarks =
         lmIn.empty() ? std::vector<semloc::ImportedLandmark>{} : DatasetImport::readLandmarks(lmIn);
-    semloc::TDatasetImportStats stats;
     const auto steps = DatasetImport::steps(scans, odometry, o.maxStep_s, stats,
                                             argOdometry.getValue(), argDetections.getValue());
-    const auto gtRows = gt.empty() ? gt : DatasetImport::groundTruthAtSteps(gt, steps, gtIn);
+    const auto gtRows =
+        gt.empty() ? gt : DatasetImport::groundTruthAtSteps(gt, steps, gtIn, o.gtMaxGap_s, &stats);
+    DatasetImport::checkLandmarks(steps, scans, landmarks, stats);
     const auto world =
         landmarks.empty() ? semloc::World{}
                           : DatasetImport::makeWorld(landmarks, gt, o.margin_m, op.stem().string());

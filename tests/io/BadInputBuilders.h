@@ -149,6 +149,7 @@ Cases observationCases();
 Cases importCases();
 Cases csvBytesCases();
 Cases csvValueCases();
+Cases csvRealLogCases();
 Cases iniMessageCases();
 Cases calibrateCases();
 Cases runPlotCases();
@@ -156,12 +157,13 @@ Cases figureCases();
 
 inline std::vector<Cases> allCaseGroups()
 {
-    return {commandLineCases(),   iniFileCases(),         iniMapCases(),
-            iniModelCases(),      outputDirectoryCases(), outputFileCases(),
-            worldSyntaxCases(),   worldContentCases(),    rawlogFileCases(),
-            rawlogDamagedCases(), rawlogOdometryCases(),  timeCases(),
-            observationCases(),   importCases(),          csvBytesCases(),
-            csvValueCases(),      iniMessageCases(),      calibrateCases(),
-            runPlotCases(),       figureCases(),          outputOverUserFileCases()};
+    return {commandLineCases(),       iniFileCases(),         iniMapCases(),
+            iniModelCases(),          outputDirectoryCases(), outputFileCases(),
+            worldSyntaxCases(),       worldContentCases(),    rawlogFileCases(),
+            rawlogDamagedCases(),     rawlogOdometryCases(),  timeCases(),
+            observationCases(),       importCases(),          csvBytesCases(),
+            csvValueCases(),          csvRealLogCases(),      iniMessageCases(),
+            calibrateCases(),         runPlotCases(),         figureCases(),
+            outputOverUserFileCases()};
 }
 }  // namespace semloc::test::bad_input

@@ -2,6 +2,8 @@
  * (hostile bytes, implausible times and values) and for the messages of the ini's map
  * sections. Each case builds its input in a fresh directory and returns the tool's command
  * line (test_BadInput.cpp runs it and checks the row). */
+#include <semloc/io/RawlogWriter.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <string>
@@ -14,6 +16,14 @@ namespace semloc::test::bad_input
 namespace
 {
 const std::string kDetHeader = "t,label,range_m,bearing_rad";
+
+/** `text` gz-compressed into `path`. */
+void writeGz(const fs::path& path, const std::string& text)
+{
+    semloc::GzOutputFile f(path.string(), 6);
+    f.Write(text.data(), text.size());
+    f.close();
+}
 }  // namespace
 
 /** semloc-import: the bytes of the CSV files. */
@@ -83,6 +93,69 @@ Cases csvValueCases()
         {"import-csv-bearing-degrees",
          [](const fs::path& d) {
              return importCsv(d, {{"det.csv", kDetHeader + "\n1,buoy,3,5\n3,buoy,2,90\n"}});
+         }},
+    };
+}
+
+/** semloc-import: what real logs bring (repeated times, a scan's readings a few milliseconds
+ *  apart, detections of no landmark, gaps in the ground truth, gz-compressed files). */
+Cases csvRealLogCases()
+{
+    return {
+        {"import-csv-odometry-repeated-time",
+         [](const fs::path& d) {
+             return importCsv(d,
+                              {{"odom.csv", "t,x,y,phi\n1,0,0,0\n2,0.9,0,0\n2,1,0,0\n3,2,0,0\n"}});
+         }},
+        {"import-csv-detections-ms-apart",
+         [](const fs::path& d)
+         {
+             return importCsv(d,
+                              {{"det.csv", kDetHeader + "\n1,buoy,3,0.1\n1.004,buoy,5,-0.2\n2,,,\n"
+                                                        "3,buoy,2,0.2\n3.002,buoy,4,0.3\n"}});
+         }},
+        {"import-csv-gt-repeated-time",
+         [](const fs::path& d) {
+             return importCsv(d, {{"gt.csv", "t,x,y,phi\n1,5,5,0\n2,6,5,0\n2,6,5,0\n3,7,5,0\n"}});
+         }},
+        {"import-csv-detections-of-no-landmark",
+         [](const fs::path& d)
+         {
+             return importCsv(
+                 d, {{"det.csv", kDetHeader + ",id\n1,buoy,3,0.1,1\n1,robot,4,0,7\n2,,,,\n"
+                                              "3,robot,2,0.2,7\n"}});
+         }},
+        {"import-csv-gt-gap",
+         [](const fs::path& d) {
+             return importCsv(
+                 d, {{"gt.csv", "t,x,y,phi\n1,5,5,0\n1.1,5.1,5,0\n1.2,5.2,5,0\n3,7,5,0\n"}});
+         }},
+        {"import-csv-gz",
+         [](const fs::path& d)
+         {
+             auto a = importCsv(d, {});
+             for (const char* f : {"odom.csv", "det.csv", "gt.csv", "lm.csv"})
+             {
+                 writeGz(d / (std::string(f) + ".gz"), readText(d / f));
+                 fs::remove(d / f);
+                 std::replace(a.begin(), a.end(), std::string(f), std::string(f) + ".gz");
+             }
+             return a;
+         }},
+        {"import-csv-gz-truncated",
+         [](const fs::path& d)
+         {
+             std::string odom = "t,x,y,phi\n";
+             for (int k = 0; k < 20000; k++)
+             {
+                 odom += std::to_string(1 + k * 1e-4) + "," + std::to_string(k * 1e-4) + ",0,0\n";
+             }
+             auto a = importCsv(d, {});
+             writeGz(d / "odom.csv.gz", odom);
+             const std::string gz = readText(d / "odom.csv.gz");
+             writeText(d / "odom.csv.gz", gz.substr(0, gz.size() / 2));
+             std::replace(a.begin(), a.end(), std::string("odom.csv"), std::string("odom.csv.gz"));
+             return a;
          }},
     };
 }

@@ -2,11 +2,14 @@
  * file, the line and the column. */
 #include <gtest/gtest.h>
 #include <semloc/io/ErrorMessage.h>
+#include <semloc/io/RawlogWriter.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+
+#include "TestHelpers.h"
 
 #include "io/CsvTable.h"
 
@@ -146,6 +149,60 @@ TEST(CsvTable, FromFileNamesThePath)
     }
     EXPECT_THROW(CsvTable::FromFile((dir / "nope.csv").string(), {"t"}), std::exception);
     EXPECT_THROW(CsvTable::FromFile(dir.string(), {"t"}), std::exception);
+}
+
+/** `text` gz-compressed into `path` (as gzip writes it). */
+std::string writeGz(const std::filesystem::path& path, const std::string& text)
+{
+    semloc::GzOutputFile f(path.string(), 6);
+    f.Write(text.data(), text.size());
+    f.close();
+    return path.string();
+}
+
+std::string fileError(const std::string& path)
+{
+    try
+    {
+        (void)CsvTable::FromFile(path, {"t", "x"});
+        return "";
+    }
+    catch (const std::exception& e)
+    {
+        return semloc::errorMessage(e);
+    }
+}
+
+TEST(CsvTable, GzCompressedFilesAreReadAsTheirText)
+{
+    const auto dir = std::filesystem::path(SEMLOC_TEST_OUT) / "csv_table_gz";
+    std::filesystem::create_directories(dir);
+    std::string text = "# compressed\nt,x\n";
+    for (int k = 0; k < 20000; k++)
+    {
+        text += std::to_string(k) + "," + std::to_string(k % 7) + "\n";
+    }
+    const auto t = CsvTable::FromFile(writeGz(dir / "big.csv.gz", text), {"t", "x"});
+    ASSERT_EQ(t.rows(), 20000u);
+    EXPECT_EQ(t.line(19999), 20002u);
+    EXPECT_DOUBLE_EQ(t.number(19999, "x"), 19999 % 7);
+    // Cut short: refused naming the line it reached, not read as a shorter table.
+    const std::string whole = semloc::test::readText(dir / "big.csv.gz");
+    std::ofstream(dir / "cut.csv.gz", std::ios::binary) << whole.substr(0, whole.size() / 2);
+    const std::string cut = fileError((dir / "cut.csv.gz").string());
+    EXPECT_NE(cut.find("cut.csv.gz:"), std::string::npos) << cut;
+    EXPECT_NE(cut.find(": the gz-compressed data is damaged or cut short (zlib: unexpected end "
+                       "of file)"),
+              std::string::npos)
+        << cut;
+    // The caps hold inside the compressed stream: a NUL byte, a line of 2 MiB.
+    EXPECT_NE(fileError(writeGz(dir / "nul.csv.gz", std::string("t,x\n1,\0\n", 8)))
+                  .find("nul.csv.gz:2: byte 3 of the line is a NUL byte"),
+              std::string::npos);
+    EXPECT_NE(fileError(writeGz(dir / "long.csv.gz", "t,x\n" + std::string(2 << 20, '1')))
+                  .find("long.csv.gz:2: the line is longer than 1048576 bytes"),
+              std::string::npos);
+    EXPECT_NE(fileError((dir / "nope.csv").string()).find("cannot read '"), std::string::npos);
 }
 
 TEST(CsvTable, ByteOrderMarkBeforeTheHeaderIsSkipped)

@@ -182,7 +182,21 @@ TEST(DatasetImport, LandmarksCarryTheirSigmasAndRejectDuplicateIds)
         << dup;
 }
 
-/** The message reading `text` as `name` with `reader` (DatasetImport::readOdometry...). */
+// The readers with their default arguments, as readError's `reader`.
+void readOdometryFile(const std::string& p)
+{
+    DatasetImport::readOdometry(p);
+}
+void readGroundTruthFile(const std::string& p)
+{
+    DatasetImport::readGroundTruth(p);
+}
+void readDetectionsFile(const std::string& p)
+{
+    DatasetImport::readDetections(p);
+}
+
+/** The message reading `text` as `name` with `reader` (readOdometryFile...). */
 template <typename Reader>
 std::string readError(const fs::path& d, const char* name, const std::string& text, Reader reader)
 {
@@ -193,31 +207,29 @@ TEST(DatasetImport, AbsurdValuesAreRefusedNamingTheCell)
 {
     const auto d = freshDir("bounds");
     const std::vector<std::pair<std::string, std::string>> cases = {
-        {readError(d, "o.csv", "t,x,y,phi\n1,0,0,0\n2,1e308,0,0\n", DatasetImport::readOdometry),
+        {readError(d, "o.csv", "t,x,y,phi\n1,0,0,0\n2,1e308,0,0\n", readOdometryFile),
          "o.csv:3: column 2 'x': x 1e+308 is beyond +-1e+07 m"},
-        {readError(d, "p.csv", "t,x,y,phi\n1,0,0,1e300\n2,1,0,0\n", DatasetImport::readOdometry),
+        {readError(d, "p.csv", "t,x,y,phi\n1,0,0,1e300\n2,1,0,0\n", readOdometryFile),
          "p.csv:2: column 4 'phi': phi 1e+300 is beyond +-1e+06 rad"},
-        {readError(d, "v.csv", "t,v,w\n1,1e300,0\n2,0,0\n", DatasetImport::readOdometry),
+        {readError(d, "v.csv", "t,v,w\n1,1e300,0\n2,0,0\n", readOdometryFile),
          "v.csv:2: column 2 'v': v 1e+300 is beyond +-100 m/s"},
-        {readError(d, "w.csv", "t,v,w\n1,0,0\n2,0,-500\n", DatasetImport::readOdometry),
+        {readError(d, "w.csv", "t,v,w\n1,0,0\n2,0,-500\n", readOdometryFile),
          "w.csv:3: column 3 'w': w -500 is beyond +-100 rad/s"},
-        {readError(d, "i.csv", "t,v,w\n1,100,0\n1e6,0,0\n", DatasetImport::readOdometry),
+        {readError(d, "i.csv", "t,v,w\n1,100,0\n1e6,0,0\n", readOdometryFile),
          "i.csv:3: column 1 't': the speeds integrated to this row's time reach (99999900, 0) m"},
-        {readError(d, "g.csv", "t,x,y,phi\n1,0,-2e7,0\n", DatasetImport::readGroundTruth),
+        {readError(d, "g.csv", "t,x,y,phi\n1,0,-2e7,0\n", readGroundTruthFile),
          "g.csv:2: column 3 'y': y -2e+07 is beyond +-1e+07 m"},
         {readError(d, "l.csv", "id,label,x,y\n1,buoy,1e300,0\n", DatasetImport::readLandmarks),
          "l.csv:2: column 3 'x': x 1e+300 is beyond +-1e+07 m"},
-        {readError(d, "r.csv", "t,label,range_m,bearing_rad\n1,buoy,1e300,0\n",
-                   DatasetImport::readDetections),
+        {readError(d, "r.csv", "t,label,range_m,bearing_rad\n1,buoy,1e300,0\n", readDetectionsFile),
          "r.csv:2: column 3 'range_m': range_m 1e+300 is beyond +-1e+07 m"},
         {readError(d, "n.csv", "t,label,range_m,bearing_rad\n1.7e18,buoy,1,0\n",
-                   DatasetImport::readDetections),
+                   readDetectionsFile),
          "n.csv:2: column 1 't': time 1.7e+18 is beyond +-1e11 s (3170 years): are the times in "
          "nanoseconds? semloc-import takes seconds"},
-        {readError(d, "u.csv", "t,x,y,phi\n1700000000000000,0,0,0\n",
-                   DatasetImport::readGroundTruth),
+        {readError(d, "u.csv", "t,x,y,phi\n1700000000000000,0,0,0\n", readGroundTruthFile),
          "are the times in microseconds?"},
-        {readError(d, "m.csv", "t,x,y,phi\n1700000000000,0,0,0\n", DatasetImport::readGroundTruth),
+        {readError(d, "m.csv", "t,x,y,phi\n1700000000000,0,0,0\n", readGroundTruthFile),
          "are the times in milliseconds?"},
     };
     for (const auto& [error, expected] : cases)
@@ -234,7 +246,7 @@ TEST(DatasetImport, BearingsBeyondPiLookLikeDegrees)
     {
         const std::string e =
             readError(d, "b.csv", header + std::string("1,buoy,3,0.1\n2,buoy,3,") + b + "\n",
-                      DatasetImport::readDetections);
+                      readDetectionsFile);
         EXPECT_NE(e.find("b.csv:3: column 4 'bearing_rad': bearing " + std::string(b) +
                          " is outside [-pi, pi]: are the bearings in degrees? semloc-import takes "
                          "radians"),
@@ -242,7 +254,7 @@ TEST(DatasetImport, BearingsBeyondPiLookLikeDegrees)
             << e;
     }
     EXPECT_EQ(readError(d, "ok.csv", header + std::string("1,buoy,3,3.14159\n2,buoy,3,-3.14159\n"),
-                        DatasetImport::readDetections),
+                        readDetectionsFile),
               "");
 }
 
@@ -465,6 +477,55 @@ TEST(DatasetImport, SimulatedDatasetImportedAndLocalized)
                       d / "refused.log"),
               0);
     EXPECT_NE(readText(d / "refused.log").find("is the input"), std::string::npos);
+}
+
+TEST(DatasetImport, GroundTruthGapLeavesItsStepsWithoutErrorEndToEnd)
+{
+    // The simulated dataset with 100 s of its ground truth removed: the steps inside the gap
+    // get no row of run_gt.txt, and semloc-localize gives them no error.
+    const auto d = freshDir("gt_gap");
+    exportSimulation(d);
+    std::istringstream in(readText(d / "gt.csv"));
+    std::string gt, line;
+    double first = -1;
+    while (std::getline(in, line))
+    {
+        const double t = line[0] == 't' ? -1 : std::stod(line);
+        first = first < 0 && t >= 0 ? t : first;
+        gt += t >= 0 && t > first + 100 && t < first + 200 ? "" : line + "\n";
+    }
+    write(d / "gt.csv", gt);
+    const std::string import = "cd " + d.string() + " && " + kBin +
+                               "/semloc-import -o run.rawlog --odometry odom.csv --detections "
+                               "det.csv --ground-truth gt.csv --landmarks lm.csv "
+                               "--max-range-m 20 --fov-deg 120 --sensor-pose 0.5,0,10";
+    ASSERT_EQ(runTool(import, d / "import.log"), 0) << readText(d / "import.log");
+    const std::string log = readText(d / "import.log");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(
+        log, m, std::regex("([0-9]+) steps without ground truth in 1 gap over 10 s")))
+        << log;
+    const int inGap = std::stoi(m[1]);
+    EXPECT_GT(inGap, 180) << log;  // ~2 steps a second for ~100 s
+    EXPECT_NE(log.find("warning: ground truth 'gt.csv': 1 gap longer than 10 s"), std::string::npos)
+        << log;
+    std::istringstream rows(readText(d / "run_gt.txt"));
+    int gtRows = 0;
+    while (std::getline(rows, line))
+    {
+        gtRows += line.empty() || line[0] == '#' ? 0 : 1;
+    }
+    EXPECT_EQ(gtRows, 859 - inGap);
+    writeIni(d, 300);
+    ASSERT_EQ(runTool("cd " + d.string() + " && " + kBin + "/semloc-localize loc.ini run.rawlog -q",
+                      d / "localize.log"),
+              0)
+        << readText(d / "localize.log");
+    const std::string yaml = readText(d / "loc" / "summary.yaml");
+    EXPECT_NE(yaml.find("steps: 859\n"), std::string::npos) << yaml;
+    EXPECT_NE(yaml.find("steps_with_ground_truth: " + std::to_string(859 - inGap) + "\n"),
+              std::string::npos)
+        << yaml;
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 #include <limits>
 #include <sstream>
 
+#include "io/GzReadBuffer.h"
 #include "io/Text.h"
 
 namespace semloc::detail
@@ -129,12 +130,10 @@ CsvTable CsvTable::FromFile(const std::string& path, const std::vector<std::stri
     {
         THROW_EXCEPTION("'" + path + "' is a directory, not a file");
     }
-    std::ifstream f(path, std::ios::binary);
-    if (!f)
-    {
-        THROW_EXCEPTION("cannot read '" + path + "'");
-    }
-    return FromStream(f, path, required, optional);
+    // Plain or gz-compressed: zlib reads a file without the gzip header as it is.
+    GzReadBuffer buf(path);
+    std::istream in(&buf);
+    return FromStream(in, path, required, optional);
 }
 
 CsvTable CsvTable::FromText(const std::string& text, const std::string& name,
@@ -153,7 +152,19 @@ CsvTable CsvTable::FromStream(std::istream& in, const std::string& name,
     t.m_name = name;
     bool haveHeader = false;
     std::string line;
-    for (size_t n = 1; readLine(in, line, name, n); n++)
+    size_t n = 1;
+    auto next = [&]
+    {
+        try
+        {
+            return readLine(in, line, name, n);
+        }
+        catch (const GzReadBuffer::Damaged& e)
+        {
+            THROW_EXCEPTION(mrpt::format("%s:%zu: %s", name.c_str(), n, e.what()));
+        }
+    };
+    for (; next(); n++)
     {
         if (n == 1 && line.rfind(kUtf8Bom, 0) == 0)
         {

@@ -1,5 +1,6 @@
 /* semloc — DatasetImport: the steps, rawlog, ground truth and world of an imported dataset
- * (the CSV readers are in DatasetImportReaders.cpp). */
+ * (the CSV readers are in DatasetImportReaders.cpp; the ground truth at the steps and the
+ * counts of the summary line in DatasetImportChecks.cpp). */
 #include <mrpt/core/Clock.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/core/exceptions.h>
@@ -242,34 +243,6 @@ void DatasetImport::writeRawlog(const std::vector<ImportStep>& steps,
     forEachEntry(steps, scans, odometry, options, stats,
                  [&](const mrpt::serialization::CSerializable::Ptr& e) { a << *e; });
     f.close();
-}
-
-std::vector<GroundTruthRow> DatasetImport::groundTruthAtSteps(const std::vector<GroundTruthRow>& gt,
-                                                              const std::vector<ImportStep>& steps,
-                                                              const std::string& path)
-{
-    OdometryTrack track;  // the same interpolation as the odometry's
-    for (const auto& r : gt)
-    {
-        track.t.push_back(r.t);
-        track.pose.push_back({r.x, r.y, r.phi});
-    }
-    std::vector<GroundTruthRow> out;
-    for (const auto& s : steps)
-    {
-        if (s.t >= track.t.front() && s.t <= track.t.back())
-        {
-            const auto p = track.at(s.t);
-            out.push_back({s.t, p.x, p.y, p.phi});
-        }
-    }
-    if (out.empty())
-    {
-        THROW_EXCEPTION("ground truth '" + path + "' (times " + num(gt.front().t) + " to " +
-                        num(gt.back().t) + " s) covers no step (times " + num(steps.front().t) +
-                        " to " + num(steps.back().t) + " s)");
-    }
-    return out;
 }
 
 void DatasetImport::writeGroundTruth(const std::vector<GroundTruthRow>& rows,

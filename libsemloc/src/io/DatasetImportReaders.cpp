@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <map>
 #include <utility>
@@ -143,6 +144,133 @@ void checkEmptyScanRow(const CsvTable& t, size_t r)
         }
     }
 }
+
+/** Within `tol` of each other (an absolute tolerance). */
+bool near(double a, double b, double tol = 1e-6)
+{
+    return std::abs(a - b) <= tol;
+}
+
+/** The rows of `t` (times never going back) kept: the last of each run of rows of one time.
+ *  Counts the others in `repeated`; `same(a, b)` tells whether rows a and b hold one reading,
+ *  and when a row dropped does not, a warning in `stats` ("WHAT: 2 of the 3 repeated times
+ *  hold another READING than their last row (the first on line 7): the last is kept"). */
+std::vector<size_t> lastOfEachTime(const CsvTable& t,
+                                   const std::function<bool(size_t, size_t)>& same,
+                                   size_t& repeated, TDatasetImportStats* stats,
+                                   const std::string& what, const std::string& reading,
+                                   const std::string& consequence)
+{
+    std::vector<size_t> kept;
+    size_t differing = 0, firstLine = 0, dropped = 0;
+    for (size_t r = 0; r < t.rows(); r++)
+    {
+        size_t last = r;
+        while (last + 1 < t.rows() && t.number(last + 1, "t") == t.number(r, "t"))
+        {
+            last++;
+        }
+        for (size_t d = r; d < last; d++, dropped++)
+        {
+            if (!same(d, last))
+            {
+                firstLine = differing++ == 0 ? t.line(d) : firstLine;
+            }
+        }
+        kept.push_back(last);
+        r = last;
+    }
+    repeated += dropped;
+    if (stats != nullptr && differing > 0)
+    {
+        stats->warnings.push_back(mrpt::format(
+            "%s: %zu of the %zu repeated times hold another %s than their last row (the first "
+            "on line %zu): the last is kept%s",
+            what.c_str(), differing, dropped, reading.c_str(), firstLine, consequence.c_str()));
+    }
+    return kept;
+}
+
+/** Checks an odometry file's columns; true for poses (t,x,y,phi), false for speeds (t,v,w). */
+bool odometryHasPoses(const CsvTable& t, const std::string& path)
+{
+    const bool poses = t.has("x") || t.has("y") || t.has("phi");
+    const std::vector<std::string> columns =
+        poses ? std::vector<std::string>{"x", "y", "phi"} : std::vector<std::string>{"v", "w"};
+    for (const auto& c : columns)
+    {
+        if (!t.has(c))
+        {
+            THROW_EXCEPTION(
+                mrpt::format("%s:%zu: missing column '%s' (odometry is t,x,y,phi "
+                             "or t,v,w)",
+                             path.c_str(), t.headerLine(), c.c_str()));
+        }
+    }
+    if (poses && (t.has("v") || t.has("w")))
+    {
+        THROW_EXCEPTION(
+            mrpt::format("%s:%zu: column '%s': odometry is t,x,y,phi or t,v,w, not both",
+                         path.c_str(), t.headerLine(), t.has("v") ? "v" : "w"));
+    }
+    return poses;
+}
+
+/** A pose row's heading (wrapped to [-pi, pi]). */
+double headingCell(const CsvTable& t, size_t r)
+{
+    return mrpt::math::wrapToPi(boundedCell(t, r, "phi", kMaxImportHeading_rad, "rad"));
+}
+
+/** Whether pose rows a and b of `t` hold one pose (to the micrometre and microradian). */
+bool samePose(const CsvTable& t, size_t a, size_t b)
+{
+    return near(t.number(a, "x"), t.number(b, "x")) && near(t.number(a, "y"), t.number(b, "y")) &&
+           near(mrpt::math::wrapToPi(headingCell(t, a) - headingCell(t, b)), 0);
+}
+
+/** Whether a detection time `time` is of the scan that began at `first`. */
+bool inScan(double first, double time, double window_s)
+{
+    // To the microsecond: times since 1970 carry ~0.2 us of rounding.
+    return time == first || (window_s > 0 && time - first <= window_s + 1e-6);
+}
+
+/** Warnings when grouping within `window_s` may have joined two scans: `repeatingId` grouped
+ *  scans hold one id twice (the first on line `line`), or the scans are less than 5 windows
+ *  apart (median). */
+void warnGrouping(const std::vector<DetectionScan>& scans, double window_s, size_t repeatingId,
+                  size_t line, const std::string& path, TDatasetImportStats& stats)
+{
+    const std::string what = "detections '" + path + "'";
+    const std::string w = detail::shortestText(window_s);
+    if (repeatingId > 0)
+    {
+        stats.warnings.push_back(mrpt::format(
+            "%s: %zu %s within --scan-window-s %s s %s one id twice (the first on line %zu): "
+            "are they readings of two scans? a shorter window keeps them apart",
+            what.c_str(), repeatingId, repeatingId == 1 ? "scan grouped" : "scans grouped",
+            w.c_str(), repeatingId == 1 ? "holds" : "hold", line));
+    }
+    std::vector<double> dt;
+    for (size_t k = 1; k < scans.size(); k++)
+    {
+        dt.push_back(scans[k].t - scans[k - 1].t);
+    }
+    if (dt.empty())
+    {
+        return;
+    }
+    std::nth_element(dt.begin(), dt.begin() + static_cast<long>(dt.size() / 2), dt.end());
+    const double median = dt[dt.size() / 2];
+    if (median < 5 * window_s)
+    {
+        stats.warnings.push_back(mrpt::format(
+            "%s: the scans are %s s apart (median), less than 5 times --scan-window-s %s s: "
+            "readings of different scans may have been grouped into one",
+            what.c_str(), detail::timeText(median).c_str(), w.c_str()));
+    }
+}
 }  // namespace
 
 void TDatasetImportOptions::check() const
@@ -164,6 +292,14 @@ void TDatasetImportOptions::check() const
     if (!(margin_m >= 0 && margin_m <= kMaxWorldCoordinate_m))
     {
         bad("--margin-m", margin_m, "a finite number in [0, 1e7] [m]");
+    }
+    if (!(scanWindow_s >= 0 && scanWindow_s <= 1))
+    {
+        bad("--scan-window-s", scanWindow_s, "in [0, 1] [s]");
+    }
+    if (!(gtMaxGap_s >= 0 && gtMaxGap_s <= 1e6))
+    {
+        bad("--gt-max-gap-s", gtMaxGap_s, "in [0, 1e6] [s] (0: the default)");
     }
     const auto& p = sensorPose;
     if (!(std::abs(p.x) <= 1000 && std::abs(p.y) <= 1000 && std::isfinite(p.phi)))
@@ -188,46 +324,60 @@ mrpt::math::TPose2D OdometryTrack::at(double time) const
             mrpt::math::wrapToPi(p.phi + f * mrpt::math::wrapToPi(q.phi - p.phi))};
 }
 
-OdometryTrack DatasetImport::readOdometry(const std::string& path)
+OdometryTrack DatasetImport::readOdometry(const std::string& path, TDatasetImportStats* stats)
 {
     const auto t = CsvTable::FromFile(path, {"t"}, {"x", "y", "phi", "v", "w"});
-    const bool poses = t.has("x") || t.has("y") || t.has("phi");
-    const std::vector<std::string> columns =
-        poses ? std::vector<std::string>{"x", "y", "phi"} : std::vector<std::string>{"v", "w"};
-    for (const auto& c : columns)
+    const bool poses = odometryHasPoses(t, path);
+    t.checkIncreasing("t", false);
+    for (size_t r = 0; r < t.rows(); r++)  // every row, also those a later one replaces
     {
-        if (!t.has(c))
+        timeCell(t, r, "t");
+        if (poses)
         {
-            THROW_EXCEPTION(
-                mrpt::format("%s:%zu: missing column '%s' (odometry is t,x,y,phi "
-                             "or t,v,w)",
-                             path.c_str(), t.headerLine(), c.c_str()));
+            positionCell(t, r, "x");
+            positionCell(t, r, "y");
+            headingCell(t, r);
+        }
+        else
+        {
+            boundedCell(t, r, "v", kMaxImportSpeed_mps, "m/s");
+            boundedCell(t, r, "w", kMaxImportYawRate_radps, "rad/s");
         }
     }
-    if (poses && (t.has("v") || t.has("w")))
+    auto same = [&](size_t a, size_t b)
     {
-        THROW_EXCEPTION(
-            mrpt::format("%s:%zu: column '%s': odometry is t,x,y,phi or t,v,w, not both",
-                         path.c_str(), t.headerLine(), t.has("v") ? "v" : "w"));
+        return poses ? samePose(t, a, b)
+                     : near(t.number(a, "v"), t.number(b, "v")) &&
+                           near(t.number(a, "w"), t.number(b, "w"));
+    };
+    size_t repeated = 0;
+    const auto kept = lastOfEachTime(t, same, repeated, stats, "odometry '" + path + "'",
+                                     poses ? "pose" : "speed", ", the others held for no time");
+    if (stats != nullptr)
+    {
+        stats->odometryRepeatedTimes += repeated;
     }
-    t.checkIncreasing("t", true);
-    if (t.rows() < 2)
+    if (kept.size() < 2)
     {
-        THROW_EXCEPTION("'" + path + "' holds fewer than 2 odometry rows: no motion to import");
+        THROW_EXCEPTION("'" + path +
+                        "' holds fewer than 2 odometry rows of distinct times: no motion to "
+                        "import");
     }
     OdometryTrack odo;
     mrpt::math::TPose2D p(0, 0, 0);
-    for (size_t r = 0; r < t.rows(); r++)
+    for (size_t k = 0; k < kept.size(); k++)
     {
-        odo.t.push_back(timeCell(t, r, "t"));
+        const size_t r = kept[k];
+        odo.t.push_back(t.number(r, "t"));
         if (poses)
         {
-            p = {positionCell(t, r, "x"), positionCell(t, r, "y"),
-                 mrpt::math::wrapToPi(boundedCell(t, r, "phi", kMaxImportHeading_rad, "rad"))};
+            p = {t.number(r, "x"), t.number(r, "y"), headingCell(t, r)};
         }
-        else if (r > 0)
+        else if (k > 0)
         {
-            p = integrate(p, t.number(r - 1, "v"), t.number(r - 1, "w"), odo.t[r] - odo.t[r - 1]);
+            // The speeds of the last row of the previous time, held until this one.
+            const size_t q = kept[k - 1];
+            p = integrate(p, t.number(q, "v"), t.number(q, "w"), odo.t[k] - odo.t[k - 1]);
             if (std::abs(p.x) > kMaxWorldCoordinate_m || std::abs(p.y) > kMaxWorldCoordinate_m)
             {
                 t.fail(r, "t",
@@ -236,23 +386,22 @@ OdometryTrack DatasetImport::readOdometry(const std::string& path)
                            ") m, beyond the world's bound of +-1e7 m");
             }
         }
-        if (!poses)
-        {
-            boundedCell(t, r, "v", kMaxImportSpeed_mps, "m/s");
-            boundedCell(t, r, "w", kMaxImportYawRate_radps, "rad/s");
-        }
         odo.pose.push_back(p);
     }
     return odo;
 }
 
-std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path)
+std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path,
+                                                         double scanWindow_s,
+                                                         TDatasetImportStats* stats)
 {
     const auto t =
         CsvTable::FromFile(path, {"t", "label", "range_m", "bearing_rad"}, {"id", "confidence"});
     t.checkIncreasing("t", false);
     std::vector<DetectionScan> scans;
     bool markedEmpty = false;  // the current scan has a row without a label
+    bool repeatsId = false;    // the current scan has a grouped row repeating an id
+    size_t grouped = 0, repeatingId = 0, repeatLine = 0;
     for (size_t r = 0; r < t.rows(); r++)
     {
         const double time = timeCell(t, r, "t");
@@ -262,24 +411,35 @@ std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path
                    "time 0 is MRPT's 'no timestamp': shift the times (e.g. to seconds "
                    "since 1970)");
         }
-        if (scans.empty() || scans.back().t != time)
+        if (scans.empty() || !inScan(scans.back().t, time, scanWindow_s))
         {
             scans.push_back({time, {}});
-            markedEmpty = false;
+            markedEmpty = repeatsId = false;
         }
-        const bool emptyRow = t.empty(r, "label");
+        const bool later = time != scans.back().t, emptyRow = t.empty(r, "label");
+        grouped += later ? 1 : 0;
         if (emptyRow)
         {
             checkEmptyScanRow(t, r);
         }
         else
         {
-            scans.back().detections.push_back(detectionRow(t, r));
+            const auto d = detectionRow(t, r);
+            auto& dets = scans.back().detections;
+            if (later && !repeatsId && d.object_id > 0 &&
+                std::any_of(dets.begin(), dets.end(),
+                            [&](const TSemanticDetection& e)
+                            { return e.object_id == d.object_id; }))
+            {
+                repeatsId = true;
+                repeatLine = repeatingId++ == 0 ? t.line(r) : repeatLine;
+            }
+            dets.push_back(d);
         }
         if ((emptyRow && !scans.back().detections.empty()) || (!emptyRow && markedEmpty))
         {
             t.fail(r, "label",
-                   "the scan at time " + detail::timeText(time) +
+                   "the scan at time " + detail::timeText(scans.back().t) +
                        " is marked empty (a row without a label) and has detections");
         }
         markedEmpty = markedEmpty || emptyRow;
@@ -288,19 +448,39 @@ std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path
     {
         THROW_EXCEPTION("'" + path + "' holds no scans");
     }
+    if (stats != nullptr && grouped > 0)
+    {
+        stats->detectionsGrouped += grouped;
+        stats->scanWindow_s = scanWindow_s;
+        warnGrouping(scans, scanWindow_s, repeatingId, repeatLine, path, *stats);
+    }
     return scans;
 }
 
-std::vector<GroundTruthRow> DatasetImport::readGroundTruth(const std::string& path)
+std::vector<GroundTruthRow> DatasetImport::readGroundTruth(const std::string& path,
+                                                           TDatasetImportStats* stats)
 {
     const auto t = CsvTable::FromFile(path, {"t", "x", "y", "phi"});
-    t.checkIncreasing("t", true);
-    std::vector<GroundTruthRow> rows;
-    for (size_t r = 0; r < t.rows(); r++)
+    t.checkIncreasing("t", false);
+    for (size_t r = 0; r < t.rows(); r++)  // every row, also those a later one replaces
     {
-        rows.push_back(
-            {timeCell(t, r, "t"), positionCell(t, r, "x"), positionCell(t, r, "y"),
-             mrpt::math::wrapToPi(boundedCell(t, r, "phi", kMaxImportHeading_rad, "rad"))});
+        timeCell(t, r, "t");
+        positionCell(t, r, "x");
+        positionCell(t, r, "y");
+        headingCell(t, r);
+    }
+    size_t repeated = 0;
+    const auto kept = lastOfEachTime(
+        t, [&](size_t a, size_t b) { return samePose(t, a, b); }, repeated, stats,
+        "ground truth '" + path + "'", "pose", "");
+    if (stats != nullptr)
+    {
+        stats->groundTruthRepeatedTimes += repeated;
+    }
+    std::vector<GroundTruthRow> rows;
+    for (const size_t r : kept)
+    {
+        rows.push_back({t.number(r, "t"), t.number(r, "x"), t.number(r, "y"), headingCell(t, r)});
     }
     if (rows.empty())
     {

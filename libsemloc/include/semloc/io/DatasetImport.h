@@ -35,6 +35,16 @@ constexpr double kMaxImportMedianInterval_s = 10;
 /** Most steps an import makes (scans and odometry-only steps), checked before any is made. */
 constexpr size_t kMaxImportSteps = 10'000'000;
 
+/** The default of `--scan-window-s` [s]: 10 ms, below the frame period of any detector that
+ *  reports up to 100 scans a second, above the few milliseconds a detector spends stamping the
+ *  readings of one frame one by one. */
+constexpr double kDefaultScanWindow_s = 0.01;
+/** The default of `--gt-max-gap-s` is the larger of this [s] and kGroundTruthGapPeriods times
+ *  the ground truth's median period. */
+constexpr double kMinGroundTruthMaxGap_s = 1.0;
+/** See kMinGroundTruthMaxGap_s. */
+constexpr double kGroundTruthGapPeriods = 10.0;
+
 /** The options of semloc-import (docs/tools.md, "semloc-import"). */
 struct TDatasetImportOptions
 {
@@ -50,6 +60,14 @@ struct TDatasetImportOptions
     /** The world's bounds margin around the landmarks and the ground-truth path [m]
      *  (`--margin-m`). */
     double margin_m = 10.0;
+    /** Detection rows at most this long after a scan's first row are of that scan [s]
+     *  (`--scan-window-s`; 0: only rows of one time): a detector stamping each reading of one
+     *  frame a few milliseconds apart still gives one scan. */
+    double scanWindow_s = kDefaultScanWindow_s;
+    /** Longest time between two ground-truth rows that is interpolated across [s]
+     *  (`--gt-max-gap-s`; 0: the default, groundTruthMaxGap()): the steps inside a longer gap
+     *  have no ground truth. */
+    double gtMaxGap_s = 0;
 
     /** Throws naming the option ("--fov-deg 400: ...") for a value out of its range. */
     void check() const;
@@ -68,10 +86,11 @@ struct OdometryTrack
     mrpt::math::TPose2D at(double time) const;
 };
 
-/** The detections of one scan: every row of the detections file with one time. */
+/** The detections of one scan: the rows of the detections file from its first one to the
+ *  scan window after it (TDatasetImportOptions::scanWindow_s). */
 struct DetectionScan
 {
-    /** Time [s]. */
+    /** Time [s]: its first row's. */
     double t = 0;
     /** The detections (empty: the detector looked and recognized nothing). */
     std::vector<TSemanticDetection> detections;
@@ -90,7 +109,8 @@ struct ImportedLandmark
     double sigma_y_m = std::numeric_limits<double>::quiet_NaN();
 };
 
-/** What an import made, for the tool's summary. */
+/** What an import made and how it read what real logs bring, for the tool's summary line
+ *  (summaryCounts()) and its warnings. */
 struct TDatasetImportStats
 {
     size_t steps = 0;                      //!< steps written (action / sensory-frame pairs)
@@ -99,6 +119,30 @@ struct TDatasetImportStats
     size_t detections = 0;                 //!< detections written
     size_t scansOutsideOdometry = 0;       //!< scans before the first / after the last odometry row
     size_t detectionsOutsideCoverage = 0;  //!< beyond maxRange_m or outside the field of view
+
+    size_t odometryRepeatedTimes = 0;     //!< odometry rows followed by one of the same time
+    size_t groundTruthRepeatedTimes = 0;  //!< ground-truth rows followed by one of the same time
+    size_t detectionsGrouped = 0;  //!< detection rows after their scan's first, within the window
+    double scanWindow_s = 0;       //!< the window they were grouped within
+
+    /** With landmarks, detections written whose id (if any) is no landmark's and whose label
+     *  is no landmark's: unknown to the map. */
+    size_t detectionsUnknown = 0;
+    /** With landmarks, detections written whose id is no landmark's but whose label is one's:
+     *  associated by label, as without an id. */
+    size_t detectionsIdNotLandmark = 0;
+    /** With landmarks, detections written whose id is a landmark's of another label:
+     *  associated by id. */
+    size_t detectionsLabelNotLandmarks = 0;
+
+    size_t groundTruthGaps = 0;  //!< ground-truth gaps longer than the limit with steps in them
+    size_t stepsInGroundTruthGaps = 0;   //!< steps inside those gaps: no ground truth
+    size_t stepsOutsideGroundTruth = 0;  //!< steps before its first / after its last row
+    double groundTruthMaxGap_s = 0;      //!< the limit used
+
+    /** Warnings for stderr (without the tool's prefix): where a rule may have made the result
+     *  wrong. */
+    std::vector<std::string> warnings;
 };
 
 /** One step of the imported dataset: its time and its scan (an index in the scans, or -1
@@ -115,16 +159,27 @@ struct ImportStep
 class DatasetImport
 {
 public:
-    /** Reads an odometry file: columns `t,x,y,phi` (dead-reckoned poses) or `t,v,w` (forward
-     *  speed [m/s] and yaw rate [rad/s], each held from its row to the next and integrated
-     *  exactly from the pose (0, 0, 0)). At least two rows; times strictly increasing. */
-    static OdometryTrack readOdometry(const std::string& path);
+    /** Reads an odometry file (the file may be gz-compressed, as every file here): columns
+     *  `t,x,y,phi` (dead-reckoned poses) or `t,v,w` (forward speed [m/s] and yaw rate [rad/s],
+     *  each held from its row to the next and integrated exactly from the pose (0, 0, 0)).
+     *  Times never go back; rows of one time collapse to the last (the later reading holds
+     *  from then on: counted in `stats`, and a warning when they disagree). At least two
+     *  distinct times. */
+    static OdometryTrack readOdometry(const std::string& path,
+                                      TDatasetImportStats* stats = nullptr);
     /** Reads a detections file: `t,label,range_m,bearing_rad`, optional `id`, `confidence`.
-     *  Rows with one `t` form a scan; a row whose label, range and bearing are empty marks a
-     *  scan with no detections. Times never go back. */
-    static std::vector<DetectionScan> readDetections(const std::string& path);
-    /** Reads a ground-truth file: `t,x,y,phi`, times strictly increasing. */
-    static std::vector<GroundTruthRow> readGroundTruth(const std::string& path);
+     *  A scan is the rows from its first one to `scanWindow_s` after it (to the microsecond;
+     *  0: the rows of one time), timed by its first row (the later rows counted in `stats`,
+     *  with a warning when the grouping looks wrong: a grouped scan holding one id twice, or
+     *  scans less than 5 windows apart); a row whose label, range and bearing are empty marks
+     *  a scan with no detections. Times never go back. */
+    static std::vector<DetectionScan> readDetections(const std::string& path,
+                                                     double scanWindow_s = kDefaultScanWindow_s,
+                                                     TDatasetImportStats* stats = nullptr);
+    /** Reads a ground-truth file: `t,x,y,phi`, times never going back; rows of one time are
+     *  one pose, the last (counted in `stats`, a warning when they disagree). */
+    static std::vector<GroundTruthRow> readGroundTruth(const std::string& path,
+                                                       TDatasetImportStats* stats = nullptr);
     /** Reads a landmarks file: `id,label,x,y`, optional `sigma_x_m,sigma_y_m`; ids positive
      *  and unique, labels as a world file takes them. */
     static std::vector<ImportedLandmark> readLandmarks(const std::string& path);
@@ -162,18 +217,39 @@ public:
                                          const TDatasetImportOptions& options,
                                          TDatasetImportStats& stats);
     /** Writes the rawlog makeRawlog() makes to `path` (gz-compressed, the bytes
-     *  saveRawlog(log, path, "semloc-import") writes of it: the signature first) entry by entry, never holding more than one step in memory; throws
-     *  "cannot write 'PATH': REASON" on an error. */
+     *  saveRawlog(log, path, "semloc-import") writes of it: the signature first) entry by entry,
+     * never holding more than one step in memory; throws "cannot write 'PATH': REASON" on an error.
+     */
     static void writeRawlog(const std::vector<ImportStep>& steps,
                             const std::vector<DetectionScan>& scans, const OdometryTrack& odometry,
                             const TDatasetImportOptions& options, TDatasetImportStats& stats,
                             const std::string& path);
 
     /** The ground truth at each step time within its span, interpolated as OdometryTrack::at
-     *  does. Throws naming `path` if it covers no step. */
+     *  does, except inside a gap between two rows longer than `maxGap_s` (0: the default,
+     *  groundTruthMaxGap()): a step strictly inside one has no row (counted in `stats`, with a
+     *  warning naming the longest gap), as has a step outside the span. Throws naming `path`
+     *  if no step has a row. */
     static std::vector<GroundTruthRow> groundTruthAtSteps(const std::vector<GroundTruthRow>& gt,
                                                           const std::vector<ImportStep>& steps,
-                                                          const std::string& path);
+                                                          const std::string& path,
+                                                          double maxGap_s = 0,
+                                                          TDatasetImportStats* stats = nullptr);
+    /** The longest ground-truth gap interpolated across [s]: `option` if positive, else the
+     *  larger of kMinGroundTruthMaxGap_s and kGroundTruthGapPeriods times the median time
+     *  between consecutive rows. */
+    static double groundTruthMaxGap(const std::vector<GroundTruthRow>& gt, double option);
+    /** With a map: counts the detections of the written scans that no landmark explains in
+     *  `stats` (unknown to the map; an id no landmark has; a label unlike its landmark's),
+     *  each kind with a warning naming a few labels and ids. They are written as they are. */
+    static void checkLandmarks(const std::vector<ImportStep>& steps,
+                               const std::vector<DetectionScan>& scans,
+                               const std::vector<ImportedLandmark>& landmarks,
+                               TDatasetImportStats& stats);
+    /** The counts of `stats` the summary line gives after the detections ("3 repeated odometry
+     *  times (the later reading kept), 12 detections grouped into scans within 0.01 s"), the
+     *  zero ones left out; "" when all are zero. */
+    static std::string summaryCounts(const TDatasetImportStats& stats);
     /** Writes `t x y phi` rows (semloc-localize's ground truth); throws naming the file. */
     static void writeGroundTruth(const std::vector<GroundTruthRow>& rows, const std::string& path);
 
