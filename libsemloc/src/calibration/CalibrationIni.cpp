@@ -78,7 +78,7 @@ std::string fitComment(const TCalibrationFit& f)
                (low ? "smallest" : "largest") +
                " value the filter takes; n = " + std::to_string(f.n) + ", " + f.method;
     }
-    if (f.value == 0 && f.ci95 == 0)
+    if (f.value == 0 && f.ci95 == 0 && f.method.rfind("least squares (>= 0)", 0) == 0)
     {
         return "calibrated: n = " + std::to_string(f.n) + ", 0: left out of the best fit (its " +
                "regressor does not vary or its coefficient would be negative), " + f.method;
