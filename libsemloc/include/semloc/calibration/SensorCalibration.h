@@ -197,7 +197,18 @@ struct TCalibrationResult
  *  increment (both in the previous true pose's frame); E|e_xy| = std_xy sqrt(pi/2) for an
  *  isotropic 2D Gaussian and E|e_phi| = std_phi sqrt(2/pi), so least squares of |e| against
  *  [1, d, |dphi|] gives minStdXY, a1, a2 and minStdPHI, a3, a4 (clamped at 0); a coefficient
- *  whose regressor does not vary (e.g. no turns) is 0. */
+ *  whose regressor does not vary (e.g. no turns) is 0.
+ *
+ *  **Bias and map offset.** The sigmas are written about 0, sqrt(sigma^2 + mean^2), the
+ *  residuals' mean in TCalibrationResult::bias. After each pass the rigid transform aligning
+ *  the matched detections with their objects is fitted (TCalibrationResult::mapOffset); when
+ *  it moves them by more than kBiasSigmas sigma_range, the next pass places the scans at the
+ *  ground-truth poses moved by it (the fits are then in the map's frame, where the filter
+ *  localizes).
+ *
+ *  **Limits.** Every fit is then kept to the range semloc-localize accepts for its key
+ *  (CSemanticMap::TLikelihoodOptions::range, MotionModel::TOptions::range): clamped into it,
+ *  or TooLittleData under the kMin* counts of TCalibrationResult (docs/tools.md). */
 class SensorCalibration
 {
 public:
