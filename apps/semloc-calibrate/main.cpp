@@ -5,6 +5,8 @@
  * docs/tools.md, "semloc-calibrate". */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/calibration/SensorCalibration.h>
+#include <semloc/experiment/LocalizationExperiment.h>
+#include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
@@ -56,6 +58,22 @@ std::string readText(const std::string& path)
     return s.str();
 }
 
+/** The calibrated ini `written` (to be renamed `out`) loads in semloc-localize: it always
+ *  should (every fit is kept to its key's range, the base was checked). */
+void checkWritten(const std::string& written, const std::string& out)
+{
+    try
+    {
+        semloc::LocalizationExperiment::CheckConfig(written, argWorld.getValue());
+    }
+    catch (const std::exception& e)
+    {
+        throw std::runtime_error(
+            "the calibrated ini '" + out +
+            "' would be refused by semloc-localize (not written): " + semloc::errorMessage(e));
+    }
+}
+
 void run()
 {
     const std::string rawlogPath = argRawlog.getValue(), out = argOut.getValue(),
@@ -79,7 +97,7 @@ void run()
     }
     // Everything is read and checked before anything is written.
     const std::string baseText = readText(base);
-    semloc::SensorCalibration::CheckBase(baseText, base);
+    semloc::SensorCalibration::CheckBase(base, argWorld.getValue());
     const auto world = semloc::World::FromFile(argWorld.getValue());
     const auto gt = semloc::Simulator::readGroundTruth(argGroundTruth.getValue());
     const auto rawlog = semloc::RawlogReader::Load(rawlogPath);
@@ -102,6 +120,8 @@ void run()
                                  {
                                      throw std::runtime_error("cannot write '" + out + "'");
                                  }
+                                 f.close();
+                                 checkWritten(tmp[0], out);
                              });
     if (staged)
     {
@@ -111,13 +131,18 @@ void run()
     {
         std::cerr << "semloc-calibrate: warning: " << w.text() << "\n";
     }
+    for (const auto& w : semloc::SensorCalibration::Warnings(result))
+    {
+        std::cerr << "semloc-calibrate: warning: " << w << "\n";
+    }
     std::cout << "semloc-calibrate: " << result.scans << " scans, " << result.increments
               << " odometry increments: sigma_range_m " << result.sigma_range_m.value
               << ", sigma_bearing_deg " << result.sigma_bearing_deg.value << ", p_detect "
               << result.p_detect_near.value << " .. " << result.p_detect_far.value
               << ", clutter_per_scan " << result.clutter_per_scan.value << ", p_confusion "
               << result.p_confusion.value << ", p_range_outlier " << result.p_range_outlier.value
-              << "; wrote " << out << (report.empty() ? "" : " and " + report) << "\n";
+              << "; wrote " << out << (report.empty() ? "" : " and " + report) << "\n"
+              << semloc::SensorCalibration::BiasText(result);
 }
 }  // namespace
 

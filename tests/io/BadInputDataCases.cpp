@@ -476,6 +476,27 @@ Cases calibrateCases()
          }},
         {"calibrate-out-is-input",
          [](const fs::path& d) { return calibrate(d, 100, "semantic", "base.ini"); }},
+        {"calibrate-base-unknown-key",
+         [](const fs::path& d)
+         {
+             auto a = calibrate(d, 100, "semantic", "out.ini");
+             std::string base = readText(d / "base.ini");
+             base.replace(base.find("\nsigma_range_m "), 15, "\nsigma_rnage_m ");
+             writeText(d / "base.ini", base);
+             return a;
+         }},
+        {"calibrate-base-bad-value",
+         [](const fs::path& d)
+         {
+             auto a = calibrate(d, 100, "semantic", "out.ini");
+             std::string base = readText(d / "base.ini");
+             const auto at = base.find("\np_detect_far ");
+             base.replace(at, base.find('\n', at + 1) - at, "\np_detect_far = 0");
+             writeText(d / "base.ini", base);
+             return a;
+         }},
+        {"calibrate-too-little-data",
+         [](const fs::path& d) { return calibrate(d, 100, "semantic", "out.ini"); }},
         {"calibrate-out-not-semloc",
          [](const fs::path& d)
          {

@@ -52,13 +52,38 @@ TCalibrationFit fit(double value, size_t n, double ci95, const std::string& meth
     return f;
 }
 
-/** A robust sigma with its interval: the MAD's asymptotic efficiency is 37 %. */
+/** The standard deviation of `x` (0 for fewer than 2 values). */
+double standardDeviation(const std::vector<double>& x)
+{
+    if (x.size() < 2)
+    {
+        return 0;
+    }
+    double m = 0, ss = 0;
+    for (const double v : x)
+    {
+        m += v;
+    }
+    m /= static_cast<double>(x.size());
+    for (const double v : x)
+    {
+        ss += (v - m) * (v - m);
+    }
+    return std::sqrt(ss / static_cast<double>(x.size() - 1));
+}
+
+/** A robust sigma with its interval: the MAD's asymptotic efficiency is 37 %. When more than
+ *  half the residuals are one value (readings quantized coarser than their noise) the MAD is
+ *  0: the standard deviation is taken instead. */
 TCalibrationFit robustSigma(const std::vector<double>& x)
 {
-    const double s = madSigma(x);
+    const double mad = madSigma(x);
+    const double s = mad > 0 ? mad : standardDeviation(x);
     const double n = static_cast<double>(x.size());
     return fit(s, x.size(), kZ95 * 1.166 * s / std::sqrt(std::max(n, 1.0)),
-               "1.4826 MAD of the matched residuals");
+               mad > 0 || s == 0 ? "1.4826 MAD of the matched residuals"
+                                 : "standard deviation of the matched residuals (their MAD is 0: "
+                                   "more than half are one value)");
 }
 
 /** Least squares of y on [1, x] evaluated at x = 0 and x = 1, with their half-widths. */

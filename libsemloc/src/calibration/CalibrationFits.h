@@ -2,6 +2,7 @@
  * odometry's Gaussian model (private). */
 #pragma once
 
+#include <mrpt/math/TPose2D.h>
 #include <semloc/calibration/SensorCalibration.h>
 
 #include <vector>
@@ -25,4 +26,28 @@ void fitDetector(TCalibrationResult& r);
 /** a1..a4, minStdXY, minStdPHI from the odometry samples of `r` (all 0 with fewer than 4
  *  increments: n says so). */
 void fitOdometry(TCalibrationResult& r);
+
+/** A rigid 2D transform p -> R(theta) p + (tx, ty): the ground truth's frame to the map's. */
+struct RigidTransform2D
+{
+    double theta = 0, tx = 0, ty = 0;
+    /** The pose `p` moved by the transform (its heading turned by theta). */
+    mrpt::math::TPose2D apply(const mrpt::math::TPose2D& p) const;
+    /** This transform after `first`. */
+    RigidTransform2D after(const RigidTransform2D& first) const;
+};
+
+/** The rigid transform that best aligns the matched detections' positions with their objects
+ *  (samples detectedX/Y, objectX/Y of `r`): least squares, then again without the pairs over
+ *  3.5 times the median distance. Identity when fewer than kMinResiduals pairs or fewer than
+ *  2 distinct objects. `r.mapOffset` gets `sofar` then it, as the report gives it. */
+RigidTransform2D fitMapOffset(TCalibrationResult& r, const RigidTransform2D& sofar);
+
+/** r.bias from the residuals, and the sigmas made those of the zero-mean model the filter
+ *  has: sqrt(sigma around the bias^2 + bias^2). */
+void fitBias(TCalibrationResult& r);
+
+/** Every fit of `r` moved into the range semloc-localize accepts for its key (Clamped, with
+ *  why), or marked TooLittleData when its data are under the kMin* of TCalibrationResult. */
+void applyLimits(TCalibrationResult& r);
 }  // namespace semloc::detail

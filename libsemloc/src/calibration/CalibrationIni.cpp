@@ -2,11 +2,14 @@
  * place, each with a comment giving its fit. */
 #include <mrpt/config/CConfigFileMemory.h>
 #include <semloc/calibration/SensorCalibration.h>
+#include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/filter/MotionModel.h>
+#include <semloc/maps/CSemanticMap.h>
 
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -68,7 +71,14 @@ std::string keyLine(const std::string& key, const std::string& value, const std:
 
 std::string fitComment(const TCalibrationFit& f)
 {
-    if (f.value == 0 && f.ci95 == 0)
+    if (f.status == TCalibrationFit::Status::Clamped)
+    {
+        const bool low = f.fitted < f.value;
+        return "calibrated: fitted " + number(f.fitted) + " (" + f.why + "), clamped to the " +
+               (low ? "smallest" : "largest") +
+               " value the filter takes; n = " + std::to_string(f.n) + ", " + f.method;
+    }
+    if (f.value == 0 && f.ci95 == 0 && f.method.rfind("least squares (>= 0)", 0) == 0)
     {
         return "calibrated: n = " + std::to_string(f.n) + ", 0: left out of the best fit (its " +
                "regressor does not vary or its coefficient would be negative), " + f.method;
@@ -142,6 +152,30 @@ public:
             m_lines.push_back(line);
         }
     }
+    /** Adds the comment line "// `comment`" at the end of `section`; false when the text has
+     *  no such section. */
+    bool note(const std::string& section, const std::string& comment)
+    {
+        size_t last = m_lines.size();
+        bool inSection = false;
+        for (size_t i = 0; i < m_lines.size(); i++)
+        {
+            if (const std::string s = sectionOf(m_lines[i]); !s.empty())
+            {
+                inSection = lower(s) == lower(section);
+            }
+            if (inSection && !trim(m_lines[i]).empty())
+            {
+                last = i;
+            }
+        }
+        if (last == m_lines.size())
+        {
+            return false;
+        }
+        m_lines.insert(m_lines.begin() + static_cast<std::ptrdiff_t>(last + 1), "// " + comment);
+        return true;
+    }
     std::string text() const
     {
         std::string out;
@@ -157,13 +191,56 @@ private:
     std::vector<std::string> m_lines;
 };
 
-void setFit(IniText& ini, const char* section, const char* key, const TCalibrationFit& f)
+/** The base ini's values, and the defaults of the keys it does not set. */
+class BaseValues
 {
-    ini.set(section, key, number(f.value), fitComment(f));
-}
-}  // namespace
+public:
+    explicit BaseValues(const std::string& baseIni) : m_base(baseIni)
+    {
+        CSemanticMap::TLikelihoodOptions().saveToConfigFile(m_defaults, kLikelihood);
+        MotionModel::TOptions().saveToConfigFile(m_defaults, MotionModel::kSection);
+    }
+    /** The value of `key` and "the base ini's" or "the default" for where it comes from. */
+    std::pair<std::string, std::string> of(const std::string& section, const std::string& key) const
+    {
+        if (m_base.keyExists(section, key))
+        {
+            return {trim(m_base.read_string(section, key, "")), "the base ini's value kept"};
+        }
+        return {trim(m_defaults.read_string(section, key, "")),
+                "the default kept (the base ini does not set it)"};
+    }
 
-void SensorCalibration::CheckBase(const std::string& baseIni, const std::string& baseName)
+private:
+    mrpt::config::CConfigFileMemory m_base, m_defaults;
+};
+
+void setFit(IniText& ini, const BaseValues& base, const char* section, const char* key,
+            const TCalibrationFit& f)
+{
+    if (f.status == TCalibrationFit::Status::TooLittleData)
+    {
+        const auto [value, whence] = base.of(section, key);
+        ini.set(section, key, value,
+                "calibrated: not fitted, too little data (" + f.why + "): " + whence);
+        return;
+    }
+    // 4 digits, unless they round out of the range the filter takes (0.99996 to 1): then
+    // all of them.
+    const auto range = std::string(section) == kLikelihood
+                           ? CSemanticMap::TLikelihoodOptions::range(key)
+                           : MotionModel::TOptions::range(key);
+    std::string text = number(f.value);
+    if (const double back = std::stod(text); back < range.lo || back > range.hi)
+    {
+        text = detail::shortestText(f.value);
+    }
+    ini.set(section, key, text, fitComment(f));
+}
+
+/** Throws naming the file and [MetricMap] semanticMap_count when `baseIni` has no semantic
+ *  map whose noise the fits could fill. */
+void requireSemanticMap(const std::string& baseIni, const std::string& baseName)
 {
     mrpt::config::CConfigFileMemory mem(baseIni);
     if (mem.read_int("MetricMap", "semanticMap_count", 0) < 1)
@@ -173,12 +250,23 @@ void SensorCalibration::CheckBase(const std::string& baseIni, const std::string&
                                  "no semantic map to calibrate (needs >= 1)");
     }
 }
+}  // namespace
+
+void SensorCalibration::CheckBase(const std::string& basePath, const std::string& worldPath)
+{
+    LocalizationExperiment::CheckConfig(basePath, worldPath);
+    std::ifstream f(basePath, std::ios::binary);
+    std::stringstream text;
+    text << f.rdbuf();
+    requireSemanticMap(text.str(), basePath);
+}
 
 std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std::string& baseName,
                                           const TCalibrationResult& r, const std::string& worldPath)
 {
-    CheckBase(baseIni, baseName);
+    requireSemanticMap(baseIni, baseName);
     IniText ini(baseIni, baseName);
+    const BaseValues base(baseIni);
     const std::string header = std::string(kIniHeader) + "the fits written into " + baseName + "\n";
     if (!worldPath.empty())
     {
@@ -187,25 +275,28 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
                 "calibrated: the world the fits were made in");
     }
     ini.set(kLikelihood, "model", "probabilistic", "calibrated: the model the fits are for");
-    setFit(ini, kLikelihood, "sigma_range_m", r.sigma_range_m);
-    setFit(ini, kLikelihood, "sigma_bearing_deg", r.sigma_bearing_deg);
-    setFit(ini, kLikelihood, "p_detect_near", r.p_detect_near);
-    setFit(ini, kLikelihood, "p_detect_far", r.p_detect_far);
-    setFit(ini, kLikelihood, "clutter_per_scan", r.clutter_per_scan);
-    setFit(ini, kLikelihood, "p_confusion", r.p_confusion);
-    setFit(ini, kLikelihood, "p_range_outlier", r.p_range_outlier);
-    if (r.increments < 4)
-    {
-        return header + ini.text();
-    }
+    setFit(ini, base, kLikelihood, "sigma_range_m", r.sigma_range_m);
+    setFit(ini, base, kLikelihood, "sigma_bearing_deg", r.sigma_bearing_deg);
+    setFit(ini, base, kLikelihood, "p_detect_near", r.p_detect_near);
+    setFit(ini, base, kLikelihood, "p_detect_far", r.p_detect_far);
+    setFit(ini, base, kLikelihood, "clutter_per_scan", r.clutter_per_scan);
+    setFit(ini, base, kLikelihood, "p_confusion", r.p_confusion);
+    setFit(ini, base, kLikelihood, "p_range_outlier", r.p_range_outlier);
     const char* mm = MotionModel::kSection;
+    if (r.a1.status == TCalibrationFit::Status::TooLittleData)
+    {
+        const std::string why = "semloc-calibrate: not fitted, too little data (" + r.a1.why +
+                                "): the base ini's [" + std::string(mm) + "] kept";
+        const bool noted = ini.note(mm, why);  // else in the header
+        return header + (noted ? "" : "// " + why + "\n") + ini.text();
+    }
     ini.set(mm, "source", "gaussian", "calibrated: the model below, from the odometry's errors");
-    setFit(ini, mm, "a1", r.a1);
-    setFit(ini, mm, "a2", r.a2);
-    setFit(ini, mm, "a3", r.a3);
-    setFit(ini, mm, "a4", r.a4);
-    setFit(ini, mm, "minStdXY", r.minStdXY);
-    setFit(ini, mm, "minStdPHI", r.minStdPHI);
+    setFit(ini, base, mm, "a1", r.a1);
+    setFit(ini, base, mm, "a2", r.a2);
+    setFit(ini, base, mm, "a3", r.a3);
+    setFit(ini, base, mm, "a4", r.a4);
+    setFit(ini, base, mm, "minStdXY", r.minStdXY);
+    setFit(ini, base, mm, "minStdPHI", r.minStdPHI);
     // A drift is the run's own (a gyro's bias changes from one power-up to the next): what
     // carries over to another run is that it drifts, so the drift state is turned on with
     // semantic.ini's walk, not set to the rate measured here.

@@ -158,8 +158,22 @@ std::string cell(const std::string& text)
 std::string row(const char* key, const TCalibrationFit& f)
 {
     std::ostringstream s;
-    s << "| `" << key << "` | " << f.value << " | ±" << f.ci95 << " | " << f.n << " | "
-      << cell(f.method) << " |\n";
+    std::string how = f.method;
+    if (f.status == TCalibrationFit::Status::Clamped)
+    {
+        std::ostringstream c;
+        c << "clamped into the filter's range: fitted " << f.fitted << " (" << f.why << "); "
+          << f.method;
+        how = c.str();
+    }
+    if (f.status == TCalibrationFit::Status::TooLittleData)
+    {
+        s << "| `" << key << "` | not fitted | | " << f.n << " | "
+          << cell("too little data (" + f.why + "): the base ini's value written") << " |\n";
+        return s.str();
+    }
+    s << "| `" << key << "` | " << f.value << " | ±" << f.ci95 << " | " << f.n << " | " << cell(how)
+      << " |\n";
     return s.str();
 }
 
@@ -182,8 +196,19 @@ std::string markdown(const TCalibrationResult& r)
       << (r.headingDrifts ? "drifts: the calibrated ini turns the drift state on "
                             "([MotionModel] heading_drift_walk_deg_per_min)."
                           : "does not drift measurably: the drift state stays off.")
-      << "\n"
-      << "\n![residuals](fig_residuals.png)\n\n![detection](fig_detection.png)\n\n"
+      << "\n\n## Bias and map offset\n\n";
+    std::istringstream bias(SensorCalibration::BiasText(r));
+    for (std::string line; std::getline(bias, line);)
+    {
+        m << "- " << line << "\n";
+    }
+    const auto warnings = SensorCalibration::Warnings(r);
+    m << "\n## Warnings\n\n" << (warnings.empty() ? "None.\n" : "");
+    for (const auto& w : warnings)
+    {
+        m << "- " << w << "\n";
+    }
+    m << "\n![residuals](fig_residuals.png)\n\n![detection](fig_detection.png)\n\n"
       << "![odometry](fig_odometry.png)\n";
     return m.str();
 }

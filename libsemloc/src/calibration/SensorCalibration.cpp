@@ -238,10 +238,53 @@ size_t matchMisread(const std::vector<TSemanticDetection>& dets,
     return takeGreedy(pairs, detTo, visTo);
 }
 
-/** The detector's side of one scan at true pose `pose`, seen by `model`. */
-void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& pose, const World& world,
+/** The sensor's pose in the world at vehicle pose `pose`. */
+mrpt::poses::CPose2D sensorAt(const mrpt::math::TPose2D& pose, const CObservationSemantic& obs)
+{
+    return mrpt::poses::CPose2D(pose) +
+           mrpt::poses::CPose2D(obs.sensorPose.x(), obs.sensorPose.y(), obs.sensorPose.yaw());
+}
+
+/** The samples of detection `d` matched to object `v`: its residuals (at `pose` and at the
+ *  ground truth `truth`), unless the object is near the coverage's edge, and where it puts the
+ *  object in the map's frame. */
+void addMatch(const CObservationSemantic& obs, const TSemanticDetection& d,
+              const SemanticDetectorModel::TVisibleObject& v, const mrpt::math::TPose2D& pose,
+              const mrpt::math::TPose2D& truth, const World& world, const Gate& gate,
+              TCalibrationSamples& s)
+{
+    const auto& centre = world.objects[v.index].center;
+    const auto sensorTruth = sensorAt(truth, obs);
+    const auto local = sensorTruth.inverseComposePoint(centre);
+    // The detector clamps its readings to its coverage: residuals of objects within
+    // 3 sigma of its edge are truncated and left out of the sigmas.
+    if (v.range_m + 3 * gate.sigmaRange_m <= obs.maxRange_m && v.range_m >= 3 * gate.sigmaRange_m)
+    {
+        s.rangeResiduals_m.push_back(d.range_m - v.range_m);
+        s.rangeResidualsAtTruth_m.push_back(d.range_m - local.norm());
+    }
+    if (std::abs(v.bearing_rad) + 3 * gate.sigmaBearing_rad <= 0.5 * obs.fov_rad)
+    {
+        s.bearingResiduals_deg.push_back(
+            mrpt::RAD2DEG(mrpt::math::wrapToPi(d.bearing_rad - v.bearing_rad)));
+        s.bearingResidualsAtTruth_deg.push_back(
+            mrpt::RAD2DEG(mrpt::math::wrapToPi(d.bearing_rad - std::atan2(local.y, local.x))));
+    }
+    const auto at = sensorAt(pose, obs).composePoint(mrpt::math::TPoint2D(
+        d.range_m * std::cos(d.bearing_rad), d.range_m * std::sin(d.bearing_rad)));
+    s.detectedX_m.push_back(at.x);
+    s.detectedY_m.push_back(at.y);
+    s.objectX_m.push_back(centre.x);
+    s.objectY_m.push_back(centre.y);
+}
+
+/** The detector's side of one scan at true pose `truth`, placed in the map's frame by
+ *  `toMap`, seen by `model`. */
+void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& truth,
+             const detail::RigidTransform2D& toMap, const World& world,
              const SemanticDetectorModel& model, const Gate& gate, TCalibrationResult& r)
 {
+    const auto pose = toMap.apply(truth);
     const auto vis = model.visibleObjects(pose);
     std::vector<int> detTo(obs.detections.size(), -1), visTo(vis.size(), -1);
     matchGreedy(obs.detections, vis, world, gate, true, detTo, visTo);
@@ -250,19 +293,8 @@ void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& pose, c
     {
         if (detTo[j] >= 0)
         {
-            const auto& v = vis[static_cast<size_t>(detTo[j])];
-            // The detector clamps its readings to its coverage: residuals of objects within
-            // 3 sigma of its edge are truncated and left out of the sigmas.
-            if (v.range_m + 3 * gate.sigmaRange_m <= obs.maxRange_m &&
-                v.range_m >= 3 * gate.sigmaRange_m)
-            {
-                r.samples.rangeResiduals_m.push_back(obs.detections[j].range_m - v.range_m);
-            }
-            if (std::abs(v.bearing_rad) + 3 * gate.sigmaBearing_rad <= 0.5 * obs.fov_rad)
-            {
-                r.samples.bearingResiduals_deg.push_back(mrpt::RAD2DEG(
-                    mrpt::math::wrapToPi(obs.detections[j].bearing_rad - v.bearing_rad)));
-            }
+            addMatch(obs, obs.detections[j], vis[static_cast<size_t>(detTo[j])], pose, truth, world,
+                     gate, r.samples);
             same++;
         }
     }
@@ -364,7 +396,7 @@ const SemanticDetectorModel& modelFor(const CObservationSemantic& obs, const Wor
 /** Walks the rawlog: every semantic scan and every odometry action against the ground truth. */
 void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, const World& world,
              const GroundTruth& gt, const SensorCalibration::TOptions& o, const Gate& gate,
-             TCalibrationResult& r)
+             const detail::RigidTransform2D& toMap, TCalibrationResult& r)
 {
     const GroundTruthRow* prevAction = nullptr;
     std::unique_ptr<SemanticDetectorModel> model;
@@ -404,7 +436,7 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
             {
                 const GroundTruthRow& row =
                     rowAt(gt, obs->timestamp, o.gtTolerance_s, rawlogName, i);
-                addScan(*obs, row.pose(), world, modelFor(*obs, world, model), gate, r);
+                addScan(*obs, row.pose(), toMap, world, modelFor(*obs, world, model), gate, r);
             }
         }
     }
@@ -426,11 +458,14 @@ TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
     Gate gate;
     gate.radius_m = options.gate_m;
     gate.k = options.gateSigmas;
+    // Each pass places the scans by the ground truth moved by the map offset the passes
+    // before it fitted (none in the first).
+    detail::RigidTransform2D toMap;
     TCalibrationResult r;
     for (int pass = 0; pass <= options.gatePasses; pass++)
     {
         r = TCalibrationResult();
-        collect(rawlog, rawlogName, world, gt, options, gate, r);
+        collect(rawlog, rawlogName, world, gt, options, gate, toMap, r);
         if (r.scans == 0)
         {
             throw std::runtime_error("rawlog '" + rawlogName +
@@ -438,10 +473,20 @@ TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
                                      "calibrate");
         }
         detail::fitDetector(r);
+        detail::fitBias(r);
         gate.sigmaRange_m = r.sigma_range_m.value;
         gate.sigmaBearing_rad = mrpt::DEG2RAD(r.sigma_bearing_deg.value);
+        // An offset that moves the objects by more than kBiasSigmas sigma_range is removed
+        // from the next pass's poses (a smaller one is noise, or changes little).
+        r.mapOffset.removed = toMap.theta != 0 || toMap.tx != 0 || toMap.ty != 0;
+        const auto total = detail::fitMapOffset(r, toMap).after(toMap);
+        const bool large =
+            r.mapOffset.fitted &&
+            r.mapOffset.rms_m > TCalibrationResult::kBiasSigmas * r.bias.sigmaRangeAround_m;
+        toMap = large ? total : detail::RigidTransform2D();
     }
     detail::fitOdometry(r);
+    detail::applyLimits(r);
     return r;
 }
 

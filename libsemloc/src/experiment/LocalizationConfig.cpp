@@ -431,6 +431,37 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     return e;
 }
 
+void LocalizationExperiment::CheckConfig(const std::string& iniPath, const std::string& mapFile)
+{
+    try
+    {
+        config::checkIniFile(iniPath);
+        const config::IniFileInMemory ini(iniPath);
+        checkSections(ini, iniPath);
+        TOptions o;
+        o.loadFromConfigFile(ini, kSection);
+        if (!mapFile.empty())
+        {
+            o.map_file = mapFile;
+        }
+        requireFile("map_file", o.map_file, ini);
+        (void)LocalizationMap::FromConfig(ini, o.map_file);
+    }
+    catch (const std::exception& e)
+    {
+        std::string m = errorMessage(e);
+        if (m.rfind("ini [", 0) == 0)
+        {
+            m = "ini '" + iniPath + "': " + m.substr(4);
+        }
+        else if (m.find(iniPath) == std::string::npos)
+        {
+            m = "ini '" + iniPath + "': " + m;
+        }
+        THROW_EXCEPTION(m);
+    }
+}
+
 std::vector<std::string> LocalizationExperiment::inputFiles() const
 {
     const auto& o = m_options;

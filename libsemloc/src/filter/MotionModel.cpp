@@ -38,6 +38,23 @@ bool missingRawIncrement(const CActionRobotMovement2D& m)
 }
 }  // namespace
 
+config::TValueRange MotionModel::TOptions::range(const std::string& key)
+{
+    if (key == "minStdPHI")
+    {
+        return {0, 360};
+    }
+    if (key == "heading_drift_std_deg_per_min" || key == "heading_drift_walk_deg_per_min")
+    {
+        return {0, kMaxDriftDegPerMin};
+    }
+    if (key == "a1" || key == "a2" || key == "a3" || key == "a4" || key == "minStdXY")
+    {
+        return {0, kMaxCoefficient};
+    }
+    THROW_EXCEPTION("[" + std::string(kSection) + "] '" + key + "' is not a numeric key");
+}
+
 void MotionModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                                const std::string& s)
 {
@@ -48,16 +65,16 @@ void MotionModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBa
     std::string src = kSources[static_cast<size_t>(source)];
     readChoice(c, s, "source", src, kSources);
     source = src == "gaussian" ? Source::Gaussian : Source::Rawlog;
-    readDouble(c, s, "a1", a1, 0, kMaxCoefficient);
-    readDouble(c, s, "a2", a2, 0, kMaxCoefficient);
-    readDouble(c, s, "a3", a3, 0, kMaxCoefficient);
-    readDouble(c, s, "a4", a4, 0, kMaxCoefficient);
-    readDouble(c, s, "minStdXY", minStdXY, 0, kMaxCoefficient);
-    readDouble(c, s, "minStdPHI", minStdPHI, 0, 360);
-    readDouble(c, s, "heading_drift_std_deg_per_min", heading_drift_std_deg_per_min, 0,
-               kMaxDriftDegPerMin);
-    readDouble(c, s, "heading_drift_walk_deg_per_min", heading_drift_walk_deg_per_min, 0,
-               kMaxDriftDegPerMin);
+    readDouble(c, s, "a1", a1, range("a1"));
+    readDouble(c, s, "a2", a2, range("a2"));
+    readDouble(c, s, "a3", a3, range("a3"));
+    readDouble(c, s, "a4", a4, range("a4"));
+    readDouble(c, s, "minStdXY", minStdXY, range("minStdXY"));
+    readDouble(c, s, "minStdPHI", minStdPHI, range("minStdPHI"));
+    readDouble(c, s, "heading_drift_std_deg_per_min", heading_drift_std_deg_per_min,
+               range("heading_drift_std_deg_per_min"));
+    readDouble(c, s, "heading_drift_walk_deg_per_min", heading_drift_walk_deg_per_min,
+               range("heading_drift_walk_deg_per_min"));
 }
 
 void MotionModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,

@@ -112,6 +112,27 @@ void checkObject(const CSemanticMap::TObject& o)
 }
 }  // namespace
 
+config::TValueRange CSemanticMap::TLikelihoodOptions::range(const std::string& key)
+{
+    static const std::vector<std::pair<std::string, config::TValueRange>> kRanges = {
+        {"sigma_range_m", {1e-6, 1e6}},     {"sigma_bearing_deg", {1e-6, 360}},
+        {"p_range_outlier", {0, 0.999999}}, {"unmatched_penalty", {1e-12, 0.999999}},
+        {"missed_object_penalty", {0, 1}},  {"p_detect_near", {1e-6, 0.999999}},
+        {"p_detect_far", {1e-6, 0.999999}}, {"clutter_per_scan", {1e-9, 1e6}},
+        {"p_confusion", {0, 0.999999}},     {"min_confidence", {0, 1}},
+        {"max_range_m", {0, 1e6}},          {"fov_deg", {0, 360}},
+        {"index_cell_m", {0.01, 1e6}},      {"outage_every_s", {0, 1e9}},
+        {"outage_mean_s", {1e-3, 1e9}}};
+    for (const auto& [k, r] : kRanges)
+    {
+        if (k == key)
+        {
+            return r;
+        }
+    }
+    THROW_EXCEPTION("CSemanticMap::TLikelihoodOptions: '" + key + "' is not a numeric key");
+}
+
 void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                                           const std::string& s)
 {
@@ -129,27 +150,28 @@ void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CC
             "] association: 'marginal' sums the probabilistic model over every "
             "association; set model = probabilistic (the paper model matches greedily)");
     }
-    config::readDouble(c, s, "sigma_range_m", sigma_range_m, 1e-6, 1e6);
-    config::readDouble(c, s, "sigma_bearing_deg", sigma_bearing_deg, 1e-6, 360);
-    config::readDouble(c, s, "p_range_outlier", p_range_outlier, 0, 0.999999);
-    config::readDouble(c, s, "unmatched_penalty", unmatched_penalty, 1e-12, 0.999999);
-    config::readDouble(c, s, "missed_object_penalty", missed_object_penalty, 0, 1);
+    config::readDouble(c, s, "sigma_range_m", sigma_range_m, range("sigma_range_m"));
+    config::readDouble(c, s, "sigma_bearing_deg", sigma_bearing_deg, range("sigma_bearing_deg"));
+    config::readDouble(c, s, "p_range_outlier", p_range_outlier, range("p_range_outlier"));
+    config::readDouble(c, s, "unmatched_penalty", unmatched_penalty, range("unmatched_penalty"));
+    config::readDouble(c, s, "missed_object_penalty", missed_object_penalty,
+                       range("missed_object_penalty"));
     if (missed_object_penalty > 0 && missed_object_penalty < 1e-12)
     {
         THROW_EXCEPTION("ini [" + s +
                         "] missed_object_penalty: must be 0 (unmatched_penalty) or "
                         "at least 1e-12");
     }
-    config::readDouble(c, s, "p_detect_near", p_detect_near, 1e-6, 0.999999);
-    config::readDouble(c, s, "p_detect_far", p_detect_far, 1e-6, 0.999999);
-    config::readDouble(c, s, "clutter_per_scan", clutter_per_scan, 1e-9, 1e6);
-    config::readDouble(c, s, "p_confusion", p_confusion, 0, 0.999999);
-    config::readDouble(c, s, "min_confidence", min_confidence, 0, 1);
-    config::readDouble(c, s, "max_range_m", max_range_m, 0, 1e6);
-    config::readDouble(c, s, "fov_deg", fov_deg, 0, 360);
-    config::readDouble(c, s, "index_cell_m", index_cell_m, 0.01, 1e6);
-    config::readDouble(c, s, "outage_every_s", outage_every_s, 0, 1e9);
-    config::readDouble(c, s, "outage_mean_s", outage_mean_s, 1e-3, 1e9);
+    config::readDouble(c, s, "p_detect_near", p_detect_near, range("p_detect_near"));
+    config::readDouble(c, s, "p_detect_far", p_detect_far, range("p_detect_far"));
+    config::readDouble(c, s, "clutter_per_scan", clutter_per_scan, range("clutter_per_scan"));
+    config::readDouble(c, s, "p_confusion", p_confusion, range("p_confusion"));
+    config::readDouble(c, s, "min_confidence", min_confidence, range("min_confidence"));
+    config::readDouble(c, s, "max_range_m", max_range_m, range("max_range_m"));
+    config::readDouble(c, s, "fov_deg", fov_deg, range("fov_deg"));
+    config::readDouble(c, s, "index_cell_m", index_cell_m, range("index_cell_m"));
+    config::readDouble(c, s, "outage_every_s", outage_every_s, range("outage_every_s"));
+    config::readDouble(c, s, "outage_mean_s", outage_mean_s, range("outage_mean_s"));
     if (outage_every_s > 0 && model != Model::Probabilistic)
     {
         THROW_EXCEPTION("ini [" + s +

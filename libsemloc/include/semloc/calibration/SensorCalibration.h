@@ -25,6 +25,53 @@ struct TCalibrationFit
     double ci95 = 0;
     /** How it was fitted, one phrase (written as the ini key's comment). */
     std::string method;
+    /** What is written for it. */
+    enum class Status
+    {
+        /** The fit, within the range the filter accepts. */
+        Fitted,
+        /** The fit moved into the range the filter accepts (`fitted` holds it). */
+        Clamped,
+        /** Too little data to fit it: the base ini's value is written. */
+        TooLittleData
+    };
+    Status status = Status::Fitted;
+    /** Clamped: the value fitted, before it was moved into the range. */
+    double fitted = 0;
+    /** Clamped, TooLittleData: why, one phrase (in the ini comment and the warning). */
+    std::string why;
+};
+
+/** The mean of the matched residuals (a detector's bias) and the sigmas around and about it. */
+struct TCalibrationBias
+{
+    /** Mean range [m] and bearing [deg] residual (of those within 3 sigma of the median). */
+    double range_m = 0, bearing_deg = 0;
+    /** The robust sigmas around that mean (1.4826 MAD). */
+    double sigmaRangeAround_m = 0, sigmaBearingAround_deg = 0;
+    /** The robust sigmas of the residuals at the ground-truth poses as given, the map offset
+     *  not removed (what the sigmas would be without the offset's fit). */
+    double sigmaRangeAtTruth_m = 0, sigmaBearingAtTruth_deg = 0;
+};
+
+/** The rigid 2D transform that best aligns the matched detections (placed by the ground-truth
+ *  pose, the sensor pose and their range and bearing) with their map objects: a map, or a
+ *  ground truth, offset or rotated against the other. p -> R(dtheta) (p - c) + c + (dx, dy). */
+struct TMapOffset
+{
+    /** False: too few matched detections, or of fewer than 2 objects (identity then). */
+    bool fitted = false;
+    /** True when the fits were made at the ground-truth poses moved by it (it moves the
+     *  objects by more than TCalibrationResult::kBiasSigmas sigma_range_m). */
+    bool removed = false;
+    double dx_m = 0, dy_m = 0, dtheta_deg = 0;
+    /** The rotation's centre: the matched objects' centroid [m]. */
+    double cx_m = 0, cy_m = 0;
+    /** RMS displacement of the matched objects' positions under the transform [m]. */
+    double rms_m = 0;
+    /** Matched detections (those within 3.5 median distances of the first fit) and distinct
+     *  objects it is fitted from. */
+    size_t n = 0, objects = 0;
 };
 
 /** The samples behind the fits (the report's histograms and curves). */
@@ -49,6 +96,12 @@ struct TCalibrationSamples
     std::vector<double> odomErrPhiSigned_rad;
     /** Seconds of each step (between the two ground-truth rows it spans). */
     std::vector<double> odomDt_s;
+    /** Per matched detection (same label): where it puts its object in the map frame (the
+     *  pose as corrected by the map offset so far) and the object's centre [m]. */
+    std::vector<double> detectedX_m, detectedY_m, objectX_m, objectY_m;
+    /** The residuals of rangeResiduals_m and bearingResiduals_deg at the ground-truth pose as
+     *  given (no map offset removed). */
+    std::vector<double> rangeResidualsAtTruth_m, bearingResidualsAtTruth_deg;
 };
 
 /** Every fit semloc-calibrate writes. The keys are those of
@@ -82,7 +135,30 @@ struct TCalibrationResult
     double misreadInGate = 0;
     /** Odometry increments compared with ground-truth increments. */
     size_t increments = 0;
+    /** Of those, the increments in which the vehicle moved (kMinMove_m or kMinTurn_deg). */
+    size_t movingIncrements = 0;
+    /** The detector's bias; the map's offset against the ground truth. */
+    TCalibrationBias bias;
+    TMapOffset mapOffset;
     TCalibrationSamples samples;
+
+    /** @name The least data a fit is made from (docs/tools.md, "semloc-calibrate"): with less,
+     *  the base ini's value is written and a warning says so. @{ */
+    /** Matched residuals of a sigma, matched detections of the map offset. */
+    static constexpr size_t kMinResiduals = 10;
+    /** In-view objects of p_detect_near/far; matched detections of p_confusion and
+     *  p_range_outlier. */
+    static constexpr size_t kMinChances = 20;
+    /** Scans of clutter_per_scan. */
+    static constexpr size_t kMinScans = 10;
+    /** Odometry increments in which the vehicle moved, for [MotionModel]. */
+    static constexpr size_t kMinMovingIncrements = 10;
+    /** An increment moved when its true length or turn reaches these. */
+    static constexpr double kMinMove_m = 1e-3, kMinTurn_deg = 0.05;
+    /** @} */
+    /** A bias over this many of its sigma, a map offset moving the objects by over this many
+     *  sigma_range_m, is warned of (and the offset removed from the poses of the fits). */
+    static constexpr double kBiasSigmas = 0.5;
 };
 
 /** Estimates the noise of a dataset's detector and odometry against its ground truth
@@ -121,7 +197,18 @@ struct TCalibrationResult
  *  increment (both in the previous true pose's frame); E|e_xy| = std_xy sqrt(pi/2) for an
  *  isotropic 2D Gaussian and E|e_phi| = std_phi sqrt(2/pi), so least squares of |e| against
  *  [1, d, |dphi|] gives minStdXY, a1, a2 and minStdPHI, a3, a4 (clamped at 0); a coefficient
- *  whose regressor does not vary (e.g. no turns) is 0. */
+ *  whose regressor does not vary (e.g. no turns) is 0.
+ *
+ *  **Bias and map offset.** The sigmas are written about 0, sqrt(sigma^2 + mean^2), the
+ *  residuals' mean in TCalibrationResult::bias. After each pass the rigid transform aligning
+ *  the matched detections with their objects is fitted (TCalibrationResult::mapOffset); when
+ *  it moves them by more than kBiasSigmas sigma_range, the next pass places the scans at the
+ *  ground-truth poses moved by it (the fits are then in the map's frame, where the filter
+ *  localizes).
+ *
+ *  **Limits.** Every fit is then kept to the range semloc-localize accepts for its key
+ *  (CSemanticMap::TLikelihoodOptions::range, MotionModel::TOptions::range): clamped into it,
+ *  or TooLittleData under the kMin* counts of TCalibrationResult (docs/tools.md). */
 class SensorCalibration
 {
 public:
@@ -146,9 +233,22 @@ public:
                                        const std::vector<GroundTruthRow>& groundTruth,
                                        const TOptions& options);
 
-    /** Throws naming the file and [MetricMap] semanticMap_count when `baseIni` (read from
-     *  `baseName`) has no semantic map whose noise the fits could fill. */
-    static void CheckBase(const std::string& baseIni, const std::string& baseName);
+    /** Checks the base ini `basePath` as semloc-localize checks an ini
+     *  (LocalizationExperiment::CheckConfig, with `worldPath` as its map_file), so the
+     *  calibrated ini is never refused for something of the base; then throws naming the file
+     *  and [MetricMap] semanticMap_count when it has no semantic map whose noise the fits could
+     *  fill. */
+    static void CheckBase(const std::string& basePath, const std::string& worldPath);
+
+    /** What the user must know of the fits, one sentence each (semloc-calibrate prints them
+     *  on stderr as warnings; report.md lists them): a fit clamped into the range the filter
+     *  accepts, a fit with too little data (the base's value written), a bias of the
+     *  residuals over half their sigma, a map offset moving the objects more than
+     *  sigma_range_m. */
+    static std::vector<std::string> Warnings(const TCalibrationResult& result);
+
+    /** The bias and map offset as lines for the terminal and report.md. */
+    static std::string BiasText(const TCalibrationResult& result);
 
     /** The first line of every ini ApplyToIni() writes: semloc-calibrate replaces only a file
      *  that starts with it. */

@@ -152,6 +152,14 @@ public:
         return FromConfigFile(iniPath, TOverrides());
     }
 
+    /** Checks the ini `iniPath` as FromConfigFile() checks it, without a rawlog, a ground
+     *  truth or an output directory (a tool that writes an ini from it, the command line of
+     *  semloc-localize giving those): its text (config::checkIniText), its sections, every key
+     *  of [LocalizationExperiment] and the filter's sections, and the maps of [MetricMap]
+     *  built with `mapFile` as map_file (its own when empty). Throws the error FromConfigFile()
+     *  would, naming `iniPath`. */
+    static void CheckConfig(const std::string& iniPath, const std::string& mapFile);
+
     /** Whether run() keeps every step's record in TResult::records (memory that grows with
      *  the rawlog's length) or only streams them to steps.csv and the metrics. */
     enum class Records

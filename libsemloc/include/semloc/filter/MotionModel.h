@@ -6,6 +6,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <semloc/io/ConfigHelpers.h>
 
 #include <string>
 
@@ -77,6 +78,10 @@ public:
         {
             return heading_drift_std_deg_per_min > 0 || heading_drift_walk_deg_per_min > 0;
         }
+
+        /** The values loadFromConfigFile() accepts for the numeric key `key` (throws for a
+         *  key that is not a number): what a tool writing the key must keep to. */
+        static config::TValueRange range(const std::string& key);
 
         /** Reads `section` strictly: an unknown key, a value out of range or not finite is an
          *  error naming [section] key. */

@@ -30,6 +30,22 @@ void checkIniText(const std::string& text, const std::string& file);
 void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
                 const std::string& key, double& value, double lo, double hi);
 
+/** The values a numeric key accepts, [lo, hi] (its loader's bounds, for whoever writes it). */
+struct TValueRange
+{
+    double lo = 0;
+    double hi = 0;
+    /** `v` moved into [lo, hi]. */
+    double clamp(double v) const { return v < lo ? lo : (v > hi ? hi : v); }
+};
+
+/** readDouble() with the bounds of `range`. */
+inline void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                       const std::string& key, double& value, const TValueRange& range)
+{
+    readDouble(c, section, key, value, range.lo, range.hi);
+}
+
 /** Reads an integer in [lo, hi]; keeps `value` when the key is absent. */
 void readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
              const std::string& key, int& value, int lo, int hi);

@@ -5,6 +5,7 @@
 #include <mrpt/maps/CMetricMap.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CObservationBearingRange.h>
+#include <semloc/io/ConfigHelpers.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 
@@ -221,6 +222,10 @@ public:
         double outage_every_s = 0.0;
         /** probabilistic: mean length of an outage [s] (with outage_every_s > 0). */
         double outage_mean_s = 60.0;
+
+        /** The values loadFromConfigFile() accepts for the numeric key `key` (throws for a
+         *  key that is not a number): what a tool writing the key must keep to. */
+        static config::TValueRange range(const std::string& key);
 
         /** Reads `section` strictly (unknown keys and bad values are errors). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
