@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <istream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <utility>
@@ -88,6 +90,22 @@ TSemanticDetection detectionRow(const CsvTable& t, size_t r)
     return d;
 }
 
+/** The table a reader reads: the file `path`, or the text of `in` (if not null) named `path`. */
+CsvTable table(std::istream* in, const std::string& path, const std::vector<std::string>& required,
+               const std::vector<std::string>& optional = {})
+{
+    if (!in)
+    {
+        return CsvTable::FromFile(path, required, optional);
+    }
+    if (!*in)
+    {
+        THROW_EXCEPTION("cannot read '" + path + "'");
+    }
+    const std::string text{std::istreambuf_iterator<char>(*in), std::istreambuf_iterator<char>()};
+    return CsvTable::FromText(text, path, required, optional);
+}
+
 /** Checks that a row marking an empty scan has no other cell. */
 void checkEmptyScanRow(const CsvTable& t, size_t r)
 {
@@ -146,9 +164,9 @@ mrpt::math::TPose2D OdometryTrack::at(double time) const
             mrpt::math::wrapToPi(p.phi + f * mrpt::math::wrapToPi(q.phi - p.phi))};
 }
 
-OdometryTrack DatasetImport::readOdometry(const std::string& path)
+static OdometryTrack odometryOf(std::istream* in, const std::string& path)
 {
-    const auto t = CsvTable::FromFile(path, {"t"}, {"x", "y", "phi", "v", "w"});
+    const auto t = table(in, path, {"t"}, {"x", "y", "phi", "v", "w"});
     const bool poses = t.has("x") || t.has("y") || t.has("phi");
     const std::vector<std::string> columns =
         poses ? std::vector<std::string>{"x", "y", "phi"} : std::vector<std::string>{"v", "w"};
@@ -196,10 +214,9 @@ OdometryTrack DatasetImport::readOdometry(const std::string& path)
     return odo;
 }
 
-std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path)
+static std::vector<DetectionScan> detectionsOf(std::istream* in, const std::string& path)
 {
-    const auto t =
-        CsvTable::FromFile(path, {"t", "label", "range_m", "bearing_rad"}, {"id", "confidence"});
+    const auto t = table(in, path, {"t", "label", "range_m", "bearing_rad"}, {"id", "confidence"});
     t.checkIncreasing("t", false);
     std::vector<DetectionScan> scans;
     bool markedEmpty = false;  // the current scan has a row without a label
@@ -241,9 +258,9 @@ std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path
     return scans;
 }
 
-std::vector<GroundTruthRow> DatasetImport::readGroundTruth(const std::string& path)
+static std::vector<GroundTruthRow> groundTruthOf(std::istream* in, const std::string& path)
 {
-    const auto t = CsvTable::FromFile(path, {"t", "x", "y", "phi"});
+    const auto t = table(in, path, {"t", "x", "y", "phi"});
     t.checkIncreasing("t", true);
     std::vector<GroundTruthRow> rows;
     for (size_t r = 0; r < t.rows(); r++)
@@ -258,9 +275,9 @@ std::vector<GroundTruthRow> DatasetImport::readGroundTruth(const std::string& pa
     return rows;
 }
 
-std::vector<ImportedLandmark> DatasetImport::readLandmarks(const std::string& path)
+static std::vector<ImportedLandmark> landmarksOf(std::istream* in, const std::string& path)
 {
-    const auto t = CsvTable::FromFile(path, {"id", "label", "x", "y"}, {"sigma_x_m", "sigma_y_m"});
+    const auto t = table(in, path, {"id", "label", "x", "y"}, {"sigma_x_m", "sigma_y_m"});
     std::vector<ImportedLandmark> out;
     std::map<long, size_t> lineOfId;
     for (size_t r = 0; r < t.rows(); r++)
@@ -306,6 +323,48 @@ std::vector<ImportedLandmark> DatasetImport::readLandmarks(const std::string& pa
         THROW_EXCEPTION("'" + path + "' holds no landmarks");
     }
     return out;
+}
+
+OdometryTrack DatasetImport::readOdometry(const std::string& path)
+{
+    return odometryOf(nullptr, path);
+}
+
+std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path)
+{
+    return detectionsOf(nullptr, path);
+}
+
+std::vector<GroundTruthRow> DatasetImport::readGroundTruth(const std::string& path)
+{
+    return groundTruthOf(nullptr, path);
+}
+
+std::vector<ImportedLandmark> DatasetImport::readLandmarks(const std::string& path)
+{
+    return landmarksOf(nullptr, path);
+}
+
+OdometryTrack DatasetImport::readOdometry(std::istream& in, const std::string& name)
+{
+    return odometryOf(&in, name);
+}
+
+std::vector<DetectionScan> DatasetImport::readDetections(std::istream& in, const std::string& name)
+{
+    return detectionsOf(&in, name);
+}
+
+std::vector<GroundTruthRow> DatasetImport::readGroundTruth(std::istream& in,
+                                                           const std::string& name)
+{
+    return groundTruthOf(&in, name);
+}
+
+std::vector<ImportedLandmark> DatasetImport::readLandmarks(std::istream& in,
+                                                           const std::string& name)
+{
+    return landmarksOf(&in, name);
 }
 
 }  // namespace semloc
