@@ -179,6 +179,49 @@ TEST(DatasetImport, LandmarksCarryTheirSigmasAndRejectDuplicateIds)
         << dup;
 }
 
+TEST(DatasetImport, ReadersTakeAStreamNamedInTheirMessages)
+{
+    std::istringstream odometry("t,x,y,phi\n1,0,0,0\n2,1,0,0\n");
+    EXPECT_EQ(DatasetImport::readOdometry(odometry, "odom.csv").pose[1].x, 1.0);
+    std::istringstream detections("t,label,range_m,bearing_rad\n1,buoy,3,0\n");
+    EXPECT_EQ(DatasetImport::readDetections(detections, "det.csv").at(0).detections.size(), 1u);
+    std::istringstream groundTruth("t,x,y,phi\n1,2,3,0\n");
+    EXPECT_EQ(DatasetImport::readGroundTruth(groundTruth, "gt.csv").at(0).y, 3.0);
+    std::istringstream landmarks("id,label,x,y\n1,buoy,2,3\n");
+    EXPECT_EQ(DatasetImport::readLandmarks(landmarks, "lm.csv").at(0).object.label, "buoy");
+    std::istringstream bad("t,x,y,phi\n1,0,0,0\n2,far,0,0\n");
+    const std::string e = errorOf([&] { DatasetImport::readOdometry(bad, "odom.csv"); });
+    EXPECT_NE(e.find("odom.csv:3: column 2 'x': 'far' is not a number"), std::string::npos) << e;
+    std::istringstream empty("");
+    const std::string none = errorOf([&] { DatasetImport::readLandmarks(empty, "lm.csv"); });
+    EXPECT_NE(none.find("'lm.csv' has no header row"), std::string::npos) << none;
+}
+
+// Positions beyond the world's bound would overflow the interpolation at the step times (NaN
+// poses in the rawlog and the ground truth): the readers refuse them, naming the cell.
+TEST(DatasetImport, PositionsBeyondTheWorldBoundAreRefused)
+{
+    auto odometryError = [&](const char* text)
+    {
+        std::istringstream in(text);
+        return errorOf([&] { DatasetImport::readOdometry(in, "odom.csv"); });
+    };
+    const std::string poses = odometryError("t,x,y,phi\n1,-1e308,0,0\n2,1e308,0,0\n");
+    EXPECT_NE(poses.find("odom.csv:2: column 2 'x': position -1e308 is beyond +-1e7 m"),
+              std::string::npos)
+        << poses;
+    const std::string speeds = odometryError("t,v,w\n1,1e300,0\n3,0,0\n");
+    EXPECT_NE(speeds.find("odom.csv:2: column 2 'v': "), std::string::npos) << speeds;
+    EXPECT_NE(speeds.find("beyond +-1e7 m"), std::string::npos) << speeds;
+    std::istringstream gt("t,x,y,phi\n1,0,1e7,0\n2,0,-1.5e7,0\n");
+    const std::string g = errorOf([&] { DatasetImport::readGroundTruth(gt, "gt.csv"); });
+    EXPECT_NE(g.find("gt.csv:3: column 3 'y': position -1.5e7 is beyond +-1e7 m"),
+              std::string::npos)
+        << g;
+    // The bound itself is a position.
+    EXPECT_EQ(odometryError("t,x,y,phi\n1,-1e7,1e7,0\n2,1e7,0,0\n"), "");
+}
+
 // ------------------------------------------------------------------ end to end
 
 int runTool(const std::string& commandLine, const fs::path& log)

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <istream>
 #include <iterator>
 #include <limits>
@@ -106,6 +107,19 @@ CsvTable table(std::istream* in, const std::string& path, const std::vector<std:
     return CsvTable::FromText(text, path, required, optional);
 }
 
+/** Checks that the positions [m] in `columns` of row `r` lie within the world's coordinate
+ *  bound: the import interpolates and differences positions, which beyond it could overflow. */
+void checkPositions(const CsvTable& t, size_t r, std::initializer_list<const char*> columns)
+{
+    for (const char* c : columns)
+    {
+        if (!(std::abs(t.number(r, c)) <= kMaxWorldCoordinate_m))
+        {
+            t.fail(r, c, "position " + t.text(r, c) + " is beyond +-1e7 m (the world's bound)");
+        }
+    }
+}
+
 /** Checks that a row marking an empty scan has no other cell. */
 void checkEmptyScanRow(const CsvTable& t, size_t r)
 {
@@ -198,11 +212,19 @@ static OdometryTrack odometryOf(std::istream* in, const std::string& path)
         odo.t.push_back(t.number(r, "t"));
         if (poses)
         {
+            checkPositions(t, r, {"x", "y"});
             p = {t.number(r, "x"), t.number(r, "y"), mrpt::math::wrapToPi(t.number(r, "phi"))};
         }
         else if (r > 0)
         {
             p = integrate(p, t.number(r - 1, "v"), t.number(r - 1, "w"), odo.t[r] - odo.t[r - 1]);
+            if (!(std::abs(p.x) <= kMaxWorldCoordinate_m && std::abs(p.y) <= kMaxWorldCoordinate_m))
+            {
+                t.fail(r - 1, "v",
+                       "these speeds, held to the next row, move the pose to (" +
+                           detail::shortestText(p.x) + ", " + detail::shortestText(p.y) +
+                           "), beyond +-1e7 m (the world's bound)");
+            }
         }
         odo.pose.push_back(p);
     }
@@ -265,6 +287,7 @@ static std::vector<GroundTruthRow> groundTruthOf(std::istream* in, const std::st
     std::vector<GroundTruthRow> rows;
     for (size_t r = 0; r < t.rows(); r++)
     {
+        checkPositions(t, r, {"x", "y"});
         rows.push_back({t.number(r, "t"), t.number(r, "x"), t.number(r, "y"),
                         mrpt::math::wrapToPi(t.number(r, "phi"))});
     }
