@@ -208,7 +208,8 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
     }
 
     // [<section>_<name>_<NN>_<kind>] must belong to a map that is created.
-    const std::regex re("^" + section + "_(.+)_([0-9]+)_([A-Za-z0-9]+)$");
+    // What follows "<section>_" (compiled once: compiling is costlier than matching).
+    static const std::regex re("^(.+)_([0-9]+)_([A-Za-z0-9]+)$");
     std::vector<std::string> sections;
     ini.getAllSections(sections);
     for (const auto& s : sections)
@@ -231,8 +232,9 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
                                              detail::trimValue(key).c_str(), v.c_str()));
             }
         }
+        const std::string rest = s.substr(section.size() + 1);
         std::smatch m;
-        if (!std::regex_match(s, m, re) || !names.count(m[1].str()))
+        if (!std::regex_match(rest, m, re) || !names.count(m[1].str()))
         {
             THROW_EXCEPTION(mrpt::format(
                 "ini [%s]: unknown section (map sections are [%s_<map>_<NN>_<creationOpts|"
