@@ -40,17 +40,18 @@ void loadAndRoundTrip(
     }
     mrpt::config::CConfigFileMemory saved;
     save(o, saved);
+    const std::string text = saved.getContent();
     // Reloaded from the text, as a user reruns a tool's config.ini (MRPT's CConfigFileMemory
     // does not read back keys it wrote with a comment until its text is parsed again).
     OPTIONS again;
-    load(again, mrpt::config::CConfigFileMemory(saved.getContent()));  // a throw is a finding
+    load(again, mrpt::config::CConfigFileMemory(text));  // a throw is a finding
     mrpt::config::CConfigFileMemory savedAgain;
     save(again, savedAgain);
-    if (saved.getContent() != savedAgain.getContent())
+    if (const std::string textAgain = savedAgain.getContent(); textAgain != text)
     {
         std::cerr << "effective configuration changed on reloading:\n"
-                  << saved.getContent() << "\n---- reloaded:\n"
-                  << savedAgain.getContent() << "\n";
+                  << text << "\n---- reloaded:\n"
+                  << textAgain << "\n";
         std::abort();
     }
 }
