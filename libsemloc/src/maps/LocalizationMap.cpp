@@ -257,7 +257,8 @@ namespace
 /** Reads `mapFile` (may be empty) by its extension: a world (`.yaml`, `.yml`) into
  *  `lm.world`, a simple map into every map, a grid map into the first occupancy grid. True
  *  for a world. */
-bool loadMapFile(LocalizationMap& lm, const std::string& mapFile, const std::string& section)
+bool loadMapFile(LocalizationMap& lm, const std::string& mapFile, const std::string& section,
+                 const World* loaded)
 {
     const std::string ext =
         mapFile.empty()
@@ -270,7 +271,7 @@ bool loadMapFile(LocalizationMap& lm, const std::string& mapFile, const std::str
     const bool fromWorld = ext == "yaml" || ext == "yml";
     if (fromWorld)
     {
-        lm.world = World::FromFile(mapFile);
+        lm.world = loaded ? *loaded : World::FromFile(mapFile);
     }
     else if (ext == "simplemap")
     {
@@ -378,6 +379,24 @@ std::vector<std::string> fillMaps(LocalizationMap& lm,
 LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase& ini,
                                             const std::string& mapFile, const std::string& section)
 {
+    return build(ini, mapFile, section, nullptr);
+}
+
+LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase& ini,
+                                            const World& world, const std::string& worldFile,
+                                            const std::string& section)
+{
+    const std::string ext =
+        mrpt::system::lowerCase(mrpt::system::extractFileExtension(worldFile, true));
+    ASSERTMSG_(ext == "yaml" || ext == "yml",
+               "LocalizationMap::FromConfig: a loaded world stands for a world YAML file");
+    return build(ini, worldFile, section, &world);
+}
+
+LocalizationMap LocalizationMap::build(const mrpt::config::CConfigFileBase& ini,
+                                       const std::string& mapFile, const std::string& section,
+                                       const World* world)
+{
     validateSections(ini, section);
     LocalizationMap lm;
     lm.definitions = loadDefinitions(ini, section);
@@ -392,7 +411,7 @@ LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase&
     const auto aliases = definitionAliases(ini, section);
     ASSERT_EQUAL_(aliases.size(), lm.map->maps.size());
 
-    const bool fromWorld = loadMapFile(lm, mapFile, section);
+    const bool fromWorld = loadMapFile(lm, mapFile, section, world);
     lm.m_worldFiles = fillMaps(lm, aliases, mapFile, section, fromWorld);
     return lm;
 }
