@@ -3,8 +3,9 @@
  * [MetricMap] and its map sections (semanticMap, structureMap and MRPT's own maps),
  * semloc-simulate's sections and [Benchmark]. Each loader must accept or throw; what it accepted
  * must be written out as an effective configuration that loads again to the same text (what the
- * tools' config.ini promises). The maps are filled from the shipped paper world; run from config/
- * so that the seeds' relative paths (../maps/...) resolve as they do next to the ini files. */
+ * tools' config.ini promises). The maps are filled from the shipped paper world (read once); run
+ * from config/ so that the seeds' relative paths (../maps/...) resolve as they do next to the ini
+ * files. */
 #include <mrpt/config/CConfigFileMemory.h>
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/experiment/LocalizationExperiment.h>
@@ -40,17 +41,18 @@ void loadAndRoundTrip(
     }
     mrpt::config::CConfigFileMemory saved;
     save(o, saved);
+    const std::string text = saved.getContent();
     // Reloaded from the text, as a user reruns a tool's config.ini (MRPT's CConfigFileMemory
     // does not read back keys it wrote with a comment until its text is parsed again).
     OPTIONS again;
-    load(again, mrpt::config::CConfigFileMemory(saved.getContent()));  // a throw is a finding
+    load(again, mrpt::config::CConfigFileMemory(text));  // a throw is a finding
     mrpt::config::CConfigFileMemory savedAgain;
     save(again, savedAgain);
-    if (saved.getContent() != savedAgain.getContent())
+    if (const std::string textAgain = savedAgain.getContent(); textAgain != text)
     {
         std::cerr << "effective configuration changed on reloading:\n"
-                  << saved.getContent() << "\n---- reloaded:\n"
-                  << savedAgain.getContent() << "\n";
+                  << text << "\n---- reloaded:\n"
+                  << textAgain << "\n";
         std::abort();
     }
 }
@@ -83,9 +85,12 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size)
     loadAndRoundTrip<Bench>(
         ini, [](Bench& o, const auto& c) { o.loadFromConfigFile(c, "Benchmark"); },
         [](const Bench& o, auto& c) { o.saveToConfigFile(c, "Benchmark"); });
+    // The map file, loaded once: the maps of each input are built on this world.
+    static const std::string mapFile = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
+    static const semloc::World world = semloc::World::FromFile(mapFile);
     try
     {
-        (void)semloc::LocalizationMap::FromConfig(ini, SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
+        (void)semloc::LocalizationMap::FromConfig(ini, world, mapFile);
     }
     catch (const std::exception&)
     {

@@ -11,7 +11,8 @@ cd "$(dirname "$0")/../.."
 root=$PWD
 seconds=${1:-60}
 source tests/sanitizer_env.sh
-targets=(world ini deserialize)
+targets=(world ini deserialize import_odometry import_detections import_ground_truth
+         import_landmarks)
 semloc_configure "$SEMLOC_FUZZ_DIR" -DSEMLOC_BUILD_FUZZERS=ON -DSEMLOC_BUILD_APPS=OFF \
     -DSEMLOC_BUILD_TESTS=OFF -DSEMLOC_BUILD_BENCHMARKS=OFF
 cmake --build "$SEMLOC_FUZZ_DIR" -j2 --target "${targets[@]/#/fuzz_}"

@@ -195,6 +195,10 @@ void readDetectionsFile(const std::string& p)
 {
     DatasetImport::readDetections(p);
 }
+void readLandmarksFile(const std::string& p)
+{
+    DatasetImport::readLandmarks(p);
+}
 
 /** The message reading `text` as `name` with `reader` (readOdometryFile...). */
 template <typename Reader>
@@ -219,7 +223,7 @@ TEST(DatasetImport, AbsurdValuesAreRefusedNamingTheCell)
          "i.csv:3: column 1 't': the speeds integrated to this row's time reach (99999900, 0) m"},
         {readError(d, "g.csv", "t,x,y,phi\n1,0,-2e7,0\n", readGroundTruthFile),
          "g.csv:2: column 3 'y': y -2e+07 is beyond +-1e+07 m"},
-        {readError(d, "l.csv", "id,label,x,y\n1,buoy,1e300,0\n", DatasetImport::readLandmarks),
+        {readError(d, "l.csv", "id,label,x,y\n1,buoy,1e300,0\n", readLandmarksFile),
          "l.csv:2: column 3 'x': x 1e+300 is beyond +-1e+07 m"},
         {readError(d, "r.csv", "t,label,range_m,bearing_rad\n1,buoy,1e300,0\n", readDetectionsFile),
          "r.csv:2: column 3 'range_m': range_m 1e+300 is beyond +-1e+07 m"},
@@ -340,6 +344,24 @@ TEST(DatasetImport, RawlogWrittenEntryByEntryHasTheBytesOfTheWholeOne)
     EXPECT_EQ(readText(d / "streamed.rawlog"), readText(d / "whole.rawlog"));
     EXPECT_EQ(streamedStats.steps, stats.steps);
     EXPECT_EQ(streamedStats.detections, 2u);
+}
+
+TEST(DatasetImport, ReadersTakeAStreamNamedInTheirMessages)
+{
+    std::istringstream odometry("t,x,y,phi\n1,0,0,0\n2,1,0,0\n");
+    EXPECT_EQ(DatasetImport::readOdometry(odometry, "odom.csv").pose[1].x, 1.0);
+    std::istringstream detections("t,label,range_m,bearing_rad\n1,buoy,3,0\n");
+    EXPECT_EQ(DatasetImport::readDetections(detections, "det.csv").at(0).detections.size(), 1u);
+    std::istringstream groundTruth("t,x,y,phi\n1,2,3,0\n");
+    EXPECT_EQ(DatasetImport::readGroundTruth(groundTruth, "gt.csv").at(0).y, 3.0);
+    std::istringstream landmarks("id,label,x,y\n1,buoy,2,3\n");
+    EXPECT_EQ(DatasetImport::readLandmarks(landmarks, "lm.csv").at(0).object.label, "buoy");
+    std::istringstream bad("t,x,y,phi\n1,0,0,0\n2,far,0,0\n");
+    const std::string e = errorOf([&] { DatasetImport::readOdometry(bad, "odom.csv"); });
+    EXPECT_NE(e.find("odom.csv:3: column 2 'x': 'far' is not a number"), std::string::npos) << e;
+    std::istringstream empty("");
+    const std::string none = errorOf([&] { DatasetImport::readLandmarks(empty, "lm.csv"); });
+    EXPECT_NE(none.find("'lm.csv' has no header row"), std::string::npos) << none;
 }
 
 // ------------------------------------------------------------------ end to end

@@ -116,3 +116,31 @@ TEST(LocalizationMap, AMapSectionsErrorNamesSectionAndKeyOnceAndTheIniFile)
         << e;
     EXPECT_EQ(e.find("ini [MetricMap_semanticMap_00_*]"), std::string::npos) << e;
 }
+
+// The map file's world already loaded builds the same maps and effective configuration as the
+// file read by FromConfig; a loaded world stands for a world file only.
+TEST(LocalizationMap, LoadedWorldEqualsItsFile)
+{
+    const auto ini = iniText(R"(
+[MetricMap]
+semanticMap_count = 1
+structureMap_count = 1
+occupancyGrid_count = 1
+[MetricMap_occupancyGrid_00_creationOpts]
+resolution = 0.5
+)");
+    const auto world = semloc::World::FromFile(kPaperWorld);
+    const auto fromFile = semloc::LocalizationMap::FromConfig(ini, kPaperWorld);
+    const auto fromWorld = semloc::LocalizationMap::FromConfig(ini, world, kPaperWorld);
+    EXPECT_EQ(fromWorld.variant(), fromFile.variant());
+    EXPECT_EQ(fromWorld.effectiveConfig(ini), fromFile.effectiveConfig(ini));
+    ASSERT_TRUE(fromWorld.world);
+    EXPECT_EQ(fromWorld.world->toYamlText(), world.toYamlText());
+    const auto* grid = fromWorld.map->mapByClass<mrpt::maps::COccupancyGridMap2D>().get();
+    ASSERT_NE(grid, nullptr);
+    EXPECT_EQ(grid->getSizeX(),
+              fromFile.map->mapByClass<mrpt::maps::COccupancyGridMap2D>()->getSizeX());
+    const std::string e = errorOf(
+        [&] { semloc::LocalizationMap::FromConfig(ini, world, SEMLOC_SOURCE_DIR "/x.gridmap"); });
+    EXPECT_NE(e.find("a loaded world stands for a world YAML file"), std::string::npos) << e;
+}

@@ -186,3 +186,27 @@ TEST(RayCaster, ConstCastsAreThreadSafe)
     t2.join();
     EXPECT_EQ(out, serial);
 }
+
+// A map with one far vertex (at the world's coordinate bound) spans an elongated bounding box:
+// the grid keeps at most 4096 cells along its width plus height, so that the far segment does
+// not fill a row of hundreds of thousands of cells (each a copy of it), and the casts stay
+// those of brute force.
+TEST(RayCaster, FarVertexKeepsTheGridNarrow)
+{
+    auto& rng = mrpt::random::getRandomGenerator();
+    rng.randomize(99);
+    auto segs = stressSegments(rng);
+    segs.emplace_back(TPoint2D(20, 20), TPoint2D(1e7, 20));
+    for (const double cell : {0.0, 0.05})
+    {
+        const RayCaster rc(segs, cell);
+        EXPECT_LE(rc.gridCellsX() + rc.gridCellsY(), 4096) << "cell " << cell;
+        int n = 0;
+        for (int i = 0; i < 2000; i++)
+        {
+            const double x = rng.drawUniform(-5.0, 25.0), y = rng.drawUniform(-5.0, 25.0);
+            expectSame(rc, x, y, rng.drawUniform(-M_PI, M_PI), i % 2 ? 4.0 : 2e7, n);
+        }
+        EXPECT_EQ(n, 2000);
+    }
+}

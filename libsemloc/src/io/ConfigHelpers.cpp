@@ -13,7 +13,9 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <sstream>
+#include <typeindex>
 
 #include "io/Text.h"
 
@@ -337,6 +339,14 @@ std::string missingFileMessage(const mrpt::config::CConfigFileBase& source,
 
 std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o)
 {
+    // Once per class: saving the options to list their keys costs more than the rest of a load.
+    static std::mutex mutex;
+    static std::map<std::type_index, std::vector<std::string>> known;
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (const auto it = known.find(typeid(o)); it != known.end())
+    {
+        return it->second;
+    }
     mrpt::config::CConfigFileMemory mem;
     o.saveToConfigFile(mem, "s");
     std::vector<std::string> keys;
@@ -345,6 +355,7 @@ std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o)
     {
         k = trim(k);  // MRPT pads keys to align the written columns
     }
+    known.emplace(typeid(o), keys);
     return keys;
 }
 

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <istream>
 #include <limits>
 #include <map>
 #include <utility>
@@ -271,6 +272,15 @@ void warnGrouping(const std::vector<DetectionScan>& scans, double window_s, size
             what.c_str(), detail::timeText(median).c_str(), w.c_str()));
     }
 }
+/** The table of the file at `path`, or of `in` (standing for `path` in messages) if given. */
+CsvTable openTable(std::istream* in, const std::string& path,
+                   const std::vector<std::string>& required,
+                   const std::vector<std::string>& optional = {})
+{
+    return in != nullptr ? CsvTable::FromStream(*in, path, required, optional)
+                         : CsvTable::FromFile(path, required, optional);
+}
+
 }  // namespace
 
 void TDatasetImportOptions::check() const
@@ -324,9 +334,10 @@ mrpt::math::TPose2D OdometryTrack::at(double time) const
             mrpt::math::wrapToPi(p.phi + f * mrpt::math::wrapToPi(q.phi - p.phi))};
 }
 
-OdometryTrack DatasetImport::readOdometry(const std::string& path, TDatasetImportStats* stats)
+static OdometryTrack odometryOf(std::istream* in, const std::string& path,
+                                TDatasetImportStats* stats)
 {
-    const auto t = CsvTable::FromFile(path, {"t"}, {"x", "y", "phi", "v", "w"});
+    const auto t = openTable(in, path, {"t"}, {"x", "y", "phi", "v", "w"});
     const bool poses = odometryHasPoses(t, path);
     t.checkIncreasing("t", false);
     for (size_t r = 0; r < t.rows(); r++)  // every row, also those a later one replaces
@@ -391,12 +402,11 @@ OdometryTrack DatasetImport::readOdometry(const std::string& path, TDatasetImpor
     return odo;
 }
 
-std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path,
-                                                         double scanWindow_s,
-                                                         TDatasetImportStats* stats)
+static std::vector<DetectionScan> detectionsOf(std::istream* in, const std::string& path,
+                                               double scanWindow_s, TDatasetImportStats* stats)
 {
     const auto t =
-        CsvTable::FromFile(path, {"t", "label", "range_m", "bearing_rad"}, {"id", "confidence"});
+        openTable(in, path, {"t", "label", "range_m", "bearing_rad"}, {"id", "confidence"});
     t.checkIncreasing("t", false);
     std::vector<DetectionScan> scans;
     bool markedEmpty = false;  // the current scan has a row without a label
@@ -457,10 +467,10 @@ std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path
     return scans;
 }
 
-std::vector<GroundTruthRow> DatasetImport::readGroundTruth(const std::string& path,
-                                                           TDatasetImportStats* stats)
+static std::vector<GroundTruthRow> groundTruthOf(std::istream* in, const std::string& path,
+                                                 TDatasetImportStats* stats)
 {
-    const auto t = CsvTable::FromFile(path, {"t", "x", "y", "phi"});
+    const auto t = openTable(in, path, {"t", "x", "y", "phi"});
     t.checkIncreasing("t", false);
     for (size_t r = 0; r < t.rows(); r++)  // every row, also those a later one replaces
     {
@@ -489,9 +499,9 @@ std::vector<GroundTruthRow> DatasetImport::readGroundTruth(const std::string& pa
     return rows;
 }
 
-std::vector<ImportedLandmark> DatasetImport::readLandmarks(const std::string& path)
+static std::vector<ImportedLandmark> landmarksOf(std::istream* in, const std::string& path)
 {
-    const auto t = CsvTable::FromFile(path, {"id", "label", "x", "y"}, {"sigma_x_m", "sigma_y_m"});
+    const auto t = openTable(in, path, {"id", "label", "x", "y"}, {"sigma_x_m", "sigma_y_m"});
     std::vector<ImportedLandmark> out;
     std::map<long, size_t> lineOfId;
     for (size_t r = 0; r < t.rows(); r++)
@@ -537,6 +547,51 @@ std::vector<ImportedLandmark> DatasetImport::readLandmarks(const std::string& pa
         THROW_EXCEPTION("'" + path + "' holds no landmarks");
     }
     return out;
+}
+
+OdometryTrack DatasetImport::readOdometry(const std::string& path, TDatasetImportStats* stats)
+{
+    return odometryOf(nullptr, path, stats);
+}
+
+std::vector<DetectionScan> DatasetImport::readDetections(const std::string& path,
+                                                         double scanWindow_s,
+                                                         TDatasetImportStats* stats)
+{
+    return detectionsOf(nullptr, path, scanWindow_s, stats);
+}
+
+std::vector<GroundTruthRow> DatasetImport::readGroundTruth(const std::string& path,
+                                                           TDatasetImportStats* stats)
+{
+    return groundTruthOf(nullptr, path, stats);
+}
+
+std::vector<ImportedLandmark> DatasetImport::readLandmarks(const std::string& path)
+{
+    return landmarksOf(nullptr, path);
+}
+
+OdometryTrack DatasetImport::readOdometry(std::istream& in, const std::string& name)
+{
+    return odometryOf(&in, name, nullptr);
+}
+
+std::vector<DetectionScan> DatasetImport::readDetections(std::istream& in, const std::string& name)
+{
+    return detectionsOf(&in, name, kDefaultScanWindow_s, nullptr);
+}
+
+std::vector<GroundTruthRow> DatasetImport::readGroundTruth(std::istream& in,
+                                                           const std::string& name)
+{
+    return groundTruthOf(&in, name, nullptr);
+}
+
+std::vector<ImportedLandmark> DatasetImport::readLandmarks(std::istream& in,
+                                                           const std::string& name)
+{
+    return landmarksOf(&in, name);
 }
 
 }  // namespace semloc

@@ -224,7 +224,8 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
     }
 
     // [<section>_<name>_<NN>_<kind>] must belong to a map that is created.
-    const std::regex re("^" + section + "_(.+)_([0-9]+)_([A-Za-z0-9]+)$");
+    // What follows "<section>_" (compiled once: compiling is costlier than matching).
+    static const std::regex re("^(.+)_([0-9]+)_([A-Za-z0-9]+)$");
     std::vector<std::string> sections;
     ini.getAllSections(sections);
     for (const auto& s : sections)
@@ -248,8 +249,9 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
                     shownValue(detail::trimValue(key)).c_str(), shownValue(v).c_str()));
             }
         }
+        const std::string rest = s.substr(section.size() + 1);
         std::smatch m;
-        if (!std::regex_match(s, m, re) || !names.count(m[1].str()))
+        if (!std::regex_match(rest, m, re) || !names.count(m[1].str()))
         {
             THROW_EXCEPTION(mrpt::format(
                 "ini [%s]: unknown section (map sections are [%s_<map>_<NN>_<creationOpts|"
@@ -272,7 +274,8 @@ namespace
 /** Reads `mapFile` (may be empty) by its extension: a world (`.yaml`, `.yml`) into
  *  `lm.world`, a simple map into every map, a grid map into the first occupancy grid. True
  *  for a world. */
-bool loadMapFile(LocalizationMap& lm, const std::string& mapFile, const std::string& section)
+bool loadMapFile(LocalizationMap& lm, const std::string& mapFile, const std::string& section,
+                 const World* loaded)
 {
     const std::string ext =
         mapFile.empty()
@@ -285,7 +288,7 @@ bool loadMapFile(LocalizationMap& lm, const std::string& mapFile, const std::str
     const bool fromWorld = ext == "yaml" || ext == "yml";
     if (fromWorld)
     {
-        lm.world = World::FromFile(mapFile);
+        lm.world = loaded ? *loaded : World::FromFile(mapFile);
     }
     else if (ext == "simplemap")
     {
@@ -393,9 +396,27 @@ std::vector<std::string> fillMaps(LocalizationMap& lm,
 LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase& ini,
                                             const std::string& mapFile, const std::string& section)
 {
+    return buildNamingTheIni(ini, mapFile, section, nullptr);
+}
+
+LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase& ini,
+                                            const World& world, const std::string& worldFile,
+                                            const std::string& section)
+{
+    const std::string ext =
+        mrpt::system::lowerCase(mrpt::system::extractFileExtension(worldFile, true));
+    ASSERTMSG_(ext == "yaml" || ext == "yml",
+               "LocalizationMap::FromConfig: a loaded world stands for a world YAML file");
+    return buildNamingTheIni(ini, worldFile, section, &world);
+}
+
+LocalizationMap LocalizationMap::buildNamingTheIni(const mrpt::config::CConfigFileBase& ini,
+                                                   const std::string& mapFile,
+                                                   const std::string& section, const World* world)
+{
     try
     {
-        return fromConfig(ini, mapFile, section);
+        return build(ini, mapFile, section, world);
     }
     catch (const std::exception& e)
     {
@@ -407,8 +428,9 @@ LocalizationMap LocalizationMap::FromConfig(const mrpt::config::CConfigFileBase&
     }
 }
 
-LocalizationMap LocalizationMap::fromConfig(const mrpt::config::CConfigFileBase& ini,
-                                            const std::string& mapFile, const std::string& section)
+LocalizationMap LocalizationMap::build(const mrpt::config::CConfigFileBase& ini,
+                                       const std::string& mapFile, const std::string& section,
+                                       const World* world)
 {
     validateSections(ini, section);
     LocalizationMap lm;
@@ -424,7 +446,7 @@ LocalizationMap LocalizationMap::fromConfig(const mrpt::config::CConfigFileBase&
     const auto aliases = definitionAliases(ini, section);
     ASSERT_EQUAL_(aliases.size(), lm.map->maps.size());
 
-    const bool fromWorld = loadMapFile(lm, mapFile, section);
+    const bool fromWorld = loadMapFile(lm, mapFile, section, world);
     lm.m_worldFiles = fillMaps(lm, aliases, mapFile, section, fromWorld);
     return lm;
 }

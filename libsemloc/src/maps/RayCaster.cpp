@@ -25,6 +25,10 @@ constexpr double kCollinear_m = 1e-9;
 constexpr double kCellInflate_m = 1e-6;
 /** Most cells the grid may have. */
 constexpr double kMaxCells = 1 << 20;
+/** Most cells along the grid's width plus its height: a segment touches at most about three
+ *  times as many, so that a long segment of an elongated map (one far vertex) cannot fill a
+ *  grid of a million cells in one row, nor a few such segments the memory. */
+constexpr double kMaxCellsAcross = 1 << 12;
 /** Smallest cell side [m]: a finer grid casts the same rays (bucketing is conservative) but a
  *  segment may then touch every cell of a small map, costing time and memory for nothing. */
 constexpr double kMinCell_m = 0.01;
@@ -92,7 +96,7 @@ struct GridGeometry
 
 /** The grid over the segments' bounding box (padded by twice the cell inflation): cells of
  *  `cellSize_m` (at least kMinCell_m), or autoCellSize() if it is <= 0, doubled until at most
- *  kMaxCells fit. */
+ *  kMaxCells fit, at most kMaxCellsAcross along the width plus the height. */
 GridGeometry gridOver(const std::vector<mrpt::math::TSegment2D>& segments, double cellSize_m)
 {
     double xmin = kInf, ymin = kInf, xmax = -kInf, ymax = -kInf;
@@ -109,8 +113,9 @@ GridGeometry gridOver(const std::vector<mrpt::math::TSegment2D>& segments, doubl
                  : autoCellSize(std::max(xmax - xmin, 1e-3) * std::max(ymax - ymin, 1e-3),
                                 segments.size());
     const double pad = 2 * kCellInflate_m;
-    while (((xmax - xmin + 2 * pad) / g.cell + 1) * ((ymax - ymin + 2 * pad) / g.cell + 1) >
-           kMaxCells)
+    auto across = [&](double extent) { return (extent + 2 * pad) / g.cell + 1; };
+    while (across(xmax - xmin) * across(ymax - ymin) > kMaxCells ||
+           across(xmax - xmin) + across(ymax - ymin) > kMaxCellsAcross)
     {
         g.cell *= 2;
     }
@@ -122,13 +127,19 @@ GridGeometry gridOver(const std::vector<mrpt::math::TSegment2D>& segments, doubl
     return g;
 }
 
-/** Conservative bucketing: for each cell (row-major), the indices of the segments that touch
- *  it inflated by kCellInflate_m. */
-std::vector<std::vector<uint32_t>> bucketSegments(
-    const std::vector<mrpt::math::TSegment2D>& segments, const GridGeometry& g)
+/** One entry of the bucketing: segment `seg` touches cell `cell` (row-major). */
+struct CellEntry
 {
-    const size_t ncell = static_cast<size_t>(g.nx) * static_cast<size_t>(g.ny);
-    std::vector<std::vector<uint32_t>> buckets(ncell);
+    uint32_t cell, seg;
+};
+
+/** Conservative bucketing: every (cell, segment) such that the segment touches the cell
+ *  inflated by kCellInflate_m, in segment order. One flat list rather than a list per cell: a
+ *  grid of up to kMaxCells cells then costs a few allocations, not one per cell. */
+std::vector<CellEntry> bucketSegments(const std::vector<mrpt::math::TSegment2D>& segments,
+                                      const GridGeometry& g)
+{
+    std::vector<CellEntry> entries;
     auto cellIndex = [](double v, double v0, double inv, int n)
     { return std::clamp(static_cast<int>(std::floor((v - v0) * inv)), 0, n - 1); };
     for (size_t k = 0; k < segments.size(); k++)
@@ -153,13 +164,13 @@ std::vector<std::vector<uint32_t>> bucketSegments(
                 if (detail::segmentTouchesBox(s.point1.x, s.point1.y, s.point2.x, s.point2.y, cx0,
                                               cy0, cx1, cy1))
                 {
-                    buckets[static_cast<size_t>(iy) * g.nx + ix].push_back(
-                        static_cast<uint32_t>(k));
+                    entries.push_back(
+                        {static_cast<uint32_t>(iy * g.nx + ix), static_cast<uint32_t>(k)});
                 }
             }
         }
     }
-    return buckets;
+    return entries;
 }
 
 }  // namespace
@@ -195,20 +206,23 @@ void RayCaster::setSegments(const std::vector<mrpt::math::TSegment2D>& segments,
     m_invCell = g.invCell;
     m_nx = g.nx;
     m_ny = g.ny;
-    const auto buckets = bucketSegments(segments, g);
-    const size_t ncell = buckets.size();
+    const auto entries = bucketSegments(segments, g);
+    const size_t ncell = static_cast<size_t>(g.nx) * static_cast<size_t>(g.ny);
     m_cellStart.assign(ncell + 1, 0);
+    for (const auto& e : entries)
+    {
+        m_cellStart[e.cell + 1]++;
+    }
     for (size_t c = 0; c < ncell; c++)
     {
-        m_cellStart[c + 1] = m_cellStart[c] + static_cast<uint32_t>(buckets[c].size());
+        m_cellStart[c + 1] += m_cellStart[c];
     }
-    m_cellSegs.reserve(m_cellStart[ncell]);
-    for (const auto& b : buckets)
+    // Grouped by cell, each cell's segments in their order (a counting sort).
+    std::vector<uint32_t> next(m_cellStart.begin(), m_cellStart.end() - 1);
+    m_cellSegs.resize(entries.size());
+    for (const auto& e : entries)
     {
-        for (const uint32_t k : b)
-        {
-            m_cellSegs.push_back(m_segs[k]);
-        }
+        m_cellSegs[next[e.cell]++] = m_segs[e.seg];
     }
 }
 

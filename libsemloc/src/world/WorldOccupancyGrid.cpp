@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "world/ObjectShape.h"
 
@@ -19,6 +20,9 @@ namespace
 /** Cells are tested slightly inflated: MRPT maps coordinates to cells in float, so a point
  *  within ~1e-5 m of a cell border may land in either neighbour. */
 constexpr double kInflate_m = 5e-5;
+/** An edge farther than this [m] above or below a row of cells (inflated) cannot touch them,
+ *  whatever the rounding of the touch test (its error is ~1e-9 m at 1e7 m coordinates). */
+constexpr double kRowMargin_m = 1e-6;
 
 /** Throws, naming the bounds and the resolution and suggesting one that fits, if a grid over
  *  the world's bounds at `resolution_m` would have more than kMaxOccupancyGridCells cells. */
@@ -64,17 +68,28 @@ void markObject(mrpt::maps::COccupancyGridMap2D& grid, const WorldObject& o,
     const int ix1 = clampIdx((xmax + kInflate_m - gx0) / res, nx);
     const int iy0 = clampIdx((ymin - kInflate_m - gy0) / res, ny);
     const int iy1 = clampIdx((ymax + kInflate_m - gy0) / res, ny);
+    std::vector<size_t> rowEdges;  // the edges that may touch a cell of the row
     for (int iy = iy0; iy <= iy1; iy++)
     {
         const double cy0 = gy0 + iy * res;
+        rowEdges.clear();
+        for (size_t i = 0; i < poly.size(); i++)
+        {
+            const double ya = poly[i].y, yb = poly[(i + 1) % poly.size()].y;
+            if (std::max(ya, yb) >= cy0 - kInflate_m - kRowMargin_m &&
+                std::min(ya, yb) <= cy0 + res + kInflate_m + kRowMargin_m)
+            {
+                rowEdges.push_back(i);
+            }
+        }
         for (int ix = ix0; ix <= ix1; ix++)
         {
             const double cx0 = gx0 + ix * res;
             bool occupied = detail::insideObject(o, TPoint2D(cx0 + 0.5 * res, cy0 + 0.5 * res));
-            for (size_t i = 0; !occupied && i < poly.size(); i++)
+            for (size_t j = 0; !occupied && j < rowEdges.size(); j++)
             {
-                const auto& a = poly[i];
-                const auto& b = poly[(i + 1) % poly.size()];
+                const auto& a = poly[rowEdges[j]];
+                const auto& b = poly[(rowEdges[j] + 1) % poly.size()];
                 occupied = detail::segmentTouchesBox(a.x, a.y, b.x, b.y, cx0 - kInflate_m,
                                                      cy0 - kInflate_m, cx0 + res + kInflate_m,
                                                      cy0 + res + kInflate_m);

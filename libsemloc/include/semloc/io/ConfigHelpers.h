@@ -95,7 +95,8 @@ std::string missingFileMessage(const mrpt::config::CConfigFileBase& source,
  *  resolve from the working directory. */
 std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file);
 
-/** The keys an options struct writes in saveToConfigFile (its complete key set). */
+/** The keys an options struct writes in saveToConfigFile (its complete key set), computed once
+ *  per class: the keys a class writes must not depend on its values. */
 std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o);
 
 }  // namespace semloc::config

@@ -9,6 +9,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <iosfwd>
 #include <limits>
 #include <string>
 #include <vector>
@@ -183,6 +184,16 @@ public:
     /** Reads a landmarks file: `id,label,x,y`, optional `sigma_x_m,sigma_y_m`; ids positive
      *  and unique, labels as a world file takes them. */
     static std::vector<ImportedLandmark> readLandmarks(const std::string& path);
+
+    /** The readers above on the text of `in` (e.g. a std::istringstream), `name` standing for
+     *  the file in their messages. */
+    static OdometryTrack readOdometry(std::istream& in, const std::string& name);
+    /** See readOdometry(std::istream&, const std::string&). */
+    static std::vector<DetectionScan> readDetections(std::istream& in, const std::string& name);
+    /** See readOdometry(std::istream&, const std::string&). */
+    static std::vector<GroundTruthRow> readGroundTruth(std::istream& in, const std::string& name);
+    /** See readOdometry(std::istream&, const std::string&). */
+    static std::vector<ImportedLandmark> readLandmarks(std::istream& in, const std::string& name);
 
     /** The steps: one per scan within the odometry's time span (the others are counted in
      *  `stats.scansOutsideOdometry`), and evenly spaced odometry-only steps between two scans

@@ -38,6 +38,11 @@ public:
     static LocalizationMap FromConfig(const mrpt::config::CConfigFileBase& ini,
                                       const std::string& mapFile,
                                       const std::string& section = "MetricMap");
+    /** The same with the map file `worldFile`, a world YAML, already loaded as `world` (for a
+     *  caller that builds the maps of many configurations on one world). */
+    static LocalizationMap FromConfig(const mrpt::config::CConfigFileBase& ini, const World& world,
+                                      const std::string& worldFile,
+                                      const std::string& section = "MetricMap");
 
     /** The maps. */
     mrpt::maps::CMultiMetricMap::Ptr map;
@@ -65,9 +70,15 @@ public:
     static std::string kindOf(const mrpt::maps::CMetricMap& m);
 
 private:
-    /** FromConfig without the ini's file in its messages. */
-    static LocalizationMap fromConfig(const mrpt::config::CConfigFileBase& ini,
-                                      const std::string& mapFile, const std::string& section);
+    /** FromConfig without the ini's file in its messages, the map file's world already
+     *  loaded if `world` is not null. */
+    static LocalizationMap build(const mrpt::config::CConfigFileBase& ini,
+                                 const std::string& mapFile, const std::string& section,
+                                 const World* world);
+    /** build() with the ini's file named in a message about the ini. */
+    static LocalizationMap buildNamingTheIni(const mrpt::config::CConfigFileBase& ini,
+                                             const std::string& mapFile, const std::string& section,
+                                             const World* world);
 
     /** Map file actually used for each semantic/structure map (for the effective ini). */
     std::vector<std::string> m_worldFiles;

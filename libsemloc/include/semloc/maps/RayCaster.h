@@ -38,7 +38,8 @@ public:
 
     /** Replaces the segments and rebuilds the grid; `cellSize_m` <= 0 picks it
      *  automatically (half the side of the square holding one segment on average over the
-     *  segments' bounding box, clamped to [0.25, 8] m; the grid has at most 2^20 cells).
+     *  segments' bounding box, clamped to [0.25, 8] m; the cell is doubled until the grid
+     *  has at most 2^20 cells, and at most 4096 along its width plus height).
      *  Degenerate (zero-length) segments are kept as points. */
     void setSegments(const std::vector<mrpt::math::TSegment2D>& segments, double cellSize_m = 0);
 
