@@ -182,6 +182,25 @@ std::string creationSection(const std::string& prefix)
 {
     return prefix + "_creationOpts";
 }
+
+/** MRPT reads its maps' numbers leniently (NaN and inf would pass): refuses them in `s`. */
+void refuseNonFiniteNumbers(const mrpt::config::CConfigFileBase& ini, const std::string& s)
+{
+    std::vector<std::string> mapKeys;
+    ini.getAllKeys(s, mapKeys);
+    for (const auto& key : mapKeys)
+    {
+        const std::string v = detail::trimValue(ini.read_string(s, key, ""));
+        char* end = nullptr;
+        const double d = v.empty() ? 0 : std::strtod(v.c_str(), &end);
+        if (!v.empty() && end == v.c_str() + v.size() && !std::isfinite(d))
+        {
+            THROW_EXCEPTION(
+                mrpt::format("ini [%s] %s: '%s' is not a finite number", shownValue(s).c_str(),
+                             shownValue(detail::trimValue(key)).c_str(), shownValue(v).c_str()));
+        }
+    }
+}
 }  // namespace
 
 void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
@@ -234,21 +253,7 @@ void LocalizationMap::validateSections(const mrpt::config::CConfigFileBase& ini,
         {
             continue;
         }
-        // MRPT reads its maps' numbers leniently: NaN and inf would pass.
-        std::vector<std::string> mapKeys;
-        ini.getAllKeys(s, mapKeys);
-        for (const auto& key : mapKeys)
-        {
-            const std::string v = detail::trimValue(ini.read_string(s, key, ""));
-            char* end = nullptr;
-            const double d = v.empty() ? 0 : std::strtod(v.c_str(), &end);
-            if (!v.empty() && end == v.c_str() + v.size() && !std::isfinite(d))
-            {
-                THROW_EXCEPTION(mrpt::format(
-                    "ini [%s] %s: '%s' is not a finite number", shownValue(s).c_str(),
-                    shownValue(detail::trimValue(key)).c_str(), shownValue(v).c_str()));
-            }
-        }
+        refuseNonFiniteNumbers(ini, s);
         const std::string rest = s.substr(section.size() + 1);
         std::smatch m;
         if (!std::regex_match(rest, m, re) || !names.count(m[1].str()))
