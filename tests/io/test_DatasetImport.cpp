@@ -284,7 +284,10 @@ TEST(DatasetImport, TimesThatLookLikeMillisecondsAreRefused)
     {
         ms.push_back(1000.0 * (k + 1));  // 79 scans a second apart, in milliseconds
     }
-    const auto [odo, scans] = track(ms);
+    // Not a structured binding: the lambdas below capture them (C++17).
+    const auto tracked = track(ms);
+    const auto& odo = tracked.first;
+    const auto& scans = tracked.second;
     semloc::TDatasetImportStats stats;
     const std::string e =
         errorOf([&] { DatasetImport::steps(scans, odo, 0.5, stats, "odom.csv", "det.csv"); });
@@ -312,7 +315,9 @@ TEST(DatasetImport, TooManyStepsAreRefusedBeforeAnyIsMade)
     {
         t.push_back(1700000000.0 + k);  // an hour at 1 Hz
     }
-    const auto [odo, scans] = track(t);
+    const auto tracked = track(t);  // not a structured binding: a lambda captures them
+    const auto& odo = tracked.first;
+    const auto& scans = tracked.second;
     semloc::TDatasetImportStats stats;
     const auto start = std::chrono::steady_clock::now();
     const std::string e =
