@@ -26,6 +26,8 @@ using semloc::Simulator;
 using semloc::TCalibrationFit;
 using semloc::TCalibrationResult;
 using semloc::TSimulatorOptions;
+#include "TestHelpers.h"
+
 namespace fs = std::filesystem;
 
 namespace
@@ -34,13 +36,7 @@ const std::string kPaper = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
 const std::string kSemanticIni = SEMLOC_SOURCE_DIR "/config/semantic.ini";
 const std::string kLik = "MetricMap_semanticMap_00_likelihoodOpts";
 
-std::string readFile(const fs::path& path)
-{
-    std::ifstream f(path);
-    std::stringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
+using semloc::test::readText;
 
 TSimulatorOptions paperRun(uint32_t seed)
 {
@@ -133,9 +129,9 @@ ToolRun calibrateTool(const std::string& name, const TSimulatorOptions& o,
         " --ground-truth " + Simulator::groundTruthPath(rawlog) + " --base " + base + " -o " +
         t.ini.string() + " > " + (dir / "stdout").string() + " 2> " + (dir / "stderr").string();
     t.status = std::system(cmd.c_str());
-    t.out = readFile(dir / "stdout");
-    t.err = readFile(dir / "stderr");
-    t.iniText = readFile(t.ini);
+    t.out = readText(dir / "stdout");
+    t.err = readText(dir / "stderr");
+    t.iniText = readText(t.ini);
     if (t.status == 0)
     {
         semloc::LocalizationExperiment::TOverrides ov;
@@ -254,7 +250,7 @@ TEST(CalibrationLimits, OneScanKeepsTheBasesValues)
     o.simulation.seed = 2;
     const auto t = calibrateTool("one_scan", o);
     ASSERT_EQ(t.status, 0) << t.err;
-    mrpt::config::CConfigFileMemory c(t.iniText), base(readFile(kSemanticIni));
+    mrpt::config::CConfigFileMemory c(t.iniText), base(readText(kSemanticIni));
     for (const char* key : {"sigma_range_m", "sigma_bearing_deg", "p_detect_near", "p_detect_far",
                             "clutter_per_scan", "p_confusion"})
     {
@@ -283,7 +279,7 @@ TEST(CalibrationLimits, StillVehicleKeepsTheBasesMotionModel)
     o.odometry.min_phi_std_deg = 0;
     const auto t = calibrateTool("still", o);
     ASSERT_EQ(t.status, 0) << t.err;
-    mrpt::config::CConfigFileMemory c(t.iniText), base(readFile(kSemanticIni));
+    mrpt::config::CConfigFileMemory c(t.iniText), base(readText(kSemanticIni));
     for (const char* key : {"a1", "a3", "a4", "minStdXY", "minStdPHI"})
     {
         EXPECT_EQ(c.read_double("MotionModel", key, -1), base.read_double("MotionModel", key, -2))
@@ -304,7 +300,7 @@ TEST(CalibrationLimits, BaseThatLocalizeRefusesIsRefusedFirst)
 {
     const fs::path dir = fs::path(SEMLOC_TEST_OUT) / "calibrate_limits_base";
     fs::create_directories(dir);
-    std::string text = readFile(kSemanticIni);
+    std::string text = readText(kSemanticIni);
     text.replace(text.find("\nsigma_range_m "), 15, "\nsigma_rnage_m ");
     {
         std::ofstream(dir / "base.ini") << text;

@@ -275,13 +275,15 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
                 "calibrated: the world the fits were made in");
     }
     ini.set(kLikelihood, "model", "probabilistic", "calibrated: the model the fits are for");
-    setFit(ini, base, kLikelihood, "sigma_range_m", r.sigma_range_m);
-    setFit(ini, base, kLikelihood, "sigma_bearing_deg", r.sigma_bearing_deg);
-    setFit(ini, base, kLikelihood, "p_detect_near", r.p_detect_near);
-    setFit(ini, base, kLikelihood, "p_detect_far", r.p_detect_far);
-    setFit(ini, base, kLikelihood, "clutter_per_scan", r.clutter_per_scan);
-    setFit(ini, base, kLikelihood, "p_confusion", r.p_confusion);
-    setFit(ini, base, kLikelihood, "p_range_outlier", r.p_range_outlier);
+    using Fit = std::pair<const char*, const TCalibrationFit*>;
+    for (const auto& [key, fit] :
+         {Fit{"sigma_range_m", &r.sigma_range_m}, Fit{"sigma_bearing_deg", &r.sigma_bearing_deg},
+          Fit{"p_detect_near", &r.p_detect_near}, Fit{"p_detect_far", &r.p_detect_far},
+          Fit{"clutter_per_scan", &r.clutter_per_scan}, Fit{"p_confusion", &r.p_confusion},
+          Fit{"p_range_outlier", &r.p_range_outlier}})
+    {
+        setFit(ini, base, kLikelihood, key, *fit);
+    }
     const char* mm = MotionModel::kSection;
     if (r.a1.status == TCalibrationFit::Status::TooLittleData)
     {
@@ -291,12 +293,12 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
         return header + (noted ? "" : "// " + why + "\n") + ini.text();
     }
     ini.set(mm, "source", "gaussian", "calibrated: the model below, from the odometry's errors");
-    setFit(ini, base, mm, "a1", r.a1);
-    setFit(ini, base, mm, "a2", r.a2);
-    setFit(ini, base, mm, "a3", r.a3);
-    setFit(ini, base, mm, "a4", r.a4);
-    setFit(ini, base, mm, "minStdXY", r.minStdXY);
-    setFit(ini, base, mm, "minStdPHI", r.minStdPHI);
+    for (const auto& [key, fit] :
+         {Fit{"a1", &r.a1}, Fit{"a2", &r.a2}, Fit{"a3", &r.a3}, Fit{"a4", &r.a4},
+          Fit{"minStdXY", &r.minStdXY}, Fit{"minStdPHI", &r.minStdPHI}})
+    {
+        setFit(ini, base, mm, key, *fit);
+    }
     // A drift is the run's own (a gyro's bias changes from one power-up to the next): what
     // carries over to another run is that it drifts, so the drift state is turned on with
     // semantic.ini's walk, not set to the rate measured here.
