@@ -20,7 +20,6 @@
 #include <functional>
 
 #include "io/Text.h"
-#include "io/TextFiles.h"
 
 namespace semloc
 {
@@ -248,13 +247,7 @@ void DatasetImport::writeRawlog(const std::vector<ImportStep>& steps,
 void DatasetImport::writeGroundTruth(const std::vector<GroundTruthRow>& rows,
                                      const std::string& path)
 {
-    std::string text;
-    for (const auto& r : rows)
-    {
-        text += detail::fixedText(r.t) + ' ' + detail::fixedText(r.x) + ' ' +
-                detail::fixedText(r.y) + ' ' + detail::fixedText(r.phi) + '\n';
-    }
-    detail::writeFile(path, text);
+    Simulator::writeGroundTruth(rows, path);
 }
 
 World DatasetImport::makeWorld(const std::vector<ImportedLandmark>& landmarks,

@@ -6,6 +6,7 @@
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/LandmarkImport.h>
 #include <semloc/observation/Labels.h>
+#include <semloc/simulator/Simulator.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -16,7 +17,6 @@
 #include <sstream>
 
 #include "io/Text.h"
-#include "io/TextFiles.h"
 
 namespace semloc
 {
@@ -269,13 +269,13 @@ void LandmarkImport::writeGroundTruth(const std::vector<double>& times,
                                      static_cast<unsigned>(path.size()),
                                      static_cast<unsigned>(times.size())));
     }
-    std::string text;
+    std::vector<GroundTruthRow> rows;
+    rows.reserve(times.size());
     for (size_t i = 0; i < times.size(); i++)
     {
-        text += detail::fixedText(times[i]) + ' ' + detail::fixedText(path[i].x) + ' ' +
-                detail::fixedText(path[i].y) + ' ' + detail::fixedText(path[i].phi) + '\n';
+        rows.push_back({times[i], path[i].x, path[i].y, path[i].phi});
     }
-    detail::writeFile(outPath, text);  // its errors name the file and the reason
+    Simulator::writeGroundTruth(rows, outPath);  // its errors name the file and the reason
 }
 
 }  // namespace semloc

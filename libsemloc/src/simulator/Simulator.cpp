@@ -427,13 +427,7 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
             }
             out.close();
 
-            std::string gt;
-            for (const auto& r : result.groundTruth)
-            {
-                gt += detail::fixedText(r.t) + ' ' + detail::fixedText(r.x) + ' ' +
-                      detail::fixedText(r.y) + ' ' + detail::fixedText(r.phi) + '\n';
-            }
-            detail::writeFile(tmp[1], gt);
+            writeGroundTruth(result.groundTruth, tmp[1]);
 
             TSimulatorOptions effective = m_options;
             effective.simulation.output_rawlog = rawlogPath;
@@ -460,6 +454,17 @@ void Simulator::checkDatasetPaths(const std::string& rawlogPath,
     checkOutputFile(gtPath, inputs, isGroundTruthFile);
     checkOutputFile(iniPath, inputs,
                     [](const std::string& p) { return fileStartsWith(p, kConfigHeader); });
+}
+
+void Simulator::writeGroundTruth(const std::vector<GroundTruthRow>& rows, const std::string& path)
+{
+    std::string text;
+    for (const auto& r : rows)
+    {
+        text += detail::fixedText(r.t) + ' ' + detail::fixedText(r.x) + ' ' +
+                detail::fixedText(r.y) + ' ' + detail::fixedText(r.phi) + '\n';
+    }
+    detail::writeFile(path, text);
 }
 
 bool Simulator::isGroundTruthFile(const std::string& path)

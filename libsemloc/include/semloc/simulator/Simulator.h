@@ -187,6 +187,9 @@ public:
      *  not a finite number, or a time not after the previous row's; and on a file without
      *  rows. */
     static std::vector<GroundTruthRow> readGroundTruth(const std::string& path);
+    /** Writes `rows` as the `t x y phi` file readGroundTruth() reads (numbers exactly);
+     *  throws "cannot write 'PATH': REASON" on an error. */
+    static void writeGroundTruth(const std::vector<GroundTruthRow>& rows, const std::string& path);
     /** True when readGroundTruth() reads `path` without an error. */
     static bool isGroundTruthFile(const std::string& path);
 
