@@ -219,10 +219,11 @@ std::string SensorCalibration::BiasText(const TCalibrationResult& r)
     std::ostringstream t;
     t << "bias: mean range residual " << num(b.range_m) << " m, mean bearing residual "
       << num(b.bearing_deg) << " deg; sigma_range_m " << num(b.sigmaRangeAround_m)
-      << " around the mean, " << num(r.sigma_range_m.value) << " about 0 (written), "
-      << num(b.sigmaRangeAtTruth_m) << " at the ground truth as given; sigma_bearing_deg "
-      << num(b.sigmaBearingAround_deg) << " around the mean, " << num(r.sigma_bearing_deg.value)
-      << " about 0 (written), " << num(b.sigmaBearingAtTruth_deg)
+      << " around the mean, " << num(r.sigma_range_m.value / r.sigma_range_m.widenedBy)
+      << " about 0 (fitted), " << num(b.sigmaRangeAtTruth_m)
+      << " at the ground truth as given; sigma_bearing_deg " << num(b.sigmaBearingAround_deg)
+      << " around the mean, " << num(r.sigma_bearing_deg.value / r.sigma_bearing_deg.widenedBy)
+      << " about 0 (fitted), " << num(b.sigmaBearingAtTruth_deg)
       << " at the ground truth as given\n";
     const auto& o = r.mapOffset;
     if (o.fitted)

@@ -86,55 +86,98 @@ TCalibrationFit robustSigma(const std::vector<double>& x)
                                    "more than half are one value)");
 }
 
-/** Least squares of y on [1, x] evaluated at x = 0 and x = 1, with their half-widths. */
+/** The maximum of a concave function on [lo, hi] by golden-section search. */
+template <typename F>
+double goldenMax(F f, double lo, double hi)
+{
+    constexpr double kInvPhi = 0.6180339887498949;
+    double a = lo, b = hi, c = b - kInvPhi * (b - a), d = a + kInvPhi * (b - a);
+    double fc = f(c), fd = f(d);
+    for (int it = 0; it < 60 && b - a > 1e-10; it++)
+    {
+        if (fc >= fd)
+        {
+            b = d, d = c, fd = fc, c = b - kInvPhi * (b - a), fc = f(c);
+        }
+        else
+        {
+            a = c, c = d, fc = fd, d = a + kInvPhi * (b - a), fd = f(d);
+        }
+    }
+    return fc >= fd ? c : d;
+}
+
+/** The detection line q(x) = qn + (qf - qn) x, x = range / max range in [0, 1], fitted by
+ *  maximum likelihood to the in-view objects' detected (0/1, less the clutter expected in
+ *  the object's gate): sum y log q + (1 - y) log(1 - q), concave in (qn, qf), maximized over
+ *  [0, seen]^2 (a share of the detections is misread out of the gates). A detection far out
+ *  keeps q above 0 there, which a least-squares line does not. Half-widths from the inverse of
+ *  the observed information at the maximum. */
 void detectionLine(const TCalibrationResult& r, double lambda, double seen,
                    TCalibrationFit& nearFit, TCalibrationFit& farFit)
 {
     const auto& rs = r.samples.visibleRanges_m;
-    const auto& ys = r.samples.visibleDetected;
     const size_t n = rs.size();
     std::vector<double> x(n), y(n);
     for (size_t i = 0; i < n; i++)
     {
-        x[i] = r.maxRange_m > 0 ? rs[i] / r.maxRange_m : 0.0;
-        y[i] = ys[i] - lambda * r.samples.visibleSpurious[i];  // less the expected clutter
+        x[i] = r.maxRange_m > 0 ? std::clamp(rs[i] / r.maxRange_m, 0.0, 1.0) : 0.0;
+        // less the expected clutter
+        y[i] = std::clamp(r.samples.visibleDetected[i] - lambda * r.samples.visibleSpurious[i], 0.0,
+                          1.0);
     }
-    // Ordinary least squares (the slope is negative when P_D falls with range).
-    double mx = 0, my = 0;
-    for (size_t i = 0; i < n; i++)
+    const auto logLik = [&](double qn, double qf)
     {
-        mx += x[i];
-        my += y[i];
-    }
-    mx /= static_cast<double>(n);
-    my /= static_cast<double>(n);
-    double sxx = 0, sxy = 0;
-    for (size_t i = 0; i < n; i++)
-    {
-        sxx += (x[i] - mx) * (x[i] - mx);
-        sxy += (x[i] - mx) * (y[i] - my);
-    }
-    const double b = sxx > 0 ? sxy / sxx : 0.0, a = my - b * mx;
-    double sse = 0;
-    for (size_t i = 0; i < n; i++)
-    {
-        sse += (y[i] - a - b * x[i]) * (y[i] - a - b * x[i]);
-    }
-    const double s = n > 2 ? std::sqrt(sse / static_cast<double>(n - 2)) : 0.0;
-    const auto se = [&](double x0)
-    {
-        return s * std::sqrt(1.0 / static_cast<double>(n) +
-                             (sxx > 0 ? (x0 - mx) * (x0 - mx) / sxx : 0.0));
+        double l = 0;
+        for (size_t i = 0; i < n; i++)
+        {
+            const double q = qn + (qf - qn) * x[i];
+            l += (y[i] > 0 ? y[i] * std::log(q) : 0.0) +
+                 (y[i] < 1 ? (1 - y[i]) * std::log1p(-q) : 0.0);
+        }
+        return std::isnan(l) ? -std::numeric_limits<double>::infinity() : l;
     };
-    const std::string how = "least-squares line of detected (0/1) against range / " +
+    const auto bestFar = [&](double qn)
+    { return goldenMax([&](double qf) { return logLik(qn, qf); }, 0, seen); };
+    double qn = goldenMax([&](double v) { return logLik(v, bestFar(v)); }, 0, seen);
+    double qf = bestFar(qn);
+    // The search ends within 1e-10 of a bound it should sit on (no detection at all far out).
+    for (double* q : {&qn, &qf})
+    {
+        for (const double bound : {0.0, seen})
+        {
+            if (std::abs(*q - bound) < 1e-7)
+            {
+                const double keep = *q, before = logLik(qn, qf);
+                *q = bound;
+                if (logLik(qn, qf) < before)
+                {
+                    *q = keep;
+                }
+            }
+        }
+    }
+    // Observed information of (qn, qf); its inverse's diagonal: the variances.
+    Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
+    for (size_t i = 0; i < n; i++)
+    {
+        const double q = std::clamp(qn + (qf - qn) * x[i], 1e-9, 1 - 1e-9);
+        const Eigen::Vector2d g(1 - x[i], x[i]);
+        info += (y[i] / (q * q) + (1 - y[i]) / ((1 - q) * (1 - q))) * g * g.transpose();
+    }
+    const bool invertible = std::abs(info.determinant()) > 1e-12;
+    const Eigen::Matrix2d cov =
+        invertible ? Eigen::Matrix2d(info.inverse()) : Eigen::Matrix2d::Zero();
+    const std::string how = "maximum-likelihood line of detected (0/1) against range / " +
                             text(r.maxRange_m) + " m over the in-view objects";
     const std::string misread =
         seen < 1 ? ", over the " + text(seen) + " of the detections not misread out of the gate"
                  : "";
-    nearFit =
-        fit(std::clamp(a / seen, 0.0, 1.0), n, kZ95 * se(0.0) / seen, how + ", at 0 m" + misread);
-    farFit = fit(std::clamp((a + b) / seen, 0.0, 1.0), n, kZ95 * se(1.0) / seen,
-                 how + ", at max range" + misread);
+    nearFit = fit(std::clamp(qn / seen, 0.0, 1.0), n,
+                  kZ95 * std::sqrt(std::max(cov(0, 0), 0.0)) / seen, how + ", at 0 m" + misread);
+    farFit =
+        fit(std::clamp(qf / seen, 0.0, 1.0), n, kZ95 * std::sqrt(std::max(cov(1, 1), 0.0)) / seen,
+            how + ", at max range" + misread);
 }
 }  // namespace
 
@@ -238,6 +281,74 @@ TCalibrationFit fitHeadingDrift(const TCalibrationSamples& sm, const std::vector
 }
 }  // namespace
 
+/** The smallest k >= 1 such that `z2` / k^2 <= `bound` for a share of at least `share` of
+ *  the weights: k = sqrt(max(1, weighted `share` quantile of z2 / bound)). */
+double quantileFactor(const std::vector<double>& z2, const std::vector<double>& w, double bound,
+                      double share)
+{
+    std::vector<size_t> order(z2.size());
+    for (size_t i = 0; i < order.size(); i++)
+    {
+        order[i] = i;
+    }
+    std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return z2[a] < z2[b]; });
+    double total = 0;
+    for (const double v : w)
+    {
+        total += v;
+    }
+    double sum = 0;
+    for (const size_t i : order)
+    {
+        sum += w[i];
+        if (sum >= share * total)
+        {
+            return std::sqrt(std::max(1.0, z2[i] / bound));
+        }
+    }
+    return 1;
+}
+
+/** r.spanFactorXY/Phi: the odometry over the spans between detections against the variance
+ *  the per-step model with coefficients `cxy`, `cphi` (native units) adds up to there. Errors
+ *  that do not cancel from step to step (a heading that wanders, a wheel that slips for
+ *  seconds) grow faster than the per-step noise does: the factor is the smallest that puts
+ *  the spans' normalized squared errors (2 degrees of freedom for the position, 1 for the
+ *  heading less the drift) inside their 95 % chi-square bound for 95 % of the steps (each
+ *  span weighted by its steps: what the filter lives through). */
+void spanFactors(TCalibrationResult& r, const std::vector<double>& cxy,
+                 const std::vector<double>& cphi, double driftRate)
+{
+    const auto& sm = r.samples;
+    r.spanFactorXY = r.spanFactorPhi = 1;
+    std::vector<double> zxy, zphi, w;
+    for (size_t j = 0; j < sm.spanErrXY_m.size(); j++)
+    {
+        double vxy = 0, vphi = 0;
+        for (size_t i = sm.spanBegin[j]; i < sm.spanEnd[j]; i++)
+        {
+            const double d = sm.odomDist_m[i], t = sm.odomTurn_rad[i];
+            vxy += std::pow(cxy[0] + cxy[1] * d + cxy[2] * t, 2);
+            vphi += std::pow(cphi[0] + cphi[1] * d + cphi[2] * t, 2);
+        }
+        if (!(vxy > 0) || !(vphi > 0))
+        {
+            return;  // a model without noise (a still vehicle): nothing to scale
+        }
+        const double ephi = sm.spanErrPhi_rad[j] - driftRate * sm.spanDt_s[j];
+        zxy.push_back(sm.spanErrXY_m[j] * sm.spanErrXY_m[j] / vxy);
+        zphi.push_back(ephi * ephi / vphi);
+        w.push_back(static_cast<double>(sm.spanEnd[j] - sm.spanBegin[j]));
+    }
+    if (zxy.size() < TCalibrationResult::kMinMovingIncrements)
+    {
+        return;
+    }
+    constexpr double kChi2Dof2 = 5.991464547, kChi2Dof1 = 3.841458821, kShare = 0.95;
+    r.spanFactorXY = quantileFactor(zxy, w, kChi2Dof2, kShare);
+    r.spanFactorPhi = quantileFactor(zphi, w, kChi2Dof1, kShare);
+}
+
 void fitOdometry(TCalibrationResult& r)
 {
     const auto& sm = r.samples;
@@ -277,10 +388,31 @@ void fitOdometry(TCalibrationResult& r)
         cxy = nonNegativeLeastSquares(cols, exy, ixy);
         cphi = nonNegativeLeastSquares(cols, ephi, iphi);
     }
-    const std::string xy = "least squares (>= 0) of |xy error| / sqrt(pi/2) against [1, d, |dphi|]";
-    const std::string ph = std::string("least squares (>= 0) of |phi error") +
-                           (r.headingDrifts ? " - drift dt" : "") +
-                           "| / sqrt(2/pi) against [1, d, |dphi|]";
+    std::string xy = "least squares (>= 0) of |xy error| / sqrt(pi/2) against [1, d, |dphi|]";
+    std::string ph = std::string("least squares (>= 0) of |phi error") +
+                     (r.headingDrifts ? " - drift dt" : "") +
+                     "| / sqrt(2/pi) against [1, d, |dphi|]";
+    spanFactors(r, cxy, cphi, driftRate);
+    const auto scaled = [&](std::vector<double>& c, std::vector<double>& ci, double f)
+    {
+        for (size_t k = 0; k < c.size(); k++)
+        {
+            c[k] *= f;
+            ci[k] *= f;
+        }
+    };
+    scaled(cxy, ixy, r.spanFactorXY);
+    scaled(cphi, iphi, r.spanFactorPhi);
+    const auto spanText = [&](double f)
+    {
+        return f == 1 ? std::string()
+                      : ", x" + text(f) + " to hold the errors over the " +
+                            std::to_string(sm.spanErrXY_m.size()) +
+                            " spans between detections within their 95 % bound for 95 % of "
+                            "the steps";
+    };
+    xy += spanText(r.spanFactorXY);
+    ph += spanText(r.spanFactorPhi);
     const double d2r = M_PI / 180;
     r.minStdXY = fit(cxy[0], n, ixy[0], xy);
     r.a1 = fit(cxy[1], n, ixy[1], xy);

@@ -393,6 +393,36 @@ const SemanticDetectorModel& modelFor(const CObservationSemantic& obs, const Wor
     return *model;
 }
 
+/** The odometry and the truth composed since the last scan with a detection. */
+struct Span
+{
+    mrpt::poses::CPose2D odometry, truth;
+    size_t begin = 0;
+    double dt_s = 0;
+    /** A scan with a detection: the span up to it is recorded and a new one begins. */
+    void close(TCalibrationResult& r)
+    {
+        auto& s = r.samples;
+        if (s.odomDist_m.size() > begin)
+        {
+            s.spanBegin.push_back(begin);
+            s.spanEnd.push_back(s.odomDist_m.size());
+            s.spanErrXY_m.push_back(std::hypot(odometry.x() - truth.x(), odometry.y() - truth.y()));
+            s.spanErrPhi_rad.push_back(mrpt::math::wrapToPi(odometry.phi() - truth.phi()));
+            s.spanDt_s.push_back(dt_s);
+        }
+        *this = Span();
+        begin = s.odomDist_m.size();
+    }
+    void add(const CActionRobotMovement2D& act, const GroundTruthRow& prev,
+             const GroundTruthRow& cur)
+    {
+        odometry = odometry + act.rawOdometryIncrementReading;
+        truth = truth + (mrpt::poses::CPose2D(cur.pose()) - mrpt::poses::CPose2D(prev.pose()));
+        dt_s += cur.t - prev.t;
+    }
+};
+
 /** Walks the rawlog: every semantic scan and every odometry action against the ground truth. */
 void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, const World& world,
              const GroundTruth& gt, const SensorCalibration::TOptions& o, const Gate& gate,
@@ -400,6 +430,7 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
 {
     const GroundTruthRow* prevAction = nullptr;
     std::unique_ptr<SemanticDetectorModel> model;
+    Span span;
     for (size_t i = 0; i < rawlog.size(); i++)
     {
         if (rawlog.getType(i) == mrpt::obs::CRawlog::etActionCollection)
@@ -414,6 +445,7 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
             if (prevAction != nullptr)
             {
                 addIncrement(*act, *prevAction, row, r);
+                span.add(*act, *prevAction, row);
             }
             prevAction = &row;
             continue;
@@ -437,9 +469,14 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
                 const GroundTruthRow& row =
                     rowAt(gt, obs->timestamp, o.gtTolerance_s, rawlogName, i);
                 addScan(*obs, row.pose(), toMap, world, modelFor(*obs, world, model), gate, r);
+                if (!obs->detections.empty())
+                {
+                    span.close(r);
+                }
             }
         }
     }
+    span.close(r);
 }
 }  // namespace
 

@@ -9,6 +9,8 @@
 #include <semloc/world/World.h>
 
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -40,6 +42,8 @@ struct TCalibrationFit
     double fitted = 0;
     /** Clamped, TooLittleData: why, one phrase (in the ini comment and the warning). */
     std::string why;
+    /** The factor the consistency stage multiplied the fit by (1: not widened). */
+    double widenedBy = 1;
 };
 
 /** The mean of the matched residuals (a detector's bias) and the sigmas around and about it. */
@@ -96,12 +100,45 @@ struct TCalibrationSamples
     std::vector<double> odomErrPhiSigned_rad;
     /** Seconds of each step (between the two ground-truth rows it spans). */
     std::vector<double> odomDt_s;
+    /** The odometry over the spans the filter integrates without a detection, from one scan
+     *  with a detection to the next: the first and one-past-last increment (indices into
+     *  the odom* vectors), the span's |position error| [m] and signed heading error [rad] of
+     *  the odometry composed over it against the truth composed over it, and its seconds. */
+    std::vector<size_t> spanBegin, spanEnd;
+    std::vector<double> spanErrXY_m, spanErrPhi_rad, spanDt_s;
     /** Per matched detection (same label): where it puts its object in the map frame (the
      *  pose as corrected by the map offset so far) and the object's centre [m]. */
     std::vector<double> detectedX_m, detectedY_m, objectX_m, objectY_m;
     /** The residuals of rangeResiduals_m and bearingResiduals_deg at the ground-truth pose as
      *  given (no map offset removed). */
     std::vector<double> rangeResidualsAtTruth_m, bearingResidualsAtTruth_deg;
+};
+
+/** One setting the consistency stage ran the filter with (SensorCalibration::Consistency). */
+struct TConsistencyTrial
+{
+    /** Factors on the detector's sigmas and on the motion model's noise. */
+    double sensorScale = 1, motionScale = 1;
+    /** Filter runs (one per seed) and those that converged. */
+    size_t runs = 0, converged = 0;
+    /** Means over the runs: share of the steps with ground truth whose pose NEES is inside
+     *  its 95 % bound, mean NEES, and the error (mean_err_after_conv_m; rmse_m of a run that
+     *  did not converge) [m]. */
+    double insideShare = 0, neesMean = 0, meanErr_m = 0;
+};
+
+/** What the consistency stage tried and chose. */
+struct TConsistency
+{
+    /** Every setting run, in the order run (empty: the stage did not run). */
+    std::vector<TConsistencyTrial> trials;
+    /** Index of the setting written. */
+    size_t chosen = 0;
+    /** True when the setting written reached minInsideShare (the mean over its runs) with
+     *  every run converged. */
+    bool consistent = false;
+    /** The share of steps inside the NEES bound asked for. */
+    double minInsideShare = 0.95;
 };
 
 /** Every fit semloc-calibrate writes. The keys are those of
@@ -115,6 +152,10 @@ struct TCalibrationResult
     /** The odometry's heading drift: what its heading gains per minute beyond the truth
      *  [deg/min] (signed; the heading errors' sum over the time they span). */
     TCalibrationFit heading_drift_deg_per_min;
+    /** The factors the odometry's position and heading noise were multiplied by so that the
+     *  errors over the spans between detections (TCalibrationSamples::span*) are those the
+     *  per-step model adds up to (1: the per-step fit already covers them). */
+    double spanFactorXY = 1, spanFactorPhi = 1;
     /** True when that drift is real: its 95 % interval excludes 0 and it is at least
      *  kMinHeadingDriftDegPerMin; then the heading noise (minStdPHI, a3, a4) is fitted to
      *  the errors less the drift, and the calibrated ini turns the drift state on. */
@@ -141,6 +182,8 @@ struct TCalibrationResult
     TCalibrationBias bias;
     TMapOffset mapOffset;
     TCalibrationSamples samples;
+    /** The consistency stage's trials, when it ran (the fits are then those it chose). */
+    TConsistency consistency;
 
     /** @name The least data a fit is made from (docs/tools.md, "semloc-calibrate"): with less,
      *  the base ini's value is written and a warning says so. @{ */
@@ -249,6 +292,44 @@ public:
 
     /** The bias and map offset as lines for the terminal and report.md. */
     static std::string BiasText(const TCalibrationResult& result);
+
+    /** The consistency stage's search (Consistency()). */
+    struct TConsistencyOptions
+    {
+        /** One filter run per seed and setting. */
+        std::vector<uint32_t> seeds = {1, 2};
+        /** The factors tried on the detector's sigmas and on the motion noise. */
+        std::vector<double> sensorScales = {1, 1.5, 2, 3, 4};
+        std::vector<double> motionScales = {1, 2, 4, 8};
+        /** The share of the steps with ground truth whose NEES must be inside its bound. */
+        double minInsideShare = 0.95;
+        /** [PF_options] threads of the runs (results do not depend on it); 0: every core. */
+        int threads = 0;
+    };
+
+    /** `r` with its detector sigmas (sigma_range_m, sigma_bearing_deg) multiplied by
+     *  `sensorScale` and its motion noise (a1..a4, minStdXY, minStdPHI) by `motionScale`,
+     *  each kept to the range semloc-localize accepts (TooLittleData fits are left alone). */
+    static TCalibrationResult Widened(const TCalibrationResult& r, double sensorScale,
+                                      double motionScale);
+
+    /** The consistency stage: runs semloc-localize's filter (the ini ApplyToIni() makes from
+     *  `baseIni` and the fits, from its own start) on the calibration run itself against its
+     *  ground truth, once per seed, for settings of Widened() — for each motion factor in
+     *  turn the sensor factors from the smallest up to the first whose runs all converge with
+     *  the pose NEES inside its 95 % bound (RunMetrics::nees_inside_share) in minInsideShare of
+     *  the steps — and returns `r` widened by the consistent setting of the lowest error (none
+     *  consistent: the one with the most steps inside), with the trials in `consistency`.
+     *  `trial` is called after each setting. The runs' outputs go to a temporary directory,
+     *  removed afterwards (and by the interrupt watchdog). */
+    static TCalibrationResult Consistency(
+        const TCalibrationResult& r, const std::string& baseIni, const std::string& baseName,
+        const std::string& worldPath, const std::string& rawlogPath,
+        const std::string& groundTruthPath, const TConsistencyOptions& options,
+        const std::function<void(const TConsistencyTrial&)>& trial = {});
+
+    /** The consistency stage's before and after, one line (empty when it did not run). */
+    static std::string ConsistencyText(const TCalibrationResult& result);
 
     /** The first line of every ini ApplyToIni() writes: semloc-calibrate replaces only a file
      *  that starts with it. */
