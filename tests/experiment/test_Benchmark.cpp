@@ -7,12 +7,14 @@
 #include <semloc/io/Interrupt.h>
 #include <semloc/maps/CSemanticMap.h>
 
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
 #include "TestHelpers.h"
+#include "experiment/BenchmarkTables.h"
 
 namespace
 {
@@ -104,6 +106,9 @@ TEST(Benchmark, ARunDependsOnItsSeedOnly)
         EXPECT_EQ(a1[k].variant, again[k].variant);
         EXPECT_EQ(a1[k].records.back().est.x, again[k].records.back().est.x);
         EXPECT_EQ(a1[k].records.back().var_xy, again[k].records.back().var_xy);
+        EXPECT_EQ(a1[k].records.back().cov_xphi, again[k].records.back().cov_xphi);
+        EXPECT_EQ(a1[k].metrics.nees_mean, again[k].metrics.nees_mean);
+        EXPECT_TRUE(std::isfinite(a1[k].metrics.nees_mean)) << a1[k].variant;
         EXPECT_NE(a1[k].records.back().est.x, a2[k].records.back().est.x);
         EXPECT_EQ(a1[k].seed, 1u);
     }
@@ -474,4 +479,52 @@ TEST(Benchmark, PairedTableComparesEachVariantWithTheReferenceRunByRun)
         << t;
     EXPECT_EQ(t.find("| semantic | semantic"), std::string::npos) << t;
     EXPECT_TRUE(semloc::Benchmark::pairedTable(runs, {"semantic"}).empty());
+}
+
+TEST(Benchmark, ResultsAndTablesShowTheConsistencyOfEveryRun)
+{
+    // results.csv ends with each run's nees_mean and nees_inside_share; the report's tables
+    // show their means over the runs that have one (a run without ground truth has none).
+    using R = semloc::Benchmark::TRunResult;
+    auto result = [](int run, const std::string& variant, double nees, double inside)
+    {
+        R r;
+        r.run = run;
+        r.variant = variant;
+        r.metrics.nees_mean = nees;
+        r.metrics.nees_inside_share = inside;
+        return r;
+    };
+    const std::vector<R> runs = {result(1, "semantic", 2.0, 0.9), result(2, "semantic", 4.5, 0.96),
+                                 result(3, "semantic", NAN, NAN), result(1, "other", 1234.5, 0.25)};
+    const std::string csv = semloc::detail::resultsCsv(runs);
+    const std::string header = csv.substr(0, csv.find('\n'));
+    const std::string tail = ",kidnap_step,recovery_steps,nees_mean,nees_inside_share";
+    EXPECT_EQ(header.substr(header.size() - tail.size()), tail) << header;
+    EXPECT_NE(csv.find(",,2,0.9\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",,4.5,0.96\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",,,\n"), std::string::npos) << "no ground truth: empty cells\n" << csv;
+
+    const std::string t = semloc::Benchmark::reportTable(runs, {"semantic", "other"});
+    EXPECT_NE(t.find("| detector bound after conv. [m] | mean NEES | NEES inside 95 % [%] | mean "
+                     "var_xy [m²] |"),
+              std::string::npos)
+        << t;
+    // semantic: NEES (2 + 4.5) / 2, inside (90 + 96) / 2 %; other: 1234.5, 25 %.
+    EXPECT_NE(t.find("| - | 3.25 | 93 |"), std::string::npos) << t;
+    EXPECT_NE(t.find("| - | 1.23e+03 | 25 |"), std::string::npos) << t;
+
+    semloc::Benchmark::TScenarioSummary s;
+    s.scenario = "all";
+    s.variant = "semantic";
+    s.runs = 3;
+    s.mean_err_after_conv_m = 0.25;
+    s.nees_mean = 3.25;
+    s.nees_inside_share = 0.93;
+    const std::string sc = semloc::Benchmark::scenariosTable({s});
+    EXPECT_NE(sc.find("| mean err after conv. [m] | mean NEES | NEES inside 95 % [%] |"),
+              std::string::npos)
+        << sc;
+    EXPECT_NE(sc.find("| 0.250 | 3.25 | 93 |"), std::string::npos) << sc;
+    EXPECT_NE(semloc::detail::scenariosCsv({s}).find(",3.25,0.93\n"), std::string::npos);
 }

@@ -51,6 +51,12 @@ TEST(BenchmarkRunPool, RunFileGivesBackEveryValueBitForBit)
         s.ess = 0.5 / 3.0;
         s.n_particles = 2000 - k;
         s.update_us = 1234.5678;
+        s.var_x = 0.1 / 3.0;
+        s.var_y = 1e-310;  // subnormal
+        s.var_phi = 2.0 / 7.0;
+        s.cov_xy = -0.1 / 7.0;
+        s.cov_xphi = -1.0 / 11.0;
+        s.cov_yphi = 5e-17 * static_cast<double>(k);
         in[0].records.push_back(s);
     }
     in[0].detectorBound = {{1.0 / 3.0, 0.1 + 0.2}, {1e-300, 2.0 / 7.0}};
@@ -86,6 +92,13 @@ TEST(BenchmarkRunPool, RunFileGivesBackEveryValueBitForBit)
         EXPECT_EQ(bits(b.ess), bits(a.ess));
         EXPECT_EQ(b.n_particles, a.n_particles);
         EXPECT_EQ(bits(b.update_us), bits(a.update_us));
+        EXPECT_EQ(bits(b.var_x), bits(a.var_x));
+        EXPECT_EQ(bits(b.var_y), bits(a.var_y));
+        EXPECT_EQ(bits(b.var_phi), bits(a.var_phi));
+        EXPECT_EQ(bits(b.cov_xy), bits(a.cov_xy));
+        EXPECT_EQ(bits(b.cov_xphi), bits(a.cov_xphi));
+        EXPECT_EQ(bits(b.cov_yphi), bits(a.cov_yphi));
+        EXPECT_EQ(bits(b.nees()), bits(a.nees()));
     }
     ASSERT_EQ(out[0].detectorBound.size(), 2u);
     for (size_t k = 0; k < 2; k++)

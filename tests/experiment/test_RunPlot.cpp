@@ -11,6 +11,8 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -38,6 +40,24 @@ size_t gifFrames(const fs::path& gif)
         n++;
     }
     return n;
+}
+
+/** The cells of a CSV line. */
+std::vector<std::string> cellsOf(const std::string& line)
+{
+    std::vector<std::string> cells(1);
+    for (const char c : line)
+    {
+        if (c == ',')
+        {
+            cells.emplace_back();
+        }
+        else
+        {
+            cells.back() += c;
+        }
+    }
+    return cells;
 }
 
 bool isPng(const fs::path& p)
@@ -188,6 +208,66 @@ TEST_F(RunPlotTest, WithoutParticlesTheRunAndErrorAreDrawnAndCloudsAskForThem)
     EXPECT_NE(errorOf([&] { plot.save((kOut / ("plainbad_" + tag)).string(), o); })
                   .find("the run has no particles.csv (semloc-localize --save-particles N)"),
               std::string::npos);
+}
+
+TEST_F(RunPlotTest, StepsCsvEndsWithTheNeesAndThePoseCovarianceReadBackExactly)
+{
+    // steps.csv's last columns: each step's NEES and the pose covariance it is made of. The
+    // run read back has the same covariance, so its records' NEES is the column's to the bit;
+    // a steps.csv written without those columns is still read (covariance 0).
+    const std::string tag = std::to_string(::getpid());
+    const auto dir = localize("nees_" + tag, 0);
+    std::istringstream in(readText(dir / "steps.csv"));
+    std::string line;
+    std::getline(in, line);
+    const auto header = cellsOf(line);
+    ASSERT_EQ(header.size(), 21u);
+    EXPECT_EQ(header[13], "update_us") << "the columns before keep their places";
+    EXPECT_EQ(std::vector<std::string>(header.begin() + 14, header.end()),
+              (std::vector<std::string>{"nees", "var_x", "var_y", "var_phi", "cov_xy", "cov_xphi",
+                                        "cov_yphi"}));
+    const auto plot = RunPlot::FromDirectory(dir.string());
+    size_t inside = 0;
+    double sum = 0;
+    std::string old = line.substr(0, line.find(",nees")) + "\n";
+    for (const auto& r : plot.records())
+    {
+        ASSERT_TRUE(std::getline(in, line));
+        const auto cells = cellsOf(line);
+        ASSERT_EQ(cells.size(), 21u) << line;
+        const double nees = std::stod(cells[14]);
+        ASSERT_EQ(r.nees(), nees) << "step " << r.step;
+        ASSERT_TRUE(std::isfinite(nees)) << "step " << r.step;
+        ASSERT_EQ(r.var_x + r.var_y, r.var_xy) << "step " << r.step;
+        ASSERT_GE(r.var_phi, 0.0) << "step " << r.step;
+        inside += nees <= semloc::RunMetrics::kNeesChi2_95 ? 1 : 0;
+        sum += nees;
+        for (size_t k = 0; k < 14; k++)
+        {
+            old += cells[k] + (k < 13 ? "," : "\n");
+        }
+    }
+    const std::string summary = readText(dir / "summary.yaml");
+    const auto value = [&](const std::string& key)
+    {
+        const size_t at = summary.find("\n" + key + ": ");
+        EXPECT_NE(at, std::string::npos) << key;
+        return std::stod(summary.substr(at + key.size() + 3));
+    };
+    const double n = static_cast<double>(plot.records().size());
+    EXPECT_NEAR(value("nees_mean"), sum / n, 1e-9 * sum / n);
+    EXPECT_DOUBLE_EQ(value("nees_inside_share"), static_cast<double>(inside) / n);
+    EXPECT_GT(inside, 0u);
+
+    // The steps.csv of a run written before these columns.
+    const auto before = kOut / ("nees_before_" + tag);
+    fs::remove_all(before);
+    fs::copy(dir, before);
+    std::ofstream(before / "steps.csv", std::ios::trunc) << old;
+    const auto read = RunPlot::FromDirectory(before.string());
+    ASSERT_EQ(read.records().size(), plot.records().size());
+    EXPECT_EQ(read.records().back().est.x, plot.records().back().est.x);
+    EXPECT_EQ(read.records().back().var_x, 0.0);
 }
 
 TEST_F(RunPlotTest, BadRunFilesAreNamedWithTheirLine)

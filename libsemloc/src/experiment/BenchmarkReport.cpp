@@ -22,6 +22,14 @@ namespace
 constexpr double kPaperSemanticNs = 1171934146.0;
 constexpr double kPaperGeometricNs = 6977878010.0;
 
+/** What the NEES columns of the tables are (docs/design.md, "Consistency"). */
+constexpr const char* kNeesText =
+    "Mean NEES is the mean over the runs of a run's mean normalized estimation error squared "
+    "of the pose (e' P⁻¹ e over its steps with ground truth, e the error of (x, y, φ), P the "
+    "particles' covariance); NEES inside 95 % is the mean share of those steps whose NEES is at "
+    "most 7.81, the χ² 95 % quantile with 3 degrees of freedom (a one-sided bound): about 95 % "
+    "for a consistent filter, less for an overconfident one.";
+
 /** Every value of `field` over every step of every run. */
 template <typename Field>
 std::vector<double> stepValues(const std::vector<Benchmark::TRunResult>& runs, Field field)
@@ -202,7 +210,9 @@ std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
        << crit.max_var_xy_m2 << " m² held for the rest of the run or " << crit.min_steps
        << " consecutive steps). Times to convergence and errors after convergence are means "
           "over the converged runs; variance is the mean var_xy over every step of every "
-          "run. Filter time is the sum of the filter updates (update_us); wall time adds "
+          "run. "
+       << kNeesText
+       << " Filter time is the sum of the filter updates (update_us); wall time adds "
           "building the filter and reading the results. The ratio is the filter time over "
           "`"
        << referenceVariant(names) << "`'s.\n\n"
@@ -281,7 +291,8 @@ std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult
        << crit.max_var_xy_m2 << " m² held for the rest of the run or " << crit.min_steps
        << " consecutive steps); with a kidnapping, the same criterion met again from the kidnap "
           "step on within the scenario's bound (recovery steps = first such step - kidnap "
-          "step).\n\n"
+          "step). "
+       << kNeesText << "\n\n"
        << res.table;
     if (!b.mapWarnings().empty())
     {

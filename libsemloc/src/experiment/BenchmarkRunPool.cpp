@@ -246,7 +246,9 @@ std::string runFileText(const std::vector<Benchmark::TRunResult>& rs)
               << exact(s.gt ? s.gt->x : 0) << ' ' << exact(s.gt ? s.gt->y : 0) << ' '
               << exact(s.gt ? s.gt->phi : 0) << ' ' << exact(s.est.x) << ' ' << exact(s.est.y)
               << ' ' << exact(s.est.phi) << ' ' << exact(s.var_xy) << ' ' << exact(s.ess) << ' '
-              << s.n_particles << ' ' << exact(s.update_us) << '\n';
+              << s.n_particles << ' ' << exact(s.update_us) << ' ' << exact(s.var_x) << ' '
+              << exact(s.var_y) << ' ' << exact(s.var_phi) << ' ' << exact(s.cov_xy) << ' '
+              << exact(s.cov_xphi) << ' ' << exact(s.cov_yphi) << '\n';
         }
         o << "B " << r.detectorBound.size();
         for (const auto& b : r.detectorBound)
@@ -277,7 +279,8 @@ std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run)
             int hasGt = 0;
             mrpt::math::TPose2D g;
             f >> s.step >> s.t >> hasGt >> g.x >> g.y >> g.phi >> s.est.x >> s.est.y >> s.est.phi >>
-                s.var_xy >> s.ess >> s.n_particles >> s.update_us;
+                s.var_xy >> s.ess >> s.n_particles >> s.update_us >> s.var_x >> s.var_y >>
+                s.var_phi >> s.cov_xy >> s.cov_xphi >> s.cov_yphi;
             if (hasGt)
             {
                 s.gt = g;

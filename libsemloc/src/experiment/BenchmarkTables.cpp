@@ -38,7 +38,7 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
     o << "run,seed,variant,particles,threads,steps,steps_with_ground_truth,converged,"
          "convergence_step,convergence_time_s,mean_err_after_conv_m,rmse_m,final_err_m,"
          "total_update_s,mean_update_us_per_particle,final_particles,reinitializations,"
-         "wall_time_s,kidnap_step,recovery_steps\n";
+         "wall_time_s,kidnap_step,recovery_steps,nees_mean,nees_inside_share\n";
     for (const auto& r : runs)
     {
         const auto& m = r.metrics;
@@ -52,7 +52,8 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
           << (r.records.empty() ? 0 : r.records.back().n_particles) << ',' << r.reinitializations
           << ',' << num(r.wallTime_s) << ','
           << (m.kidnap_step >= 0 ? std::to_string(m.kidnap_step) : "") << ','
-          << (m.recovery_steps >= 0 ? std::to_string(m.recovery_steps) : "") << '\n';
+          << (m.recovery_steps >= 0 ? std::to_string(m.recovery_steps) : "") << ','
+          << num(m.nees_mean) << ',' << num(m.nees_inside_share) << '\n';
     }
     return o.str();
 }
@@ -120,6 +121,11 @@ std::map<std::string, VariantStatistics> variantStatistics(
         {
             s.var.push_back(x.var_xy);
         }
+        if (std::isfinite(r.metrics.nees_mean))
+        {
+            s.nees.push_back(r.metrics.nees_mean);
+            s.neesInside.push_back(r.metrics.nees_inside_share);
+        }
         s.filter.push_back(r.metrics.total_update_s);
         s.perParticle.push_back(r.metrics.mean_update_us_per_particle);
         s.wall.push_back(r.wallTime_s);
@@ -139,7 +145,7 @@ std::string scenariosCsv(const std::vector<Benchmark::TScenarioSummary>& summari
     std::ostringstream csv;
     csv << "scenario,variant,runs,successes,success_rate,converged,mean_convergence_time_s,"
            "mean_err_after_conv_m,kidnap_step,recovery_max_steps,mean_recovery_steps,"
-           "max_recovery_steps\n";
+           "max_recovery_steps,nees_mean,nees_inside_share\n";
     for (const auto& s : summaries)
     {
         const bool kidnap = s.kidnap_step >= 0;
@@ -149,7 +155,8 @@ std::string scenariosCsv(const std::vector<Benchmark::TScenarioSummary>& summari
             << (kidnap ? std::to_string(s.kidnap_step) : "") << ','
             << (kidnap ? std::to_string(s.recovery_max_steps) : "") << ','
             << (kidnap ? num(s.mean_recovery_steps) : "") << ','
-            << (kidnap ? num(s.max_recovery_steps) : "") << '\n';
+            << (kidnap ? num(s.max_recovery_steps) : "") << ',' << num(s.nees_mean) << ','
+            << num(s.nees_inside_share) << '\n';
     }
     return csv.str();
 }
@@ -195,7 +202,7 @@ std::vector<Benchmark::TScenarioSummary> Benchmark::summarize(
         s.variant = v.name();
         s.kidnap_step = kidnapStep();
         s.recovery_max_steps = m_scenario.recovery_max_steps;
-        std::vector<double> conv, err, rec;
+        std::vector<double> conv, err, rec, nees, inside;
         for (const auto& r : runs)
         {
             if (r.variant != s.variant)
@@ -214,6 +221,11 @@ std::vector<Benchmark::TScenarioSummary> Benchmark::summarize(
             {
                 rec.push_back(static_cast<double>(m.recovery_steps));
             }
+            if (std::isfinite(m.nees_mean))
+            {
+                nees.push_back(m.nees_mean);
+                inside.push_back(m.nees_inside_share);
+            }
             const bool ok = s.kidnap_step >= 0
                                 ? m.recovery_steps >= 0 && m.recovery_steps <= s.recovery_max_steps
                                 : m.converged;
@@ -222,6 +234,8 @@ std::vector<Benchmark::TScenarioSummary> Benchmark::summarize(
         s.mean_convergence_time_s = mean(conv);
         s.mean_err_after_conv_m = mean(err);
         s.mean_recovery_steps = mean(rec);
+        s.nees_mean = mean(nees);
+        s.nees_inside_share = mean(inside);
         s.max_recovery_steps = rec.empty() ? kNaN : *std::max_element(rec.begin(), rec.end());
         out.push_back(s);
     }
@@ -232,15 +246,17 @@ std::string Benchmark::scenariosTable(const std::vector<TScenarioSummary>& summa
 {
     std::ostringstream o;
     o << "| scenario | variant | runs | success | converged | mean conv. time [s] | "
-         "mean err after conv. [m] | kidnap step | recovered within | mean recovery steps | "
-         "max recovery steps |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+         "mean err after conv. [m] | mean NEES | NEES inside 95 % [%] | kidnap step | "
+         "recovered within | mean recovery steps | max recovery steps |\n"
+         "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& s : summaries)
     {
         const bool kidnap = s.kidnap_step >= 0;
         o << "| " << (s.scenario.empty() ? "-" : s.scenario) << " | " << s.variant << " | "
           << s.runs << " | " << mrpt::format("%.0f%%", 100.0 * s.successRate()) << " | "
           << s.converged << " | " << cell("%.1f", s.mean_convergence_time_s) << " | "
-          << cell("%.3f", s.mean_err_after_conv_m) << " | "
+          << cell("%.3f", s.mean_err_after_conv_m) << " | " << cell("%.3g", s.nees_mean) << " | "
+          << cell("%.0f", 100.0 * s.nees_inside_share) << " | "
           << (kidnap ? std::to_string(s.kidnap_step) : "-") << " | "
           << (kidnap ? std::to_string(s.recovery_max_steps) + " steps" : "-") << " | "
           << (kidnap ? cell("%.1f", s.mean_recovery_steps) : "-") << " | "
@@ -257,9 +273,10 @@ std::string Benchmark::reportTable(const std::vector<TRunResult>& runs,
     const double refFilter = st.count(ref) ? mean(st[ref].filter) : kNaN;
     std::ostringstream o;
     o << "| variant | runs | converged | mean conv. time [s] | mean err after conv. [m] | "
-         "detector bound after conv. [m] | mean var_xy [m²] | filter time / run [s] | "
-         "filter time / particle-step [µs] | wall time / run [s] | filter time / "
-      << ref << " |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+         "detector bound after conv. [m] | mean NEES | NEES inside 95 % [%] | mean var_xy [m²] | "
+         "filter time / run [s] | filter time / particle-step [µs] | wall time / run [s] | "
+         "filter time / "
+      << ref << " |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& v : variants)
     {
         const auto& s = st[v];
@@ -268,7 +285,8 @@ std::string Benchmark::reportTable(const std::vector<TRunResult>& runs,
                                                  static_cast<double>(s.runs)
                                            : 0.0)
           << " | " << cell("%.1f", mean(s.convTime)) << " | " << cell("%.3f", mean(s.errAfter))
-          << " | " << cell("%.3f", mean(s.boundAfter)) << " | " << cell("%.3f", mean(s.var))
+          << " | " << cell("%.3f", mean(s.boundAfter)) << " | " << cell("%.3g", mean(s.nees))
+          << " | " << cell("%.0f", 100.0 * mean(s.neesInside)) << " | " << cell("%.3f", mean(s.var))
           << " | " << cell("%.3f", mean(s.filter)) << " | " << cell("%.3f", mean(s.perParticle))
           << " | " << cell("%.3f", mean(s.wall)) << " | "
           << cell("%.2f", mean(s.filter) / refFilter) << " |\n";

@@ -20,6 +20,8 @@ struct VariantStatistics
     std::vector<double> boundAfter;
     /** var_xy of every step of every run [m^2]. */
     std::vector<double> var;
+    /** Per run with a NEES (RunMetrics::nees_mean): its nees_mean and nees_inside_share. */
+    std::vector<double> nees, neesInside;
     /** Per run: filter time [s], filter time per particle-step [us], wall time [s]. */
     std::vector<double> filter, perParticle, wall;
 };

@@ -49,7 +49,7 @@ namespace
 {
 const char* const kStepsHeader =
     "step,t,gt_x,gt_y,gt_phi,est_x,est_y,est_phi,err_xy,err_phi,var_xy,ess,n_particles,"
-    "update_us\n";
+    "update_us,nees,var_x,var_y,var_phi,cov_xy,cov_xphi,cov_yphi\n";
 
 void stepsRow(std::ostream& o, const TStepRecord& r)
 {
@@ -58,7 +58,8 @@ void stepsRow(std::ostream& o, const TStepRecord& r)
       << (r.gt ? num(r.gt->phi) : "") << ',' << num(r.est.x) << ',' << num(r.est.y) << ','
       << num(r.est.phi) << ',' << num(r.errXY()) << ',' << num(r.errPhi()) << ',' << num(r.var_xy)
       << ',' << num(r.ess) << ',' << r.n_particles << ',' << mrpt::format("%.1f", r.update_us)
-      << '\n';
+      << ',' << num(r.nees()) << ',' << num(r.var_x) << ',' << num(r.var_y) << ',' << num(r.var_phi)
+      << ',' << num(r.cov_xy) << ',' << num(r.cov_xphi) << ',' << num(r.cov_yphi) << '\n';
 }
 }  // namespace
 
@@ -96,6 +97,32 @@ void StepsCsv::finish()
     }
 }
 
+namespace
+{
+/** summary.yaml's consistency (NEES) and "lost again" keys, with their comments. */
+std::string neesAndLostYaml(const RunMetrics& m, const RunMetrics::TConvergenceCriterion& c)
+{
+    const auto count = [&](size_t n) { return m.converged ? std::to_string(n) : "null"; };
+    std::ostringstream y;
+    y << "# NEES: e' P^-1 e, e the pose error (x, y, phi) to the ground truth, P the particles'\n"
+      << "# covariance: its mean over the steps with ground truth, and the share of them with\n"
+      << "# NEES <= " << mrpt::format("%.4f", RunMetrics::kNeesChi2_95)
+      << " (the chi-square 95 % quantile, 3 dof; a one-sided bound): ~0.95 consistent,\n"
+      << "# less overconfident\n"
+      << "nees_mean: " << yamlNum(m.nees_mean) << "\n"
+      << "nees_inside_share: " << yamlNum(m.nees_inside_share) << "\n"
+      << "# lost again: from the convergence step on, steps with ground truth and err_xy > "
+      << num(c.max_err_xy_m) << " m;\n"
+      << "# an episode lasts to the next step not lost (or the last step); null: not converged\n"
+      << "lost_after_convergence_steps: " << count(m.lost_after_convergence_steps) << "\n"
+      << "lost_after_convergence_s: " << yamlNum(m.lost_after_convergence_s) << "\n"
+      << "lost_episodes: " << count(m.lost_episodes) << "\n"
+      << "first_lost_after_convergence_s: " << yamlNum(m.first_lost_after_convergence_s) << "\n"
+      << "longest_lost_s: " << yamlNum(m.longest_lost_s) << "\n";
+    return y.str();
+}
+}  // namespace
+
 std::string summaryYaml(const LocalizationExperiment::TResult& res,
                         const LocalizationExperiment::TOptions& o)
 {
@@ -120,6 +147,7 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "final_particles: " << res.final_particles << "\n"
       << "convergence_criterion: {max_err_xy_m: " << num(c.max_err_xy_m)
       << ", max_var_xy_m2: " << num(c.max_var_xy_m2) << ", min_steps: " << c.min_steps << "}\n"
+      << neesAndLostYaml(m, c)
       << "# observations and detections the maps could not use, non-finite likelihoods\n"
       << "observations_used: " << res.likelihood.observations_used << "\n"
       << "observations_skipped: " << res.likelihood.observations_skipped << "\n"

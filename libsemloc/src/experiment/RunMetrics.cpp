@@ -2,6 +2,7 @@
 #include <mrpt/math/wrap2pi.h>
 #include <semloc/experiment/RunMetrics.h>
 
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -11,6 +12,12 @@ namespace semloc
 namespace
 {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/** The larger of a and b, NaN if either is. */
+double maxOrNaN(double a, double b)
+{
+    return std::isnan(a) || std::isnan(b) ? kNaN : std::max(a, b);
+}
 }  // namespace
 
 double TStepRecord::errXY() const
@@ -21,6 +28,30 @@ double TStepRecord::errXY() const
 double TStepRecord::errPhi() const
 {
     return gt ? mrpt::math::wrapToPi(est.phi - gt->phi) : kNaN;
+}
+
+double TStepRecord::nees() const
+{
+    if (!gt)
+    {
+        return kNaN;
+    }
+    const Eigen::Vector3d e(gt->x - est.x, gt->y - est.y, mrpt::math::wrapToPi(gt->phi - est.phi));
+    Eigen::Matrix3d P;
+    P << var_x, cov_xy, cov_xphi, cov_xy, var_y, cov_yphi, cov_xphi, cov_yphi, var_phi;
+    if (!e.allFinite() || !P.allFinite())
+    {
+        return kNaN;
+    }
+    // P = V diag(l) V^T: e^T P^-1 e = sum_i (v_i . e)^2 / l_i, each l_i floored (RunMetrics.h).
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(P);
+    const Eigen::Vector3d proj = eig.eigenvectors().transpose() * e;
+    double n = 0;
+    for (int i = 0; i < 3; i++)
+    {
+        n += proj[i] * proj[i] / (std::max(eig.eigenvalues()[i], 0.0) + kNeesFloor);
+    }
+    return n;
 }
 
 RunMetrics RunMetrics::compute(const std::vector<TStepRecord>& r, const TConvergenceCriterion& c,
@@ -34,14 +65,47 @@ RunMetrics RunMetrics::compute(const std::vector<TStepRecord>& r, const TConverg
     return acc.result();
 }
 
-void RunMetricsAccumulator::Settling::add(const TStepRecord& r, bool ok, size_t minSteps)
+RunMetricsAccumulator::Lost::Lost() : firstT(kNaN) {}
+
+void RunMetricsAccumulator::Lost::add(const TStepRecord& r, bool lost)
+{
+    if (lost)
+    {
+        if (steps++ == 0)
+        {
+            firstT = r.t;
+        }
+        if (!open)
+        {
+            open = true;
+            openT = r.t;
+            episodes++;
+        }
+    }
+    else if (open)
+    {
+        open = false;
+        endedS += r.t - openT;
+        longestS = maxOrNaN(longestS, r.t - openT);
+    }
+}
+
+double RunMetricsAccumulator::Lost::totalS(double lastT) const
+{
+    return open ? endedS + (lastT - openT) : endedS;
+}
+
+double RunMetricsAccumulator::Lost::longest(double lastT) const
+{
+    return open ? maxOrNaN(longestS, lastT - openT) : longestS;
+}
+
+void RunMetricsAccumulator::Settling::add(const TStepRecord& r, bool ok, bool isLost,
+                                          size_t minSteps)
 {
     if (!settled && !ok)
     {
-        candidate.reset();  // the run of good steps is broken before it settled
-        length = 0;
-        errSum = 0;
-        errCount = 0;
+        *this = Settling();  // the run of good steps is broken before it settled
         return;
     }
     if (!candidate)
@@ -56,6 +120,7 @@ void RunMetricsAccumulator::Settling::add(const TStepRecord& r, bool ok, size_t 
         errSum += r.errXY();
         errCount++;
     }
+    lost.add(r, isLost);
 }
 
 RunMetricsAccumulator::RunMetricsAccumulator(const RunMetrics::TConvergenceCriterion& criterion,
@@ -63,32 +128,42 @@ RunMetricsAccumulator::RunMetricsAccumulator(const RunMetrics::TConvergenceCrite
     : m_criterion(criterion), m_kidnapStep(kidnapStep)
 {
     m_m.convergence_time_s = m_m.mean_err_after_conv_m = m_m.rmse_m = m_m.final_err_m = kNaN;
+    m_m.nees_mean = m_m.nees_inside_share = kNaN;
+    m_m.lost_after_convergence_s = m_m.first_lost_after_convergence_s = m_m.longest_lost_s = kNaN;
 }
 
 void RunMetricsAccumulator::add(const TStepRecord& r)
 {
     const auto& c = m_criterion;
-    const bool ok = r.gt && r.errXY() < c.max_err_xy_m && r.var_xy < c.max_var_xy_m2;
+    const double err = r.errXY();  // NaN without ground truth: neither good nor lost
+    const bool ok = err < c.max_err_xy_m && r.var_xy < c.max_var_xy_m2;
+    const bool lost = err > c.max_err_xy_m;
     const auto minSteps = static_cast<size_t>(std::max(1, c.min_steps));
     if (!m_any)
     {
         m_any = true;
         m_firstT = r.t;
     }
+    m_lastT = r.t;
     m_m.steps++;
-    m_convergence.add(r, ok, minSteps);
+    m_convergence.add(r, ok, lost, minSteps);
     if (m_kidnapStep >= 0 && static_cast<long>(r.step) >= m_kidnapStep)
     {
-        m_recovery.add(r, ok, minSteps);
+        m_recovery.add(r, ok, lost, minSteps);
     }
     m_updates += r.update_us;
     m_particleUpdates += static_cast<double>(r.n_particles);
     if (r.gt)
     {
-        const double e = r.errXY();
         m_m.steps_with_ground_truth++;
-        m_sum2 += e * e;
-        m_m.final_err_m = e;
+        m_sum2 += err * err;
+        m_m.final_err_m = err;
+        if (const double n = r.nees(); !std::isnan(n))
+        {
+            m_neesSum += n;
+            m_neesCount++;
+            m_neesInside += n <= RunMetrics::kNeesChi2_95 ? 1 : 0;
+        }
     }
 }
 
@@ -102,6 +177,18 @@ RunMetrics RunMetricsAccumulator::result() const
         m.convergence_time_s = m_convergence.candidateT - m_firstT;
         m.mean_err_after_conv_m =
             m_convergence.errSum / static_cast<double>(m_convergence.errCount);
+        const Lost& lost = m_convergence.lost;
+        m.lost_after_convergence_steps = lost.steps;
+        m.lost_episodes = lost.episodes;
+        m.lost_after_convergence_s = lost.totalS(m_lastT);
+        m.longest_lost_s = lost.longest(m_lastT);
+        m.first_lost_after_convergence_s = lost.firstT - m_firstT;
+    }
+    if (m_neesCount > 0)
+    {
+        const auto n = static_cast<double>(m_neesCount);
+        m.nees_mean = m_neesSum / n;
+        m.nees_inside_share = static_cast<double>(m_neesInside) / n;
     }
     if (m_kidnapStep >= 0)
     {

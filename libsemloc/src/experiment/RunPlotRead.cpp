@@ -28,10 +28,24 @@ namespace fs = std::filesystem;
 const std::vector<std::string> kStepsColumns = {
     "step",    "t",      "gt_x",    "gt_y",   "gt_phi", "est_x",       "est_y",
     "est_phi", "err_xy", "err_phi", "var_xy", "ess",    "n_particles", "update_us"};
+/** The columns a run written before the pose covariance did not have. */
+const std::vector<std::string> kStepsCovarianceColumns = {
+    "nees", "var_x", "var_y", "var_phi", "cov_xy", "cov_xphi", "cov_yphi"};
+
+/** The pose covariance of row `i` (0 where the file lacks it). */
+void readCovariance(const detail::CsvTable& csv, size_t i, TStepRecord& r)
+{
+    r.var_x = csv.numberOr(i, "var_x", 0);
+    r.var_y = csv.numberOr(i, "var_y", 0);
+    r.var_phi = csv.numberOr(i, "var_phi", 0);
+    r.cov_xy = csv.numberOr(i, "cov_xy", 0);
+    r.cov_xphi = csv.numberOr(i, "cov_xphi", 0);
+    r.cov_yphi = csv.numberOr(i, "cov_yphi", 0);
+}
 
 std::vector<TStepRecord> readSteps(const std::string& path)
 {
-    const auto csv = detail::CsvTable::FromFile(path, kStepsColumns);
+    const auto csv = detail::CsvTable::FromFile(path, kStepsColumns, kStepsCovarianceColumns);
     if (csv.rows() == 0)
     {
         THROW_EXCEPTION("'" + path + "' holds no step");
@@ -56,6 +70,7 @@ std::vector<TStepRecord> readSteps(const std::string& path)
         r.est = mrpt::math::TPose2D(csv.number(i, "est_x"), csv.number(i, "est_y"),
                                     csv.number(i, "est_phi"));
         r.var_xy = csv.number(i, "var_xy");
+        readCovariance(csv, i, r);
         r.ess = csv.numberOr(i, "ess", 1);
         const double n = csv.number(i, "n_particles");
         if (n < 1 || n != std::floor(n))

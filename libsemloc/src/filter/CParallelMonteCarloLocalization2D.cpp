@@ -510,4 +510,15 @@ CParallelMonteCarloLocalization2D::getCovarianceAndMean() const
     return detail::covarianceAndMean(m_particles, *m_executor, w);
 }
 
+std::tuple<CParallelMonteCarloLocalization2D::cov_mat_t,
+           CParallelMonteCarloLocalization2D::cov_mat_t,
+           CParallelMonteCarloLocalization2D::type_value>
+CParallelMonteCarloLocalization2D::covariancesAndMean() const
+{
+    thread_local std::vector<double> w;  // this thread's calls' buffer
+    cov_mat_t poseCov;
+    auto [cov, mean] = detail::covarianceAndMean(m_particles, *m_executor, w, &poseCov);
+    return {cov, poseCov, mean};
+}
+
 }  // namespace semloc

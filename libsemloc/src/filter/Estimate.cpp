@@ -94,7 +94,8 @@ mrpt::poses::CPose2D meanAndWeights(const ParticleList& particles, ParallelExecu
 }
 
 std::tuple<mrpt::math::CMatrixDouble33, mrpt::poses::CPose2D> covarianceAndMean(
-    const ParticleList& particles, ParallelExecutor& ex, std::vector<double>& w)
+    const ParticleList& particles, ParallelExecutor& ex, std::vector<double>& w,
+    mrpt::math::CMatrixDouble33* poseCov)
 {
     // MRPT 2.5.8's CPosePDFParticles::getCovarianceAndMean, the same operations in the same
     // order. Its sum of exp(log_w) adds the same weights in the same order as getMean's
@@ -113,6 +114,7 @@ std::tuple<mrpt::math::CMatrixDouble33, mrpt::poses::CPose2D> covarianceAndMean(
     }
     const double mx = mean.x(), my = mean.y();
     double varX = 0, varY = 0, varP = 0, varXY = 0, varXP = 0, varYP = 0;
+    double signedXP = 0, signedYP = 0;  // poseCov's
     forEachRun(particles, 0, n,
                [&](const auto* p, size_t i0, size_t len)
                {
@@ -121,13 +123,17 @@ std::tuple<mrpt::math::CMatrixDouble33, mrpt::poses::CPose2D> covarianceAndMean(
                        const double wk = w[i0 + k] / linWSum;
                        const double errX = p[k].d.x - mx;
                        const double errY = p[k].d.y - my;
-                       const double errPhi = wrapToPiExact(std::abs(p[k].d.phi - meanPhi));
+                       const double d = p[k].d.phi - meanPhi;
+                       const double errPhi = wrapToPiExact(std::abs(d));
+                       const double signedPhi = d < 0 ? -errPhi : errPhi;
                        varX += (errX * errX) * wk;
                        varY += (errY * errY) * wk;
                        varP += (errPhi * errPhi) * wk;
                        varXY += (errX * errY) * wk;
                        varXP += (errX * errPhi) * wk;
                        varYP += (errY * errPhi) * wk;
+                       signedXP += (errX * signedPhi) * wk;
+                       signedYP += (errY * signedPhi) * wk;
                    }
                });
     mrpt::math::CMatrixDouble33 cov;
@@ -140,6 +146,15 @@ std::tuple<mrpt::math::CMatrixDouble33, mrpt::poses::CPose2D> covarianceAndMean(
         cov(1, 0) = cov(0, 1) = varXY;
         cov(2, 0) = cov(0, 2) = varXP;
         cov(1, 2) = cov(2, 1) = varYP;
+    }
+    if (poseCov)
+    {
+        *poseCov = cov;
+        if (n >= 2)
+        {
+            (*poseCov)(2, 0) = (*poseCov)(0, 2) = signedXP;
+            (*poseCov)(1, 2) = (*poseCov)(2, 1) = signedYP;
+        }
     }
     return {cov, mean};
 }

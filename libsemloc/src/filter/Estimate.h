@@ -25,7 +25,14 @@ namespace semloc::detail
 mrpt::poses::CPose2D meanAndWeights(const ParticleList& particles, ParallelExecutor& ex,
                                     std::vector<double>& w, double& weightSum);
 
-/** MRPT 2.5.8's CPosePDFParticles::getCovarianceAndMean bit for bit; `w` a buffer. */
+/** MRPT 2.5.8's CPosePDFParticles::getCovarianceAndMean bit for bit; `w` a buffer. With
+ *  `poseCov`, also, from the same pass (in particle order on this thread: the same bits for
+ *  any thread count), the covariance with signed heading errors: MRPT's heading error is
+ *  wrapToPi(|phi - mean|), whose square is right but whose sign is not the error's (its x-phi
+ *  and y-phi terms are wrong); `poseCov` gives it the sign of phi - mean (mean in
+ *  [0, 2 pi)), i.e. wrapToPi(phi - mean) (+pi where that is -pi). Its other entries are
+ *  MRPT's. */
 std::tuple<mrpt::math::CMatrixDouble33, mrpt::poses::CPose2D> covarianceAndMean(
-    const ParticleList& particles, ParallelExecutor& ex, std::vector<double>& w);
+    const ParticleList& particles, ParallelExecutor& ex, std::vector<double>& w,
+    mrpt::math::CMatrixDouble33* poseCov = nullptr);
 }  // namespace semloc::detail

@@ -207,6 +207,9 @@ public:
         int recovery_max_steps = 0;
         /** Mean and maximum recovery steps of the runs that recovered; NaN if none. */
         double mean_recovery_steps = 0, max_recovery_steps = 0;
+        /** Means over the runs with one of RunMetrics::nees_mean and nees_inside_share; NaN
+         *  if none. */
+        double nees_mean = 0, nees_inside_share = 0;
 
         /** successes / runs. */
         double successRate() const;
@@ -245,8 +248,9 @@ public:
     std::vector<TRunResult> runOne(int run) const;
 
     /** The markdown table of report.md: per variant success rate, convergence time, error,
-     *  variance, filter time per run and per particle-step, wall time, ratio to the first
-     *  variant (or to "semantic" if present). */
+     *  the detector's bound, consistency (the means over the runs of RunMetrics::nees_mean
+     *  and nees_inside_share), variance, filter time per run and per particle-step, wall
+     *  time, ratio to the first variant (or to "semantic" if present). */
     static std::string reportTable(const std::vector<TRunResult>& runs,
                                    const std::vector<std::string>& variants);
 
@@ -259,7 +263,7 @@ public:
                                    const std::vector<std::string>& variants);
 
     /** The table of scenarios.csv / report.md with scenarios: per scenario and variant the
-     *  success rate, convergence and recovery. */
+     *  success rate, convergence, consistency (NEES) and recovery. */
     static std::string scenariosTable(const std::vector<TScenarioSummary>& summaries);
 
     /** The benchmark options. */

@@ -22,6 +22,17 @@ struct TStepRecord
     mrpt::math::TPose2D est;
     /** Trace of the particles' x-y covariance [m^2]. */
     double var_xy = 0;
+    /** @name The particles' weighted covariance of (x, y, phi) about `est`, heading errors
+     *  wrapToPi(phi - est.phi) (signed, unlike MRPT's getCovarianceAndMean's x-phi and y-phi
+     *  terms); var_x + var_y = var_xy. 0 when unknown.
+     *  @{ */
+    double var_x = 0;     ///< [m^2]
+    double var_y = 0;     ///< [m^2]
+    double var_phi = 0;   ///< [rad^2]
+    double cov_xy = 0;    ///< [m^2]
+    double cov_xphi = 0;  ///< [m rad]
+    double cov_yphi = 0;  ///< [m rad]
+    /** @} */
     /** Effective sample size before resampling, in [0, 1]. */
     double ess = 1;
     /** Particles after the step. */
@@ -33,6 +44,16 @@ struct TStepRecord
     double errXY() const;
     /** Heading error to the ground truth, wrapped to [-pi, pi] [rad]; NaN without one. */
     double errPhi() const;
+    /** Floor added to the covariance's eigenvalues by nees() [m^2, rad^2]. */
+    static constexpr double kNeesFloor = 1e-12;
+    /** Normalized estimation error squared of the pose (docs/design.md, "Consistency"):
+     *  e^T P^-1 e, e = (gt_x - est_x, gt_y - est_y, wrapToPi(gt_phi - est_phi)), P the
+     *  covariance above. A singular or (by rounding) indefinite P: P = V diag(l) V^T, each
+     *  eigenvalue taken as max(l, 0) + kNeesFloor, i.e. e^T (P + kNeesFloor I)^-1 e for a
+     *  positive semi-definite P; so always finite, 0 for e = 0, and up to |e|^2 / 1e-12 when P
+     *  is 0 (one particle, or every particle on one pose). NaN without ground truth or with a
+     *  non-finite value. */
+    double nees() const;
 };
 
 /** Summary of a run. Values that cannot be computed (no ground truth, no convergence) are NaN
@@ -72,6 +93,35 @@ struct RunMetrics
     double total_update_s = 0;
     /** Total update time / total particle updates [us]. */
     double mean_update_us_per_particle = 0;
+    /** @name Consistency (docs/design.md, "Consistency"): TStepRecord::nees() over the steps
+     *  with ground truth
+     *  @{ */
+    /** The chi-square distribution's 95 % quantile with 3 degrees of freedom. */
+    static constexpr double kNeesChi2_95 = 7.814727903251178;
+    /** Mean NEES; NaN if no step has ground truth. */
+    double nees_mean = 0;
+    /** Share of the steps whose NEES <= kNeesChi2_95, in [0, 1]: the one-sided upper bound a
+     *  consistent filter's NEES stays under 95 % of the time, so ~0.95 for a consistent filter,
+     *  less for an overconfident one (a spread too small for its errors); NaN if no step has
+     *  ground truth. */
+    double nees_inside_share = 0;
+    /** @} */
+    /** @name Lost again: from the convergence step on, a step with ground truth whose err_xy
+     *  > max_err_xy_m is lost; an episode is a maximal run of consecutive lost steps, lasting
+     *  from its first step's time to that of the first step after it that is not lost (or of
+     *  the run's last step). Without convergence: counts 0, times NaN.
+     *  @{ */
+    /** Lost steps. */
+    size_t lost_after_convergence_steps = 0;
+    /** Total time of the episodes [s]. */
+    double lost_after_convergence_s = 0;
+    /** Episodes. */
+    size_t lost_episodes = 0;
+    /** Time from the run's first step to the first lost step [s]; NaN if none. */
+    double first_lost_after_convergence_s = 0;
+    /** Time of the longest episode [s] (0 if none). */
+    double longest_lost_s = 0;
+    /** @} */
     /** @name Recovery from a kidnapping (only when compute() is given the kidnap step)
      *  @{ */
     /** Step at which the vehicle was kidnapped, -1 if none. */
@@ -100,6 +150,24 @@ public:
     RunMetrics result() const;
 
 private:
+    /** The lost steps and their episodes (RunMetrics' "lost again") from a step on. */
+    struct Lost
+    {
+        size_t steps = 0, episodes = 0;
+        /** The episodes that ended: total and longest time [s]. */
+        double endedS = 0, longestS = 0;
+        /** Time of the first lost step; NaN if none. */
+        double firstT = 0;
+        /** Whether the last step was lost, and the time of its episode's first step. */
+        bool open = false;
+        double openT = 0;
+        Lost();
+        void add(const TStepRecord& r, bool lost);
+        /** Total and longest time with the open episode ended at `lastT`. */
+        double totalS(double lastT) const;
+        double longest(double lastT) const;
+    };
+
     /** Where the criterion settles from a start step on: the first step of a run of
      *  steps that satisfy it for `min_steps` steps or to the end. */
     struct Settling
@@ -111,7 +179,11 @@ private:
         /** Errors (steps with ground truth) from the candidate on. */
         double errSum = 0;
         size_t errCount = 0;
-        void add(const TStepRecord& r, bool ok, size_t minSteps);
+        /** The lost steps from the candidate on. A lost step is not a good one: before the
+         *  candidate settles it ends the run of good steps, and these start again with the
+         *  next candidate; so they are those from the settling step on. */
+        Lost lost;
+        void add(const TStepRecord& r, bool ok, bool lost, size_t minSteps);
         /** The settling step, if any (a run of good steps to the end counts). */
         std::optional<size_t> step() const { return candidate; }
     };
@@ -120,7 +192,9 @@ private:
     long m_kidnapStep;
     Settling m_convergence, m_recovery;
     RunMetrics m_m;
-    double m_firstT = 0, m_sum2 = 0, m_updates = 0, m_particleUpdates = 0;
+    double m_firstT = 0, m_lastT = 0, m_sum2 = 0, m_updates = 0, m_particleUpdates = 0;
+    double m_neesSum = 0;
+    size_t m_neesCount = 0, m_neesInside = 0;
     bool m_any = false;
 };
 

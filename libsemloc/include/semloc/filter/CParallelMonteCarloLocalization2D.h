@@ -223,6 +223,11 @@ public:
      *  (with getMean() above): one exp() per particle at most instead of three, no fmod()
      *  per particle. */
     std::tuple<cov_mat_t, type_value> getCovarianceAndMean() const override;
+    /** getCovarianceAndMean() and, from the same pass over the particles, the covariance of
+     *  (x, y, phi) with signed heading errors wrapToPi(phi - mean phi): the pose covariance
+     *  (MRPT's x-phi and y-phi terms take the heading error's absolute value and lose its
+     *  sign; the other entries are the same). The same values for any thread count. */
+    std::tuple<cov_mat_t, cov_mat_t, type_value> covariancesAndMean() const;
 
 private:
     /** Prediction by MRPT's sampler (motion models other than the Gaussian). */

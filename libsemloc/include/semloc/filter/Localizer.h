@@ -240,8 +240,9 @@ public:
     /** Trace of the x-y covariance of the particles [m^2]. */
     double varianceXY() const;
     /** The last step as a steps.csv row (no ground truth): index, time of `sf`'s first
-     *  observation (NaN without a valid timestamp), mean, x-y variance, ESS, particles,
-     *  update time. `sf` is the frame that step used. */
+     *  observation (NaN without a valid timestamp), mean, x-y variance, the pose covariance
+     *  (one pass over the particles), ESS, particles, update time. `sf` is the frame that
+     *  step used. */
     TStepRecord lastStepRecord(const mrpt::obs::CSensoryFrame& sf) const;
     /** The last step. */
     const TStepInfo& lastStep() const { return m_last; }
