@@ -42,6 +42,11 @@ TCLAP::ValueArg<std::string> argOut("o", "output", "Calibrated ini to write", tr
                                     cmd);
 TCLAP::ValueArg<std::string> argReport("", "report", "Directory for report.md and its figures",
                                        false, "", "DIR", cmd);
+TCLAP::ValueArg<int> argConsistencySeeds(
+    "", "consistency-seeds",
+    "Filter runs per setting of the consistency stage (default 2; 0: no consistency stage, "
+    "the fits written as fitted)",
+    false, 2, "N", cmd);
 TCLAP::ValueArg<double> argGate("", "gate-m",
                                 "Matching gate around an object's centre [m] (default 3)", false,
                                 3.0, "G", cmd);
@@ -74,6 +79,28 @@ void checkWritten(const std::string& written, const std::string& out)
     }
 }
 
+/** The consistency stage (SensorCalibration::Consistency), each setting shown on stderr. */
+semloc::TCalibrationResult consistency(const semloc::TCalibrationResult& fitted,
+                                       const std::string& baseText)
+{
+    semloc::SensorCalibration::TConsistencyOptions c;
+    c.seeds.clear();
+    for (int s = 1; s <= argConsistencySeeds.getValue(); s++)
+    {
+        c.seeds.push_back(static_cast<uint32_t>(s));
+    }
+    return semloc::SensorCalibration::Consistency(
+        fitted, baseText, argBase.getValue(), argWorld.getValue(), argRawlog.getValue(),
+        argGroundTruth.getValue(), c,
+        [](const semloc::TConsistencyTrial& t)
+        {
+            std::cerr << "semloc-calibrate: consistency: detector sigmas x" << t.sensorScale
+                      << ", motion noise x" << t.motionScale << ": NEES inside its 95 % bound in "
+                      << 100 * t.insideShare << " % of the steps, mean error " << t.meanErr_m
+                      << " m, " << t.converged << " of " << t.runs << " runs converged\n";
+        });
+}
+
 void run()
 {
     const std::string rawlogPath = argRawlog.getValue(), out = argOut.getValue(),
@@ -95,13 +122,21 @@ void run()
     {
         throw std::invalid_argument("--gate-m must be > 0");
     }
+    if (argConsistencySeeds.getValue() < 0 || argConsistencySeeds.getValue() > 100)
+    {
+        throw std::invalid_argument("--consistency-seeds must be in [0, 100]");
+    }
     // Everything is read and checked before anything is written.
     const std::string baseText = readText(base);
     semloc::SensorCalibration::CheckBase(base, argWorld.getValue());
     const auto world = semloc::World::FromFile(argWorld.getValue());
     const auto gt = semloc::Simulator::readGroundTruth(argGroundTruth.getValue());
     const auto rawlog = semloc::RawlogReader::Load(rawlogPath);
-    const auto result = semloc::SensorCalibration::Estimate(rawlog, rawlogPath, world, gt, o);
+    auto result = semloc::SensorCalibration::Estimate(rawlog, rawlogPath, world, gt, o);
+    if (argConsistencySeeds.getValue() > 0)
+    {
+        result = consistency(result, baseText);
+    }
     const std::string ini =
         semloc::SensorCalibration::ApplyToIni(baseText, base, result, argWorld.getValue());
 
@@ -142,7 +177,8 @@ void run()
               << ", clutter_per_scan " << result.clutter_per_scan.value << ", p_confusion "
               << result.p_confusion.value << ", p_range_outlier " << result.p_range_outlier.value
               << "; wrote " << out << (report.empty() ? "" : " and " + report) << "\n"
-              << semloc::SensorCalibration::BiasText(result);
+              << semloc::SensorCalibration::BiasText(result)
+              << semloc::SensorCalibration::ConsistencyText(result);
 }
 }  // namespace
 

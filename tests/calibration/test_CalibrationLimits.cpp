@@ -124,10 +124,11 @@ ToolRun calibrateTool(const std::string& name, const TSimulatorOptions& o,
     sim.writeDataset(res, rawlog);
     ToolRun t;
     t.ini = dir / "out.ini";
-    const std::string cmd =
-        std::string(SEMLOC_BIN_DIR) + "/semloc-calibrate " + rawlog + " --world " + kPaper +
-        " --ground-truth " + Simulator::groundTruthPath(rawlog) + " --base " + base + " -o " +
-        t.ini.string() + " > " + (dir / "stdout").string() + " 2> " + (dir / "stderr").string();
+    const std::string cmd = std::string(SEMLOC_BIN_DIR) + "/semloc-calibrate " + rawlog +
+                            " --world " + kPaper + " --ground-truth " +
+                            Simulator::groundTruthPath(rawlog) + " --base " + base + " -o " +
+                            t.ini.string() + " --consistency-seeds 0 > " +
+                            (dir / "stdout").string() + " 2> " + (dir / "stderr").string();
     t.status = std::system(cmd.c_str());
     t.out = readText(dir / "stdout");
     t.err = readText(dir / "stderr");

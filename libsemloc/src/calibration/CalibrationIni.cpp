@@ -71,6 +71,15 @@ std::string keyLine(const std::string& key, const std::string& value, const std:
 
 std::string fitComment(const TCalibrationFit& f)
 {
+    if (f.widenedBy != 1)
+    {
+        TCalibrationFit fitted = f;
+        fitted.widenedBy = 1;
+        fitted.value = f.value / f.widenedBy;
+        return "calibrated: widened x" + number(f.widenedBy) +
+               " by the consistency stage (fitted " + number(fitted.value) + "); " +
+               fitComment(fitted).substr(std::string("calibrated: ").size());
+    }
     if (f.status == TCalibrationFit::Status::Clamped)
     {
         const bool low = f.fitted < f.value;

@@ -177,6 +177,36 @@ std::string row(const char* key, const TCalibrationFit& f)
     return s.str();
 }
 
+/** The consistency stage's trials as a table (empty when it did not run). */
+std::string consistencyMarkdown(const TCalibrationResult& r)
+{
+    const auto& c = r.consistency;
+    if (c.trials.empty())
+    {
+        return "";
+    }
+    std::ostringstream m;
+    m << "\n## Consistency\n\nThe filter run on this run from its own start, against its "
+         "ground truth, with the detector sigmas and the motion noise widened (one run per "
+         "seed per row); written: the row in bold ("
+      << (c.consistent ? "the consistent one of the lowest error"
+                       : "none reached the share asked "
+                         "for: the most steps inside")
+      << "). NEES inside: the share of the steps whose pose NEES is within its 95 % bound ("
+      << 100 * c.minInsideShare << " % asked for).\n\n"
+      << "| detector sigmas | motion noise | NEES inside [%] | mean NEES | mean error [m] | "
+         "converged |\n| --- | --- | --- | --- | --- | --- |\n";
+    for (size_t i = 0; i < c.trials.size(); i++)
+    {
+        const auto& t = c.trials[i];
+        const std::string b = i == c.chosen ? "**" : "";
+        m << "| " << b << "x" << t.sensorScale << b << " | " << b << "x" << t.motionScale << b
+          << " | " << 100 * t.insideShare << " | " << t.neesMean << " | " << t.meanErr_m << " | "
+          << t.converged << " of " << t.runs << " |\n";
+    }
+    return m.str();
+}
+
 std::string markdown(const TCalibrationResult& r)
 {
     std::ostringstream m;
@@ -202,6 +232,7 @@ std::string markdown(const TCalibrationResult& r)
     {
         m << "- " << line << "\n";
     }
+    m << consistencyMarkdown(r);
     const auto warnings = SensorCalibration::Warnings(r);
     m << "\n## Warnings\n\n" << (warnings.empty() ? "None.\n" : "");
     for (const auto& w : warnings)

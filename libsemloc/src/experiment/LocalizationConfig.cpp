@@ -141,6 +141,10 @@ void applyOverrides(LocalizationExperiment::TOptions& o,
     {
         o.logOutput_dir = ov.logOutput_dir;
     }
+    if (!ov.ground_truth_path_file.empty())
+    {
+        o.ground_truth_path_file = ov.ground_truth_path_file;
+    }
     if (ov.threads)
     {
         ASSERTMSG_(

@@ -299,10 +299,13 @@ public:
         /** One filter run per seed and setting. */
         std::vector<uint32_t> seeds = {1, 2};
         /** The factors tried on the detector's sigmas and on the motion noise. */
-        std::vector<double> sensorScales = {1, 1.5, 2, 3, 4};
-        std::vector<double> motionScales = {1, 2, 4, 8};
+        std::vector<double> sensorScales = {1, 1.5, 2, 3, 4, 6};
+        std::vector<double> motionScales = {1, 2, 4};
         /** The share of the steps with ground truth whose NEES must be inside its bound. */
         double minInsideShare = 0.95;
+        /** When no setting reaches it: the most consistent of those within this share of the
+         *  lowest error (the runs' error differs that much from seed to seed). */
+        double errorTolerance = 0.1;
         /** [PF_options] threads of the runs (results do not depend on it); 0: every core. */
         int threads = 0;
     };
@@ -318,10 +321,13 @@ public:
      *  ground truth, once per seed, for settings of Widened() — for each motion factor in
      *  turn the sensor factors from the smallest up to the first whose runs all converge with
      *  the pose NEES inside its 95 % bound (RunMetrics::nees_inside_share) in minInsideShare of
-     *  the steps — and returns `r` widened by the consistent setting of the lowest error (none
-     *  consistent: the one with the most steps inside), with the trials in `consistency`.
-     *  `trial` is called after each setting. The runs' outputs go to a temporary directory,
-     *  removed afterwards (and by the interrupt watchdog). */
+     *  the steps — and returns `r` widened by the consistent setting of the lowest error, with
+     *  the trials in `consistency`. When none is consistent: of the settings whose runs all
+     *  converged within errorTolerance of the lowest error, the one with the most steps
+     *  inside (none converged: the lowest error). `trial` is called after each setting. The
+     *  runs' outputs go to a temporary directory, removed afterwards (and by the interrupt
+     *  watchdog). Nothing fitted to widen (every sigma and minStd too little data): `r` as
+     *  given, no trial run. */
     static TCalibrationResult Consistency(
         const TCalibrationResult& r, const std::string& baseIni, const std::string& baseName,
         const std::string& worldPath, const std::string& rawlogPath,

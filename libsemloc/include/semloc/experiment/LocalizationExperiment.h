@@ -85,6 +85,8 @@ public:
         std::string rawlog_file;
         /** Output directory (-o); empty: the ini's. */
         std::string logOutput_dir;
+        /** Ground truth; empty: the ini's. */
+        std::string ground_truth_path_file;
         /** [PF_options] threads (-t). */
         std::optional<int> threads;
         /** particles_count (-n). */

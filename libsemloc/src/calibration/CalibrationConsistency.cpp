@@ -1,0 +1,252 @@
+/* semloc — semloc-calibrate's consistency stage: the filter run on the calibration run itself,
+ * its noise widened until its pose error is consistent with its spread. */
+#include <semloc/calibration/SensorCalibration.h>
+#include <semloc/experiment/LocalizationExperiment.h>
+#include <semloc/filter/MotionModel.h>
+#include <semloc/io/Interrupt.h>
+#include <semloc/maps/CSemanticMap.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <optional>
+#include <sstream>
+#include <stdexcept>
+
+namespace semloc
+{
+namespace
+{
+namespace fs = std::filesystem;
+
+/** A directory of its own under the system's temporary directory, registered with the
+ *  interrupt watchdog and removed with its contents when the object goes. */
+class TemporaryDirectory
+{
+public:
+    TemporaryDirectory()
+    {
+        std::string name = (fs::temp_directory_path() / "semloc-calibrate-XXXXXX").string();
+        if (::mkdtemp(name.data()) == nullptr)
+        {
+            throw std::runtime_error("cannot create a temporary directory in '" +
+                                     fs::temp_directory_path().string() + "'");
+        }
+        m_path = name;
+        registerTemporaryPath(m_path);
+    }
+    TemporaryDirectory(const TemporaryDirectory&) = delete;
+    TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
+    ~TemporaryDirectory()
+    {
+        std::error_code ec;
+        fs::remove_all(m_path, ec);
+        unregisterTemporaryPath(m_path);
+    }
+    std::string path(const std::string& name) const { return (fs::path(m_path) / name).string(); }
+
+private:
+    std::string m_path;
+};
+
+std::string number(double v)
+{
+    std::ostringstream s;
+    s << std::setprecision(3) << v;
+    return s.str();
+}
+
+/** `f` multiplied by `k`, kept to `range` (a fit the data could not make, or 0, is left
+ *  alone). */
+void widen(TCalibrationFit& f, double k, const config::TValueRange& range)
+{
+    if (f.status == TCalibrationFit::Status::TooLittleData || k == 1 || !(f.value > 0))
+    {
+        return;
+    }
+    const double v = std::clamp(f.value * k, range.lo, range.hi);
+    f.widenedBy *= v / f.value;  // the factor applied, range kept
+    f.value = v;
+}
+
+/** The filter run once per seed with the ini `ini`, its metrics averaged into a trial. */
+TConsistencyTrial runTrial(const std::string& ini, const TemporaryDirectory& dir,
+                           const std::string& rawlogPath, const std::string& groundTruthPath,
+                           const SensorCalibration::TConsistencyOptions& o)
+{
+    TConsistencyTrial t;
+    for (const uint32_t seed : o.seeds)
+    {
+        LocalizationExperiment::TOverrides ov;
+        ov.rawlog_file = rawlogPath;
+        ov.ground_truth_path_file = groundTruthPath;
+        ov.logOutput_dir = dir.path("run");
+        ov.seed = seed;
+        ov.threads = o.threads;
+        const auto m = LocalizationExperiment::FromConfigFile(ini, ov)
+                           .run({}, LocalizationExperiment::Records::Stream)
+                           .metrics;
+        t.runs++;
+        t.converged += m.converged ? 1 : 0;
+        t.insideShare += m.nees_inside_share;
+        t.neesMean += m.nees_mean;
+        t.meanErr_m += m.converged ? m.mean_err_after_conv_m : m.rmse_m;
+    }
+    const double n = static_cast<double>(std::max<size_t>(t.runs, 1));
+    t.insideShare /= n;
+    t.neesMean /= n;
+    t.meanErr_m /= n;
+    return t;
+}
+
+bool consistent(const TConsistencyTrial& t, double minShare)
+{
+    return t.runs > 0 && t.converged == t.runs && t.insideShare >= minShare;
+}
+
+/** The trial written: the consistent one of the lowest error; else, of those whose runs all
+ *  converged within `tolerance` of the lowest error, the one with the most steps inside the
+ *  bound; else (no setting converged in every run) the one of the lowest error. */
+size_t choose(const std::vector<TConsistencyTrial>& trials, double minShare, double tolerance)
+{
+    const auto lowestError = [&](const auto& admit)
+    {
+        std::optional<size_t> best;
+        for (size_t i = 0; i < trials.size(); i++)
+        {
+            if (admit(trials[i]) && (!best || trials[i].meanErr_m < trials[*best].meanErr_m))
+            {
+                best = i;
+            }
+        }
+        return best;
+    };
+    if (const auto c = lowestError([&](const auto& t) { return consistent(t, minShare); }))
+    {
+        return *c;
+    }
+    const auto converged = lowestError([](const auto& t) { return t.converged == t.runs; });
+    if (!converged)
+    {
+        return *lowestError([](const auto&) { return true; });
+    }
+    const double limit = (1 + tolerance) * trials[*converged].meanErr_m;
+    size_t best = *converged;
+    for (size_t i = 0; i < trials.size(); i++)
+    {
+        const auto& t = trials[i];
+        if (t.converged == t.runs && t.meanErr_m <= limit &&
+            t.insideShare > trials[best].insideShare)
+        {
+            best = i;
+        }
+    }
+    return best;
+}
+}  // namespace
+
+TCalibrationResult SensorCalibration::Widened(const TCalibrationResult& r, double sensorScale,
+                                              double motionScale)
+{
+    using L = CSemanticMap::TLikelihoodOptions;
+    using M = MotionModel::TOptions;
+    TCalibrationResult w = r;
+    widen(w.sigma_range_m, sensorScale, L::range("sigma_range_m"));
+    widen(w.sigma_bearing_deg, sensorScale, L::range("sigma_bearing_deg"));
+    for (const auto& [key, fit] :
+         {std::pair{"a1", &w.a1}, std::pair{"a2", &w.a2}, std::pair{"a3", &w.a3},
+          std::pair{"a4", &w.a4}, std::pair{"minStdXY", &w.minStdXY},
+          std::pair{"minStdPHI", &w.minStdPHI}})
+    {
+        widen(*fit, motionScale, M::range(key));
+    }
+    return w;
+}
+
+TCalibrationResult SensorCalibration::Consistency(
+    const TCalibrationResult& r, const std::string& baseIni, const std::string& baseName,
+    const std::string& worldPath, const std::string& rawlogPath, const std::string& groundTruthPath,
+    const TConsistencyOptions& o, const std::function<void(const TConsistencyTrial&)>& trial)
+{
+    if (o.seeds.empty() || o.sensorScales.empty() || o.motionScales.empty())
+    {
+        throw std::invalid_argument("the consistency stage needs seeds and factors to try");
+    }
+    const auto fitted = [](const TCalibrationFit& f)
+    { return f.status != TCalibrationFit::Status::TooLittleData && f.value > 0; };
+    if (!fitted(r.sigma_range_m) && !fitted(r.sigma_bearing_deg) && !fitted(r.minStdXY) &&
+        !fitted(r.minStdPHI))
+    {
+        return r;  // nothing fitted to widen: the stage does not run
+    }
+    const TemporaryDirectory dir;
+    const std::string iniPath = dir.path("trial.ini");
+    TConsistency c;
+    c.minInsideShare = o.minInsideShare;
+    const bool motionFitted = r.a1.status != TCalibrationFit::Status::TooLittleData;
+    for (const double su : o.motionScales)
+    {
+        if (!motionFitted && su != o.motionScales.front())
+        {
+            break;  // the base's motion model is kept: nothing to widen
+        }
+        for (const double sz : o.sensorScales)
+        {
+            {
+                std::ofstream f(iniPath, std::ios::binary);
+                f << ApplyToIni(baseIni, baseName, Widened(r, sz, su), worldPath);
+                if (!f.flush())
+                {
+                    throw std::runtime_error("cannot write '" + iniPath + "'");
+                }
+            }
+            auto t = runTrial(iniPath, dir, rawlogPath, groundTruthPath, o);
+            t.sensorScale = sz;
+            t.motionScale = su;
+            c.trials.push_back(t);
+            if (trial)
+            {
+                trial(t);
+            }
+            if (consistent(t, o.minInsideShare))
+            {
+                break;  // wider sensor noise only spreads the cloud further
+            }
+        }
+    }
+    c.chosen = choose(c.trials, o.minInsideShare, o.errorTolerance);
+    c.consistent = consistent(c.trials[c.chosen], o.minInsideShare);
+    const auto& best = c.trials[c.chosen];
+    TCalibrationResult out = Widened(r, best.sensorScale, best.motionScale);
+    out.consistency = std::move(c);
+    return out;
+}
+
+std::string SensorCalibration::ConsistencyText(const TCalibrationResult& r)
+{
+    const auto& c = r.consistency;
+    if (c.trials.empty())
+    {
+        return "";
+    }
+    const auto describe = [](const TConsistencyTrial& t)
+    {
+        return "NEES inside its 95 % bound in " + number(100 * t.insideShare) +
+               " % of the steps (mean NEES " + number(t.neesMean) + "), mean error " +
+               number(t.meanErr_m) + " m, " + std::to_string(t.converged) + " of " +
+               std::to_string(t.runs) + " runs converged";
+    };
+    const auto& before = c.trials.front();
+    const auto& after = c.trials[c.chosen];
+    return "consistency: as fitted, " + describe(before) + "; written (detector sigmas x" +
+           number(after.sensorScale) + ", motion noise x" + number(after.motionScale) + "), " +
+           describe(after) +
+           (c.consistent ? ""
+                         : " (no setting tried reached " + number(100 * c.minInsideShare) +
+                               " %: the one with the most steps inside written)") +
+           "\n";
+}
+
+}  // namespace semloc
