@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
@@ -106,6 +107,29 @@ bool consistent(const TConsistencyTrial& t, double minShare)
     return t.runs > 0 && t.converged == t.runs && t.insideShare >= minShare;
 }
 
+/** Whether the trials from `row` on hold one whose runs all converged within `tolerance` of
+ *  the lowest error of such trials. */
+bool competitive(const std::vector<TConsistencyTrial>& trials, size_t row, double tolerance)
+{
+    double lowest = std::numeric_limits<double>::infinity();
+    for (const auto& t : trials)
+    {
+        if (t.converged == t.runs)
+        {
+            lowest = std::min(lowest, t.meanErr_m);
+        }
+    }
+    for (size_t i = row; i < trials.size(); i++)
+    {
+        if (trials[i].converged == trials[i].runs &&
+            trials[i].meanErr_m <= (1 + tolerance) * lowest)
+        {
+            return true;
+        }
+    }
+    return false;
+}
+
 /** The trial written: the consistent one of the lowest error; else, of those whose runs all
  *  converged within `tolerance` of the lowest error, the one with the most steps inside the
  *  bound; else (no setting converged in every run) the one of the lowest error. */
@@ -192,6 +216,7 @@ TCalibrationResult SensorCalibration::Consistency(
         {
             break;  // the base's motion model is kept: nothing to widen
         }
+        const size_t row = c.trials.size();
         for (const double sz : o.sensorScales)
         {
             {
@@ -214,6 +239,10 @@ TCalibrationResult SensorCalibration::Consistency(
             {
                 break;  // wider sensor noise only spreads the cloud further
             }
+        }
+        if (!competitive(c.trials, row, o.errorTolerance))
+        {
+            break;  // more motion noise has only made the error worse
         }
     }
     c.chosen = choose(c.trials, o.minInsideShare, o.errorTolerance);
