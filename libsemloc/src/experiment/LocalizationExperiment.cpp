@@ -18,6 +18,7 @@
 
 #include "experiment/LocalizationConfig.h"
 #include "experiment/LocalizationOutputs.h"
+#include "experiment/RunDetectorBound.h"
 #include "experiment/StepTimes.h"
 #include "io/TextFiles.h"
 
@@ -33,9 +34,11 @@ using detail::writeFile;
 class RawlogPlayback
 {
 public:
-    /** `skip` steps skipped first (rawlog_offset); `onStep` is called with the record of each
-     *  step run (which it may complete: its ground truth). */
-    RawlogPlayback(Localizer& loc, size_t skip, std::function<void(TStepRecord&)> onStep)
+    /** What is called after each step run: its record (which the callee may complete: its
+     *  ground truth) and the frame it weighed. */
+    using OnStep = std::function<void(TStepRecord&, const mrpt::obs::CSensoryFrame&)>;
+    /** `skip` steps skipped first (rawlog_offset); `onStep` is called after each step run. */
+    RawlogPlayback(Localizer& loc, size_t skip, OnStep onStep)
         : m_loc(loc), m_skip(skip), m_onStep(std::move(onStep))
     {
     }
@@ -64,7 +67,7 @@ private:
         {
             r.t = detail::actionTime(*action);
         }
-        m_onStep(r);
+        m_onStep(r, sf);
     }
     /** The observations grouped so far as one step (or one skipped). */
     void flush();
@@ -82,7 +85,7 @@ private:
     mrpt::obs::CSensoryFrame m_group;
     bool m_sawPairs = false, m_sawObservations = false;
     mrpt::obs::CActionCollection::Ptr m_action;
-    std::function<void(TStepRecord&)> m_onStep;
+    OnStep m_onStep;
 };
 
 void RawlogPlayback::flush()
@@ -175,14 +178,15 @@ void RawlogPlayback::observation(const mrpt::obs::CObservation::Ptr& obs)
 }
 
 /** Where each step's record goes as it is run: its ground truth matched, then steps.csv, the
- *  metrics, particles.csv and (Records::Keep) the kept records. */
+ *  metrics, the detector's bound, particles.csv and (Records::Keep) the kept records. */
 struct StepSinks
 {
     StepSinks(const StagedDirectory& out, const LocalizationExperiment::TOptions& o,
-              const GroundTruth& gt, double gtTolerance, LocalizationExperiment::Records keep,
-              std::vector<TStepRecord>& kept)
+              const LocalizationMap& maps, const GroundTruth& gt, double gtTolerance,
+              LocalizationExperiment::Records keep, std::vector<TStepRecord>& kept)
         : steps(out.path("steps.csv")),
           metrics(o.convergence),
+          bound(maps, o.filter),
           m_gt(gt),
           m_gtTolerance(gtTolerance),
           m_keep(keep == LocalizationExperiment::Records::Keep),
@@ -193,7 +197,7 @@ struct StepSinks
             particles.emplace(out.path("particles.csv"), o.particles_save_every);
         }
     }
-    void add(TStepRecord& r, const Localizer& loc)
+    void add(TStepRecord& r, const Localizer& loc, const mrpt::obs::CSensoryFrame& sf)
     {
         if (const auto* row = m_gt.nearest(r.t, m_gtTolerance))
         {
@@ -201,6 +205,10 @@ struct StepSinks
         }
         steps.add(r);
         metrics.add(r);
+        if (bound.active())
+        {
+            bound.add(r, sf, loc.lastMovement(), metrics.result());
+        }
         if (particles)
         {
             particles->step(r, loc.pdf());
@@ -223,6 +231,7 @@ struct StepSinks
 
     detail::StepsCsv steps;
     RunMetricsAccumulator metrics;
+    detail::RunDetectorBound bound;
     std::optional<detail::ParticlesCsv> particles;
     std::optional<TStepRecord> last;
 
@@ -278,9 +287,10 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
 
     // Each step's record goes to steps.csv, the metrics and particles.csv as it comes: memory
     // does not grow with the rawlog's length (unless the records are kept).
-    StepSinks sinks(out, o, m_groundTruth, m_gtTolerance, records, res.records);
+    StepSinks sinks(out, o, m_maps, m_groundTruth, m_gtTolerance, records, res.records);
     RawlogPlayback playback(loc, static_cast<size_t>(o.rawlog_offset),
-                            [&](TStepRecord& r) { sinks.add(r, loc); });
+                            [&](TStepRecord& r, const mrpt::obs::CSensoryFrame& sf)
+                            { sinks.add(r, loc, sf); });
     replay(o.rawlog_file, m_entries, playback, progress);
     playback.finish();
     sinks.finish(loc);
@@ -289,6 +299,8 @@ LocalizationExperiment::TResult LocalizationExperiment::run(
     res.final_particles = sinks.last ? sinks.last->n_particles : 0;
 
     res.metrics = sinks.metrics.result();
+    res.detector_bound_mean_m = sinks.bound.mean();
+    res.detector_bound_after_conv_m = sinks.bound.meanAfterConvergence(res.metrics);
     res.likelihood = loc.likelihoodStats();
     res.recovery = loc.recoveryStats();
     res.initialized_from_detections = loc.initializedFromDetections();

@@ -121,6 +121,22 @@ std::string neesAndLostYaml(const RunMetrics& m, const RunMetrics::TConvergenceC
       << "longest_lost_s: " << yamlNum(m.longest_lost_s) << "\n";
     return y.str();
 }
+
+/** summary.yaml's keys of the detector's bound (docs/design.md, "The detector's bound"). */
+std::string detectorBoundYaml(const LocalizationExperiment::TResult& res)
+{
+    const double ratio = res.metrics.mean_err_after_conv_m / res.detector_bound_after_conv_m;
+    return "# the detector's Cramer-Rao bound [m]: the mean position error no filter of these\n"
+           "# detections can beat on average (one run may) under the configured detector\n"
+           "# model, linearized at the true path; from the convergence step on, and over every\n"
+           "# step with ground truth (null: no ground truth, no semantic map, not converged)\n"
+           "detector_bound_after_conv_m: " +
+           yamlNum(res.detector_bound_after_conv_m) + "\n" +
+           "detector_bound_mean_m: " + yamlNum(res.detector_bound_mean_m) + "\n" +
+           "# mean_err_after_conv_m / detector_bound_after_conv_m\n"
+           "error_over_bound_after_conv: " +
+           yamlNum(std::isfinite(ratio) ? ratio : std::nan("")) + "\n";
+}
 }  // namespace
 
 std::string summaryYaml(const LocalizationExperiment::TResult& res,
@@ -148,6 +164,7 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "convergence_criterion: {max_err_xy_m: " << num(c.max_err_xy_m)
       << ", max_var_xy_m2: " << num(c.max_var_xy_m2) << ", min_steps: " << c.min_steps << "}\n"
       << neesAndLostYaml(m, c)
+      << detectorBoundYaml(res)
       << "# observations and detections the maps could not use, non-finite likelihoods\n"
       << "observations_used: " << res.likelihood.observations_used << "\n"
       << "observations_skipped: " << res.likelihood.observations_skipped << "\n"

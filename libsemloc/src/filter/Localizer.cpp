@@ -404,6 +404,11 @@ void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs
     mrpt::obs::CActionCollection rederived, marked;
     const mrpt::obs::CActionCollection& acts =
         withUsableMovement(MotionModel(m_options.motion_model).apply(action, rederived), marked);
+    m_lastMovement.reset();
+    if (const auto move = acts.getBestMovementEstimation())
+    {
+        m_lastMovement = *move;
+    }
     // The standard proposal resamples inside its step and keeps the ESS before it; asking
     // executeOn for TParticleFilterStats there would read 1 and cost two exp() and two
     // virtual calls per particle (its weight variance). The other algorithms run MRPT's

@@ -1,5 +1,5 @@
 /* semloc — CSemanticMap's mapping: observations taken from a known pose become objects, or
- * refine the objects they name or lie near. */
+ * refine the objects they name or lie near; the objects a detector's coverage holds. */
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose3D.h>
 #include <semloc/maps/CSemanticMap.h>
@@ -33,20 +33,13 @@ std::pair<double, double> toWorld(const mrpt::poses::CPose3D& vehicle,
     return std::make_pair(s.x() + r * std::cos(a), s.y() + r * std::sin(a));
 }
 
-/** P_D(rho) of the probabilistic model (linear between p_detect_near and p_detect_far). */
-double detectionProbability(const CSemanticMap::TLikelihoodOptions& opt, double rho, double R)
-{
-    const double p = opt.p_detect_near + (opt.p_detect_far - opt.p_detect_near) * rho / R;
-    return std::clamp(p, 1e-6, 1.0);
-}
-
 /** The valid detections of `o` with at least `minConfidence`, in the world. */
 std::vector<NewDetection> inWorld(const CObservationSemantic& o,
                                   const mrpt::poses::CPose3D& vehicle,
                                   const CSemanticMap::TLikelihoodOptions& opt)
 {
     const double minConfidence = opt.min_confidence;
-    const double R = opt.max_range_m > 0 ? opt.max_range_m : o.maxRange_m;
+    const double R = opt.maxRange(o);
     std::vector<NewDetection> news;
     for (const auto& d : o.detections)
     {
@@ -56,7 +49,7 @@ std::vector<NewDetection> inWorld(const CObservationSemantic& o,
         }
         const auto [wx, wy] = toWorld(vehicle, o.sensorPose, d.range_m, d.bearing_rad);
         news.push_back({d.label, d.object_id, wx, wy,
-                        R > 0 && std::isfinite(R) ? detectionProbability(opt, d.range_m, R) : 1.0});
+                        R > 0 && std::isfinite(R) ? opt.detectionProbability(d.range_m, R) : 1.0});
     }
     return news;
 }
@@ -122,28 +115,17 @@ void mergeInto(CSemanticMap::TObject& target, const NewDetection& n)
     target.n_detected++;
 }
 
-/** Counts every object inside the coverage of `o` (taken at `vehicle`) as in view, with the
- *  detection it was expected to give (P_D at its range). */
-void countInView(std::vector<CSemanticMap::TObject>& objects, const CObservationSemantic& o,
-                 const mrpt::poses::CPose3D& vehicle, const CSemanticMap::TLikelihoodOptions& opt)
+/** Counts every object of `map` inside the coverage of `o` (taken at `vehicle`) as in view,
+ *  with the detection it was expected to give (P_D at its range), into `objects` (the map's). */
+void countInView(const CSemanticMap& map, std::vector<CSemanticMap::TObject>& objects,
+                 const CObservationSemantic& o, const mrpt::poses::CPose3D& vehicle)
 {
-    const double R = opt.max_range_m > 0 ? opt.max_range_m : o.maxRange_m;
-    const double fov = opt.fov_deg > 0 ? opt.fov_deg * M_PI / 180 : o.fov_rad;
-    if (!(R > 0 && std::isfinite(R) && fov > 0 && std::isfinite(fov)))
+    const auto& opt = map.likelihoodOptions;
+    const double R = opt.maxRange(o);
+    for (const auto& v : map.objectsInView(o, vehicle))
     {
-        return;
-    }
-    const mrpt::poses::CPose3D s = vehicle + o.sensorPose;
-    for (auto& ob : objects)
-    {
-        const double dx = ob.x - s.x(), dy = ob.y - s.y();
-        const double rho = std::hypot(dx, dy);
-        const double b = mrpt::math::wrapToPi(std::atan2(dy, dx) - s.yaw());
-        if (rho <= R && (fov >= 2 * M_PI || std::abs(b) <= 0.5 * fov))
-        {
-            ob.n_in_view++;
-            ob.expected_detections += detectionProbability(opt, rho, R);
-        }
+        objects[v.index].n_in_view++;
+        objects[v.index].expected_detections += opt.detectionProbability(v.range_m, R);
     }
 }
 
@@ -166,6 +148,36 @@ void updateSurety(CSemanticMap::TObject& ob, double sigmaRange)
 }
 }  // namespace
 
+double CSemanticMap::TLikelihoodOptions::detectionProbability(double rho, double R) const
+{
+    const double p = p_detect_near + (p_detect_far - p_detect_near) * rho / R;
+    return std::clamp(p, 1e-6, 1.0);
+}
+
+std::vector<CSemanticMap::TObjectInView> CSemanticMap::objectsInView(
+    const CObservationSemantic& obs, const mrpt::poses::CPose3D& vehicle) const
+{
+    const double R = likelihoodOptions.maxRange(obs);
+    const double fov = likelihoodOptions.fieldOfView(obs);
+    std::vector<TObjectInView> out;
+    if (!(R > 0 && std::isfinite(R) && fov > 0 && std::isfinite(fov)))
+    {
+        return out;
+    }
+    const mrpt::poses::CPose3D s = vehicle + obs.sensorPose;
+    for (size_t i = 0; i < m_objects.size(); i++)
+    {
+        const double dx = m_objects[i].x - s.x(), dy = m_objects[i].y - s.y();
+        const double rho = std::hypot(dx, dy);
+        const double b = mrpt::math::wrapToPi(std::atan2(dy, dx) - s.yaw());
+        if (rho <= R && (fov >= 2 * M_PI || std::abs(b) <= 0.5 * fov))
+        {
+            out.push_back({i, rho, b});
+        }
+    }
+    return out;
+}
+
 bool CSemanticMap::internal_insertObservation(
     const mrpt::obs::CObservation& obs, const std::optional<const mrpt::poses::CPose3D>& robotPose)
 {
@@ -174,7 +186,7 @@ bool CSemanticMap::internal_insertObservation(
     if (const auto* o = dynamic_cast<const CObservationSemantic*>(&obs))
     {
         news = inWorld(*o, vehicle, likelihoodOptions);
-        countInView(m_objects, *o, vehicle, likelihoodOptions);
+        countInView(*this, m_objects, *o, vehicle);
     }
     else if (const auto* br = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
     {

@@ -64,60 +64,98 @@ double gaussianMeanError(double cxx, double cxy, double cyy)
     return std::sqrt(2.0 * l1 / M_PI) * std::comp_ellint_2(k);
 }
 
+void DetectorBoundRecursion::restart(const mrpt::math::TPose2D& pose)
+{
+    const double pbb = m_started ? m_P(3, 3) : m_unknownHeadingDrift ? kPriorVariance : 0.0;
+    m_P.setZero();
+    for (int i = 0; i < 3; i++)
+    {
+        m_P(i, i) = kPriorVariance;
+    }
+    m_P(3, 3) = pbb;
+    m_pose = pose;
+    m_started = true;
+}
+
+void DetectorBoundRecursion::predict(const mrpt::math::TPose2D& pose,
+                                     const mrpt::math::CMatrixDouble33& incrementCov, double dt_s)
+{
+    if (!m_started)
+    {
+        restart(pose);
+        return;
+    }
+    // Prediction through x_k = x_{k-1} ⊕ (u_k - (0, 0, b dt)), u_k's covariance in x_{k-1}'s
+    // frame.
+    using Matrix4d = Eigen::Matrix4d;
+    const auto& x0 = m_pose;
+    const mrpt::poses::CPose2D u = mrpt::poses::CPose2D(pose) - mrpt::poses::CPose2D(x0);
+    const double c = std::cos(x0.phi), s = std::sin(x0.phi);
+    Matrix4d F = Matrix4d::Identity();
+    F(0, 2) = -s * u.x() - c * u.y();
+    F(1, 2) = c * u.x() - s * u.y();
+    F(2, 3) = -dt_s;
+    Eigen::Matrix<double, 4, 3> G = Eigen::Matrix<double, 4, 3>::Zero();
+    G.topLeftCorner<3, 3>().setIdentity();
+    G.topLeftCorner<2, 2>() << c, -s, s, c;
+    const Matrix4d P = m_P.asEigen();
+    m_P = Matrix4d(F * P * F.transpose() + G * incrementCov.asEigen() * G.transpose());
+    m_pose = pose;
+}
+
+void DetectorBoundRecursion::update(const std::vector<mrpt::math::TPoint2D>& visible,
+                                    const TDetectorBoundSensor& sensor)
+{
+    ASSERTMSG_(sensor.sigma_range_m > 0 && sensor.sigma_bearing_rad > 0,
+               "detectorCramerRaoBound: the detector's noise must be > 0");
+    if (!m_started || visible.empty())
+    {
+        return;
+    }
+    using Matrix4d = Eigen::Matrix4d;
+    Matrix4d J = Matrix4d::Zero();
+    for (const auto& p : visible)
+    {
+        double range = 0;
+        const Eigen::Matrix3d I = detectionInformation(m_pose, p, sensor, range);
+        J.topLeftCorner<3, 3>() += std::clamp(sensor.detectionProbability(range), 0.0, 1.0) * I;
+    }
+    // (P⁻¹ + J)⁻¹ = P (I + J P)⁻¹: no inverse of a nearly singular P.
+    Matrix4d P = m_P.asEigen();
+    P = P * (Matrix4d::Identity() + J * P).inverse();
+    m_P = Matrix4d(0.5 * (P + P.transpose()));
+}
+
+TDetectorBoundStep DetectorBoundRecursion::bound() const
+{
+    return summarize(m_P.asEigen().topLeftCorner<3, 3>());
+}
+
 std::vector<TDetectorBoundStep> detectorCramerRaoBound(
     const std::vector<TDetectorBoundInput>& steps, const TDetectorBoundSensor& sensor,
     bool unknownHeadingDrift)
 {
     ASSERTMSG_(sensor.sigma_range_m > 0 && sensor.sigma_bearing_rad > 0,
                "detectorCramerRaoBound: the detector's noise must be > 0");
-    // The state (x, y, phi, b): b, the heading drift, only with unknownHeadingDrift; without
-    // it b's block stays 0 and the recursion is the pose's alone.
-    using Matrix4d = Eigen::Matrix4d;
-    const double driftPrior = unknownHeadingDrift ? kPriorVariance : 0.0;
+    DetectorBoundRecursion recursion(unknownHeadingDrift);
     std::vector<TDetectorBoundStep> out;
     out.reserve(steps.size());
-    Matrix4d P = Matrix4d::Zero();
     for (size_t k = 0; k < steps.size(); k++)
     {
         const auto& st = steps[k];
         if (k == 0 || st.restart)
         {
-            const double pbb = k == 0 ? driftPrior : P(3, 3);
-            P.setZero();
-            P.topLeftCorner<3, 3>() = kPriorVariance * Eigen::Matrix3d::Identity();
-            P(3, 3) = pbb;
+            recursion.restart(st.pose);
         }
         else
         {
-            // Prediction through x_k = x_{k-1} ⊕ (u_k - (0, 0, b dt)), u_k's covariance in
-            // x_{k-1}'s frame.
-            const auto& x0 = steps[k - 1].pose;
-            const mrpt::poses::CPose2D u = mrpt::poses::CPose2D(st.pose) - mrpt::poses::CPose2D(x0);
-            const double c = std::cos(x0.phi), s = std::sin(x0.phi);
-            Matrix4d F = Matrix4d::Identity();
-            F(0, 2) = -s * u.x() - c * u.y();
-            F(1, 2) = c * u.x() - s * u.y();
-            F(2, 3) = -st.dt_s;
-            Eigen::Matrix<double, 4, 3> G = Eigen::Matrix<double, 4, 3>::Zero();
-            G.topLeftCorner<3, 3>().setIdentity();
-            G.topLeftCorner<2, 2>() << c, -s, s, c;
-            P = F * P * F.transpose() + G * st.incrementCov.asEigen() * G.transpose();
+            recursion.predict(st.pose, st.incrementCov, st.dt_s);
         }
-        if (!st.silent && !st.visible.empty())
+        if (!st.silent)
         {
-            Matrix4d J = Matrix4d::Zero();
-            for (const auto& p : st.visible)
-            {
-                double range = 0;
-                const Eigen::Matrix3d I = detectionInformation(st.pose, p, sensor, range);
-                J.topLeftCorner<3, 3>() +=
-                    std::clamp(sensor.detectionProbability(range), 0.0, 1.0) * I;
-            }
-            // (P⁻¹ + J)⁻¹ = P (I + J P)⁻¹: no inverse of a nearly singular P.
-            P = P * (Matrix4d::Identity() + J * P).inverse();
-            P = 0.5 * (P + P.transpose());
+            recursion.update(st.visible, sensor);
         }
-        out.push_back(summarize(P.topLeftCorner<3, 3>()));
+        out.push_back(recursion.bound());
     }
     return out;
 }

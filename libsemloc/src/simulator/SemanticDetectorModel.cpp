@@ -148,15 +148,28 @@ std::vector<SemanticDetectorModel::TVisibleObject> SemanticDetectorModel::visibl
         {
             continue;
         }
-        // Occluded if the sight line first crosses an outline that is not the object's own.
-        const double hit = m_all.cast(sx, sy, angle, r);
-        if (hit < r && m_own[i].cast(sx, sy, angle, r) != hit)
+        if (occluded(sx, sy, angle, r, i))
         {
             continue;
         }
         out.push_back({i, r, b});
     }
     return out;
+}
+
+bool SemanticDetectorModel::occluded(double sx, double sy, double angle, double range,
+                                     size_t index) const
+{
+    // Occluded if the sight line first crosses an outline that is not the object's own.
+    const double hit = m_all.cast(sx, sy, angle, range);
+    return hit < range && m_own[index].cast(sx, sy, angle, range) != hit;
+}
+
+bool SemanticDetectorModel::inLineOfSight(const mrpt::math::TPoint2D& sensor, size_t index) const
+{
+    const auto& c = m_objects.at(index).center;
+    const double dx = c.x - sensor.x, dy = c.y - sensor.y;
+    return !occluded(sensor.x, sensor.y, std::atan2(dy, dx), std::hypot(dx, dy), index);
 }
 
 size_t SemanticDetectorModel::labelIndex(const std::string& label) const

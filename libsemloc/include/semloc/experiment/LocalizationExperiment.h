@@ -10,6 +10,7 @@
 #include <semloc/maps/LocalizationMap.h>
 
 #include <functional>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -123,6 +124,13 @@ public:
         /** [MotionModel] heading_drift_*: the particles' mean heading drift rate after the
          *  last step [deg/min] (0 when off). */
         double heading_drift_deg_per_min = 0;
+        /** The detector's Cramér–Rao bound along the true path (docs/design.md, "The
+         *  detector's bound"): the mean of its mean position error over the steps with ground
+         *  truth [m]; NaN without ground truth or without a semantic map. */
+        double detector_bound_mean_m = std::numeric_limits<double>::quiet_NaN();
+        /** The same over the steps of metrics.mean_err_after_conv_m (from the convergence
+         *  step on); NaN also when not converged. */
+        double detector_bound_after_conv_m = std::numeric_limits<double>::quiet_NaN();
         /** Threads of the per-particle work. */
         size_t threads = 1;
         /** "action/sensory-frame", "observations-only" or "mixed". */

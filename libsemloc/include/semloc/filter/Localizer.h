@@ -246,6 +246,13 @@ public:
     TStepRecord lastStepRecord(const mrpt::obs::CSensoryFrame& sf) const;
     /** The last step. */
     const TStepInfo& lastStep() const { return m_last; }
+    /** The 2D odometry movement the last step moved the particles by: its action's (after
+     *  [MotionModel]), or the one made of the odometry readings' increment (observations-only
+     *  format); null before the first step and after a step without one (a 3D movement only). */
+    const mrpt::obs::CActionRobotMovement2D* lastMovement() const
+    {
+        return m_lastMovement ? &*m_lastMovement : nullptr;
+    }
     /** Steps run. */
     size_t steps() const { return m_steps; }
     /** @} */
@@ -289,6 +296,7 @@ private:
     void seedFromDetections(const mrpt::obs::CActionCollection& action,
                             const mrpt::obs::CSensoryFrame& sf);
     TStepInfo m_last;
+    std::optional<mrpt::obs::CActionRobotMovement2D> m_lastMovement;
     size_t m_steps = 0;
     /** Scan beams with impossible ranges, made invalid before the update. */
     size_t m_beamsInvalid = 0;

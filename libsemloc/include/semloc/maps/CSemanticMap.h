@@ -5,11 +5,13 @@
 #include <mrpt/maps/CMetricMap.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CObservationBearingRange.h>
+#include <mrpt/poses/CPose3D.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 
 #include <atomic>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -227,6 +229,22 @@ public:
          *  key that is not a number): what a tool writing the key must keep to. */
         static config::TValueRange range(const std::string& key);
 
+        /** The detector's max range for `obs` [m]: max_range_m if > 0, else the
+         *  observation's. */
+        double maxRange(const CObservationSemantic& obs) const
+        {
+            return max_range_m > 0 ? max_range_m : obs.maxRange_m;
+        }
+        /** The detector's field of view for `obs` [rad]: fov_deg if > 0, else the
+         *  observation's. */
+        double fieldOfView(const CObservationSemantic& obs) const
+        {
+            return fov_deg > 0 ? fov_deg * M_PI / 180 : obs.fov_rad;
+        }
+        /** P_D(rho) of the probabilistic model for a detector of max range `R`: linear from
+         *  p_detect_near at 0 to p_detect_far at R, clamped to [1e-6, 1]. */
+        double detectionProbability(double rho, double R) const;
+
         /** Reads `section` strictly (unknown keys and bad values are errors). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
                                 const std::string& section) override;
@@ -335,6 +353,21 @@ public:
      *  object with its label; empty if the likelihood skips it (not usable, unknown). */
     std::vector<size_t> candidatesOf(const CObservationSemantic& obs,
                                      const TSemanticDetection& d) const;
+    /** A map object inside a detector's coverage. */
+    struct TObjectInView
+    {
+        /** Index into objects(). */
+        size_t index = 0;
+        /** Range [m] and bearing in the sensor frame [rad] of its position. */
+        double range_m = 0, bearing_rad = 0;
+    };
+    /** The objects, in map order, inside the coverage of `obs` taken from vehicle pose
+     *  `vehicle`: within its max range and field of view (TLikelihoodOptions::maxRange(),
+     *  fieldOfView()) from the sensor at `vehicle` (+) obs.sensorPose; the objects a
+     *  likelihood predicts there (no occlusion) and insertion counts as in view. Empty when
+     *  the coverage is not a positive finite range and angle. */
+    std::vector<TObjectInView> objectsInView(const CObservationSemantic& obs,
+                                             const mrpt::poses::CPose3D& vehicle) const;
     /** @} */
 
     // CMetricMap interface

@@ -81,6 +81,44 @@ std::vector<TDetectorBoundStep> detectorCramerRaoBound(
     const std::vector<TDetectorBoundInput>& steps, const TDetectorBoundSensor& sensor,
     bool unknownHeadingDrift = false);
 
+/** detectorCramerRaoBound()'s recursion one step at a time, in constant memory (a run of any
+ *  length): restart() or predict() to the step's true pose, then update() with what each
+ *  detector sees there (none: a silent step), then bound(). */
+class DetectorBoundRecursion
+{
+public:
+    /** `unknownHeadingDrift`: see detectorCramerRaoBound(). */
+    explicit DetectorBoundRecursion(bool unknownHeadingDrift = false)
+        : m_unknownHeadingDrift(unknownHeadingDrift)
+    {
+    }
+    /** Starts again at `pose` from the vague prior: the first step, or a step the odometry
+     *  cannot reach (a kidnapping); after the first, what was learned of the drift is kept. */
+    void restart(const mrpt::math::TPose2D& pose);
+    /** Moves to `pose` through the odometry increment from the current pose, of covariance
+     *  `incrementCov` (in the current pose's frame), `dt_s` seconds later (the drift's lever).
+     *  Before the first restart(): restart(pose). */
+    void predict(const mrpt::math::TPose2D& pose, const mrpt::math::CMatrixDouble33& incrementCov,
+                 double dt_s);
+    /** Adds the information of one detector's view from the current pose: the objects at
+     *  `visible` (their true positions), each detected with P_D at its range. */
+    void update(const std::vector<mrpt::math::TPoint2D>& visible,
+                const TDetectorBoundSensor& sensor);
+    /** The bound at the current pose (0 before the first restart()). */
+    TDetectorBoundStep bound() const;
+    /** True once restart() (or predict()) was called. */
+    bool started() const { return m_started; }
+    /** The current (true) pose. */
+    const mrpt::math::TPose2D& pose() const { return m_pose; }
+
+private:
+    bool m_unknownHeadingDrift;
+    bool m_started = false;
+    mrpt::math::TPose2D m_pose;
+    /** The bound of (x, y, phi, b); b's block stays 0 without an unknown heading drift. */
+    mrpt::math::CMatrixDouble44 m_P;
+};
+
 /** detectorCramerRaoBound() of a simulated run: the simulator's detector (noise, P_D, sensor
  *  pose, visibility with occlusion and field of view), its odometry's motion model at the
  *  true increments, its heading drift (unknown to the estimator) when it has one, its

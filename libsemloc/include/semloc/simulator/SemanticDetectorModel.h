@@ -148,6 +148,11 @@ public:
                                       mrpt::random::CRandomGenerator& rng,
                                       const std::vector<TDistractor>& distractors = {}) const;
 
+    /** True when the line of sight from `sensor` to the centre of the world's object
+     *  `index` is clear: the first outline it crosses is the object's own, or none (the
+     *  occlusion of visibleObjects(), without its range and field of view). */
+    bool inLineOfSight(const mrpt::math::TPoint2D& sensor, size_t index) const;
+
     /** P_D(r): detection probability of a visible object at range `range_m`. */
     double detectionProbability(double range_m) const;
     /** The world's distinct labels, sorted. */
@@ -166,6 +171,8 @@ private:
     size_t labelIndex(const std::string& label) const;
     /** The sensor's position in the world when the vehicle is at `vehicle`. */
     mrpt::math::TPoint2D sensorPosition(const mrpt::math::TPose2D& vehicle) const;
+    /** True when the outlines hide object `index`, `range` away from (sx, sy) along `angle`. */
+    bool occluded(double sx, double sy, double angle, double range, size_t index) const;
     /** Range and bearing [rad] of the distractor `d` seen from `vehicle`, if visible. */
     bool distractorVisible(const mrpt::math::TPose2D& vehicle, const TDistractor& d, double& range,
                            double& bearing) const;
