@@ -4,8 +4,10 @@
 # checks that
 # - every command succeeds;
 # - each line of the plain ``` block that follows a ```sh block appears in that block's output;
-# - the example dataset the walkthrough makes again equals the shipped data/example/;
-# - the outputs the page shows exist (calibrated ini with its fits, report, figures).
+# - the simulated dataset the walkthrough makes again equals the shipped data/example/, and
+#   the real run in data/ is left as it is;
+# - the outputs the page shows exist (calibrated inis with their fits, the report with its
+#   consistency table, figures).
 # Usage: check_walkthrough.sh <source dir> <bin dir> <scratch dir>
 set -euo pipefail
 src=$1 bin=$2 scratch=$3
@@ -52,13 +54,18 @@ if ! diff -r "$src/data" "$scratch/data"; then
 fi
 own="$scratch/build/own"
 for f in calibrated.ini calibration/report.md calibration/fig_residuals.png \
-         calibration/fig_detection.png calibration/fig_odometry.png run2_calibrated/particles.csv \
-         run2_figures/run.png run2_figures/error.png run2_figures/run.gif; do
+         calibration/fig_detection.png calibration/fig_odometry.png mrclam_run/particles.csv \
+         mrclam_figures/run.png mrclam_figures/error.png mrclam_figures/run.gif \
+         sim_calibrated.ini run2_calibrated/summary.yaml; do
   [ -s "$own/$f" ] || { echo "FAIL: $own/$f missing or empty"; fail=1; }
 done
-for key in sigma_range_m sigma_bearing_deg p_detect_near p_detect_far clutter_per_scan p_confusion; do
-  grep -Eq "^$key +=.*// calibrated: " "$own/calibrated.ini" || { echo "FAIL: $key is not calibrated"; fail=1; }
+for ini in calibrated.ini sim_calibrated.ini; do
+  for key in sigma_range_m sigma_bearing_deg p_detect_near p_detect_far clutter_per_scan p_confusion; do
+    grep -Eq "^$key +=.*// calibrated: " "$own/$ini" || { echo "FAIL: $key is not calibrated in $ini"; fail=1; }
+  done
 done
+# The consistency stage ran on the real run and its table is in the report.
+grep -q '^## Consistency' "$own/calibration/report.md" || { echo "FAIL: report.md has no consistency table"; fail=1; }
 # The figures the page shows are the ones these commands draw (same size in pixels).
 for f in fig_residuals.png fig_detection.png fig_odometry.png; do
   cmp -s <(head -c 24 "$src/docs/figures/own-data/$f") <(head -c 24 "$own/calibration/$f") ||

@@ -474,6 +474,13 @@ Cases calibrateCases()
              a.insert(a.end(), {"--gate-m", "0"});
              return a;
          }},
+        {"calibrate-consistency-seeds-negative",
+         [](const fs::path& d)
+         {
+             auto a = calibrate(d, 100, "semantic", "out.ini");
+             a.insert(a.end(), {"--consistency-seeds", "-1"});
+             return a;
+         }},
         {"calibrate-out-is-input",
          [](const fs::path& d) { return calibrate(d, 100, "semantic", "base.ini"); }},
         {"calibrate-base-unknown-key",
