@@ -10,7 +10,9 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -190,6 +192,140 @@ TEST(SensorCalibration, NonNegativeLeastSquares)
     EXPECT_NEAR(c[1], 3.0, 0.1);
     const auto c3 = semloc::detail::nonNegativeLeastSquares({ones, x, z}, y, ci);
     EXPECT_EQ(c3[2], 0.0);
+}
+
+/** Detector samples of `n` in-view objects at ranges uniform in [0, 10 m], detected with
+ *  probability pd(range), and a few residuals (fitDetector needs them). */
+TCalibrationResult detectionSamples(size_t n, const std::function<double(double)>& pd)
+{
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(0, 1);
+    TCalibrationResult r;
+    r.maxRange_m = 10;
+    r.scans = 500;
+    for (size_t i = 0; i < n; i++)
+    {
+        const double range = 10 * u(rng);
+        const int detected = u(rng) < pd(range) ? 1 : 0;
+        r.samples.visibleRanges_m.push_back(range);
+        r.samples.visibleDetected.push_back(detected);
+        r.samples.visibleSpurious.push_back(0);
+        r.samples.visibleMisreadSpurious.push_back(0);
+        r.matched += static_cast<size_t>(detected);
+    }
+    for (int i = 0; i < 50; i++)
+    {
+        r.samples.rangeResiduals_m.push_back(0.1 * (u(rng) - 0.5));
+        r.samples.bearingResiduals_deg.push_back(u(rng) - 0.5);
+    }
+    return r;
+}
+
+TEST(SensorCalibration, DetectionLineByMaximumLikelihood)
+{
+    // A linear P_D, 0.8 at 0 m to 0.2 at 10 m: both ends within 0.05.
+    auto r = detectionSamples(4000, [](double x) { return 0.8 - 0.06 * x; });
+    semloc::detail::fitDetector(r);
+    EXPECT_NEAR(r.p_detect_near.value, 0.8, 0.05);
+    EXPECT_NEAR(r.p_detect_far.value, 0.2, 0.05);
+    EXPECT_GT(r.p_detect_near.ci95, 0);
+    // A detector that sees most objects within 5 m and few beyond (none past 9.5 m): the line
+    // fitted explains the detections better than the least-squares line (clamped into [0, 1]
+    // at its ends, as a probability must be), which overshoots near and falls to 0 far out.
+    auto s = detectionSamples(4000, [](double x) { return x < 5 ? 0.8 : (x < 9.5 ? 0.05 : 0); });
+    semloc::detail::fitDetector(s);
+    const auto& xs = s.samples.visibleRanges_m;
+    const auto& ys = s.samples.visibleDetected;
+    double mx = 0, my = 0, sxx = 0, sxy = 0;
+    for (size_t i = 0; i < xs.size(); i++)
+    {
+        mx += xs[i] / 10 / static_cast<double>(xs.size());
+        my += ys[i] / static_cast<double>(xs.size());
+    }
+    for (size_t i = 0; i < xs.size(); i++)
+    {
+        sxx += (xs[i] / 10 - mx) * (xs[i] / 10 - mx);
+        sxy += (xs[i] / 10 - mx) * (ys[i] - my);
+    }
+    const double lsNear = std::clamp(my - sxy / sxx * mx, 0.0, 1.0);
+    const double lsFar = std::clamp(my + sxy / sxx * (1 - mx), 0.0, 1.0);
+    const auto logLik = [&](double pn, double pf)
+    {
+        double l = 0;
+        for (size_t i = 0; i < xs.size(); i++)
+        {
+            const double q = std::clamp(pn + (pf - pn) * xs[i] / 10, 1e-12, 1 - 1e-12);
+            l += ys[i] != 0 ? std::log(q) : std::log1p(-q);
+        }
+        return l;
+    };
+    const double ml = logLik(s.p_detect_near.value, s.p_detect_far.value);
+    std::cout << "fitted " << s.p_detect_near.value << " .. " << s.p_detect_far.value
+              << " (log-likelihood " << ml << "), least squares " << lsNear << " .. " << lsFar
+              << " (" << logLik(lsNear, lsFar) << ")\n";
+    EXPECT_GT(ml, logLik(lsNear, lsFar) + 1)
+        << "fitted " << s.p_detect_near.value << " .. " << s.p_detect_far.value
+        << ", least squares " << lsNear << " .. " << lsFar;
+    EXPECT_GE(s.p_detect_far.value, 0.0);
+    EXPECT_LE(s.p_detect_near.value, 1.0);
+}
+
+namespace
+{
+/** Odometry samples: `spans` spans of 10 steps of 0.1 m; each step's position error is
+ *  Gaussian (sigma 0.01 m per axis), in a direction drawn per step (`correlated` false) or the
+ *  same for the whole span (true: a wheel that slips for seconds). */
+TCalibrationResult odometrySpans(size_t spans, bool correlated)
+{
+    std::mt19937 rng(5);
+    std::normal_distribution<double> n(0, 0.01);
+    TCalibrationResult r;
+    auto& sm = r.samples;
+    for (size_t j = 0; j < spans; j++)
+    {
+        sm.spanBegin.push_back(sm.odomDist_m.size());
+        double ex = 0, ey = 0, dx = n(rng), dy = n(rng);
+        for (int k = 0; k < 10; k++)
+        {
+            if (!correlated)
+            {
+                dx = n(rng), dy = n(rng);
+            }
+            ex += dx, ey += dy;
+            const double phi = 0.2 * n(rng);
+            sm.odomDist_m.push_back(0.1);
+            sm.odomTurn_rad.push_back(0);
+            sm.odomErrXY_m.push_back(std::hypot(dx, dy));
+            sm.odomErrPhi_rad.push_back(std::abs(phi));
+            sm.odomErrPhiSigned_rad.push_back(phi);
+            sm.odomDt_s.push_back(0.2);
+        }
+        sm.spanEnd.push_back(sm.odomDist_m.size());
+        sm.spanErrXY_m.push_back(std::hypot(ex, ey));
+        sm.spanErrPhi_rad.push_back(0);
+        sm.spanDt_s.push_back(2);
+    }
+    r.increments = sm.odomDist_m.size();
+    return r;
+}
+}  // namespace
+
+TEST(SensorCalibration, OdometryNoiseWidenedForErrorsThatDoNotCancelOverTheSpans)
+{
+    // Independent steps add up as the per-step model says: no factor worth the name.
+    auto independent = odometrySpans(300, false);
+    semloc::detail::fitOdometry(independent);
+    EXPECT_LT(independent.spanFactorXY, 1.35);
+    // The same error for ten steps grows ten-fold, not sqrt(10)-fold: the position noise is
+    // widened by about sqrt(10) (the 95 % quantile against the chi-square bound).
+    auto correlated = odometrySpans(300, true);
+    semloc::detail::fitOdometry(correlated);
+    EXPECT_GT(correlated.spanFactorXY, 2.5);
+    EXPECT_LT(correlated.spanFactorXY, 5.0);
+    EXPECT_NEAR(correlated.minStdXY.value,
+                independent.minStdXY.value * correlated.spanFactorXY / independent.spanFactorXY,
+                0.3 * correlated.minStdXY.value);
+    EXPECT_NE(correlated.minStdXY.method.find("spans between detections"), std::string::npos);
 }
 
 TEST(SensorCalibration, OutputIniIsTheBaseWithTheFits)
