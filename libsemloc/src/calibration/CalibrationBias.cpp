@@ -164,6 +164,7 @@ RigidTransform2D fitMapOffset(TCalibrationResult& r, const RigidTransform2D& sof
     RigidTransform2D t = procrustes(s, use);
     // Once again without the pairs far off (clutter the gate let in, a wrong match).
     std::vector<double> d;
+    d.reserve(use.size());
     for (const size_t i : use)
     {
         d.push_back(pairDistance(s, i, t));

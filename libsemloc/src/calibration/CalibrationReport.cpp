@@ -250,7 +250,7 @@ std::vector<TFigureWarning> SensorCalibration::WriteReport(const TCalibrationRes
 {
     writeData(r, out);
     writeFile(out.path("figures.gp"), script(r));
-    const auto warnings = detail::drawFigures(
+    auto warnings = detail::drawFigures(
         out, "figures.gp", {"fig_residuals.png", "fig_detection.png", "fig_odometry.png"});
     writeFile(out.path("report.md"), markdown(r) + figureWarningsMarkdown(warnings));
     return warnings;
