@@ -7,6 +7,7 @@
 #include <semloc/maps/CSemanticMap.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -108,7 +109,8 @@ bool consistent(const TConsistencyTrial& t, double minShare)
 }
 
 /** Whether the trials from `row` on hold one whose runs all converged within `tolerance` of
- *  the lowest error of such trials. */
+ *  the lowest error of such trials (true while no trial's runs all converged: more noise may
+ *  be what they need). */
 bool competitive(const std::vector<TConsistencyTrial>& trials, size_t row, double tolerance)
 {
     double lowest = std::numeric_limits<double>::infinity();
@@ -118,6 +120,10 @@ bool competitive(const std::vector<TConsistencyTrial>& trials, size_t row, doubl
         {
             lowest = std::min(lowest, t.meanErr_m);
         }
+    }
+    if (std::isinf(lowest))
+    {
+        return true;
     }
     for (size_t i = row; i < trials.size(); i++)
     {

@@ -322,7 +322,8 @@ public:
      *  turn the sensor factors from the smallest up to the first whose runs all converge with
      *  the pose NEES inside its 95 % bound (RunMetrics::nees_inside_share) in minInsideShare of
      *  the steps; the next motion factor only while the last one gave a setting whose runs all
-     *  converged within errorTolerance of the lowest error so far — and returns `r` widened by the consistent setting of the lowest error, with
+     *  converged within errorTolerance of the lowest error so far (or none has converged in
+     *  every run yet) — and returns `r` widened by the consistent setting of the lowest error, with
      *  the trials in `consistency`. When none is consistent: of the settings whose runs all
      *  converged within errorTolerance of the lowest error, the one with the most steps
      *  inside (none converged: the lowest error). `trial` is called after each setting. The
