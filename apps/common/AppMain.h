@@ -64,6 +64,7 @@ int runMain(TCLAP::CmdLine& cmd, int argc, char** argv, const char* tool, RUN&& 
         // watchdog ends the process; later a job stops at its next check (exit 130 always).
         semloc::installInterruptHandlers(tool);
         run();
+        semloc::markRunComplete();
         return 0;
     }
     catch (const semloc::Interrupted& e)

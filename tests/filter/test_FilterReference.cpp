@@ -2,12 +2,14 @@
  * (FilterReference): the motion sample composed onto a particle, systematic resampling and
  * the particles' mean and covariance, on random cases and 1, 2 and 3 threads. */
 #include <gtest/gtest.h>
+
 #include <mrpt/bayes/CParticleFilter.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/ParallelExecutor.h>
+#include <algorithm>
 
 #include <Eigen/Dense>
 
@@ -471,6 +473,11 @@ TEST(FilterReference, PoseCovarianceSignsTheHeadingErrorsInTheSamePass)
     {
         const int kind = trial % 4;  // equal, random, some zero weights; headings near +-pi
         const ParticleList particles = randomCloud(rng, 2 + rng.drawUniform32bit() % 300, kind);
+        if (std::none_of(particles.begin(), particles.end(),
+                         [](const auto& p) { return std::isfinite(p.log_w); }))
+        {
+            continue;  // a few particles all of weight zero (kind 2): no estimate to compare
+        }
         const auto [cov, mean] = semloc::detail::covarianceAndMean(particles, *ex[0], w);
         std::vector<mrpt::math::CMatrixDouble33> pose(ex.size());
         for (size_t t = 0; t < ex.size(); t++)

@@ -47,7 +47,8 @@ struct Registry
     std::vector<std::string> paths;
     std::vector<pid_t> children;
     int deferrals = 0;
-    bool exiting = false;  // exit() has begun (the tool printed its own message)
+    bool exiting = false;   // exit() has begun (the tool printed its own message)
+    bool complete = false;  // the job returned, its outputs in place (markRunComplete)
 };
 
 Registry& registry()
@@ -147,6 +148,10 @@ void writeStderr(const std::string& s)
             sleepMs(10);
         }
     }
+    if (r.complete)
+    {
+        ::_exit(0);  // the job had finished: its outputs are in place
+    }
     if (!r.exiting)
     {
         const char* tool = g_tool.load();
@@ -238,6 +243,13 @@ void startWatchdog()
 }  // namespace
 
 Interrupted::Interrupted() : std::runtime_error("interrupted; no output written") {}
+
+void markRunComplete() noexcept
+{
+    Registry& r = registry();
+    const std::lock_guard<std::mutex> lock(r.mutex);  // waits while the watchdog ends it
+    r.complete = true;
+}
 
 void requestInterrupt() noexcept
 {

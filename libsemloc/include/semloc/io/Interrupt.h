@@ -39,6 +39,13 @@ void clearInterrupt() noexcept;
  * process with _exit(130). */
 void installInterruptHandlers(const char* tool = nullptr);
 
+/** The job has returned with its outputs in place (a tool calls it when its job returns):
+ *  a signal from then on (while the process exits, which may take a while under a leak
+ *  checker) no longer turns the finished run into an interrupted one: the watchdog ends the
+ *  process with 0 and no message. Blocks while the watchdog is already ending the process
+ *  (which then ends with 130, nothing of the job having been reported). */
+void markRunComplete() noexcept;
+
 /** How long the watchdog lets a job stop by itself after the first signal [s]. */
 constexpr double kInterruptGracePeriod_s = 1.0;
 
