@@ -163,8 +163,7 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "final_particles: " << res.final_particles << "\n"
       << "convergence_criterion: {max_err_xy_m: " << num(c.max_err_xy_m)
       << ", max_var_xy_m2: " << num(c.max_var_xy_m2) << ", min_steps: " << c.min_steps << "}\n"
-      << neesAndLostYaml(m, c)
-      << detectorBoundYaml(res)
+      << neesAndLostYaml(m, c) << detectorBoundYaml(res)
       << "# observations and detections the maps could not use, non-finite likelihoods\n"
       << "observations_used: " << res.likelihood.observations_used << "\n"
       << "observations_skipped: " << res.likelihood.observations_skipped << "\n"
