@@ -1,6 +1,7 @@
 /* semloc tests — shared helpers: a small world and an ideal/noisy semantic detector. */
 #pragma once
 
+#include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/math/TPose2D.h>
@@ -19,6 +20,8 @@
 #include <functional>
 #include <sstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace semloc::test
 {
@@ -37,6 +40,31 @@ inline std::string readText(const std::filesystem::path& p)
     std::stringstream ss;
     ss << f.rdbuf();
     return ss.str();
+}
+
+/** The ini `text` (read from `name`) with the line of each key of `keys` (the first line
+ *  that starts with the key and a blank or '=') replaced by `key = value`; a key it does not
+ *  have fails the test. */
+inline std::string withKeys(const std::string& text, const std::string& name,
+                            std::vector<std::pair<std::string, std::string>> keys)
+{
+    std::istringstream in(text);
+    std::string line, out;
+    while (std::getline(in, line))
+    {
+        for (auto it = keys.begin(); it != keys.end(); ++it)
+        {
+            if (line.rfind(it->first + " ", 0) == 0 || line.rfind(it->first + "=", 0) == 0)
+            {
+                line = it->first + " = " + it->second;
+                keys.erase(it);
+                break;
+            }
+        }
+        out += line + "\n";
+    }
+    EXPECT_TRUE(keys.empty()) << keys.front().first << " is not in " << name;
+    return out;
 }
 
 /** A 30 x 30 m world with 12 objects in 4 labels, some labels repeated. */

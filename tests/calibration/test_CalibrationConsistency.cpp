@@ -10,6 +10,8 @@
 #include <sstream>
 #include <string>
 
+#include "TestHelpers.h"
+
 using semloc::SensorCalibration;
 using semloc::Simulator;
 using semloc::TCalibrationFit;
@@ -24,15 +26,8 @@ const std::string kPaper = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
 /** config/semantic.ini with 1000 particles (the stage runs the filter several times). */
 std::string smallBase()
 {
-    std::ifstream f(SEMLOC_SOURCE_DIR "/config/semantic.ini");
-    std::stringstream s;
-    s << f.rdbuf();
-    std::string text = s.str();
-    const std::string key = "particles_count         = 10000";
-    const auto at = text.find(key);
-    EXPECT_NE(at, std::string::npos);
-    text.replace(at, key.size(), "particles_count         = 1000");
-    return text;
+    return semloc::test::withKeys(semloc::test::readText(SEMLOC_SOURCE_DIR "/config/semantic.ini"),
+                                  "semantic.ini", {{"particles_count", "1000"}});
 }
 
 /** A simulated run of the paper's world, written to `dir`, and its fits. */

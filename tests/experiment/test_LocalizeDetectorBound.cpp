@@ -25,6 +25,7 @@
 namespace fs = std::filesystem;
 using semloc::LocalizationExperiment;
 using semloc::test::readText;
+using semloc::test::withKeys;
 
 namespace
 {
@@ -74,22 +75,7 @@ std::string config(const std::string& world, const std::string& name,
                    std::vector<std::pair<std::string, std::string>> keys = {})
 {
     keys.emplace_back("map_file", world);
-    std::istringstream in(readText(kConfig + "semantic.ini"));
-    std::string line, out;
-    while (std::getline(in, line))
-    {
-        for (auto it = keys.begin(); it != keys.end(); ++it)
-        {
-            if (line.rfind(it->first + " ", 0) == 0 || line.rfind(it->first + "=", 0) == 0)
-            {
-                line = it->first + " = " + it->second;
-                keys.erase(it);
-                break;
-            }
-        }
-        out += line + "\n";
-    }
-    EXPECT_TRUE(keys.empty()) << keys.front().first << " is not in semantic.ini";
+    const std::string out = withKeys(readText(kConfig + "semantic.ini"), "semantic.ini", keys);
     const auto path = kOut / (name + ".ini");
     std::ofstream(path) << out;
     return path.string();

@@ -38,6 +38,7 @@ const fs::path kOut = fs::path(SEMLOC_TEST_OUT) / "localize";
 const std::string kConfig = SEMLOC_SOURCE_DIR "/config/";
 
 using semloc::test::readText;
+using semloc::test::withKeys;
 
 /** steps.csv without the update_us column, the 14th (the only one that may differ between
  *  runs). */
@@ -101,22 +102,7 @@ std::string patchedConfig(const std::string& config,
     {
         keys.emplace_back("map_file", SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
     }
-    std::istringstream in(readText(kConfig + config));
-    std::string line, out;
-    while (std::getline(in, line))
-    {
-        for (auto it = keys.begin(); it != keys.end(); ++it)
-        {
-            if (line.rfind(it->first + " ", 0) == 0 || line.rfind(it->first + "=", 0) == 0)
-            {
-                line = it->first + " = " + it->second;
-                keys.erase(it);
-                break;
-            }
-        }
-        out += line + "\n";
-    }
-    EXPECT_TRUE(keys.empty()) << keys.front().first << " is not in " << config;
+    const std::string out = withKeys(readText(kConfig + config), config, keys);
     const auto path = kOut / (name + ".ini");
     std::ofstream(path) << out;
     return path.string();

@@ -113,12 +113,7 @@ TStepRecord estimated(const semloc::CParallelMonteCarloLocalization2D& pf, const
     r.gt = gt;
     r.est = mean.asTPose();
     r.var_xy = cov(0, 0) + cov(1, 1);
-    r.var_x = pose(0, 0);
-    r.var_y = pose(1, 1);
-    r.var_phi = pose(2, 2);
-    r.cov_xy = pose(0, 1);
-    r.cov_xphi = pose(0, 2);
-    r.cov_yphi = pose(1, 2);
+    r.setPoseCovariance(pose);
     return r;
 }
 

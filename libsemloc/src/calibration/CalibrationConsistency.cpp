@@ -3,12 +3,10 @@
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/filter/MotionModel.h>
-#include <semloc/io/Interrupt.h>
 #include <semloc/maps/CSemanticMap.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -17,41 +15,13 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "io/TemporaryDirectory.h"
+
 namespace semloc
 {
 namespace
 {
 namespace fs = std::filesystem;
-
-/** A directory of its own under the system's temporary directory, registered with the
- *  interrupt watchdog and removed with its contents when the object goes. */
-class TemporaryDirectory
-{
-public:
-    TemporaryDirectory()
-    {
-        std::string name = (fs::temp_directory_path() / "semloc-calibrate-XXXXXX").string();
-        if (::mkdtemp(name.data()) == nullptr)
-        {
-            throw std::runtime_error("cannot create a temporary directory in '" +
-                                     fs::temp_directory_path().string() + "'");
-        }
-        m_path = name;
-        registerTemporaryPath(m_path);
-    }
-    TemporaryDirectory(const TemporaryDirectory&) = delete;
-    TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
-    ~TemporaryDirectory()
-    {
-        std::error_code ec;
-        fs::remove_all(m_path, ec);
-        unregisterTemporaryPath(m_path);
-    }
-    std::string path(const std::string& name) const { return (fs::path(m_path) / name).string(); }
-
-private:
-    std::string m_path;
-};
 
 std::string number(double v)
 {
@@ -74,7 +44,7 @@ void widen(TCalibrationFit& f, double k, const config::TValueRange& range)
 }
 
 /** The filter run once per seed with the ini `ini`, its metrics averaged into a trial. */
-TConsistencyTrial runTrial(const std::string& ini, const TemporaryDirectory& dir,
+TConsistencyTrial runTrial(const std::string& ini, const detail::TemporaryDirectory& dir,
                            const std::string& rawlogPath, const std::string& groundTruthPath,
                            const SensorCalibration::TConsistencyOptions& o)
 {
@@ -211,7 +181,7 @@ TCalibrationResult SensorCalibration::Consistency(
     {
         return r;  // nothing fitted to widen: the stage does not run
     }
-    const TemporaryDirectory dir;
+    const detail::TemporaryDirectory dir(fs::temp_directory_path(), "semloc-calibrate-");
     const std::string iniPath = dir.path("trial.ini");
     TConsistency c;
     c.minInsideShare = o.minInsideShare;

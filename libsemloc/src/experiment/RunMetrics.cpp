@@ -20,6 +20,16 @@ double maxOrNaN(double a, double b)
 }
 }  // namespace
 
+void TStepRecord::setPoseCovariance(const mrpt::math::CMatrixDouble33& P)
+{
+    var_x = P(0, 0);
+    var_y = P(1, 1);
+    var_phi = P(2, 2);
+    cov_xy = P(0, 1);
+    cov_xphi = P(0, 2);
+    cov_yphi = P(1, 2);
+}
+
 double TStepRecord::errXY() const
 {
     return gt ? std::hypot(est.x - gt->x, est.y - gt->y) : kNaN;

@@ -549,12 +549,7 @@ TStepRecord Localizer::lastStepRecord(const mrpt::obs::CSensoryFrame& sf) const
     const auto [cov, poseCov, mean] = m_pdf->covariancesAndMean();
     r.est = mean.asTPose();
     r.var_xy = cov(0, 0) + cov(1, 1);
-    r.var_x = poseCov(0, 0);
-    r.var_y = poseCov(1, 1);
-    r.var_phi = poseCov(2, 2);
-    r.cov_xy = poseCov(0, 1);
-    r.cov_xphi = poseCov(0, 2);
-    r.cov_yphi = poseCov(1, 2);
+    r.setPoseCovariance(poseCov);
     r.ess = m_last.ess_before_resampling;
     r.n_particles = m_last.particles;
     r.update_us = m_last.update_us;

@@ -18,6 +18,7 @@
 #include <system_error>
 #include <utility>
 
+#include "io/TemporaryDirectory.h"
 #include "io/TextFiles.h"
 
 namespace semloc
@@ -35,37 +36,6 @@ std::string quoted(const std::string& s)
     }
     return out + "'";
 }
-
-/** A new directory `<dir>/<prefix>XXXXXX`, registered for the interrupt watchdog and removed
- *  with everything in it at the end of the scope. */
-class TemporaryDirectory
-{
-public:
-    TemporaryDirectory(const fs::path& dir, const std::string& prefix)
-    {
-        std::string name = (dir / (prefix + "XXXXXX")).string();
-        const InterruptExitDeferral defer;  // created and registered as one step
-        if (!::mkdtemp(name.data()))
-        {
-            THROW_EXCEPTION("cannot create a temporary directory in '" + dir.string() +
-                            "': " + std::strerror(errno));
-        }
-        m_path = name;
-        registerTemporaryPath(m_path);
-    }
-    ~TemporaryDirectory()
-    {
-        std::error_code ec;
-        fs::remove_all(m_path, ec);
-        unregisterTemporaryPath(m_path);
-    }
-    TemporaryDirectory(const TemporaryDirectory&) = delete;
-    TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
-    std::string path(const std::string& file) const { return (fs::path(m_path) / file).string(); }
-
-private:
-    std::string m_path;
-};
 
 }  // namespace
 
@@ -231,7 +201,7 @@ void WorldPlot::savePng(const std::string& pngPath, int widthPx, int heightPx,
     // Everything is drawn in a private directory beside the PNG (registered for the interrupt
     // watchdog), and only finished files are renamed out of it.
     const fs::path png = fs::absolute(fs::path(pngPath));
-    std::optional<TemporaryDirectory> tmpDir;
+    std::optional<detail::TemporaryDirectory> tmpDir;
     try
     {
         tmpDir.emplace(png.parent_path(), "." + png.filename().string() + ".plot-");
@@ -240,7 +210,7 @@ void WorldPlot::savePng(const std::string& pngPath, int widthPx, int heightPx,
     {
         THROW_EXCEPTION("cannot write '" + pngPath + "': " + errorMessage(e));
     }
-    const TemporaryDirectory& tmp = *tmpDir;
+    const detail::TemporaryDirectory& tmp = *tmpDir;
     const std::string tmpPng = tmp.path("plot.png"), dataPath = tmp.path("plot.dat");
     const std::string scriptPath = tmp.path("plot.gp"), logPath = tmp.path("gnuplot.log");
     writeFile(dataPath, data());

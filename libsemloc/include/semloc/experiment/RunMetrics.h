@@ -1,6 +1,7 @@
 /* semloc — what a localization run achieved: convergence, errors, timing (docs/design.md). */
 #pragma once
 
+#include <mrpt/math/CMatrixFixed.h>
 #include <mrpt/math/TPose2D.h>
 
 #include <cstddef>
@@ -40,6 +41,8 @@ struct TStepRecord
     /** Filter update time [us]. */
     double update_us = 0;
 
+    /** Sets var_x .. cov_yphi from the symmetric 3 x 3 covariance `P` of (x, y, phi). */
+    void setPoseCovariance(const mrpt::math::CMatrixDouble33& P);
     /** Position error to the ground truth [m]; NaN without one. */
     double errXY() const;
     /** Heading error to the ground truth, wrapped to [-pi, pi] [rad]; NaN without one. */
