@@ -147,3 +147,23 @@ TEST(CalibrationConsistency, WidenedKeepsEachValueInItsRange)
     EXPECT_EQ(w.a1.value, 0);
     EXPECT_EQ(w.a1.widenedBy, 1);
 }
+
+TEST(CalibrationConsistency, ConsistentAllowsTheSharesSamplingError)
+{
+    // 95 % asked for over 4000 steps: two standard errors are 0.69 %.
+    semloc::TConsistencyTrial t;
+    t.runs = t.converged = 2;
+    t.steps = 4000;
+    t.insideShare = 0.9435;
+    EXPECT_TRUE(SensorCalibration::Consistent(t, 0.95));
+    t.insideShare = 0.9425;
+    EXPECT_FALSE(SensorCalibration::Consistent(t, 0.95));
+    t.steps = 400;  // fewer steps, a wider tolerance (2.2 %)
+    EXPECT_TRUE(SensorCalibration::Consistent(t, 0.95));
+    t.converged = 1;  // a run that did not converge is never consistent
+    EXPECT_FALSE(SensorCalibration::Consistent(t, 0.95));
+    t.converged = 2;
+    t.steps = 0;  // no step with ground truth: nothing to judge by
+    t.insideShare = 1;
+    EXPECT_FALSE(SensorCalibration::Consistent(t, 0.95));
+}

@@ -264,6 +264,12 @@ TEST(CalibrationLimits, OneScanKeepsTheBasesValues)
             << t.err;
     }
     EXPECT_TRUE(has(t.err, "warning: [MotionModel]: not fitted, too little data")) << t.err;
+    // A key the base does not set keeps its default.
+    ASSERT_FALSE(base.keyExists(kLik, "p_detect_edge_ratio"));
+    EXPECT_EQ(c.read_double(kLik, "p_detect_edge_ratio", -1), 1.0);
+    EXPECT_TRUE(has(lineOf(t.iniText, "p_detect_edge_ratio"),
+                    "the default kept (the base ini does not set it)"))
+        << lineOf(t.iniText, "p_detect_edge_ratio");
 }
 
 TEST(CalibrationLimits, StillVehicleKeepsTheBasesMotionModel)

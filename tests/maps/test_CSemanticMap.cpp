@@ -388,6 +388,45 @@ TEST(CSemanticMap, UncertainObjectFormulaExactly)
                 -lambda + std::log(kappa) + std::log(1 - pd), 1e-9);
 }
 
+TEST(CSemanticMap, DetectionProbabilityFallsTowardsTheEdgeOfTheView)
+{
+    // One object at 5 m and bearing b in a 90-degree view; an empty scan costs
+    // -lambda + log(1 - P_D(5, b)), a detection of it -lambda + log P_D(5, b) + ...: P_D on the
+    // axis times 1 - (1 - p_detect_edge_ratio) |b| / 45 deg.
+    CSemanticMap m;
+    auto& o = m.likelihoodOptions;
+    o.model = CSemanticMap::Model::Probabilistic;
+    o.p_detect_near = 0.9;
+    o.p_detect_far = 0.5;
+    o.p_detect_edge_ratio = 0.2;
+    m.addObject({1, "pillar", 5, 0, 0, 0.3, 1});
+    CObservationSemantic obs;
+    obs.maxRange_m = 10;
+    obs.fov_rad = M_PI / 2;
+    const double onAxis = 0.9 - 0.4 * 5 / 10;
+    for (const double deg : {0.0, 10.0, -30.0, 44.0})
+    {
+        const double b = mrpt::DEG2RAD(deg);
+        const double pd = onAxis * (1 - 0.8 * std::abs(deg) / 45);
+        EXPECT_NEAR(o.detectionProbability(5, 10, b, M_PI / 2), pd, 1e-15) << deg;
+        obs.detections.clear();
+        const TPose2D pose(0, 0, -b);  // the object at bearing b
+        EXPECT_NEAR(m.computeLogLikelihood(obs, pose), -o.clutter_per_scan + std::log(1 - pd), 1e-6)
+            << deg;
+        obs.detections = {detection("pillar", 5, 0)};
+        obs.detections[0].bearing_rad = b;
+        const double sb = mrpt::DEG2RAD(o.sigma_bearing_deg);
+        const double expected = -o.clutter_per_scan + std::log(pd) + std::log(1 - o.p_confusion) -
+                                std::log(2 * M_PI * o.sigma_range_m * sb);
+        EXPECT_NEAR(m.computeLogLikelihood(obs, pose), expected, 1e-6) << deg;
+    }
+    // 1: the same across the view; a full circle has no edge.
+    o.p_detect_edge_ratio = 1;
+    EXPECT_NEAR(o.detectionProbability(5, 10, 0.7, M_PI / 2), onAxis, 1e-15);
+    o.p_detect_edge_ratio = 0.2;
+    EXPECT_NEAR(o.detectionProbability(5, 10, 3.0, 2 * M_PI), onAxis, 1e-15);
+}
+
 TEST(CSemanticMap, AFullCircleSeesAnObjectStraightBehind)
 {
     // fov = 2 pi sees every direction: an object straight behind the sensor, where the

@@ -7,6 +7,7 @@
 #include <semloc/maps/CSemanticMap.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iostream>
 #include <limits>
@@ -132,6 +133,9 @@ CSemanticMap randomMap(Rng& rng, size_t& nLabels)
         }
         m.addObject(ob);
     }
+    // In turn, not drawn: the scenes' random streams stay those the coverage counts are for.
+    static size_t turn = 0;
+    o.p_detect_edge_ratio = std::array<double, 4>{1.0, 0.3, 1.0, 0.0}[turn++ % 4];
     return m;
 }
 
@@ -516,6 +520,7 @@ CSemanticMap smallMap(Rng& rng, size_t& nLabels, CSemanticMap::Association assoc
     o.sigma_bearing_deg = rng.uniform(1.0, 15.0);
     o.p_detect_near = rng.uniform(0.3, 0.99);
     o.p_detect_far = rng.uniform(0.1, 0.99);
+    o.p_detect_edge_ratio = rng.pick<double>({1.0, 1.0, 0.3, 0.0});
     o.clutter_per_scan = rng.uniform(0.05, 3.0);
     o.p_confusion = rng.pick<double>({0.0, 0.05, 0.3});
     o.p_range_outlier = rng.pick<double>({0.0, 0.0, 0.02, 0.3});

@@ -53,7 +53,7 @@ TDetectorBoundSensor sensor(double pd)
     TDetectorBoundSensor s;
     s.sigma_range_m = 0.5;       // 1 / sigma^2 = 4
     s.sigma_bearing_rad = 0.05;  // 1 / sigma^2 = 400
-    s.detectionProbability = [pd](double) { return pd; };
+    s.detectionProbability = [pd](double, double) { return pd; };
     return s;
 }
 

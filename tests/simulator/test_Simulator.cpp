@@ -580,10 +580,11 @@ objects:
         fpSq += fpHere * fpHere;
     }
     const double N = n;
-    // Detection probability: linear from p_near at 0 m to p_far at max range.
+    // Detection probability: linear from p_near at 0 m to p_far at max range, the same at
+    // every bearing (p_detect_edge_ratio 1).
     for (const auto& [id, range] : std::map<int, double>{{1, 2.0}, {2, 10.0}, {3, 18.0}})
     {
-        const double p = det.detectionProbability(range);
+        const double p = det.detectionProbability(range, id == 1 ? 0.0 : M_PI / 6);
         EXPECT_NEAR(p, 0.95 - 0.45 * range / 20, 1e-12);
         EXPECT_NEAR(detected[id] / N, p, kSigmas * seProportion(p, N)) << "object " << id;
     }
@@ -608,6 +609,53 @@ objects:
     EXPECT_NEAR(sdR, 0.3, kSigmas * 0.3 / std::sqrt(2 * m));
     EXPECT_NEAR(eB / m, 0, kSigmas * sigmaB / std::sqrt(m));
     EXPECT_NEAR(sdB, sigmaB, kSigmas * sigmaB / std::sqrt(2 * m));
+}
+
+TEST(SemanticDetectorModel, DetectionProbabilityFallsTowardsTheEdgeOfTheView)
+{
+    // Point objects at 5 m, on the axis, half-way to the edge and near the edge (40 of 45
+    // degrees) of a 90-degree view; P_D at the edge is a fifth of P_D on the axis.
+    const World w = World::FromText(R"(
+name: edge
+bounds: {x_min: -30, x_max: 30, y_min: -30, y_max: 30}
+objects:
+  - {id: 1, label: a, shape: point, center: [5, 0]}
+  - {id: 2, label: a, shape: point, center: [4.619397662556434, 1.913417161825449]}
+  - {id: 3, label: a, shape: point, center: [3.830222215594891, -3.2139380484326967]}
+)",
+                                    "edge");
+    SemanticDetectorModel::TOptions o;
+    o.max_range_m = 10;
+    o.fov_deg = 90;
+    o.p_detect_near = 0.9;
+    o.p_detect_far = 0.5;
+    o.p_detect_edge_ratio = 0.2;
+    o.false_positives_per_scan = 0;
+    o.p_confusion = 0;
+    o.range_noise_std_m = 0.1;
+    o.bearing_noise_std_deg = 0.1;
+    o.report_ids = true;
+    const SemanticDetectorModel det(w, o);
+    mrpt::random::CRandomGenerator rng(7);
+    const int n = 4000;
+    std::map<int, int> detected;
+    for (int i = 0; i < n; i++)
+    {
+        for (const auto& d : det.measure({0, 0, 0}, rng)->detections)
+        {
+            detected[d.object_id]++;
+        }
+    }
+    const double onAxis = 0.9 - 0.4 * 5 / 10;  // the range line at 5 m
+    for (const auto& [id, bearing] :
+         std::map<int, double>{{1, 0.0}, {2, M_PI / 8}, {3, -M_PI * 40 / 180}})
+    {
+        const double p = det.detectionProbability(5, bearing);
+        EXPECT_NEAR(p, onAxis * (1 - 0.8 * std::abs(bearing) / (M_PI / 4)), 1e-12) << id;
+        EXPECT_NEAR(detected[id] / static_cast<double>(n), p, kSigmas * seProportion(p, n))
+            << "object " << id;
+    }
+    EXPECT_NEAR(det.detectionProbability(5, 2.0), onAxis * 0.2, 1e-12);  // beyond: the edge's
 }
 
 TEST(SonarModel, DropoutsAndRangeNoiseMatchTheConfiguredModel)

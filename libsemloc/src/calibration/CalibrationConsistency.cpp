@@ -62,6 +62,7 @@ TConsistencyTrial runTrial(const std::string& ini, const detail::TemporaryDirect
                            .metrics;
         t.runs++;
         t.converged += m.converged ? 1 : 0;
+        t.steps += m.steps_with_ground_truth;
         t.insideShare += m.nees_inside_share;
         t.neesMean += m.nees_mean;
         t.meanErr_m += m.converged ? m.mean_err_after_conv_m : m.rmse_m;
@@ -75,7 +76,7 @@ TConsistencyTrial runTrial(const std::string& ini, const detail::TemporaryDirect
 
 bool consistent(const TConsistencyTrial& t, double minShare)
 {
-    return t.runs > 0 && t.converged == t.runs && t.insideShare >= minShare;
+    return SensorCalibration::Consistent(t, minShare);
 }
 
 /** Whether the trials from `row` on hold one whose runs all converged within `tolerance` of
@@ -146,6 +147,14 @@ size_t choose(const std::vector<TConsistencyTrial>& trials, double minShare, dou
     return best;
 }
 }  // namespace
+
+bool SensorCalibration::Consistent(const TConsistencyTrial& t, double minShare)
+{
+    const double n = static_cast<double>(std::max<size_t>(t.steps, 1));
+    const double tolerance = 2 * std::sqrt(minShare * (1 - minShare) / n);
+    return t.runs > 0 && t.converged == t.runs && t.steps > 0 &&
+           t.insideShare >= minShare - tolerance;
+}
 
 TCalibrationResult SensorCalibration::Widened(const TCalibrationResult& r, double sensorScale,
                                               double motionScale)

@@ -6,6 +6,7 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -107,77 +108,154 @@ double goldenMax(F f, double lo, double hi)
     return fc >= fd ? c : d;
 }
 
-/** The detection line q(x) = qn + (qf - qn) x, x = range / max range in [0, 1], fitted by
- *  maximum likelihood to the in-view objects' detected (0/1, less the clutter expected in
- *  the object's gate): sum y log q + (1 - y) log(1 - q), concave in (qn, qf), maximized over
- *  [0, seen]^2 (a share of the detections is misread out of the gates). A detection far out
- *  keeps q above 0 there, which a least-squares line does not. Half-widths from the inverse of
- *  the observed information at the maximum. */
-void detectionLine(const TCalibrationResult& r, double lambda, double seen,
-                   TCalibrationFit& nearFit, TCalibrationFit& farFit)
+/** The detection model q(x, b) = (qn + (qf - qn) x) (1 - (1 - e) b), x = range / max range
+ *  and b = |bearing| / half the field of view, both in [0, 1], fitted by maximum likelihood
+ *  to the in-view objects' detected (0/1, less the clutter expected in the object's gate):
+ *  sum y log q + (1 - y) log(1 - q). It is concave in the line (qn, qf) for a given ratio e
+ *  and in e for a given line; the two are maximized in turn (the line over [0, seen]^2, a
+ *  share of the detections being misread out of the gates; e over [0, 1]) until the
+ *  log-likelihood gains less than 1e-9. A detection far out keeps q above 0 there, which a
+ *  least-squares line does not. Half-widths from the inverse of the observed information at
+ *  the maximum. */
+class DetectionModelFit
 {
-    const auto& rs = r.samples.visibleRanges_m;
-    const size_t n = rs.size();
-    std::vector<double> x(n), y(n);
-    for (size_t i = 0; i < n; i++)
+public:
+    DetectionModelFit(const TCalibrationResult& r, double lambda)
+        : m_n(r.samples.visibleRanges_m.size())
     {
-        x[i] = r.maxRange_m > 0 ? std::clamp(rs[i] / r.maxRange_m, 0.0, 1.0) : 0.0;
-        // less the expected clutter
-        y[i] = std::clamp(r.samples.visibleDetected[i] - lambda * r.samples.visibleSpurious[i], 0.0,
-                          1.0);
+        const auto& sm = r.samples;
+        m_x.resize(m_n);
+        m_y.resize(m_n);
+        m_b.assign(m_n, 0.0);
+        for (size_t i = 0; i < m_n; i++)
+        {
+            m_x[i] =
+                r.maxRange_m > 0 ? std::clamp(sm.visibleRanges_m[i] / r.maxRange_m, 0.0, 1.0) : 0.0;
+            // less the expected clutter
+            m_y[i] = std::clamp(sm.visibleDetected[i] - lambda * sm.visibleSpurious[i], 0.0, 1.0);
+            if (i < sm.visibleOffAxis.size())
+            {
+                m_b[i] = std::clamp(sm.visibleOffAxis[i], 0.0, 1.0);
+                m_edge = m_edge || m_b[i] > 0;
+            }
+        }
     }
-    const auto logLik = [&](double qn, double qf)
+    /** False when every object was on the axis (a 360-degree view): e is not fitted. */
+    bool hasEdge() const { return m_edge; }
+
+    double logLik(double qn, double qf, double e) const
     {
         double l = 0;
-        for (size_t i = 0; i < n; i++)
+        for (size_t i = 0; i < m_n; i++)
         {
-            const double q = qn + (qf - qn) * x[i];
-            l += (y[i] > 0 ? y[i] * std::log(q) : 0.0) +
-                 (y[i] < 1 ? (1 - y[i]) * std::log1p(-q) : 0.0);
+            const double q = (qn + (qf - qn) * m_x[i]) * (1 - (1 - e) * m_b[i]);
+            l += (m_y[i] > 0 ? m_y[i] * std::log(q) : 0.0) +
+                 (m_y[i] < 1 ? (1 - m_y[i]) * std::log1p(-q) : 0.0);
         }
         return std::isnan(l) ? -std::numeric_limits<double>::infinity() : l;
-    };
-    const auto bestFar = [&](double qn)
-    { return goldenMax([&](double qf) { return logLik(qn, qf); }, 0, seen); };
-    double qn = goldenMax([&](double v) { return logLik(v, bestFar(v)); }, 0, seen);
-    double qf = bestFar(qn);
-    // The search ends within 1e-10 of a bound it should sit on (no detection at all far out).
-    for (double* q : {&qn, &qf})
+    }
+
+    /** The maximum over [0, seen]^2 x [0, 1] (e = 1 without an edge): qn, qf, e. */
+    std::array<double, 3> maximize(double seen) const
     {
-        for (const double bound : {0.0, seen})
+        std::array<double, 3> q{0, 0, 1};
+        double best = -std::numeric_limits<double>::infinity();
+        for (int round = 0; round < 50; round++)
         {
-            if (std::abs(*q - bound) < 1e-7)
+            const double e = q[2];
+            const auto bestFar = [&](double qn)
+            { return goldenMax([&](double qf) { return logLik(qn, qf, e); }, 0, seen); };
+            q[0] = goldenMax([&](double v) { return logLik(v, bestFar(v), e); }, 0, seen);
+            q[1] = bestFar(q[0]);
+            if (m_edge)
             {
-                const double keep = *q, before = logLik(qn, qf);
-                *q = bound;
-                if (logLik(qn, qf) < before)
+                q[2] = goldenMax([&](double v) { return logLik(q[0], q[1], v); }, 0, 1);
+            }
+            snapToBounds(q, seen);
+            const double l = logLik(q[0], q[1], q[2]);
+            if (!m_edge || l - best < 1e-9)
+            {
+                break;
+            }
+            best = l;
+        }
+        return q;
+    }
+
+    /** Half-widths (95 %) of qn, qf and e from the observed information at q (0 where it is
+     *  singular; e's row left out without an edge). */
+    std::array<double, 3> halfWidths(const std::array<double, 3>& q) const
+    {
+        const int k = m_edge ? 3 : 2;
+        Eigen::Matrix3d info = Eigen::Matrix3d::Zero();
+        for (size_t i = 0; i < m_n; i++)
+        {
+            const double line = q[0] + (q[1] - q[0]) * m_x[i], taper = 1 - (1 - q[2]) * m_b[i];
+            const double p = std::clamp(line * taper, 1e-9, 1 - 1e-9);
+            const Eigen::Vector3d g((1 - m_x[i]) * taper, m_x[i] * taper, line * m_b[i]);
+            info += (m_y[i] / (p * p) + (1 - m_y[i]) / ((1 - p) * (1 - p))) * g * g.transpose();
+        }
+        const Eigen::MatrixXd sub = info.topLeftCorner(k, k);
+        std::array<double, 3> out{0, 0, 0};
+        if (std::abs(sub.determinant()) > 1e-12)
+        {
+            const Eigen::MatrixXd cov = sub.inverse();
+            for (int j = 0; j < k; j++)
+            {
+                out[static_cast<size_t>(j)] = kZ95 * std::sqrt(std::max(cov(j, j), 0.0));
+            }
+        }
+        return out;
+    }
+
+private:
+    /** A search that ends within 1e-7 of a bound it should sit on (no detection at all far
+     *  out, none at the edge) is put on it. */
+    void snapToBounds(std::array<double, 3>& q, double seen) const
+    {
+        for (size_t j = 0; j < 3; j++)
+        {
+            for (const double bound : {0.0, j < 2 ? seen : 1.0})
+            {
+                if (std::abs(q[j] - bound) < 1e-7)
                 {
-                    *q = keep;
+                    const double keep = q[j], before = logLik(q[0], q[1], q[2]);
+                    q[j] = bound;
+                    if (logLik(q[0], q[1], q[2]) < before)
+                    {
+                        q[j] = keep;
+                    }
                 }
             }
         }
     }
-    // Observed information of (qn, qf); its inverse's diagonal: the variances.
-    Eigen::Matrix2d info = Eigen::Matrix2d::Zero();
-    for (size_t i = 0; i < n; i++)
-    {
-        const double q = std::clamp(qn + (qf - qn) * x[i], 1e-9, 1 - 1e-9);
-        const Eigen::Vector2d g(1 - x[i], x[i]);
-        info += (y[i] / (q * q) + (1 - y[i]) / ((1 - q) * (1 - q))) * g * g.transpose();
-    }
-    const bool invertible = std::abs(info.determinant()) > 1e-12;
-    const Eigen::Matrix2d cov =
-        invertible ? Eigen::Matrix2d(info.inverse()) : Eigen::Matrix2d::Zero();
-    const std::string how = "maximum-likelihood line of detected (0/1) against range / " +
-                            text(r.maxRange_m) + " m over the in-view objects";
+
+    size_t m_n;
+    std::vector<double> m_x, m_y, m_b;
+    bool m_edge = false;
+};
+
+void detectionModel(TCalibrationResult& r, double lambda, double seen)
+{
+    const DetectionModelFit f(r, lambda);
+    const auto q = f.maximize(seen);
+    const auto hw = f.halfWidths(q);
+    const size_t n = r.samples.visibleRanges_m.size();
+    const std::string how = "maximum-likelihood detection model, (line against range / " +
+                            text(r.maxRange_m) +
+                            " m) x (1 - (1 - ratio) |bearing| / half the field of view), of "
+                            "detected (0/1) over the in-view objects";
     const std::string misread =
         seen < 1 ? ", over the " + text(seen) + " of the detections not misread out of the gate"
                  : "";
-    nearFit = fit(std::clamp(qn / seen, 0.0, 1.0), n,
-                  kZ95 * std::sqrt(std::max(cov(0, 0), 0.0)) / seen, how + ", at 0 m" + misread);
-    farFit =
-        fit(std::clamp(qf / seen, 0.0, 1.0), n, kZ95 * std::sqrt(std::max(cov(1, 1), 0.0)) / seen,
-            how + ", at max range" + misread);
+    r.p_detect_near = fit(std::clamp(q[0] / seen, 0.0, 1.0), n, hw[0] / seen,
+                          how + ", at 0 m on the axis" + misread);
+    r.p_detect_far = fit(std::clamp(q[1] / seen, 0.0, 1.0), n, hw[1] / seen,
+                         how + ", at max range on the axis" + misread);
+    r.p_detect_edge_ratio =
+        f.hasEdge()
+            ? fit(q[2], n, hw[2], how + ", at the edge of the field of view over on its axis")
+            : fit(1.0, n, 0.0, "a 360-degree field of view has no edge: 1");
 }
 }  // namespace
 
@@ -473,8 +551,8 @@ void fitDetector(TCalibrationResult& r)
             std::to_string(r.misread) + " detections at an object's bearing outside its range " +
                 "gate, less " + text(spuriousMis) + " expected clutter, over the " +
                 text(100 * outside) + " % of the range outside the gate");
-    // The detection line counted the detections the gates matched: all but the misreads
+    // The detection model counted the detections the gates matched: all but the misreads
     // outside them.
-    detectionLine(r, lambda, 1 - eps * outside, r.p_detect_near, r.p_detect_far);
+    detectionModel(r, lambda, 1 - eps * outside);
 }
 }  // namespace semloc::detail

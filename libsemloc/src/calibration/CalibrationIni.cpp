@@ -206,8 +206,14 @@ class BaseValues
 public:
     explicit BaseValues(const std::string& baseIni) : m_base(baseIni)
     {
-        CSemanticMap::TLikelihoodOptions().saveToConfigFile(m_defaults, kLikelihood);
-        MotionModel::TOptions().saveToConfigFile(m_defaults, MotionModel::kSection);
+        mrpt::config::CConfigFileMemory written;
+        CSemanticMap::TLikelihoodOptions().saveToConfigFile(written, kLikelihood);
+        MotionModel::TOptions().saveToConfigFile(written, MotionModel::kSection);
+        // As text and back: MRPT reads a value written with a comment back as empty from the
+        // object it was written to.
+        std::string text;
+        written.getContent(text);
+        m_defaults.setContent(text);
     }
     /** The value of `key` and "the base ini's" or "the default" for where it comes from. */
     std::pair<std::string, std::string> of(const std::string& section, const std::string& key) const
@@ -288,6 +294,7 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
     for (const auto& [key, fit] :
          {Fit{"sigma_range_m", &r.sigma_range_m}, Fit{"sigma_bearing_deg", &r.sigma_bearing_deg},
           Fit{"p_detect_near", &r.p_detect_near}, Fit{"p_detect_far", &r.p_detect_far},
+          Fit{"p_detect_edge_ratio", &r.p_detect_edge_ratio},
           Fit{"clutter_per_scan", &r.clutter_per_scan}, Fit{"p_confusion", &r.p_confusion},
           Fit{"p_range_outlier", &r.p_range_outlier}})
     {

@@ -89,6 +89,8 @@ void limitDetector(TCalibrationResult& r)
     limit(r.p_detect_far, L::range("p_detect_far"), chances, kCh, line,
           detectedShare(
               s, [&](double x) { return x >= 2 * R / 3; }, "beyond " + num(2 * R / 3) + " m"));
+    limit(r.p_detect_edge_ratio, L::range("p_detect_edge_ratio"), chances, kCh, line,
+          "the fitted ratio lies outside [0, 1]");
     limit(r.clutter_per_scan, L::range("clutter_per_scan"), r.scans, TCalibrationResult::kMinScans,
           few(r.scans, "scans", TCalibrationResult::kMinScans, "a clutter rate"),
           count(r.clutter) + " detections matching no in-view object in " + count(r.scans) +
@@ -211,6 +213,7 @@ std::vector<std::string> SensorCalibration::Warnings(const TCalibrationResult& r
           {"sigma_bearing_deg", &r.sigma_bearing_deg},
           {"p_detect_near", &r.p_detect_near},
           {"p_detect_far", &r.p_detect_far},
+          {"p_detect_edge_ratio", &r.p_detect_edge_ratio},
           {"clutter_per_scan", &r.clutter_per_scan},
           {"p_confusion", &r.p_confusion},
           {"p_range_outlier", &r.p_range_outlier},

@@ -30,10 +30,11 @@ void writeData(const TCalibrationResult& r, const StagedDirectory& out)
     {
         rb << v << "\n";
     }
-    det << "# range_m detected\n";
+    det << "# range_m detected off_axis (|bearing| / half the field of view)\n";
     for (size_t i = 0; i < s.visibleRanges_m.size(); i++)
     {
-        det << s.visibleRanges_m[i] << " " << s.visibleDetected[i] << "\n";
+        det << s.visibleRanges_m[i] << " " << s.visibleDetected[i] << " "
+            << (i < s.visibleOffAxis.size() ? s.visibleOffAxis[i] : 0.0) << "\n";
     }
     odo << "# d_m abs_dphi_rad abs_err_xy_m abs_err_phi_deg\n";
     for (size_t i = 0; i < s.odomDist_m.size(); i++)
@@ -87,7 +88,9 @@ std::string residualsFigure(const TCalibrationResult& r)
     return g.str();
 }
 
-/** fig_detection.png: the detected share of the objects in view against their range. */
+/** fig_detection.png: the detected share of the objects in view against their range (all,
+ *  and those in the outer half of the field of view), the fitted P_D on the axis and at the
+ *  edge. */
 std::string detectionFigure(const TCalibrationResult& r)
 {
     const double R = r.maxRange_m > 0 ? r.maxRange_m : 1.0;
@@ -100,9 +103,17 @@ std::string detectionFigure(const TCalibrationResult& r)
     }
     else
     {
+        const auto line = [&](double factor)
+        {
+            std::ostringstream l;
+            l << factor << " * (" << r.p_detect_near.value << " + (" << r.p_detect_far.value
+              << " - " << r.p_detect_near.value << ") * x / " << R << ")";
+            return l.str();
+        };
         g << "plot 'detection.dat' u (bin($1, " << R / 10 << ")):2 smooth unique w lp t 'data', "
-          << r.p_detect_near.value << " + (" << r.p_detect_far.value << " - "
-          << r.p_detect_near.value << ") * x / " << R << " lw 2 t 'fitted P_D(r)'\n";
+          << "'detection.dat' u (bin($1, " << R / 10 << ")):($3 > 0.5 ? $2 : 1/0) smooth unique "
+          << "w lp t 'data, outer half of the view', " << line(1) << " lw 2 t 'fitted P_D, axis', "
+          << line(r.p_detect_edge_ratio.value) << " lw 2 t 'fitted P_D, edge'\n";
     }
     g << "set autoscale y\nunset output\n";
     return g.str();
@@ -193,7 +204,9 @@ std::string consistencyMarkdown(const TCalibrationResult& r)
                        : "none reached the share asked "
                          "for: the most steps inside")
       << "). NEES inside: the share of the steps whose pose NEES is within its 95 % bound ("
-      << 100 * c.minInsideShare << " % asked for).\n\n"
+      << 100 * c.minInsideShare
+      << " % asked for, less two standard errors over the steps: a filter exactly that "
+         "consistent falls below it in half of its runs).\n\n"
       << "| detector sigmas | motion noise | NEES inside [%] | mean NEES | mean error [m] | "
          "converged |\n| --- | --- | --- | --- | --- | --- |\n";
     for (size_t i = 0; i < c.trials.size(); i++)
@@ -218,6 +231,7 @@ std::string markdown(const TCalibrationResult& r)
       << "| key | value | 95 % | n | fit |\n| --- | --- | --- | --- | --- |\n"
       << row("sigma_range_m", r.sigma_range_m) << row("sigma_bearing_deg", r.sigma_bearing_deg)
       << row("p_detect_near", r.p_detect_near) << row("p_detect_far", r.p_detect_far)
+      << row("p_detect_edge_ratio", r.p_detect_edge_ratio)
       << row("clutter_per_scan", r.clutter_per_scan) << row("p_confusion", r.p_confusion)
       << row("p_range_outlier", r.p_range_outlier) << row("a1", r.a1) << row("a2", r.a2)
       << row("a3", r.a3) << row("a4", r.a4) << row("minStdXY", r.minStdXY)

@@ -314,6 +314,10 @@ void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& truth,
     {
         r.samples.visibleRanges_m.push_back(vis[v].range_m);
         r.samples.visibleDetected.push_back(visTo[v] >= 0 ? 1 : 0);
+        r.samples.visibleOffAxis.push_back(
+            obs.fov_rad < 2 * M_PI
+                ? std::min(std::abs(vis[v].bearing_rad) / (0.5 * obs.fov_rad), 1.0)
+                : 0.0);
         open[v] = visTo[v] < 0 && gate.normalized();
     }
     for (const double share : clutterInMisreadStrips(vis, open, world, obs, gate))

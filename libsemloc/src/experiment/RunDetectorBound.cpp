@@ -154,12 +154,12 @@ void RunDetectorBound::update(const mrpt::math::TPose2D& pose, const mrpt::obs::
         {
             continue;
         }
-        const double R = opt.maxRange(*obs);
+        const double R = opt.maxRange(*obs), fov = opt.fieldOfView(*obs);
         TDetectorBoundSensor sensor;
         sensor.sigma_range_m = opt.sigma_range_m;
         sensor.sigma_bearing_rad = mrpt::DEG2RAD(opt.sigma_bearing_deg);
-        sensor.detectionProbability = [&opt, R](double rho)
-        { return opt.detectionProbability(rho, R); };
+        sensor.detectionProbability = [&opt, R, fov](double rho, double theta)
+        { return opt.detectionProbability(rho, R, theta, fov); };
         sensor.sensorPose = obs->sensorPose;
         const mrpt::poses::CPose3D s = vehicle + obs->sensorPose;
         std::vector<mrpt::math::TPoint2D> visible;

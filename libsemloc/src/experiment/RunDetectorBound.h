@@ -24,7 +24,7 @@ namespace semloc::detail
  *    (CSemanticMap::objectsInView: the likelihood options' max range and field of view, else
  *    the observation's, from the observation's sensor pose), hidden by the world's outlines
  *    as the simulator hides them when the map's objects are the world's (a world YAML map
- *    file); P_D(rho) and the noise are the likelihood options' (detectionProbability(),
+ *    file); P_D(rho, theta) and the noise are the likelihood options' (detectionProbability(),
  *    sigma_range_m, sigma_bearing_deg); a frame without one is silent;
  *  - the odometry increment's covariance is the filter's movement's motion model
  *    (incrementCovariance()) at the true increment;

@@ -115,13 +115,21 @@ void checkObject(const CSemanticMap::TObject& o)
 config::TValueRange CSemanticMap::TLikelihoodOptions::range(const std::string& key)
 {
     static const std::vector<std::pair<std::string, config::TValueRange>> kRanges = {
-        {"sigma_range_m", {1e-6, 1e6}},     {"sigma_bearing_deg", {1e-6, 360}},
-        {"p_range_outlier", {0, 0.999999}}, {"unmatched_penalty", {1e-12, 0.999999}},
-        {"missed_object_penalty", {0, 1}},  {"p_detect_near", {1e-6, 0.999999}},
-        {"p_detect_far", {1e-6, 0.999999}}, {"clutter_per_scan", {1e-9, 1e6}},
-        {"p_confusion", {0, 0.999999}},     {"min_confidence", {0, 1}},
-        {"max_range_m", {0, 1e6}},          {"fov_deg", {0, 360}},
-        {"index_cell_m", {0.01, 1e6}},      {"outage_every_s", {0, 1e9}},
+        {"sigma_range_m", {1e-6, 1e6}},
+        {"sigma_bearing_deg", {1e-6, 360}},
+        {"p_range_outlier", {0, 0.999999}},
+        {"unmatched_penalty", {1e-12, 0.999999}},
+        {"missed_object_penalty", {0, 1}},
+        {"p_detect_near", {1e-6, 0.999999}},
+        {"p_detect_far", {1e-6, 0.999999}},
+        {"p_detect_edge_ratio", {0, 1}},
+        {"clutter_per_scan", {1e-9, 1e6}},
+        {"p_confusion", {0, 0.999999}},
+        {"min_confidence", {0, 1}},
+        {"max_range_m", {0, 1e6}},
+        {"fov_deg", {0, 360}},
+        {"index_cell_m", {0.01, 1e6}},
+        {"outage_every_s", {0, 1e9}},
         {"outage_mean_s", {1e-3, 1e9}}};
     for (const auto& [k, r] : kRanges)
     {
@@ -164,6 +172,8 @@ void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CC
     }
     config::readDouble(c, s, "p_detect_near", p_detect_near, range("p_detect_near"));
     config::readDouble(c, s, "p_detect_far", p_detect_far, range("p_detect_far"));
+    config::readDouble(c, s, "p_detect_edge_ratio", p_detect_edge_ratio,
+                       range("p_detect_edge_ratio"));
     config::readDouble(c, s, "clutter_per_scan", clutter_per_scan, range("clutter_per_scan"));
     config::readDouble(c, s, "p_confusion", p_confusion, range("p_confusion"));
     config::readDouble(c, s, "min_confidence", min_confidence, range("min_confidence"));
@@ -198,6 +208,8 @@ void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFil
                        "paper: factor per predicted object not detected; 0: unmatched_penalty");
     detail::writeExact(c, s, "p_detect_near", p_detect_near, "probabilistic: P_D at range 0");
     detail::writeExact(c, s, "p_detect_far", p_detect_far, "probabilistic: P_D at max range");
+    detail::writeExact(c, s, "p_detect_edge_ratio", p_detect_edge_ratio,
+                       "probabilistic: P_D at the edge of the view / on its axis");
     detail::writeExact(c, s, "clutter_per_scan", clutter_per_scan,
                        "probabilistic: mean false positives per scan");
     detail::writeExact(c, s, "p_confusion", p_confusion, "probabilistic: P(wrong label)");

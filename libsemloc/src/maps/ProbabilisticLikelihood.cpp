@@ -73,22 +73,34 @@ size_t scanBlock(const CSemanticMap::Index& ix, Scratch& sc, const Geom* geoms,
     return ne;
 }
 
-/** Stage 2: the ranges of the ne entries and their P_D(rho), clamped inside (0, 1), two at
- *  a time (the arrays have room for the pair's second lane). */
+/** Stage 2: the ranges of the ne entries and their P_D(rho, theta), clamped inside (0, 1),
+ *  two at a time (the arrays have room for the pair's second lane). The bearing's taper
+ *  (p_detect_edge_ratio < 1) takes |theta| from the sensor-frame position (fastAbsAtan2x2). */
 void rangesBlock(const CSemanticMap::Index& ix, Scratch& sc, size_t ne,
-                 const CSemanticMap::TLikelihoodOptions& opt, double R)
+                 const CSemanticMap::TLikelihoodOptions& opt, double R, double fov)
 {
     using namespace detail;
     const double* D2 = sc.bD2.data();
+    const double* LX = sc.bLx.data();
+    const double* LY = sc.bLy.data();
     double* RR = sc.bR.data();
     double* PD = sc.bPd.data();
     const double pNear = opt.p_detect_near, slope = opt.p_detect_far - opt.p_detect_near;
     const Vec2 vnear{pNear, pNear}, vslope{slope, slope}, vR{R, R};
     const Vec2 lo{1e-6, 1e-6}, hi{1 - 1e-6, 1 - 1e-6};
+    const bool taper = opt.p_detect_edge_ratio < 1 && fov < 2 * M_PI;
+    // P_D times 1 - drop min(|theta| / half, 1)
+    const double drop = 1 - opt.p_detect_edge_ratio, perRad = taper ? 2 / fov : 0.0;
+    const Vec2 vdrop{drop, drop}, vperRad{perRad, perRad}, one{1.0, 1.0};
     for (size_t e = 0; e < ne; e += 2)
     {
         const Vec2 r = sqrtLanes(loadLanes(D2 + e));
-        const Vec2 p = vnear + vslope * (r / vR);
+        Vec2 p = vnear + vslope * (r / vR);
+        if (taper)
+        {
+            const Vec2 off = fastAbsAtan2x2(loadLanes(LY + e), loadLanes(LX + e)) * vperRad;
+            p = p * (one - vdrop * minLanes(off, one));
+        }
         storeLanes(RR + e, r);
         storeLanes(PD + e, maxLanes(minLanes(p, hi), lo));  // = std::clamp: p is finite
     }
@@ -543,7 +555,7 @@ void scoreProbabilisticBlock(const CSemanticMap::Index& ix,
     const size_t ne = scanBlock(ix, sc, geoms, poses, m);
     if (m > 0)
     {
-        rangesBlock(ix, sc, ne, opt, geoms[0].R);
+        rangesBlock(ix, sc, ne, opt, geoms[0].R, geoms[0].fov);
     }
     missBlock(sc, k, m, ne);
     const size_t nc = gateBlock(ix, sc, k, ne);

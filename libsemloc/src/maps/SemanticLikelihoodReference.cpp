@@ -335,11 +335,15 @@ public:
     /** log kappa, the clutter density. */
     double logKappa = 0;
 
-    /** P_D(rho) of the detector times the object's p_exist. */
+    /** P_D(rho, theta) of the detector times the object's p_exist. */
     double pD(const Predicted& v) const
     {
-        const double p =
-            m_opt.p_detect_near + (m_opt.p_detect_far - m_opt.p_detect_near) * v.rho / m_s.R;
+        double p = m_opt.p_detect_near + (m_opt.p_detect_far - m_opt.p_detect_near) * v.rho / m_s.R;
+        if (m_opt.p_detect_edge_ratio < 1 && m_s.fov < 2 * M_PI)
+        {
+            const double off = std::min(std::abs(v.theta) / (0.5 * m_s.fov), 1.0);
+            p *= 1 - (1 - m_opt.p_detect_edge_ratio) * off;
+        }
         const double exist = m_objs[v.object].p_exist;
         return std::clamp(exist < 1 ? exist * p : p, 1e-6, 1 - 1e-6);
     }
@@ -431,7 +435,9 @@ private:
 };
 
 /** The probabilistic model: each object of z^k is detected with
- *      P_D(rho) = clamp(p_detect_near + (p_detect_far - p_detect_near) rho / R, 1e-6, 1 - 1e-6),
+ *      P_D(rho, theta) = clamp((p_detect_near + (p_detect_far - p_detect_near) rho / R)
+ *                              (1 - (1 - p_detect_edge_ratio) min(|theta| / (fov / 2), 1)),
+ *                              1e-6, 1 - 1e-6)      (the second factor 1 when fov >= 2 pi),
  *  a detection is labelled right with C = 1 - p_c, as any other of the K map labels with
  *  C = p_c / (K - 1) (no label term for a detection without a label the map knows; the code
  *  also gives none to a detection that names an object of another label when p_c = 0 or

@@ -20,7 +20,7 @@ struct NewDetection
     std::string label;
     int32_t id;
     double wx, wy;
-    /** P_D at its range (1 for MRPT landmarks, which carry no coverage). */
+    /** P_D at its range and bearing (1 for MRPT landmarks, which carry no coverage). */
     double expected = 1;
 };
 
@@ -40,6 +40,7 @@ std::vector<NewDetection> inWorld(const CObservationSemantic& o,
 {
     const double minConfidence = opt.min_confidence;
     const double R = opt.maxRange(o);
+    const double fov = opt.fieldOfView(o);
     std::vector<NewDetection> news;
     for (const auto& d : o.detections)
     {
@@ -49,7 +50,9 @@ std::vector<NewDetection> inWorld(const CObservationSemantic& o,
         }
         const auto [wx, wy] = toWorld(vehicle, o.sensorPose, d.range_m, d.bearing_rad);
         news.push_back({d.label, d.object_id, wx, wy,
-                        R > 0 && std::isfinite(R) ? opt.detectionProbability(d.range_m, R) : 1.0});
+                        R > 0 && std::isfinite(R)
+                            ? opt.detectionProbability(d.range_m, R, d.bearing_rad, fov)
+                            : 1.0});
     }
     return news;
 }
@@ -121,11 +124,12 @@ void countInView(const CSemanticMap& map, std::vector<CSemanticMap::TObject>& ob
                  const CObservationSemantic& o, const mrpt::poses::CPose3D& vehicle)
 {
     const auto& opt = map.likelihoodOptions;
-    const double R = opt.maxRange(o);
+    const double R = opt.maxRange(o), fov = opt.fieldOfView(o);
     for (const auto& v : map.objectsInView(o, vehicle))
     {
         objects[v.index].n_in_view++;
-        objects[v.index].expected_detections += opt.detectionProbability(v.range_m, R);
+        objects[v.index].expected_detections +=
+            opt.detectionProbability(v.range_m, R, v.bearing_rad, fov);
     }
 }
 
@@ -148,9 +152,14 @@ void updateSurety(CSemanticMap::TObject& ob, double sigmaRange)
 }
 }  // namespace
 
-double CSemanticMap::TLikelihoodOptions::detectionProbability(double rho, double R) const
+double CSemanticMap::TLikelihoodOptions::detectionProbability(double rho, double R, double theta,
+                                                              double fov) const
 {
-    const double p = p_detect_near + (p_detect_far - p_detect_near) * rho / R;
+    double p = p_detect_near + (p_detect_far - p_detect_near) * rho / R;
+    if (p_detect_edge_ratio < 1 && fov < 2 * M_PI)
+    {
+        p *= 1 - (1 - p_detect_edge_ratio) * std::min(2 * std::abs(theta) / fov, 1.0);
+    }
     return std::clamp(p, 1e-6, 1.0);
 }
 

@@ -47,9 +47,11 @@ double probabilisticConsts(const CSemanticMap::TLikelihoodOptions& opt, size_t n
     k.gainFloor = k.marginal ? std::log(CSemanticMap::kMarginalMinWeight) : 0.0;
     k.rangeBudget = k.bearingBudget =
         2 * (std::log(pmax) - std::log1p(-pmax) + k.logNorm - k.logKappa - k.gainFloor);
-    // An object's P_D is p_exist times the detector's, clamped the same way.
-    const double pmin =
-        std::clamp(std::min(opt.p_detect_near, opt.p_detect_far) * map.minExist, 1e-6, 1 - 1e-6);
+    // An object's P_D is p_exist times the detector's, clamped the same way; the edge of the
+    // field of view takes p_detect_edge_ratio of it.
+    const double edge = fov < 2 * M_PI ? opt.p_detect_edge_ratio : 1.0;
+    const double pmin = std::clamp(
+        std::min(opt.p_detect_near, opt.p_detect_far) * edge * map.minExist, 1e-6, 1 - 1e-6);
     k.logQLo = std::log(pmin / (1 - pmin)) - 1e-9;
     k.logQHi = std::log(pmax / (1 - pmax)) + 1e-9;
     // Objects with a class distribution may be any of the labels they list.
@@ -128,7 +130,7 @@ const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt
                                      double R, double fov, const MapSurety& map,
                                      ModelConstsCache& cache)
 {
-    const std::array<double, 17> key = {static_cast<double>(opt.model),
+    const std::array<double, 18> key = {static_cast<double>(opt.model),
                                         static_cast<double>(opt.association),
                                         opt.sigma_range_m,
                                         opt.sigma_bearing_deg,
@@ -136,6 +138,7 @@ const ModelConsts& cachedModelConsts(const CSemanticMap::TLikelihoodOptions& opt
                                         opt.missed_object_penalty,
                                         opt.p_detect_near,
                                         opt.p_detect_far,
+                                        opt.p_detect_edge_ratio,
                                         opt.clutter_per_scan,
                                         opt.p_confusion,
                                         opt.p_range_outlier,

@@ -72,7 +72,7 @@ struct MapSurety
  *  per-particle path makes one call per particle). */
 struct ModelConstsCache
 {
-    std::array<double, 17> key{};
+    std::array<double, 18> key{};
     ModelConsts consts;
     bool valid = false;
 };

@@ -26,7 +26,8 @@ TDetectorBoundStep summarize(const Eigen::Matrix3d& P)
 
 /** Information of one detection of the object at `p` from vehicle pose `x`: HᵀR⁻¹H. */
 Eigen::Matrix3d detectionInformation(const mrpt::math::TPose2D& x, const mrpt::math::TPoint2D& p,
-                                     const TDetectorBoundSensor& sensor, double& range)
+                                     const TDetectorBoundSensor& sensor, double& range,
+                                     double& bearing)
 {
     const double c = std::cos(x.phi), s = std::sin(x.phi);
     const double ox = sensor.sensorPose.x(), oy = sensor.sensorPose.y();
@@ -36,6 +37,7 @@ Eigen::Matrix3d detectionInformation(const mrpt::math::TPose2D& x, const mrpt::m
     ds << 1, 0, -s * ox - c * oy, 0, 1, c * ox - s * oy;
     const double dx = p.x - sx, dy = p.y - sy;
     range = std::hypot(dx, dy);
+    bearing = mrpt::math::wrapToPi(std::atan2(dy, dx) - x.phi - sensor.sensorPose.yaw());
     if (!(range > 1e-9))
     {
         return Eigen::Matrix3d::Zero();  // at the sensor: no bearing, no gradient
@@ -116,9 +118,10 @@ void DetectorBoundRecursion::update(const std::vector<mrpt::math::TPoint2D>& vis
     Matrix4d J = Matrix4d::Zero();
     for (const auto& p : visible)
     {
-        double range = 0;
-        const Eigen::Matrix3d I = detectionInformation(m_pose, p, sensor, range);
-        J.topLeftCorner<3, 3>() += std::clamp(sensor.detectionProbability(range), 0.0, 1.0) * I;
+        double range = 0, bearing = 0;
+        const Eigen::Matrix3d I = detectionInformation(m_pose, p, sensor, range, bearing);
+        J.topLeftCorner<3, 3>() +=
+            std::clamp(sensor.detectionProbability(range, bearing), 0.0, 1.0) * I;
     }
     // (P⁻¹ + J)⁻¹ = P (I + J P)⁻¹: no inverse of a nearly singular P.
     Matrix4d P = m_P.asEigen();
@@ -169,8 +172,8 @@ std::vector<TDetectorBoundStep> detectorCramerRaoBound(const Simulator& simulato
     TDetectorBoundSensor sensor;
     sensor.sigma_range_m = o.detector.range_noise_std_m;
     sensor.sigma_bearing_rad = mrpt::DEG2RAD(o.detector.bearing_noise_std_deg);
-    sensor.detectionProbability = [&detector](double r)
-    { return detector.detectionProbability(r); };
+    sensor.detectionProbability = [&detector](double r, double b)
+    { return detector.detectionProbability(r, b); };
     sensor.sensorPose = o.detector.sensorPose();
 
     std::vector<TDetectorBoundInput> steps(run.groundTruth.size());

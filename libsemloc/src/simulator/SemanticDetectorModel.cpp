@@ -25,6 +25,7 @@ void SemanticDetectorModel::TOptions::loadFromConfigFile(const mrpt::config::CCo
     config::readDouble(c, s, "bearing_noise_std_deg", bearing_noise_std_deg, 0, 360);
     config::readDouble(c, s, "p_detect_near", p_detect_near, 0, 1);
     config::readDouble(c, s, "p_detect_far", p_detect_far, 0, 1);
+    config::readDouble(c, s, "p_detect_edge_ratio", p_detect_edge_ratio, 0, 1);
     config::readDouble(c, s, "false_positives_per_scan", false_positives_per_scan, 0, 100);
     config::readDouble(c, s, "p_confusion", p_confusion, 0, 1);
     config::readDouble(c, s, "p_range_outlier", p_range_outlier, 0, 1);
@@ -54,6 +55,8 @@ void SemanticDetectorModel::TOptions::saveToConfigFile(mrpt::config::CConfigFile
     writeExact(c, s, "bearing_noise_std_deg", bearing_noise_std_deg, "bearing noise [deg]");
     writeExact(c, s, "p_detect_near", p_detect_near, "P(detect) of a visible object at 0 m");
     writeExact(c, s, "p_detect_far", p_detect_far, "P(detect) at max range (linear between)");
+    writeExact(c, s, "p_detect_edge_ratio", p_detect_edge_ratio,
+               "P(detect) at the edge of the view / on its axis (linear in |bearing|)");
     writeExact(c, s, "false_positives_per_scan", false_positives_per_scan,
                "Poisson mean of false positives per scan");
     writeExact(c, s, "p_confusion", p_confusion, "P(label swapped to another world label)");
@@ -111,10 +114,16 @@ SemanticDetectorModel::SemanticDetectorModel(const World& world, const TOptions&
     }
 }
 
-double SemanticDetectorModel::detectionProbability(double range_m) const
+double SemanticDetectorModel::detectionProbability(double range_m, double bearing_rad) const
 {
     const TOptions& o = m_options;
-    return o.p_detect_near + (o.p_detect_far - o.p_detect_near) * range_m / o.max_range_m;
+    double p = o.p_detect_near + (o.p_detect_far - o.p_detect_near) * range_m / o.max_range_m;
+    if (o.p_detect_edge_ratio < 1 && o.fov_deg < 360)
+    {
+        const double off = std::min(std::abs(bearing_rad) / mrpt::DEG2RAD(0.5 * o.fov_deg), 1.0);
+        p *= 1 - (1 - o.p_detect_edge_ratio) * off;
+    }
+    return p;
 }
 
 mrpt::math::TPoint2D SemanticDetectorModel::sensorPosition(const mrpt::math::TPose2D& vehicle) const
@@ -183,7 +192,7 @@ void SemanticDetectorModel::detect(double range, double bearing, size_t label, i
                                    const std::vector<std::pair<size_t, double>>* classes) const
 {
     const TOptions& o = m_options;
-    if (!detail::bernoulli(rng, detectionProbability(range)))
+    if (!detail::bernoulli(rng, detectionProbability(range, bearing)))
     {
         return;
     }

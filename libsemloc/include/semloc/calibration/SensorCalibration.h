@@ -85,6 +85,8 @@ struct TCalibrationSamples
     std::vector<double> bearingResiduals_deg;  //!< detection minus object bearing
     std::vector<double> visibleRanges_m;       //!< range of every in-view object ...
     std::vector<int> visibleDetected;          //!< ... 1 when a detection matched it
+    /** ... |bearing| over half the field of view, in [0, 1] (0 for a 360-degree view). */
+    std::vector<double> visibleOffAxis;
     /** ... per unit of clutter rate, the expected other-label clutter within its gate when no
      *  detection of its label matched it (else 0): what the confusion pass may take for it. */
     std::vector<double> visibleSpurious;
@@ -121,6 +123,8 @@ struct TConsistencyTrial
     double sensorScale = 1, motionScale = 1;
     /** Filter runs (one per seed) and those that converged. */
     size_t runs = 0, converged = 0;
+    /** Steps with ground truth, summed over the runs. */
+    size_t steps = 0;
     /** Means over the runs: share of the steps with ground truth whose pose NEES is inside
      *  its 95 % bound, mean NEES, and the error (mean_err_after_conv_m; rmse_m of a run that
      *  did not converge) [m]. */
@@ -134,8 +138,7 @@ struct TConsistency
     std::vector<TConsistencyTrial> trials;
     /** Index of the setting written. */
     size_t chosen = 0;
-    /** True when the setting written reached minInsideShare (the mean over its runs) with
-     *  every run converged. */
+    /** True when the setting written is consistent (SensorCalibration::Consistent()). */
     bool consistent = false;
     /** The share of steps inside the NEES bound asked for. */
     double minInsideShare = 0.95;
@@ -146,7 +149,7 @@ struct TConsistency
 struct TCalibrationResult
 {
     TCalibrationFit sigma_range_m, sigma_bearing_deg;
-    TCalibrationFit p_detect_near, p_detect_far;
+    TCalibrationFit p_detect_near, p_detect_far, p_detect_edge_ratio;
     TCalibrationFit clutter_per_scan, p_confusion, p_range_outlier;
     TCalibrationFit a1, a2, a3, a4, minStdXY, minStdPHI;
     /** The odometry's heading drift: what its heading gains per minute beyond the truth
@@ -293,6 +296,13 @@ public:
     /** The bias and map offset as lines for the terminal and report.md. */
     static std::string BiasText(const TCalibrationResult& result);
 
+    /** Whether trial `t` is consistent: every run converged and its share of steps inside the
+     *  NEES bound is not significantly below `minShare`: at least minShare - 2 sqrt(minShare
+     *  (1 - minShare) / t.steps). A filter exactly as consistent as asked has a measured share
+     *  below minShare in half of its runs; the tolerance (2 standard errors over the steps,
+     *  counted as independent) keeps the stage from widening the noise for that. */
+    static bool Consistent(const TConsistencyTrial& t, double minShare);
+
     /** The consistency stage's search (Consistency()). */
     struct TConsistencyOptions
     {
@@ -301,7 +311,8 @@ public:
         /** The factors tried on the detector's sigmas and on the motion noise. */
         std::vector<double> sensorScales = {1, 1.5, 2, 3, 4, 6};
         std::vector<double> motionScales = {1, 2, 4};
-        /** The share of the steps with ground truth whose NEES must be inside its bound. */
+        /** The share of the steps with ground truth whose NEES must be inside its bound
+         *  (less its sampling tolerance: Consistent()). */
         double minInsideShare = 0.95;
         /** When no setting reaches it: the most consistent of those within this share of the
          *  lowest error (the runs' error differs that much from seed to seed). */
@@ -321,15 +332,14 @@ public:
      *  ground truth, once per seed, for settings of Widened() — for each motion factor in
      *  turn the sensor factors from the smallest up to the first whose runs all converge with
      *  the pose NEES inside its 95 % bound (RunMetrics::nees_inside_share) in minInsideShare of
-     *  the steps; the next motion factor only while the last one gave a setting whose runs all
-     *  converged within errorTolerance of the lowest error so far (or none has converged in
-     *  every run yet) — and returns `r` widened by the consistent setting of the lowest error, with
-     *  the trials in `consistency`. When none is consistent: of the settings whose runs all
-     *  converged within errorTolerance of the lowest error, the one with the most steps
-     *  inside (none converged: the lowest error). `trial` is called after each setting. The
-     *  runs' outputs go to a temporary directory, removed afterwards (and by the interrupt
-     *  watchdog). Nothing fitted to widen (every sigma and minStd too little data): `r` as
-     *  given, no trial run. */
+     *  the steps (Consistent()); the next motion factor only while the last one gave a setting
+     * whose runs all converged within errorTolerance of the lowest error so far (or none has
+     * converged in every run yet) — and returns `r` widened by the consistent setting of the lowest
+     * error, with the trials in `consistency`. When none is consistent: of the settings whose runs
+     * all converged within errorTolerance of the lowest error, the one with the most steps inside
+     * (none converged: the lowest error). `trial` is called after each setting. The runs' outputs
+     * go to a temporary directory, removed afterwards (and by the interrupt watchdog). Nothing
+     * fitted to widen (every sigma and minStd too little data): `r` as given, no trial run. */
     static TCalibrationResult Consistency(
         const TCalibrationResult& r, const std::string& baseIni, const std::string& baseName,
         const std::string& worldPath, const std::string& rawlogPath,

@@ -206,6 +206,10 @@ public:
         double p_detect_near = 0.95;
         /** probabilistic: detection probability of an object at max range. */
         double p_detect_far = 0.6;
+        /** probabilistic: P_D of an object at the edge of the field of view over P_D of one on
+         *  its axis at the same range, linear in |bearing| between, in [0, 1]; 1: the same
+         *  across the field of view (a camera that misses objects near its image's border). */
+        double p_detect_edge_ratio = 1.0;
         /** probabilistic: expected false positives per scan (Poisson mean). */
         double clutter_per_scan = 0.2;
         /** probabilistic: probability a detection carries a wrong label. */
@@ -241,9 +245,12 @@ public:
         {
             return fov_deg > 0 ? fov_deg * M_PI / 180 : obs.fov_rad;
         }
-        /** P_D(rho) of the probabilistic model for a detector of max range `R`: linear from
-         *  p_detect_near at 0 to p_detect_far at R, clamped to [1e-6, 1]. */
-        double detectionProbability(double rho, double R) const;
+        /** P_D(rho, theta) of the probabilistic model for a detector of max range `R` and
+         *  field of view `fov` [rad], for an object at range `rho` [m] and bearing `theta`
+         *  [rad] in the sensor frame: linear from p_detect_near at 0 to p_detect_far at R,
+         *  times 1 - (1 - p_detect_edge_ratio) min(|theta| / (fov / 2), 1) when fov < 2 pi,
+         *  clamped to [1e-6, 1]. */
+        double detectionProbability(double rho, double R, double theta, double fov) const;
 
         /** Reads `section` strictly (unknown keys and bad values are errors). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,

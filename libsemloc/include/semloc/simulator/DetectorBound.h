@@ -50,8 +50,9 @@ struct TDetectorBoundSensor
 {
     /** Range noise [m] and bearing noise [rad] of a detection (both > 0). */
     double sigma_range_m = 0.5, sigma_bearing_rad = 0.05;
-    /** P_D(r): the probability that a visible object at range r is detected. */
-    std::function<double(double)> detectionProbability = [](double) { return 1.0; };
+    /** P_D(r, b): the probability that a visible object at range r [m] and bearing b [rad]
+     *  in the sensor frame is detected. */
+    std::function<double(double, double)> detectionProbability = [](double, double) { return 1.0; };
     /** The sensor on the vehicle. */
     mrpt::poses::CPose3D sensorPose;
 };

@@ -34,7 +34,9 @@ namespace semloc
  *  marker) is hidden by any outline in front of it.
  *
  *  **Detections** of a visible object at true range r, bearing b:
- *  - detected with P_D(r) = p_detect_near + (p_detect_far - p_detect_near) r / max_range_m;
+ *  - detected with P_D(r, b) = (p_detect_near + (p_detect_far - p_detect_near) r / max_range_m)
+ *    (1 - (1 - p_detect_edge_ratio) min(|b| / (fov / 2), 1)) (the second factor 1 for a
+ *    360-degree field of view): CSemanticMap's P_D;
  *  - range r + N(0, range_noise_std_m^2) clamped to [0, max_range_m], bearing
  *    b + N(0, bearing_noise_std_deg^2) wrapped and clamped to the field of view (so every
  *    detection is valid for CObservationSemantic::isValid);
@@ -76,6 +78,9 @@ public:
         double p_detect_near = 0.95;
         /** Detection probability of a visible object at max range (linear in between). */
         double p_detect_far = 0.6;
+        /** Detection probability at the edge of the field of view over that on its axis
+         *  (linear in |bearing| between), [0, 1]; 1: the same across the field of view. */
+        double p_detect_edge_ratio = 1.0;
         /** Mean number of false positives per scan (Poisson). */
         double false_positives_per_scan = 0.2;
         /** Probability that a detection carries another label of the world. */
@@ -153,8 +158,9 @@ public:
      *  occlusion of visibleObjects(), without its range and field of view). */
     bool inLineOfSight(const mrpt::math::TPoint2D& sensor, size_t index) const;
 
-    /** P_D(r): detection probability of a visible object at range `range_m`. */
-    double detectionProbability(double range_m) const;
+    /** P_D(r, b): detection probability of a visible object at range `range_m` [m] and
+     *  bearing `bearing_rad` in the sensor frame (see the class documentation). */
+    double detectionProbability(double range_m, double bearing_rad) const;
     /** The world's distinct labels, sorted. */
     const std::vector<std::string>& labels() const { return m_labels; }
     /** The parameters. */
