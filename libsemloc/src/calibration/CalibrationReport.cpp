@@ -14,12 +14,13 @@ namespace
 {
 using detail::writeFile;
 
-/** residuals_range.dat, residuals_bearing.dat, detection.dat (range, detected), odometry.dat
+/** residuals_range.dat, residuals_bearing.dat, detection.dat (range, detected, off axis),
+ *  detection_outer.dat (its rows more than half way to the edge of the view), odometry.dat
  *  (d, |dphi|, |e_xy|, |e_phi| in deg). */
 void writeData(const TCalibrationResult& r, const StagedDirectory& out)
 {
     const auto& s = r.samples;
-    std::ostringstream rr, rb, det, odo;
+    std::ostringstream rr, rb, det, outer, odo;
     rr << "# range_residual_m\n";
     for (double v : s.rangeResiduals_m)
     {
@@ -31,10 +32,17 @@ void writeData(const TCalibrationResult& r, const StagedDirectory& out)
         rb << v << "\n";
     }
     det << "# range_m detected off_axis (|bearing| / half the field of view)\n";
+    outer << "# range_m detected off_axis, off_axis > 0.5\n";
     for (size_t i = 0; i < s.visibleRanges_m.size(); i++)
     {
-        det << s.visibleRanges_m[i] << " " << s.visibleDetected[i] << " "
-            << (i < s.visibleOffAxis.size() ? s.visibleOffAxis[i] : 0.0) << "\n";
+        const double off = i < s.visibleOffAxis.size() ? s.visibleOffAxis[i] : 0.0;
+        std::ostringstream row;
+        row << s.visibleRanges_m[i] << " " << s.visibleDetected[i] << " " << off << "\n";
+        det << row.str();
+        if (off > 0.5)
+        {
+            outer << row.str();
+        }
     }
     odo << "# d_m abs_dphi_rad abs_err_xy_m abs_err_phi_deg\n";
     for (size_t i = 0; i < s.odomDist_m.size(); i++)
@@ -45,6 +53,7 @@ void writeData(const TCalibrationResult& r, const StagedDirectory& out)
     writeFile(out.path("residuals_range.dat"), rr.str());
     writeFile(out.path("residuals_bearing.dat"), rb.str());
     writeFile(out.path("detection.dat"), det.str());
+    writeFile(out.path("detection_outer.dat"), outer.str());
     writeFile(out.path("odometry.dat"), odo.str());
 }
 
@@ -111,7 +120,7 @@ std::string detectionFigure(const TCalibrationResult& r)
             return l.str();
         };
         g << "plot 'detection.dat' u (bin($1, " << R / 10 << ")):2 smooth unique w lp t 'data', "
-          << "'detection.dat' u (bin($1, " << R / 10 << ")):($3 > 0.5 ? $2 : 1/0) smooth unique "
+          << "'detection_outer.dat' u (bin($1, " << R / 10 << ")):2 smooth unique "
           << "w lp t 'data, outer half of the view', " << line(1) << " lw 2 t 'fitted P_D, axis', "
           << line(r.p_detect_edge_ratio.value) << " lw 2 t 'fitted P_D, edge'\n";
     }
