@@ -4,6 +4,7 @@
  * Run: build/bench/bench_Simulator
  * Counter `per_step`: seconds per simulated step. */
 #include <benchmark/benchmark.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <cstdio>
@@ -45,7 +46,7 @@ void BM_WritePaperDataset(benchmark::State& state)
         sim.writeDataset(res, path);
     }
     for (const auto& f :
-         {path, semloc::Simulator::groundTruthPath(path), semloc::Simulator::configPath(path)})
+         {path, semloc::GroundTruthFile::PathFor(path), semloc::Simulator::configPath(path)})
     {
         std::remove(f.c_str());
     }

@@ -7,6 +7,7 @@
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/ErrorMessage.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
@@ -130,7 +131,7 @@ void run()
     const std::string baseText = readText(base);
     semloc::SensorCalibration::CheckBase(base, argWorld.getValue());
     const auto world = semloc::World::FromFile(argWorld.getValue());
-    const auto gt = semloc::Simulator::readGroundTruth(argGroundTruth.getValue());
+    const auto gt = semloc::GroundTruthFile::Read(argGroundTruth.getValue());
     const auto rawlog = semloc::RawlogReader::Load(rawlogPath);
     auto result = semloc::SensorCalibration::Estimate(rawlog, rawlogPath, world, gt, o);
     if (argConsistencySeeds.getValue() > 0)

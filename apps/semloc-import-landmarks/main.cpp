@@ -8,6 +8,7 @@
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/io/ErrorMessage.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/LandmarkImport.h>
 #include <semloc/io/OutputPaths.h>
@@ -45,7 +46,7 @@ void checkOutputs(const std::string& out, const std::string& worldOut, const std
                   const std::vector<std::string>& inputs)
 {
     semloc::checkOutputFile(out, inputs, semloc::RawlogReader::IsSemlocRawlog);
-    semloc::checkOutputFile(gtOut, inputs, semloc::Simulator::isGroundTruthFile);
+    semloc::checkOutputFile(gtOut, inputs, semloc::GroundTruthFile::IsGroundTruthFile);
     semloc::checkOutputFile(worldOut, inputs,
                             [](const std::string& p)
                             {

@@ -12,6 +12,7 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/io/DatasetImport.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
@@ -138,7 +139,7 @@ void run()
     o.check();
     const std::string out = argOut.getValue(), gtIn = argGroundTruth.getValue(),
                       lmIn = argLandmarks.getValue();
-    const std::string gtOut = semloc::Simulator::groundTruthPath(out);
+    const std::string gtOut = semloc::GroundTruthFile::PathFor(out);
     const std::filesystem::path op(out);
     const std::string worldOut = (op.parent_path() / (op.stem().string() + "_world.yaml")).string();
     const std::vector<std::string> inputs = {argOdometry.getValue(), argDetections.getValue(), gtIn,
@@ -153,7 +154,7 @@ void run()
     std::vector<std::string> outputs = {out};
     if (!gtIn.empty())
     {
-        semloc::checkOutputFile(gtOut, inputs, semloc::Simulator::isGroundTruthFile);
+        semloc::checkOutputFile(gtOut, inputs, semloc::GroundTruthFile::IsGroundTruthFile);
         outputs.push_back(gtOut);
     }
     else if (std::filesystem::exists(gtOut))
@@ -197,7 +198,7 @@ void run()
                                  size_t next = 1;
                                  if (!gtRows.empty())
                                  {
-                                     DatasetImport::writeGroundTruth(gtRows, tmp[next++]);
+                                     semloc::GroundTruthFile::Write(gtRows, tmp[next++]);
                                  }
                                  if (!landmarks.empty())
                                  {

@@ -2,6 +2,7 @@
  * widens a model that is too sure of itself, deterministically, and says so in the ini. */
 #include <gtest/gtest.h>
 #include <semloc/calibration/SensorCalibration.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/simulator/Simulator.h>
 
@@ -12,6 +13,7 @@
 
 #include "TestHelpers.h"
 
+using semloc::GroundTruthFile;
 using semloc::SensorCalibration;
 using semloc::Simulator;
 using semloc::TCalibrationFit;
@@ -50,7 +52,7 @@ Run simulatedRun(const fs::path& dir)
     Run r;
     r.rawlog = (dir / "run.rawlog").string();
     sim.writeDataset(res, r.rawlog);
-    r.groundTruth = Simulator::groundTruthPath(r.rawlog);
+    r.groundTruth = GroundTruthFile::PathFor(r.rawlog);
     r.fits = SensorCalibration::Estimate(res.rawlog, r.rawlog, sim.world(), res.groundTruth,
                                          SensorCalibration::TOptions());
     return r;

@@ -8,6 +8,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/LocalizationExperiment.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/Simulator.h>
@@ -21,6 +22,7 @@
 #include <string>
 #include <vector>
 
+using semloc::GroundTruthFile;
 using semloc::SensorCalibration;
 using semloc::Simulator;
 using semloc::TCalibrationFit;
@@ -126,7 +128,7 @@ ToolRun calibrateTool(const std::string& name, const TSimulatorOptions& o,
     t.ini = dir / "out.ini";
     const std::string cmd = std::string(SEMLOC_BIN_DIR) + "/semloc-calibrate " + rawlog +
                             " --world " + kPaper + " --ground-truth " +
-                            Simulator::groundTruthPath(rawlog) + " --base " + base + " -o " +
+                            GroundTruthFile::PathFor(rawlog) + " --base " + base + " -o " +
                             t.ini.string() + " --consistency-seeds 0 > " +
                             (dir / "stdout").string() + " 2> " + (dir / "stderr").string();
     t.status = std::system(cmd.c_str());

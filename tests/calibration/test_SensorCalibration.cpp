@@ -5,6 +5,7 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/filter/MotionModel.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <cmath>
@@ -19,6 +20,7 @@
 
 #include "calibration/CalibrationFits.h"
 
+using semloc::GroundTruthFile;
 using semloc::SensorCalibration;
 using semloc::Simulator;
 using semloc::TCalibrationResult;
@@ -473,11 +475,11 @@ TEST(SensorCalibration, ToolWritesTheIniAndTheReport)
     const Simulator sim(o);
     const std::string rawlog = (dir / "data.rawlog").string();
     sim.writeDataset(sim.run(), rawlog);
-    const std::string cmd =
-        std::string(SEMLOC_BIN_DIR) + "/semloc-calibrate " + rawlog + " --world " + kPaper +
-        " --ground-truth " + Simulator::groundTruthPath(rawlog) + " --base " + kSemanticIni +
-        " -o " + (dir / "out.ini").string() + " --report " + (dir / "report").string() +
-        " --consistency-seeds 0 > " + (dir / "stdout").string();
+    const std::string cmd = std::string(SEMLOC_BIN_DIR) + "/semloc-calibrate " + rawlog +
+                            " --world " + kPaper + " --ground-truth " +
+                            GroundTruthFile::PathFor(rawlog) + " --base " + kSemanticIni + " -o " +
+                            (dir / "out.ini").string() + " --report " + (dir / "report").string() +
+                            " --consistency-seeds 0 > " + (dir / "stdout").string();
     for (int run = 0; run < 2; run++)  // the second run replaces the first's outputs
     {
         ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
@@ -537,7 +539,7 @@ TEST(SensorCalibration, ToolCalibratesOneScanAndDrawsEveryFigure)
         sim.writeDataset(sim.run(), rawlog);
         const std::string cmd =
             std::string(SEMLOC_BIN_DIR) + "/semloc-calibrate " + rawlog + " --world " + kPaper +
-            " --ground-truth " + Simulator::groundTruthPath(rawlog) + " --base " + kSemanticIni +
+            " --ground-truth " + GroundTruthFile::PathFor(rawlog) + " --base " + kSemanticIni +
             " -o " + (dir / "out.ini").string() + " --report " + (dir / "report").string() + " > " +
             (dir / "stdout").string() + " 2> " + (dir / "stderr").string();
         ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd << "\n"

@@ -7,6 +7,7 @@
 #include <mrpt/containers/yaml.h>
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/experiment/LocalizationExperiment.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/simulator/DetectorBound.h>
 #include <semloc/simulator/Simulator.h>
 
@@ -176,7 +177,7 @@ TEST(LocalizeDetectorBound, AnotherConfiguredDetectorGivesAnotherBound)
 TEST(LocalizeDetectorBound, IsNullWithoutGroundTruth)
 {
     const auto d = simulate("nogt", true);
-    fs::remove(semloc::Simulator::groundTruthPath(d.rawlog));
+    fs::remove(semloc::GroundTruthFile::PathFor(d.rawlog));
     const auto res = localize(config(d.world, "nogt"), d.rawlog, "nogt");
     EXPECT_EQ(res.metrics.steps_with_ground_truth, 0u);
     EXPECT_TRUE(std::isnan(res.detector_bound_mean_m));
@@ -194,10 +195,10 @@ TEST(LocalizeDetectorBound, AGapInTheGroundTruthLeavesItsStepsOut)
     // gap by the odometry; without the gap's detections it is no lower than the simulator's
     // there, and back to it within a few steps.
     const auto d = simulate("gap", true);
-    const std::string gt = semloc::Simulator::groundTruthPath(d.rawlog);
-    auto rows = semloc::Simulator::readGroundTruth(gt);
+    const std::string gt = semloc::GroundTruthFile::PathFor(d.rawlog);
+    auto rows = semloc::GroundTruthFile::Read(gt);
     rows.erase(rows.begin() + 60, rows.begin() + 80);
-    semloc::Simulator::writeGroundTruth(rows, gt);
+    semloc::GroundTruthFile::Write(rows, gt);
     const auto res = localize(config(d.world, "gap"), d.rawlog, "gap");
     ASSERT_EQ(res.metrics.steps_with_ground_truth, d.bound.size() - 20);
     const double simAll = simulatorBound(d, res).first;

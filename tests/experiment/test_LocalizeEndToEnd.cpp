@@ -9,6 +9,7 @@
 #include <mrpt/obs/CObservationOdometry.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/ErrorMessage.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/simulator/Simulator.h>
@@ -458,9 +459,8 @@ TEST_F(LocalizeEndToEnd, ObservationsOnlyRawlogWorks)
     }
     const std::string obsOnly = (kOut / "obs_only.rawlog").string();
     ASSERT_TRUE(out.saveToRawLogFile(obsOnly));
-    fs::copy_file(semloc::Simulator::groundTruthPath(rawlog),
-                  semloc::Simulator::groundTruthPath(obsOnly),
-                  fs::copy_options::overwrite_existing);
+    fs::copy_file(semloc::GroundTruthFile::PathFor(rawlog),
+                  semloc::GroundTruthFile::PathFor(obsOnly), fs::copy_options::overwrite_existing);
 
     const auto res = localize(kConfig + "semantic.ini", obsOnly, "obs_only", 8000);
     EXPECT_EQ(res.rawlogFormat, "observations-only");
@@ -471,7 +471,7 @@ TEST_F(LocalizeEndToEnd, ObservationsOnlyRawlogWorks)
     // rawlog_offset skips steps (pf-localization's meaning) in both formats; a Gaussian start
     // at the true pose of the first step run keeps the filter on track only if that step's
     // motion is zero and the next ones are the increments since it.
-    const auto truth = semloc::GroundTruth::FromFile(semloc::Simulator::groundTruthPath(rawlog));
+    const auto truth = semloc::GroundTruth::FromFile(semloc::GroundTruthFile::PathFor(rawlog));
     const auto& first = truth.rows()[100];
     const auto ini =
         patchedConfig("semantic.ini",

@@ -14,6 +14,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/io/ConfigHelpers.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/maps/CStructureMap.h>
 #include <semloc/simulator/Simulator.h>
@@ -39,6 +40,7 @@ using mrpt::obs::CObservation2DRangeScan;
 using mrpt::obs::CSensoryFrame;
 using mrpt::poses::CPose2D;
 using semloc::CObservationSemantic;
+using semloc::GroundTruthFile;
 using semloc::GroundTruthRow;
 using semloc::OdometryModel;
 using semloc::SemanticDetectorModel;
@@ -754,7 +756,7 @@ TEST(Simulator, SameSeedSameBytesOtherSeedOtherData)
     a.writeDataset(a.run(), p1);
     a.writeDataset(a.run(), p2);
     EXPECT_EQ(fileBytes(p1), fileBytes(p2));
-    EXPECT_EQ(fileBytes(Simulator::groundTruthPath(p1)), fileBytes(Simulator::groundTruthPath(p2)));
+    EXPECT_EQ(fileBytes(GroundTruthFile::PathFor(p1)), fileBytes(GroundTruthFile::PathFor(p2)));
     EXPECT_GT(fileBytes(p1).size(), 1000u);
 
     o.simulation.seed = 2;
@@ -763,7 +765,7 @@ TEST(Simulator, SameSeedSameBytesOtherSeedOtherData)
     b.writeDataset(rb, p3);
     EXPECT_NE(fileBytes(p1), fileBytes(p3));
     // The trajectory does not depend on the seed; the noise does.
-    EXPECT_EQ(fileBytes(Simulator::groundTruthPath(p1)), fileBytes(Simulator::groundTruthPath(p3)));
+    EXPECT_EQ(fileBytes(GroundTruthFile::PathFor(p1)), fileBytes(GroundTruthFile::PathFor(p3)));
     const auto ra = a.run();
     EXPECT_NE(stepOf(ra, 5).odometry->rawOdometryIncrementReading,
               stepOf(rb, 5).odometry->rawOdometryIncrementReading);
@@ -796,7 +798,7 @@ TEST(Simulator, WrittenDatasetReadsBack)
     const std::string path = kOut + "/sim_readback.rawlog";
     sim.writeDataset(res, path);
 
-    const auto gt = Simulator::readGroundTruth(Simulator::groundTruthPath(path));
+    const auto gt = GroundTruthFile::Read(GroundTruthFile::PathFor(path));
     ASSERT_EQ(gt.size(), res.groundTruth.size());
     for (size_t k = 0; k < gt.size(); k++)
     {
@@ -839,7 +841,7 @@ TEST(Simulator, InterruptWritesNothingAndKeepsAPreviousDataset)
     const std::string fresh = kOut + "/sim_interrupt_new_" + std::to_string(::getpid()) + ".rawlog";
     sim.writeDataset(res, path);
     const std::string before = fileBytes(path),
-                      gtBefore = fileBytes(Simulator::groundTruthPath(path));
+                      gtBefore = fileBytes(GroundTruthFile::PathFor(path));
 
     TSimulatorOptions o9 = o;
     o9.simulation.seed = 9;  // other data: a rename would show
@@ -852,14 +854,14 @@ TEST(Simulator, InterruptWritesNothingAndKeepsAPreviousDataset)
     EXPECT_THROW(other.writeDataset(res9, path), semloc::Interrupted);
     semloc::clearInterrupt();
 
-    for (const auto& f : {fresh, Simulator::groundTruthPath(fresh), Simulator::configPath(fresh)})
+    for (const auto& f : {fresh, GroundTruthFile::PathFor(fresh), Simulator::configPath(fresh)})
     {
         EXPECT_FALSE(std::filesystem::exists(f)) << f;
         EXPECT_FALSE(std::filesystem::exists(f + ".tmp")) << f;
     }
     EXPECT_EQ(fileBytes(path), before);
-    EXPECT_EQ(fileBytes(Simulator::groundTruthPath(path)), gtBefore);
-    for (const auto& f : {path, Simulator::groundTruthPath(path), Simulator::configPath(path)})
+    EXPECT_EQ(fileBytes(GroundTruthFile::PathFor(path)), gtBefore);
+    for (const auto& f : {path, GroundTruthFile::PathFor(path), Simulator::configPath(path)})
     {
         EXPECT_FALSE(std::filesystem::exists(f + ".tmp")) << f;
     }
@@ -1038,7 +1040,7 @@ TEST(Simulator, FailedWriteLeavesNoFileBehind)
     // The ground-truth name is taken by a directory: the rawlog, already renamed into
     // place, is removed again, and no temporary remains.
     const std::string path = kOut + "/sim_blocked.rawlog";
-    const std::string gt = Simulator::groundTruthPath(path);
+    const std::string gt = GroundTruthFile::PathFor(path);
     std::filesystem::remove_all(gt);
     std::filesystem::create_directories(gt + "/occupied");
     EXPECT_THROW(sim.writeDataset(res, path), std::exception);
@@ -1052,9 +1054,9 @@ TEST(Simulator, FailedWriteLeavesNoFileBehind)
 
 TEST(Simulator, OutputNames)
 {
-    EXPECT_EQ(Simulator::groundTruthPath("/d/run.rawlog"), "/d/run_gt.txt");
+    EXPECT_EQ(GroundTruthFile::PathFor("/d/run.rawlog"), "/d/run_gt.txt");
     EXPECT_EQ(Simulator::configPath("/d/run.rawlog"), "/d/run.ini");
-    EXPECT_EQ(Simulator::groundTruthPath("run.rawlog"), "run_gt.txt");
+    EXPECT_EQ(GroundTruthFile::PathFor("run.rawlog"), "run_gt.txt");
     EXPECT_EQ(Simulator::configPath("a.b/run"), "a.b/run.ini");
 }
 

@@ -2,6 +2,7 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <semloc/experiment/GroundTruth.h>
+#include <semloc/io/GroundTruthFile.h>
 
 #include <algorithm>
 #include <cmath>
@@ -33,7 +34,7 @@ GroundTruth::GroundTruth(std::vector<GroundTruthRow> rows) : m_rows(std::move(ro
 
 GroundTruth GroundTruth::FromFile(const std::string& path)
 {
-    return GroundTruth(Simulator::readGroundTruth(path));
+    return GroundTruth(GroundTruthFile::Read(path));
 }
 
 const GroundTruthRow* GroundTruth::nearest(double t, double tolerance_s) const

@@ -8,6 +8,7 @@
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
 
@@ -211,9 +212,9 @@ void checkInputFiles(LocalizationExperiment::TOptions& o, const mrpt::config::CC
     }
     requireFile("rawlog_file", o.rawlog_file, ini);
     if (o.ground_truth_path_file.empty() &&
-        mrpt::system::fileExists(Simulator::groundTruthPath(o.rawlog_file)))
+        mrpt::system::fileExists(GroundTruthFile::PathFor(o.rawlog_file)))
     {
-        o.ground_truth_path_file = Simulator::groundTruthPath(o.rawlog_file);  // semloc-simulate's
+        o.ground_truth_path_file = GroundTruthFile::PathFor(o.rawlog_file);  // semloc-simulate's
     }
     requireFile("map_file", o.map_file, ini);
     requireFile("ground_truth_path_file", o.ground_truth_path_file, ini);

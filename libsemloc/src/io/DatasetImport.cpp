@@ -12,6 +12,7 @@
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/io/DatasetImport.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/LandmarkImport.h>
 #include <semloc/io/RawlogWriter.h>
 
@@ -242,12 +243,6 @@ void DatasetImport::writeRawlog(const std::vector<ImportStep>& steps,
     forEachEntry(steps, scans, odometry, options, stats,
                  [&](const mrpt::serialization::CSerializable::Ptr& e) { a << *e; });
     f.close();
-}
-
-void DatasetImport::writeGroundTruth(const std::vector<GroundTruthRow>& rows,
-                                     const std::string& path)
-{
-    Simulator::writeGroundTruth(rows, path);
 }
 
 World DatasetImport::makeWorld(const std::vector<ImportedLandmark>& landmarks,

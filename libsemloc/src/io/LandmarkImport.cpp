@@ -4,9 +4,9 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/system/datetime.h>
 #include <semloc/io/ErrorMessage.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/LandmarkImport.h>
 #include <semloc/observation/Labels.h>
-#include <semloc/simulator/Simulator.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -275,7 +275,7 @@ void LandmarkImport::writeGroundTruth(const std::vector<double>& times,
     {
         rows.push_back({times[i], path[i].x, path[i].y, path[i].phi});
     }
-    Simulator::writeGroundTruth(rows, outPath);  // its errors name the file and the reason
+    GroundTruthFile::Write(rows, outPath);  // its errors name the file and the reason
 }
 
 }  // namespace semloc

@@ -13,6 +13,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/io/ConfigHelpers.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
@@ -393,11 +394,6 @@ SimulationResult Simulator::run() const
 
 // ------------------------------------------------------------------ files
 
-std::string Simulator::groundTruthPath(const std::string& rawlogPath)
-{
-    return besides(rawlogPath, "_gt.txt");
-}
-
 std::string Simulator::configPath(const std::string& rawlogPath)
 {
     return besides(rawlogPath, ".ini");
@@ -407,7 +403,8 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
 {
     ASSERTMSG_(!rawlogPath.empty(), "Simulator::writeDataset: empty output path");
     checkDatasetPaths(rawlogPath, {m_options.simulation.world_file});
-    const std::string gtPath = groundTruthPath(rawlogPath), iniPath = configPath(rawlogPath);
+    const std::string gtPath = GroundTruthFile::PathFor(rawlogPath),
+                      iniPath = configPath(rawlogPath);
     writeOutputFiles(
         {rawlogPath, gtPath, iniPath},
         [&](const std::vector<std::string>& tmp)
@@ -427,7 +424,7 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
             }
             out.close();
 
-            writeGroundTruth(result.groundTruth, tmp[1]);
+            GroundTruthFile::Write(result.groundTruth, tmp[1]);
 
             TSimulatorOptions effective = m_options;
             effective.simulation.output_rawlog = rawlogPath;
@@ -443,7 +440,8 @@ void Simulator::writeDataset(const SimulationResult& result, const std::string& 
 void Simulator::checkDatasetPaths(const std::string& rawlogPath,
                                   const std::vector<std::string>& inputs)
 {
-    const std::string gtPath = groundTruthPath(rawlogPath), iniPath = configPath(rawlogPath);
+    const std::string gtPath = GroundTruthFile::PathFor(rawlogPath),
+                      iniPath = configPath(rawlogPath);
     if (gtPath == rawlogPath || iniPath == rawlogPath)
     {
         THROW_EXCEPTION("output rawlog '" + rawlogPath +
@@ -451,101 +449,9 @@ void Simulator::checkDatasetPaths(const std::string& rawlogPath,
                         "extension such as .rawlog)");
     }
     checkOutputFile(rawlogPath, inputs, RawlogReader::IsSemlocRawlog);
-    checkOutputFile(gtPath, inputs, isGroundTruthFile);
+    checkOutputFile(gtPath, inputs, GroundTruthFile::IsGroundTruthFile);
     checkOutputFile(iniPath, inputs,
                     [](const std::string& p) { return fileStartsWith(p, kConfigHeader); });
-}
-
-void Simulator::writeGroundTruth(const std::vector<GroundTruthRow>& rows, const std::string& path)
-{
-    std::string text;
-    for (const auto& r : rows)
-    {
-        text += detail::fixedText(r.t) + ' ' + detail::fixedText(r.x) + ' ' +
-                detail::fixedText(r.y) + ' ' + detail::fixedText(r.phi) + '\n';
-    }
-    detail::writeFile(path, text);
-}
-
-bool Simulator::isGroundTruthFile(const std::string& path)
-{
-    try
-    {
-        (void)readGroundTruth(path);
-        return true;
-    }
-    catch (const std::exception&)
-    {
-        return false;
-    }
-}
-
-std::vector<GroundTruthRow> Simulator::readGroundTruth(const std::string& path)
-{
-    if (std::filesystem::is_directory(path))
-    {
-        THROW_EXCEPTION("ground truth '" + path + "' is a directory, not a file");
-    }
-    std::ifstream f(path);
-    if (!f)
-    {
-        THROW_EXCEPTION("cannot read ground truth '" + path + "'");
-    }
-    static const char* const kColumns[] = {"t", "x", "y", "phi"};
-    std::vector<GroundTruthRow> rows;
-    std::string line;
-    size_t previousLine = 0;
-    for (size_t n = 1; std::getline(f, line); n++)
-    {
-        const auto b = line.find_first_not_of(" \t\r");
-        if (b == std::string::npos || line[b] == '#' || line[b] == '%')
-        {
-            continue;
-        }
-        const std::string at = mrpt::format("%s:%zu: ", path.c_str(), n);
-        std::istringstream ss(line);
-        std::vector<std::string> cells;
-        for (std::string c; ss >> c;)
-        {
-            cells.push_back(c);
-        }
-        if (cells.size() != 4)
-        {
-            THROW_EXCEPTION(
-                at + mrpt::format("expected 4 columns 't x y phi', found %zu", cells.size()));
-        }
-        double v[4];
-        for (size_t k = 0; k < 4; k++)
-        {
-            // strtod, not >>: it reads "nan" and "inf", which get their own message.
-            char* end = nullptr;
-            v[k] = std::strtod(cells[k].c_str(), &end);
-            if (end == cells[k].c_str() || *end != '\0')
-            {
-                THROW_EXCEPTION(at + "column '" + kColumns[k] + "': '" + cells[k] +
-                                "' is not a number");
-            }
-            if (!std::isfinite(v[k]))
-            {
-                THROW_EXCEPTION(at + "column '" + kColumns[k] + "': '" + cells[k] +
-                                "' is not finite");
-            }
-        }
-        const GroundTruthRow r{v[0], v[1], v[2], v[3]};
-        if (!rows.empty() && !(r.t > rows.back().t))
-        {
-            THROW_EXCEPTION(at + mrpt::format("time %.17g is not after %.17g (line %zu): times "
-                                              "must increase",
-                                              r.t, rows.back().t, previousLine));
-        }
-        rows.push_back(r);
-        previousLine = n;
-    }
-    if (rows.empty())
-    {
-        THROW_EXCEPTION("ground truth '" + path + "' holds no rows 't x y phi'");
-    }
-    return rows;
 }
 
 }  // namespace semloc

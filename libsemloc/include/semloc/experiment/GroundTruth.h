@@ -1,7 +1,7 @@
 /* semloc — a ground-truth path, matched to filter steps by timestamp. */
 #pragma once
 
-#include <semloc/simulator/Simulator.h>
+#include <semloc/io/GroundTruthFile.h>
 
 #include <string>
 #include <vector>
@@ -16,7 +16,7 @@ public:
     /** The rows, by strictly increasing time; throws on a non-finite value or a time not
      *  after the previous row's (never re-ordered: a jumbled file is an error). */
     explicit GroundTruth(std::vector<GroundTruthRow> rows);
-    /** Reads a ground-truth file (Simulator::readGroundTruth: `t x y phi` per line). */
+    /** Reads a ground-truth file (GroundTruthFile::Read: `t x y phi` per line). */
     static GroundTruth FromFile(const std::string& path);
 
     /** True without rows. */

@@ -7,6 +7,7 @@
 #include <semloc/experiment/GroundTruth.h>
 #include <semloc/experiment/RunMetrics.h>
 #include <semloc/filter/Localizer.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/maps/LocalizationMap.h>
 
 #include <functional>
@@ -32,7 +33,7 @@ namespace semloc
  *  `recovery_alpha_fast`. Relative input paths are resolved next to the ini first
  *  (config::resolveNextToIni), `logOutput_dir` from the working directory (as MRPT). An
  *  empty `ground_truth_path_file` takes semloc-simulate's `<rawlog stem>_gt.txt` if it
- *  exists (Simulator::groundTruthPath).
+ *  exists (GroundTruthFile::PathFor).
  *
  *  ## The rawlog
  *  Either format: action / sensory-frame pairs (one step each), or observations only, where

@@ -3,8 +3,8 @@
 
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CRawlog.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/observation/CObservationSemantic.h>
-#include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>
 
 #include <cmath>
@@ -261,9 +261,6 @@ public:
      *  times (the later reading kept), 12 detections grouped into scans within 0.01 s"), the
      *  zero ones left out; "" when all are zero. */
     static std::string summaryCounts(const TDatasetImportStats& stats);
-    /** Writes `t x y phi` rows (semloc-localize's ground truth); throws naming the file. */
-    static void writeGroundTruth(const std::vector<GroundTruthRow>& rows, const std::string& path);
-
     /** The world of the landmarks (point objects): bounds around them and the ground-truth
      *  path, grown by `margin_m`; checked by the world loader. */
     static World makeWorld(const std::vector<ImportedLandmark>& landmarks,

@@ -4,6 +4,7 @@
 #include <mrpt/config/CLoadableOptions.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CRawlog.h>
+#include <semloc/io/GroundTruthFile.h>
 #include <semloc/simulator/OdometryModel.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
 #include <semloc/simulator/SonarModel.h>
@@ -87,21 +88,6 @@ struct TSimulatorOptions
     static TSimulatorOptions FromConfigFile(const std::string& iniPath);
 };
 
-/** The true vehicle pose when one step's observations were taken. */
-struct GroundTruthRow
-{
-    /** Time [s] (the step's timestamp, mrpt::Clock::toDouble). */
-    double t = 0;
-    /** Pose x [m]. */
-    double x = 0;
-    /** Pose y [m]. */
-    double y = 0;
-    /** Pose heading [rad], in [-pi, pi]. */
-    double phi = 0;
-    /** The pose as an MRPT TPose2D. */
-    mrpt::math::TPose2D pose() const { return {x, y, phi}; }
-};
-
 /** A simulated dataset in memory. */
 struct SimulationResult
 {
@@ -151,8 +137,8 @@ public:
     SimulationResult run() const;
 
     /** Writes `rawlogPath` (gz-compressed rawlog, MRPT's usual format), its ground truth
-     *  groundTruthPath() (`t x y phi` per line, the shortest fixed-point decimals that read
-     *  back bit-exactly) and the effective configuration configPath() (output_rawlog set to
+     *  GroundTruthFile::PathFor() (`t x y phi` per line, the shortest fixed-point decimals that
+     * read back bit-exactly) and the effective configuration configPath() (output_rawlog set to
      *  `rawlogPath`; rerunning it reproduces the rawlog). All three are written to
      *  `<name>.tmp` beside them and renamed at the end; on any error none is left behind
      *  and the error is thrown. */
@@ -178,21 +164,8 @@ public:
     static void checkDatasetPaths(const std::string& rawlogPath,
                                   const std::vector<std::string>& inputs);
 
-    /** `<dir>/<stem>_gt.txt` for `<dir>/<stem>.rawlog` (any extension). */
-    static std::string groundTruthPath(const std::string& rawlogPath);
     /** `<dir>/<stem>.ini` for `<dir>/<stem>.rawlog`. */
     static std::string configPath(const std::string& rawlogPath);
-    /** Reads a ground-truth file (lines `t x y phi`; `#` or `%` comments and blank lines
-     *  skipped). Throws "file:line: ..." on a row without exactly 4 columns, a cell that is
-     *  not a finite number, or a time not after the previous row's; and on a file without
-     *  rows. */
-    static std::vector<GroundTruthRow> readGroundTruth(const std::string& path);
-    /** Writes `rows` as the `t x y phi` file readGroundTruth() reads (numbers exactly);
-     *  throws "cannot write 'PATH': REASON" on an error. */
-    static void writeGroundTruth(const std::vector<GroundTruthRow>& rows, const std::string& path);
-    /** True when readGroundTruth() reads `path` without an error. */
-    static bool isGroundTruthFile(const std::string& path);
-
     /** The options. */
     const TSimulatorOptions& options() const { return m_options; }
     /** The world. */
