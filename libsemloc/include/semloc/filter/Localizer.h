@@ -11,12 +11,12 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/slam/TKLDParams.h>
 #include <mrpt/system/COutputLogger.h>
-#include <semloc/experiment/RunMetrics.h>
 #include <semloc/filter/AugmentedMCL.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/FreeSpaceSampler.h>
 #include <semloc/filter/MotionModel.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
+#include <semloc/filter/StepRecord.h>
 #include <semloc/world/World.h>
 
 #include <cstdint>
