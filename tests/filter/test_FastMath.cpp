@@ -7,7 +7,7 @@
 #include <cstring>
 #include <vector>
 
-#include "filter/FastMath.h"
+#include "math/FastMath.h"
 
 using semloc::detail::fastAtan2;
 using semloc::detail::wrapDiff;

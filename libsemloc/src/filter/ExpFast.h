@@ -7,7 +7,7 @@
 #include <cstring>
 #include <type_traits>
 
-#include "filter/FastMath.h"
+#include "math/FastMath.h"
 
 namespace semloc::detail
 {

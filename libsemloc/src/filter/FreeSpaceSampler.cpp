@@ -10,7 +10,7 @@
 #include <cmath>
 #include <limits>
 
-#include "filter/FastMath.h"
+#include "math/FastMath.h"
 
 namespace semloc
 {

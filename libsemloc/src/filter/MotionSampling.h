@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <optional>
 
-#include "filter/FastMath.h"
+#include "math/FastMath.h"
 #include "filter/WrapToPi.h"
 #include "filter/Ziggurat.h"
 

@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "filter/FastMath.h"
+#include "math/FastMath.h"
 #include "maps/SemanticIndex.h"
 #include "maps/SemanticLikelihoodState.h"
 #include "maps/SemanticModelConstants.h"

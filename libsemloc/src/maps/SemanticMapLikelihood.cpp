@@ -6,7 +6,7 @@
 #include <cmath>
 #include <memory>
 
-#include "filter/FastMath.h"
+#include "math/FastMath.h"
 #include "maps/LabelIndex.h"
 #include "maps/SemanticAssociation.h"
 #include "maps/SemanticIndex.h"

@@ -9,7 +9,7 @@
 #include <mutex>
 #include <vector>
 
-#include "filter/FastMath.h"
+#include "math/FastMath.h"
 #include "maps/SemanticIndex.h"
 #include "maps/SemanticSensorGeometry.h"
 

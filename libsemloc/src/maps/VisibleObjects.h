@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "filter/FastMath.h"
+#include "math/FastMath.h"
 #include "maps/SemanticIndex.h"
 #include "maps/SemanticSensorGeometry.h"
 #include "maps/VisibilityTable.h"

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstddef>
 
-#include "filter/FastMathLanes.h"
+#include "math/FastMathLanes.h"
 
 namespace semloc::detail
 {
