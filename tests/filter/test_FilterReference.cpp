@@ -281,7 +281,7 @@ TEST(FilterReference, SystematicResamplingIndicesEqualTheReference)
             trial % 100 == 99 ? 1 + rng.drawUniform32bit() % 3000 : 1 + rng.drawUniform32bit() % 40;
         const auto w = randomWeights(rng, M, kind);
         const double u = randomOffset(rng);
-        const auto ref = semloc::reference::systematicResamplingIndices(w, u);
+        const auto ref = semloc::detail::systematicResamplingIndices(w, u);
         from.resize(M);
         for (size_t i = 0; i < M; i++)
         {
@@ -352,7 +352,7 @@ TEST(FilterReference, FilterStepResamplesAsTheReference)
         auto copy = state;
         const double u = copy.drawUniform(0.0, 1.0);
         pf.prediction_and_update_pfStandardProposal(nullptr, nullptr, o);
-        const auto ref = semloc::reference::systematicResamplingIndices(w, u);
+        const auto ref = semloc::detail::systematicResamplingIndices(w, u);
         ASSERT_EQ(pf.size(), M);
         for (size_t i = 0; i < M; i++)
         {

@@ -12,7 +12,7 @@
 #include <set>
 #include <tuple>
 
-#include "filter/FilterReference.h"
+#include "filter/Resampling.h"
 
 namespace semloc::detail
 {
@@ -47,7 +47,7 @@ void kldResample(const std::vector<double>& w, const ParticleList& particles,
     const size_t maxN = std::max<size_t>(1, p.KLD_maxSampleSize);
     const size_t minN = std::min<size_t>(p.KLD_minSampleSize, maxN);
     // Systematic candidates: pointers (u + j) W / maxN into the cumulative weights.
-    std::vector<size_t> cand = reference::systematicResamplingIndices(w, u, maxN);
+    std::vector<size_t> cand = systematicResamplingIndices(w, u, maxN);
 
     // Fox's rule over the candidates in a random order.
     std::set<std::tuple<int64_t, int64_t, int64_t>> bins;

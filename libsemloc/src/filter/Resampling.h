@@ -29,8 +29,8 @@ struct CarriedValues
  *  sequential chain of additions (its bits are the sequential loop's); everything else runs
  *  per block of particles on the executor's threads: the pointers of block [s, e) are those
  *  with c_{s-1} <= t_i < c_{e-1}, found from the chain's values at the block borders. The
- *  same indices as the sequential walk (FilterReference's systematicResamplingIndices), bit
- *  for bit, for any thread count. Buffers are kept from call to call. */
+ *  same indices as the sequential walk (systematicResamplingIndices), bit for bit, for any
+ *  thread count. Buffers are kept from call to call. */
 class SystematicResampling
 {
 public:
@@ -62,6 +62,16 @@ private:
     /** The first pointer of each block (and M at the end). */
     std::vector<size_t> m_blockFirstPointer;
 };
+
+/** Systematic resampling (Thrun et al., Probabilistic Robotics, Table 4.4; MRPT's
+ *  prSystematic) of the linear weights w (>= 0, positive sum W) into M particles (`count`;
+ *  0: as many as weights): the M pointers t_i = (u + i) W / M, u in [0, 1); particle j takes
+ *  the pointers in [c_{j-1}, c_j), c_j = w_0 + ... + w_j summed in order, and the last
+ *  particle of positive weight those beyond c_{N-1} (rounding). The source index of each
+ *  resampled particle, in order: the sequential walk SystematicResampling's blocks reproduce,
+ *  and KldResampling's candidate draw. */
+std::vector<size_t> systematicResamplingIndices(const std::vector<double>& w, double u,
+                                                size_t count = 0);
 
 /** `to` = the particles of `from` at the sorted indices `idx`, log-weights 0 (and the
  *  `carried` values with them). */

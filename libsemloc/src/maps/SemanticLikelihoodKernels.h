@@ -17,7 +17,7 @@
  *  polynomial atan2 in Vec2 lanes. PaperLikelihood.cpp and ProbabilisticLikelihood.cpp
  *  hold them.
  *
- *  SemanticLikelihoodReference.h states the same models plainly, one particle at a time;
+ *  tests/maps/SemanticLikelihoodReference.h states the same models plainly, one particle at a time;
  *  tests/maps/test_SemanticLikelihoodReference.cpp holds these kernels to it.
  *
  *  Before a block: sc.dets holds the call's detections, planPairsOnce() their plan, sc.vis

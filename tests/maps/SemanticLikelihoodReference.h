@@ -1,5 +1,5 @@
-/* semloc — the semantic likelihoods written to be read: the reference of CSemanticMap's
- * fast path (private). */
+/* semloc tests — the semantic likelihoods written to be read: the reference of CSemanticMap's
+ * fast path. */
 #pragma once
 
 #include <mrpt/math/TPose2D.h>

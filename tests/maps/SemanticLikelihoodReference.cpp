@@ -1,4 +1,4 @@
-/* semloc — the semantic likelihoods written to be read (see SemanticLikelihoodReference.h). */
+/* semloc tests — the semantic likelihoods written to be read (SemanticLikelihoodReference.h). */
 #include "maps/SemanticLikelihoodReference.h"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
-/* semloc — the filter step's fast paths written to be read: motion sample, systematic
- * resampling, mean and covariance. */
+/* semloc tests — the filter step's fast paths written to be read: motion sample, mean and
+ * covariance. */
 #include "filter/FilterReference.h"
 
 #include <mrpt/core/exceptions.h>
@@ -63,38 +63,6 @@ mrpt::math::TPose2D movedPose(const mrpt::poses::CPosePDFGaussian& pdf, uint64_t
     from.y(p.y);
     from.phi(p.phi);
     return (from + u).asTPose();
-}
-
-std::vector<size_t> systematicResamplingIndices(const std::vector<double>& w, double u,
-                                                size_t count)
-{
-    const size_t M = count > 0 ? count : w.size();
-    double total = 0;
-    for (const double wi : w)
-    {
-        total += wi;
-    }
-    ASSERT_(total > 0);
-    size_t last = w.size() - 1;
-    while (last > 0 && !(w[last] > 0))
-    {
-        last--;
-    }
-    const double step = total / static_cast<double>(M);
-    std::vector<size_t> idx(M);
-    size_t j = 0;
-    double c = w[0];  // c_j
-    for (size_t i = 0; i < M; i++)
-    {
-        const double t = (u + static_cast<double>(i)) * step;
-        while (t >= c && j < last)
-        {
-            j++;
-            c += w[j];
-        }
-        idx[i] = j;
-    }
-    return idx;
 }
 
 std::tuple<mrpt::math::CMatrixDouble33, mrpt::poses::CPose2D> covarianceAndMean(
