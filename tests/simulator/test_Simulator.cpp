@@ -643,7 +643,8 @@ objects:
     std::map<int, int> detected;
     for (int i = 0; i < n; i++)
     {
-        for (const auto& d : det.measure({0, 0, 0}, rng)->detections)
+        const auto obs = det.measure({0, 0, 0}, rng);
+        for (const auto& d : obs->detections)
         {
             detected[d.object_id]++;
         }
