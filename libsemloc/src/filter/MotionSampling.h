@@ -10,9 +10,9 @@
 #include <cstdint>
 #include <optional>
 
-#include "math/FastMath.h"
 #include "filter/WrapToPi.h"
 #include "filter/Ziggurat.h"
+#include "math/FastMath.h"
 
 namespace semloc::detail
 {

@@ -7,10 +7,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "math/FastMath.h"
 #include "maps/SemanticIndex.h"
 #include "maps/SemanticLikelihoodState.h"
 #include "maps/SemanticModelConstants.h"
+#include "math/FastMath.h"
 
 namespace semloc::semantic
 {

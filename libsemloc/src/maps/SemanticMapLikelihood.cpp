@@ -6,12 +6,12 @@
 #include <cmath>
 #include <memory>
 
-#include "math/FastMath.h"
 #include "maps/LabelIndex.h"
 #include "maps/SemanticAssociation.h"
 #include "maps/SemanticIndex.h"
 #include "maps/SemanticLikelihoodKernels.h"
 #include "maps/SemanticLikelihoodState.h"
+#include "math/FastMath.h"
 
 using mrpt::math::TPose2D;
 

@@ -9,9 +9,9 @@
 #include <mutex>
 #include <vector>
 
-#include "math/FastMath.h"
 #include "maps/SemanticIndex.h"
 #include "maps/SemanticSensorGeometry.h"
+#include "math/FastMath.h"
 
 namespace semloc::detail
 {

@@ -6,10 +6,10 @@
 #include <cstdint>
 #include <type_traits>
 
-#include "math/FastMath.h"
 #include "maps/SemanticIndex.h"
 #include "maps/SemanticSensorGeometry.h"
 #include "maps/VisibilityTable.h"
+#include "math/FastMath.h"
 
 namespace semloc::semantic
 {
