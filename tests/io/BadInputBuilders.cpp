@@ -75,22 +75,8 @@ fs::path writeIni(const fs::path& dir, const std::string& extra, Keys keys, cons
             keys.push_back(kv);
         }
     }
-    std::istringstream in(readText(kSrc + "/config/" + name + ".ini"));
-    std::string out;
-    for (std::string line; std::getline(in, line);)
-    {
-        for (auto k = keys.begin(); k != keys.end(); ++k)
-        {
-            if (line.rfind(k->first + " ", 0) == 0 || line.rfind(k->first + "=", 0) == 0)
-            {
-                line = k->first + " = " + k->second;
-                keys.erase(k);
-                break;
-            }
-        }
-        out += line + "\n";
-    }
-    EXPECT_TRUE(keys.empty()) << keys.front().first << " is not in " << name << ".ini";
+    const std::string out = semloc::test::withKeys(readText(kSrc + "/config/" + name + ".ini"),
+                                                   name + ".ini", std::move(keys));
     writeText(dir / "loc.ini", out + extra + "\n");
     return dir / "loc.ini";
 }
