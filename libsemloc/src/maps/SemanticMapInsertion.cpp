@@ -3,6 +3,7 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/poses/CPose3D.h>
 #include <semloc/maps/CSemanticMap.h>
+#include <semloc/maps/DetectionProbability.h>
 
 #include <algorithm>
 #include <cmath>
@@ -155,12 +156,9 @@ void updateSurety(CSemanticMap::TObject& ob, double sigmaRange)
 double CSemanticMap::TLikelihoodOptions::detectionProbability(double rho, double R, double theta,
                                                               double fov) const
 {
-    double p = p_detect_near + (p_detect_far - p_detect_near) * rho / R;
-    if (p_detect_edge_ratio < 1 && fov < 2 * M_PI)
-    {
-        p *= 1 - (1 - p_detect_edge_ratio) * std::min(2 * std::abs(theta) / fov, 1.0);
-    }
-    return std::clamp(p, 1e-6, 1.0);
+    return std::clamp(semloc::detectionProbability(p_detect_near, p_detect_far, p_detect_edge_ratio,
+                                                   rho, R, theta, fov),
+                      1e-6, 1.0);
 }
 
 std::vector<CSemanticMap::TObjectInView> CSemanticMap::objectsInView(

@@ -4,6 +4,7 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/io/ConfigHelpers.h>
+#include <semloc/maps/DetectionProbability.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
 
 #include <algorithm>
@@ -117,13 +118,9 @@ SemanticDetectorModel::SemanticDetectorModel(const World& world, const TOptions&
 double SemanticDetectorModel::detectionProbability(double range_m, double bearing_rad) const
 {
     const TOptions& o = m_options;
-    double p = o.p_detect_near + (o.p_detect_far - o.p_detect_near) * range_m / o.max_range_m;
-    if (o.p_detect_edge_ratio < 1 && o.fov_deg < 360)
-    {
-        const double off = std::min(std::abs(bearing_rad) / mrpt::DEG2RAD(0.5 * o.fov_deg), 1.0);
-        p *= 1 - (1 - o.p_detect_edge_ratio) * off;
-    }
-    return p;
+    const double fov = o.fov_deg < 360 ? mrpt::DEG2RAD(o.fov_deg) : 2 * M_PI;
+    return semloc::detectionProbability(o.p_detect_near, o.p_detect_far, o.p_detect_edge_ratio,
+                                        range_m, o.max_range_m, bearing_rad, fov);
 }
 
 mrpt::math::TPoint2D SemanticDetectorModel::sensorPosition(const mrpt::math::TPose2D& vehicle) const
