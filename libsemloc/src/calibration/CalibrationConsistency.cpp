@@ -74,11 +74,6 @@ TConsistencyTrial runTrial(const std::string& ini, const detail::TemporaryDirect
     return t;
 }
 
-bool consistent(const TConsistencyTrial& t, double minShare)
-{
-    return SensorCalibration::Consistent(t, minShare);
-}
-
 /** Whether the trials from `row` on hold one whose runs all converged within `tolerance` of
  *  the lowest error of such trials (true while no trial's runs all converged: more noise may
  *  be what they need). */
@@ -124,7 +119,8 @@ size_t choose(const std::vector<TConsistencyTrial>& trials, double minShare, dou
         }
         return best;
     };
-    if (const auto c = lowestError([&](const auto& t) { return consistent(t, minShare); }))
+    if (const auto c =
+            lowestError([&](const auto& t) { return SensorCalibration::Consistent(t, minShare); }))
     {
         return *c;
     }
@@ -220,7 +216,7 @@ TCalibrationResult SensorCalibration::Consistency(
             {
                 trial(t);
             }
-            if (consistent(t, o.minInsideShare))
+            if (Consistent(t, o.minInsideShare))
             {
                 break;  // wider sensor noise only spreads the cloud further
             }
@@ -231,7 +227,7 @@ TCalibrationResult SensorCalibration::Consistency(
         }
     }
     c.chosen = choose(c.trials, o.minInsideShare, o.errorTolerance);
-    c.consistent = consistent(c.trials[c.chosen], o.minInsideShare);
+    c.consistent = Consistent(c.trials[c.chosen], o.minInsideShare);
     const auto& best = c.trials[c.chosen];
     TCalibrationResult out = Widened(r, best.sensorScale, best.motionScale);
     out.consistency = std::move(c);
