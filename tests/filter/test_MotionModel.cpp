@@ -8,6 +8,7 @@
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <semloc/filter/Localizer.h>
 #include <semloc/filter/MotionModel.h>
+#include <semloc/filter/OdometryDelay.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/simulator/Simulator.h>
 
@@ -93,6 +94,7 @@ TEST(MotionModel, ReadWriteEveryKeyAndRejectMistakes)
                                  "a4 = 0.3\nminStdXY = 0.05\nminStdPHI = 1.5 // deg\n"),
                          "MotionModel");
     EXPECT_EQ(o.source, MotionModel::Source::Gaussian);
+    EXPECT_EQ(o.odometry_delay_s, 0);
     EXPECT_EQ(o.a3, 3);
     EXPECT_EQ(o.minStdPHI, 1.5);
 
@@ -104,6 +106,8 @@ TEST(MotionModel, ReadWriteEveryKeyAndRejectMistakes)
     EXPECT_EQ(out.getContent(), out2.getContent());
     EXPECT_EQ(back.source, MotionModel::Source::Gaussian);
     EXPECT_EQ(back.a2, 0.01);
+    o.loadFromConfigFile(iniText("[MotionModel]\nodometry_delay_s = 0.25\n"), "MotionModel");
+    EXPECT_EQ(o.odometry_delay_s, 0.25);
 
     // Through Localizer::TOptions, whose config.ini carries the section.
     Localizer::TOptions lo;
@@ -121,6 +125,8 @@ TEST(MotionModel, ReadWriteEveryKeyAndRejectMistakes)
         {"a4 = nan", "[MotionModel] a4: 'nan' is not a finite number"},
         {"minStdPHI = 400", "[MotionModel] minStdPHI: value 400 is out of range [0, 360]"},
         {"minStdXY = wide", "[MotionModel] minStdXY: 'wide' is not a number"},
+        {"odometry_delay_s = 6", "[MotionModel] odometry_delay_s: value 6 is out of range [0, 5]"},
+        {"odometry_delay_s = -0.1", "[MotionModel] odometry_delay_s: value -0.1 is out of range"},
     };
     for (const auto& [line, needle] : bad)
     {
@@ -279,6 +285,60 @@ TEST(MotionModel, LocalizerUsesTheRederivedOdometryInBothFormats)
         pairs.step(acts, *sim.rawlog.getAsObservations(i + 1));
     }
     expectSameParticles(obsOnly, pairs);
+}
+
+TEST(MotionModel, LocalizerMovesByTheIncrementsReCutForTheDelay)
+{
+    // odometry_delay_s: the Localizer moves the particles by each action's increment re-cut
+    // by OdometryDelay at the action's time, its covariance kept: the same particles as a
+    // filter without the delay fed those increments by hand.
+    const auto world = semloc::World::FromFile(kPaperWorld);
+    const auto sim = simulate(12);
+    Localizer::TOptions o = gaussianStart(500, 1.5);
+    Localizer::TOptions od = o;
+    od.motion_model.odometry_delay_s = 0.7;
+    Localizer delayed(od, semanticMap(world), &world);
+    semloc::OdometryDelay cut(0.7);
+    std::vector<CActionCollection> byHandActions;
+    size_t changed = 0;
+    for (size_t i = 0; i + 1 < sim.rawlog.size(); i += 2)
+    {
+        const auto& acts = *sim.rawlog.getAsAction(i);
+        delayed.step(acts, *sim.rawlog.getAsObservations(i + 1));
+        const auto move = acts.getBestMovementEstimation();
+        const auto* g = dynamic_cast<const mrpt::poses::CPosePDFGaussian*>(move->poseChange.get());
+        ASSERT_NE(g, nullptr);
+        const mrpt::poses::CPose2D u(
+            cut.step(mrpt::Clock::toDouble(move->timestamp), g->mean.asTPose()));
+        ASSERT_NE(delayed.lastMovement(), nullptr);
+        const auto got = delayed.lastMovement()->poseChange->getMeanVal();
+        EXPECT_EQ(got.x(), u.x());
+        EXPECT_EQ(got.y(), u.y());
+        EXPECT_EQ(got.phi(), u.phi());
+        changed += std::abs(u.x() - g->mean.x()) > 1e-6 ? 1 : 0;
+        CActionRobotMovement2D mv(*move);
+        mv.poseChange =
+            mrpt::poses::CPosePDF::Ptr(std::make_shared<mrpt::poses::CPosePDFGaussian>(u, g->cov));
+        byHandActions.emplace_back();
+        byHandActions.back().insert(mv);
+    }
+    EXPECT_GT(changed, 10U);  // the re-cut increments are not the rawlog's
+    Localizer byHand(o, semanticMap(world), &world);
+    for (size_t i = 0; i + 1 < sim.rawlog.size(); i += 2)
+    {
+        byHand.step(byHandActions[i / 2], *sim.rawlog.getAsObservations(i + 1));
+    }
+    expectSameParticles(delayed, byHand);
+
+    // A step without any timestamp cannot be re-cut: an error that says why.
+    Localizer noTime(od, semanticMap(world), &world);
+    CActionRobotMovement2D mv;
+    mv.computeFromOdometry(mrpt::poses::CPose2D(0.1, 0, 0), wideModelMrpt());
+    mv.timestamp = INVALID_TIMESTAMP;
+    CActionCollection acts;
+    acts.insert(mv);
+    const std::string err = errorOf([&] { noTime.step(acts, mrpt::obs::CSensoryFrame()); });
+    EXPECT_NE(err.find("odometry_delay_s > 0 needs timestamped steps"), std::string::npos) << err;
 }
 
 TEST(MotionModel, SimulatorsModelRederivedChangesNothing)

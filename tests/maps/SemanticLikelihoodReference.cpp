@@ -81,6 +81,20 @@ bool bearingInFov(double b, double fov)
     return std::abs(b) <= 4 * M_PI && std::abs(std::remainder(b, 2 * M_PI)) <= 0.5 * fov + 1e-9;
 }
 
+/** A detection's range `rho` at bearing `theta` less the detector's range bias, the sum of
+ *  c_k u^k with u the bearing over half the view (over pi for a full circle), within [0, R]. */
+double unbiasedRange(const Options& opt, double rho, double theta, double R, double fov)
+{
+    const double u = std::remainder(theta, 2 * M_PI) / (fov < 2 * M_PI ? fov / 2 : M_PI);
+    double bias = 0, power = 1;
+    for (const double c : opt.range_bias_m)
+    {
+        bias += c * power;
+        power *= u;
+    }
+    return std::min(R, std::max(0.0, rho - bias));
+}
+
 Scan scanOf(const CSemanticMap& map, const CObservationSemantic& obs)
 {
     const Options& opt = map.likelihoodOptions;
@@ -110,7 +124,8 @@ Scan scanOf(const CSemanticMap& map, const CObservationSemantic& obs)
         {
             continue;  // unknown to the map: unmatched at every pose, a constant factor
         }
-        s.z_r.push_back({d.range_m, d.bearing_rad, known ? d.label : std::string(), named});
+        s.z_r.push_back({unbiasedRange(opt, d.range_m, d.bearing_rad, s.R, s.fov), d.bearing_rad,
+                         known ? d.label : std::string(), named});
     }
     return s;
 }
@@ -144,7 +159,8 @@ Scan scanOf(const CSemanticMap& map, const mrpt::obs::CObservationBearingRange& 
         {
             continue;  // an id the map does not have
         }
-        s.z_r.push_back({rho, theta, std::string(), named});  // no label: any object
+        // No label: any object.
+        s.z_r.push_back({unbiasedRange(opt, rho, theta, s.R, s.fov), theta, std::string(), named});
     }
     return s;
 }

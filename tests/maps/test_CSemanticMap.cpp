@@ -9,6 +9,7 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/maps/CSemanticMap.h>
+#include <semloc/maps/DetectionProbability.h>
 
 #include <algorithm>
 #include <fstream>
@@ -135,6 +136,15 @@ TEST(CSemanticMap, IniErrorsNameSectionAndKey)
         e = errorOf([&] { mapFromIni(head + "p_range_outlier=" + bad + "\n"); });
         EXPECT_NE(e.find("p_range_outlier"), std::string::npos) << bad << ": " << e;
     }
+    for (const auto& [bad, needle] :
+         {std::pair{"0.1, x", "'x' is not a number"}, std::pair{"1, 2, 3, 4, 5", "at most 4"},
+          std::pair{"0.1,", "is not a list of numbers"}, std::pair{"nan", "not a finite number"},
+          std::pair{"2000", "out of range"}})
+    {
+        e = errorOf([&] { mapFromIni(head + "range_bias_m=" + bad + "\n"); });
+        EXPECT_NE(e.find("range_bias_m"), std::string::npos) << bad << ": " << e;
+        EXPECT_NE(e.find(needle), std::string::npos) << bad << ": " << e;
+    }
     e = errorOf(
         [&]
         {
@@ -155,6 +165,7 @@ TEST(CSemanticMap, OptionsWrittenToIniReadBackToTheBit)
     a.p_confusion = 1.2345678901234567e-7;
     a.p_range_outlier = 0.031415926535897934;
     a.clutter_per_scan = 1.0 / 3.0;
+    a.range_bias_m = {0.1234567890123, -1.0 / 3.0, 0, 2.5e-7};
     CSemanticMap::TInsertionOptions ia;
     ia.merge_distance_m = 2.0 / 3.0;
     mrpt::config::CConfigFileMemory out;
@@ -172,7 +183,13 @@ TEST(CSemanticMap, OptionsWrittenToIniReadBackToTheBit)
     EXPECT_EQ(b.p_range_outlier, a.p_range_outlier);
     EXPECT_EQ(b.clutter_per_scan, a.clutter_per_scan);
     EXPECT_EQ(b.p_detect_near, a.p_detect_near);
+    EXPECT_EQ(b.range_bias_m, a.range_bias_m);
     EXPECT_EQ(ib.merge_distance_m, ia.merge_distance_m);
+    // No bias is written as 0 and read back as none.
+    mrpt::config::CConfigFileMemory none;
+    CSemanticMap::TLikelihoodOptions().saveToConfigFile(none, "l");
+    b.loadFromConfigFile(mrpt::config::CConfigFileMemory(none.getContent()), "l");
+    EXPECT_TRUE(b.range_bias_m.empty());
 }
 
 class BothModels : public ::testing::TestWithParam<CSemanticMap::Model>
@@ -425,6 +442,42 @@ TEST(CSemanticMap, DetectionProbabilityFallsTowardsTheEdgeOfTheView)
     EXPECT_NEAR(o.detectionProbability(5, 10, 0.7, M_PI / 2), onAxis, 1e-15);
     o.p_detect_edge_ratio = 0.2;
     EXPECT_NEAR(o.detectionProbability(5, 10, 3.0, 2 * M_PI), onAxis, 1e-15);
+}
+
+TEST(CSemanticMap, RangeBiasIsTakenOffEachDetection)
+{
+    // A detector whose ranges read c0 + c1 u + c2 u^2 + c3 u^3 long (u: the bearing over half
+    // its 90-degree view): with range_bias_m set, a detection of the object at 5 m read that
+    // much long scores as a detection at 5 m does without it, in both models.
+    for (const auto model : {CSemanticMap::Model::Paper, CSemanticMap::Model::Probabilistic})
+    {
+        CSemanticMap biased, plain;
+        for (CSemanticMap* m : {&biased, &plain})
+        {
+            m->likelihoodOptions.model = model;
+            m->addObject({1, "pillar", 5, 0, 0, 0.3, 1});
+        }
+        biased.likelihoodOptions.range_bias_m = {0.2, 0.1, -0.5, 0.05};
+        CObservationSemantic obs;
+        obs.maxRange_m = 10;
+        obs.fov_rad = M_PI / 2;
+        for (const double deg : {0.0, 20.0, -30.0, 44.0})
+        {
+            const double b = mrpt::DEG2RAD(deg), u = deg / 45;
+            const double bias = 0.2 + 0.1 * u - 0.5 * u * u + 0.05 * u * u * u;
+            EXPECT_NEAR(semloc::rangeBias(biased.likelihoodOptions.range_bias_m, b, M_PI / 2), bias,
+                        1e-15);
+            const TPose2D pose(0, 0, -b);  // the object at bearing b
+            obs.detections = {detection("pillar", 5 + bias, 0)};
+            obs.detections[0].bearing_rad = b;
+            const double withBias = biased.computeLogLikelihood(obs, pose);
+            obs.detections[0].range_m = 5;
+            EXPECT_NEAR(withBias, plain.computeLogLikelihood(obs, pose), 1e-9) << deg;
+            // And the bias matters: read as it came, the detection scores lower.
+            obs.detections[0].range_m = 5 + bias;
+            EXPECT_LT(plain.computeLogLikelihood(obs, pose), withBias - 1e-3) << deg;
+        }
+    }
 }
 
 TEST(CSemanticMap, AFullCircleSeesAnObjectStraightBehind)

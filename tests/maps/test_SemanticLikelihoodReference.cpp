@@ -135,7 +135,10 @@ CSemanticMap randomMap(Rng& rng, size_t& nLabels)
     }
     // In turn, not drawn: the scenes' random streams stay those the coverage counts are for.
     static size_t turn = 0;
-    o.p_detect_edge_ratio = std::array<double, 4>{1.0, 0.3, 1.0, 0.0}[turn++ % 4];
+    const size_t k = turn++;
+    o.p_detect_edge_ratio = std::array<double, 4>{1.0, 0.3, 1.0, 0.0}[k % 4];
+    // Every third scene's detector reads its ranges with a bias by bearing.
+    o.range_bias_m = k % 3 == 1 ? std::vector<double>{0.4, -0.3, -1.2, 0.5} : std::vector<double>{};
     return m;
 }
 

@@ -226,6 +226,15 @@ std::string SensorCalibration::BiasText(const TCalibrationResult& r)
       << " around the mean, " << num(r.sigma_bearing_deg.value / r.sigma_bearing_deg.widenedBy)
       << " about 0 (fitted), " << num(b.sigmaBearingAtTruth_deg)
       << " at the ground truth as given\n";
+    if (!r.rangeBias_m.empty())
+    {
+        const auto& c = r.rangeBias_m;
+        t << "range bias by bearing: " << num(c[0]) << " m on the axis, "
+          << num(c[0] - c[1] + c[2] - c[3]) << " m and " << num(c[0] + c[1] + c[2] + c[3])
+          << " m at the edges of the view; taken off each detection (range_bias_m), the "
+             "range residuals' robust sigma "
+          << num(r.sigmaRangeUncorrected_m) << " m with it left on\n";
+    }
     const auto& o = r.mapOffset;
     if (o.fitted)
     {

@@ -23,6 +23,13 @@ std::vector<double> nonNegativeLeastSquares(const std::vector<std::vector<double
  *  the samples and counts of `r`. Throws when no detection matched an object. */
 void fitDetector(TCalibrationResult& r);
 
+/** The range bias by bearing the residuals of `s` show (TCalibrationResult::rangeBias_m):
+ *  kRangeBiasTerms coefficients and their 95 % half-widths in `ci95`, or none (empty) when
+ *  it is not significant, there are fewer than kMinRangeBiasResiduals residuals or their
+ *  bearings do not vary enough to fit a cubic. */
+std::vector<double> fitRangeBias(const TCalibrationSamples& s, std::vector<double>& ci95);
+constexpr size_t kMinRangeBiasResiduals = 40;
+
 /** a1..a4, minStdXY, minStdPHI from the odometry samples of `r` (all 0 with fewer than 4
  *  increments: n says so). */
 void fitOdometry(TCalibrationResult& r);

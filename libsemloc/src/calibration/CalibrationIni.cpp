@@ -96,6 +96,36 @@ std::string fitComment(const TCalibrationFit& f)
            f.method;
 }
 
+std::string rangeBiasText(const TCalibrationResult& r)
+{
+    std::string t;
+    for (const double c : r.rangeBias_m)
+    {
+        t += (t.empty() ? "" : ", ") + number(c);
+    }
+    return t.empty() ? "0" : t;
+}
+
+std::string rangeBiasComment(const TCalibrationResult& r)
+{
+    const std::string n = std::to_string(r.samples.rangeResiduals_m.size());
+    if (r.rangeBias_m.empty())
+    {
+        return "calibrated: n = " + n + ", no range bias by bearing found";
+    }
+    std::string ci;
+    for (const double c : r.rangeBiasCi95_m)
+    {
+        ci += (ci.empty() ? "" : ", ") + number(c);
+    }
+    const auto& c = r.rangeBias_m;
+    return "calibrated: n = " + n + ", +/- " + ci +
+           " (95 %), robust least squares of the range residuals against 1, u, u^2, u^3 (u: "
+           "the bearing over half the view): " +
+           number(c[0]) + " m on the axis, " + number(c[0] - c[1] + c[2] - c[3]) + " and " +
+           number(c[0] + c[1] + c[2] + c[3]) + " m at the edges";
+}
+
 /** The base's lines, with `key` of `section` set (replaced where the base has it, else added
  *  at the end of the section, or in a new section at the end). */
 class IniText
@@ -300,6 +330,7 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
     {
         setFit(ini, base, kLikelihood, key, *fit);
     }
+    ini.set(kLikelihood, "range_bias_m", rangeBiasText(r), rangeBiasComment(r));
     const char* mm = MotionModel::kSection;
     if (r.a1.status == TCalibrationFit::Status::TooLittleData)
     {
@@ -327,6 +358,14 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
             r.headingDrifts
                 ? "calibrated: the heading drifts " + measured + ": the drift state on"
                 : "calibrated: no heading drift (" + measured + "): the drift state off");
+    const auto& delay = r.odometry_delay_s;
+    const std::string rms = number(r.odomHeadingRms_deg) + " deg RMS per increment";
+    ini.set(mm, "odometry_delay_s", number(delay.value),
+            delay.value > 0
+                ? "calibrated: n = " + std::to_string(delay.n) + ", +/- " + number(delay.ci95) +
+                      " (95 %), heading errors " + rms + " as they come, " +
+                      number(r.odomHeadingRmsDelayed_deg) + " re-cut; " + delay.method
+                : "calibrated: no delay found (heading errors " + rms + "); " + delay.method);
     return header + ini.text();
 }
 

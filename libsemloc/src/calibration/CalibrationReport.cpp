@@ -245,11 +245,24 @@ std::string markdown(const TCalibrationResult& r)
       << row("p_range_outlier", r.p_range_outlier) << row("a1", r.a1) << row("a2", r.a2)
       << row("a3", r.a3) << row("a4", r.a4) << row("minStdXY", r.minStdXY)
       << row("minStdPHI", r.minStdPHI)
-      << row("heading drift [deg/min]", r.heading_drift_deg_per_min) << "\nThe heading "
+      << row("heading drift [deg/min]", r.heading_drift_deg_per_min)
+      << row("odometry_delay_s", r.odometry_delay_s) << "\nThe heading "
       << (r.headingDrifts ? "drifts: the calibrated ini turns the drift state on "
                             "([MotionModel] heading_drift_walk_deg_per_min)."
                           : "does not drift measurably: the drift state stays off.")
-      << "\n\n## Bias and map offset\n\n";
+      << " The odometry's increments err by " << r.odomHeadingRms_deg
+      << " deg RMS in heading as they come";
+    if (r.odometry_delay_s.value > 0)
+    {
+        m << ", " << r.odomHeadingRmsDelayed_deg
+          << " re-cut by the delay (the vehicle follows its odometry late: [MotionModel] "
+             "odometry_delay_s).";
+    }
+    else
+    {
+        m << "; no delay lowers that significantly.";
+    }
+    m << "\n\n## Bias and map offset\n\n";
     std::istringstream bias(SensorCalibration::BiasText(r));
     for (std::string line; std::getline(bias, line);)
     {

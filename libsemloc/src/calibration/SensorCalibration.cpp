@@ -9,6 +9,8 @@
 #include <mrpt/system/datetime.h>
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/GroundTruth.h>
+#include <semloc/filter/OdometryDelay.h>
+#include <semloc/maps/DetectionProbability.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
 
@@ -261,6 +263,8 @@ void addMatch(const CObservationSemantic& obs, const TSemanticDetection& d,
     if (v.range_m + 3 * gate.sigmaRange_m <= obs.maxRange_m && v.range_m >= 3 * gate.sigmaRange_m)
     {
         s.rangeResiduals_m.push_back(d.range_m - v.range_m);
+        s.rangeResidualBearing.push_back(d.bearing_rad /
+                                         (obs.fov_rad < 2 * M_PI ? 0.5 * obs.fov_rad : M_PI));
         s.rangeResidualsAtTruth_m.push_back(d.range_m - local.norm());
     }
     if (std::abs(v.bearing_rad) + 3 * gate.sigmaBearing_rad <= 0.5 * obs.fov_rad)
@@ -365,13 +369,13 @@ const GroundTruthRow& rowAt(const GroundTruth& gt, mrpt::Clock::time_point t, do
     return *row;
 }
 
-/** The odometry of one action against the ground truth between `prev` and `cur`. */
-void addIncrement(const CActionRobotMovement2D& act, const GroundTruthRow& prev,
+/** The odometry increment `odo` of one action against the ground truth between `prev` and
+ *  `cur`. */
+void addIncrement(const mrpt::poses::CPose2D& odo, const GroundTruthRow& prev,
                   const GroundTruthRow& cur, TCalibrationResult& r)
 {
     const mrpt::poses::CPose2D truth =
         mrpt::poses::CPose2D(cur.pose()) - mrpt::poses::CPose2D(prev.pose());
-    const mrpt::poses::CPose2D& odo = act.rawOdometryIncrementReading;
     r.samples.odomDist_m.push_back(truth.norm());
     r.samples.odomTurn_rad.push_back(std::abs(truth.phi()));
     r.samples.odomErrXY_m.push_back(std::hypot(odo.x() - truth.x(), odo.y() - truth.y()));
@@ -418,22 +422,121 @@ struct Span
         *this = Span();
         begin = s.odomDist_m.size();
     }
-    void add(const CActionRobotMovement2D& act, const GroundTruthRow& prev,
-             const GroundTruthRow& cur)
+    void add(const mrpt::poses::CPose2D& odo, const GroundTruthRow& prev, const GroundTruthRow& cur)
     {
-        odometry = odometry + act.rawOdometryIncrementReading;
+        odometry = odometry + odo;
         truth = truth + (mrpt::poses::CPose2D(cur.pose()) - mrpt::poses::CPose2D(prev.pose()));
         dt_s += cur.t - prev.t;
     }
 };
 
+/** The odometry's actions in order: time, increment, and the ground-truth row at that time. */
+struct TimedIncrement
+{
+    double t;
+    mrpt::math::TPose2D u;
+    const GroundTruthRow* row;
+};
+
+std::vector<TimedIncrement> timedIncrements(const mrpt::obs::CRawlog& rawlog,
+                                            const std::string& rawlogName, const GroundTruth& gt,
+                                            const SensorCalibration::TOptions& o)
+{
+    std::vector<TimedIncrement> out;
+    for (size_t i = 0; i < rawlog.size(); i++)
+    {
+        if (rawlog.getType(i) != mrpt::obs::CRawlog::etActionCollection)
+        {
+            continue;
+        }
+        const auto act = rawlog.getAsAction(i)->getBestMovementEstimation();
+        if (act)
+        {
+            out.push_back({mrpt::Clock::toDouble(act->timestamp),
+                           act->rawOdometryIncrementReading.asTPose(),
+                           &rowAt(gt, act->timestamp, o.gtTolerance_s, rawlogName, i)});
+        }
+    }
+    return out;
+}
+
+/** The sum of the squared heading errors [rad^2] of the increments re-cut by `delay_s`
+ *  against the ground truth, and how many there are. */
+double headingSse(const std::vector<TimedIncrement>& steps, double delay_s, size_t& n)
+{
+    OdometryDelay delay(delay_s);
+    double sse = 0;
+    n = 0;
+    for (size_t k = 0; k < steps.size(); k++)
+    {
+        const double phi = delay.step(steps[k].t, steps[k].u).phi;
+        if (k == 0)
+        {
+            continue;
+        }
+        const double truth = mrpt::math::wrapToPi(steps[k].row->phi - steps[k - 1].row->phi);
+        const double e = mrpt::math::wrapToPi(phi - truth);
+        sse += e * e;
+        n++;
+    }
+    return sse;
+}
+
+/** TCalibrationResult::odometry_delay_s and the heading RMS before and after it. */
+void fitOdometryDelay(const std::vector<TimedIncrement>& steps, TCalibrationResult& r)
+{
+    size_t n = 0;
+    const double sse0 = headingSse(steps, 0, n);
+    const auto grid = static_cast<int>(
+        std::lround(TCalibrationResult::kMaxFittedDelay_s / TCalibrationResult::kDelayStep_s));
+    std::vector<double> sse(static_cast<size_t>(grid) + 1, sse0);
+    size_t best = 0;
+    for (int k = 1; k <= grid; k++)
+    {
+        size_t nk = 0;
+        sse[static_cast<size_t>(k)] = headingSse(steps, k * TCalibrationResult::kDelayStep_s, nk);
+        if (sse[static_cast<size_t>(k)] < sse[best])
+        {
+            best = static_cast<size_t>(k);
+        }
+    }
+    auto& f = r.odometry_delay_s;
+    f.n = n;
+    f.method = "the delay whose re-cut increments err least in heading (grid of " +
+               std::to_string(static_cast<int>(TCalibrationResult::kDelayStep_s * 1000)) +
+               " ms), kept when n ln(SSE(0) / SSE(delay)) > " +
+               std::to_string(TCalibrationResult::kDelayChi2).substr(0, 5);
+    r.odomHeadingRms_deg = n > 0 ? mrpt::RAD2DEG(std::sqrt(sse0 / static_cast<double>(n))) : 0;
+    r.odomHeadingRmsDelayed_deg = r.odomHeadingRms_deg;
+    if (n < TCalibrationResult::kMinMovingIncrements || !(sse[best] > 0) ||
+        static_cast<double>(n) * std::log(sse0 / sse[best]) <= TCalibrationResult::kDelayChi2)
+    {
+        f.value = 0;
+        return;
+    }
+    f.value = static_cast<double>(best) * TCalibrationResult::kDelayStep_s;
+    // The profile interval: the delays within chi2(1, 95 %) = 3.84 of the best.
+    double half = 0;
+    for (size_t k = 0; k < sse.size(); k++)
+    {
+        if (static_cast<double>(n) * std::log(sse[k] / sse[best]) <= 3.84)
+        {
+            half = std::max(half, std::abs(static_cast<double>(k) - static_cast<double>(best)) *
+                                      TCalibrationResult::kDelayStep_s);
+        }
+    }
+    f.ci95 = std::max(half, TCalibrationResult::kDelayStep_s);
+    r.odomHeadingRmsDelayed_deg = mrpt::RAD2DEG(std::sqrt(sse[best] / static_cast<double>(n)));
+}
+
 /** Walks the rawlog: every semantic scan and every odometry action against the ground truth. */
 void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, const World& world,
              const GroundTruth& gt, const SensorCalibration::TOptions& o, const Gate& gate,
-             const detail::RigidTransform2D& toMap, TCalibrationResult& r)
+             const detail::RigidTransform2D& toMap, double delay_s, TCalibrationResult& r)
 {
     const GroundTruthRow* prevAction = nullptr;
     std::unique_ptr<SemanticDetectorModel> model;
+    OdometryDelay delay(delay_s);
     Span span;
     for (size_t i = 0; i < rawlog.size(); i++)
     {
@@ -446,10 +549,13 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
                 continue;
             }
             const GroundTruthRow& row = rowAt(gt, act->timestamp, o.gtTolerance_s, rawlogName, i);
+            // The increment the filter moves by: the odometry's, re-cut by the delay.
+            const mrpt::poses::CPose2D odo(delay.step(mrpt::Clock::toDouble(act->timestamp),
+                                                      act->rawOdometryIncrementReading.asTPose()));
             if (prevAction != nullptr)
             {
-                addIncrement(*act, *prevAction, row, r);
-                span.add(*act, *prevAction, row);
+                addIncrement(odo, *prevAction, row, r);
+                span.add(odo, *prevAction, row);
             }
             prevAction = &row;
             continue;
@@ -472,7 +578,19 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
             {
                 const GroundTruthRow& row =
                     rowAt(gt, obs->timestamp, o.gtTolerance_s, rawlogName, i);
-                addScan(*obs, row.pose(), toMap, world, modelFor(*obs, world, model), gate, r);
+                // The ranges as the filter reads them: less the bias found so far.
+                CObservationSemantic corrected;
+                if (!r.rangeBias_m.empty())
+                {
+                    corrected = *obs;
+                    for (auto& d : corrected.detections)
+                    {
+                        d.range_m = std::max(
+                            0.0, d.range_m - rangeBias(r.rangeBias_m, d.bearing_rad, obs->fov_rad));
+                    }
+                }
+                addScan(r.rangeBias_m.empty() ? *obs : corrected, row.pose(), toMap, world,
+                        modelFor(*obs, world, model), gate, r);
                 if (!obs->detections.empty())
                 {
                     span.close(r);
@@ -502,17 +620,46 @@ TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
     // Each pass places the scans by the ground truth moved by the map offset the passes
     // before it fitted (none in the first).
     detail::RigidTransform2D toMap;
+    TCalibrationResult delayFit;
+    fitOdometryDelay(timedIncrements(rawlog, rawlogName, gt, options), delayFit);
     TCalibrationResult r;
+    std::vector<double> rangeBias, rangeBiasCi95;
+    double sigmaUncorrected = 0;
     for (int pass = 0; pass <= options.gatePasses; pass++)
     {
         r = TCalibrationResult();
-        collect(rawlog, rawlogName, world, gt, options, gate, toMap, r);
+        r.rangeBias_m = rangeBias;
+        r.rangeBiasCi95_m = rangeBiasCi95;
+        r.odometry_delay_s = delayFit.odometry_delay_s;
+        r.odomHeadingRms_deg = delayFit.odomHeadingRms_deg;
+        r.odomHeadingRmsDelayed_deg = delayFit.odomHeadingRmsDelayed_deg;
+        collect(rawlog, rawlogName, world, gt, options, gate, toMap, r.odometry_delay_s.value, r);
         if (r.scans == 0)
         {
             throw std::runtime_error("rawlog '" + rawlogName +
                                      "': no semantic observation (CObservationSemantic) to "
                                      "calibrate");
         }
+        if (pass < options.gatePasses)
+        {
+            // The next pass reads the ranges less the bias so far and what this one adds.
+            if (pass == 0)
+            {
+                sigmaUncorrected = detail::madSigma(r.samples.rangeResiduals_m);
+            }
+            std::vector<double> ci95;
+            const auto more = detail::fitRangeBias(r.samples, ci95);
+            if (!more.empty())
+            {
+                rangeBias.resize(kRangeBiasTerms, 0.0);
+                for (size_t k = 0; k < kRangeBiasTerms; k++)
+                {
+                    rangeBias[k] += more[k];
+                }
+                rangeBiasCi95 = ci95;
+            }
+        }
+        r.sigmaRangeUncorrected_m = sigmaUncorrected;
         detail::fitDetector(r);
         detail::fitBias(r);
         gate.sigmaRange_m = r.sigma_range_m.value;

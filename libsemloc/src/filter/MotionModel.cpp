@@ -4,6 +4,7 @@
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
 #include <semloc/filter/MotionModel.h>
+#include <semloc/filter/OdometryDelay.h>
 #include <semloc/io/ConfigHelpers.h>
 
 #include <cmath>
@@ -48,6 +49,10 @@ config::TValueRange MotionModel::TOptions::range(const std::string& key)
     {
         return {0, kMaxDriftDegPerMin};
     }
+    if (key == "odometry_delay_s")
+    {
+        return {0, OdometryDelay::kMaxDelay_s};
+    }
     if (key == "a1" || key == "a2" || key == "a3" || key == "a4" || key == "minStdXY")
     {
         return {0, kMaxCoefficient};
@@ -59,9 +64,10 @@ void MotionModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBa
                                                const std::string& s)
 {
     using namespace semloc::config;
-    rejectUnknownKeys(c, s,
-                      {"source", "a1", "a2", "a3", "a4", "minStdXY", "minStdPHI",
-                       "heading_drift_std_deg_per_min", "heading_drift_walk_deg_per_min"});
+    rejectUnknownKeys(
+        c, s,
+        {"source", "a1", "a2", "a3", "a4", "minStdXY", "minStdPHI", "heading_drift_std_deg_per_min",
+         "heading_drift_walk_deg_per_min", "odometry_delay_s"});
     std::string src = kSources[static_cast<size_t>(source)];
     readChoice(c, s, "source", src, kSources);
     source = src == "gaussian" ? Source::Gaussian : Source::Rawlog;
@@ -75,6 +81,7 @@ void MotionModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBa
                range("heading_drift_std_deg_per_min"));
     readDouble(c, s, "heading_drift_walk_deg_per_min", heading_drift_walk_deg_per_min,
                range("heading_drift_walk_deg_per_min"));
+    readDouble(c, s, "odometry_delay_s", odometry_delay_s, range("odometry_delay_s"));
 }
 
 void MotionModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
@@ -92,6 +99,8 @@ void MotionModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                        "heading drift state: std of a particle's initial rate [deg/min]; 0: off");
     detail::writeExact(c, s, "heading_drift_walk_deg_per_min", heading_drift_walk_deg_per_min,
                        "heading drift state: std of a rate's change over a minute [deg/min]");
+    detail::writeExact(c, s, "odometry_delay_s", odometry_delay_s,
+                       "how late the vehicle follows its odometry [s]; 0: as it comes");
 }
 
 CActionRobotMovement2D::TMotionModelOptions MotionModel::gaussian() const

@@ -94,6 +94,39 @@ void readDouble(const mrpt::config::CConfigFileBase& c, const std::string& secti
     value = v;
 }
 
+void readDoubles(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                 const std::string& key, std::vector<double>& values, size_t maxCount, double lo,
+                 double hi)
+{
+    std::string s;
+    if (!readRaw(c, section, key, s))
+    {
+        return;
+    }
+    std::vector<double> out;
+    std::istringstream in(s);
+    for (std::string item; std::getline(in, item, ',');)
+    {
+        // Each item as a key of its own, so that it gets readDouble's checks and messages.
+        mrpt::config::CConfigFileMemory one;
+        one.write(section, key, trim(item));
+        double v = 0;
+        readDouble(one, section, key, v, lo, hi);
+        out.push_back(v);
+    }
+    if (out.empty() || s.back() == ',')
+    {
+        fail(section, key, "'" + shownValue(s) + "' is not a list of numbers (a, b, ...)");
+    }
+    if (out.size() > maxCount)
+    {
+        fail(section, key,
+             "'" + shownValue(s) + "' has " + std::to_string(out.size()) + " values: at most " +
+                 std::to_string(maxCount));
+    }
+    values = out;
+}
+
 void readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
              const std::string& key, int& value, int lo, int hi)
 {

@@ -10,6 +10,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/maps/CSemanticMap.h>
+#include <semloc/maps/DetectionProbability.h>
 
 #include <algorithm>
 #include <cmath>
@@ -18,6 +19,7 @@
 
 #include "io/BoundedRead.h"
 #include "io/ExactConfigWrite.h"
+#include "io/Text.h"
 #include "maps/LabelIndex.h"
 #include "maps/SemanticIndex.h"
 
@@ -80,6 +82,9 @@ namespace semloc
 
 namespace
 {
+/** Largest |coefficient| of range_bias_m accepted [m]. */
+constexpr double kMaxRangeBias_m = 1e3;
+
 const char* modelName(CSemanticMap::Model m)
 {
     return m == CSemanticMap::Model::Paper ? "paper" : "probabilistic";
@@ -141,6 +146,13 @@ config::TValueRange CSemanticMap::TLikelihoodOptions::range(const std::string& k
     THROW_EXCEPTION("CSemanticMap::TLikelihoodOptions: '" + key + "' is not a numeric key");
 }
 
+double CSemanticMap::TLikelihoodOptions::correctedRange(double rho, double theta, double R,
+                                                        double fov) const
+{
+    return range_bias_m.empty() ? rho
+                                : std::clamp(rho - rangeBias(range_bias_m, theta, fov), 0.0, R);
+}
+
 void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                                           const std::string& s)
 {
@@ -174,6 +186,12 @@ void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CC
     config::readDouble(c, s, "p_detect_far", p_detect_far, range("p_detect_far"));
     config::readDouble(c, s, "p_detect_edge_ratio", p_detect_edge_ratio,
                        range("p_detect_edge_ratio"));
+    config::readDoubles(c, s, "range_bias_m", range_bias_m, kRangeBiasTerms, -kMaxRangeBias_m,
+                        kMaxRangeBias_m);
+    if (std::all_of(range_bias_m.begin(), range_bias_m.end(), [](double b) { return b == 0; }))
+    {
+        range_bias_m.clear();  // none
+    }
     config::readDouble(c, s, "clutter_per_scan", clutter_per_scan, range("clutter_per_scan"));
     config::readDouble(c, s, "p_confusion", p_confusion, range("p_confusion"));
     config::readDouble(c, s, "min_confidence", min_confidence, range("min_confidence"));
@@ -210,6 +228,13 @@ void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFil
     detail::writeExact(c, s, "p_detect_far", p_detect_far, "probabilistic: P_D at max range");
     detail::writeExact(c, s, "p_detect_edge_ratio", p_detect_edge_ratio,
                        "probabilistic: P_D at the edge of the view / on its axis");
+    std::string bias;
+    for (const double b : range_bias_m)
+    {
+        bias += (bias.empty() ? "" : ", ") + detail::shortestText(b);
+    }
+    c.write(s, "range_bias_m", bias.empty() ? std::string("0") : bias, 24, 24,
+            "range bias c0, c1, c2, c3 [m] in bearing / half the view");
     detail::writeExact(c, s, "clutter_per_scan", clutter_per_scan,
                        "probabilistic: mean false positives per scan");
     detail::writeExact(c, s, "p_confusion", p_confusion, "probabilistic: P(wrong label)");

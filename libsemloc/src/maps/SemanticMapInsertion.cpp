@@ -49,10 +49,11 @@ std::vector<NewDetection> inWorld(const CObservationSemantic& o,
         {
             continue;
         }
-        const auto [wx, wy] = toWorld(vehicle, o.sensorPose, d.range_m, d.bearing_rad);
+        const double range = opt.correctedRange(d.range_m, d.bearing_rad, R, fov);
+        const auto [wx, wy] = toWorld(vehicle, o.sensorPose, range, d.bearing_rad);
         news.push_back({d.label, d.object_id, wx, wy,
                         R > 0 && std::isfinite(R)
-                            ? opt.detectionProbability(d.range_m, R, d.bearing_rad, fov)
+                            ? opt.detectionProbability(range, R, d.bearing_rad, fov)
                             : 1.0});
     }
     return news;

@@ -88,7 +88,8 @@ Sensor prepare(const CObservationSemantic& obs, const CSemanticMap::TLikelihoodO
         {
             continue;  // unknown to the map: a constant factor at every particle
         }
-        sc.dets.push_back(semantic::makeDet(d.range_m, d.bearing_rad, label, fixed));
+        sc.dets.push_back(semantic::makeDet(lo.correctedRange(d.range_m, d.bearing_rad, R, fov),
+                                            d.bearing_rad, label, fixed));
     }
     return s;
 }
@@ -128,7 +129,7 @@ Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
             }
             fixed = it->second;
         }
-        sc.dets.push_back(semantic::makeDet(r, b, -1, fixed));
+        sc.dets.push_back(semantic::makeDet(lo.correctedRange(r, b, R, fov), b, -1, fixed));
     }
     return s;
 }

@@ -11,6 +11,7 @@
 #include <cmath>
 
 #include "io/ExactConfigWrite.h"
+#include "io/Text.h"
 #include "simulator/SensorMount.h"
 #include "simulator/SimRandom.h"
 
@@ -24,6 +25,11 @@ void SemanticDetectorModel::TOptions::loadFromConfigFile(const mrpt::config::CCo
     config::readDouble(c, s, "fov_deg", fov_deg, 1e-6, 360);
     config::readDouble(c, s, "range_noise_std_m", range_noise_std_m, 0, 1e3);
     config::readDouble(c, s, "bearing_noise_std_deg", bearing_noise_std_deg, 0, 360);
+    config::readDoubles(c, s, "range_bias_m", range_bias_m, kRangeBiasTerms, -1e3, 1e3);
+    if (std::all_of(range_bias_m.begin(), range_bias_m.end(), [](double b) { return b == 0; }))
+    {
+        range_bias_m.clear();  // none
+    }
     config::readDouble(c, s, "p_detect_near", p_detect_near, 0, 1);
     config::readDouble(c, s, "p_detect_far", p_detect_far, 0, 1);
     config::readDouble(c, s, "p_detect_edge_ratio", p_detect_edge_ratio, 0, 1);
@@ -54,6 +60,13 @@ void SemanticDetectorModel::TOptions::saveToConfigFile(mrpt::config::CConfigFile
     writeExact(c, s, "fov_deg", fov_deg, "field of view, centred ahead [deg]");
     writeExact(c, s, "range_noise_std_m", range_noise_std_m, "range noise [m]");
     writeExact(c, s, "bearing_noise_std_deg", bearing_noise_std_deg, "bearing noise [deg]");
+    std::string bias;
+    for (const double b : range_bias_m)
+    {
+        bias += (bias.empty() ? "" : ", ") + detail::shortestText(b);
+    }
+    c.write(s, "range_bias_m", bias.empty() ? std::string("0") : bias, 24, 24,
+            "range bias c0, c1, c2, c3 [m] in bearing / half the view");
     writeExact(c, s, "p_detect_near", p_detect_near, "P(detect) of a visible object at 0 m");
     writeExact(c, s, "p_detect_far", p_detect_far, "P(detect) at max range (linear between)");
     writeExact(c, s, "p_detect_edge_ratio", p_detect_edge_ratio,
@@ -195,8 +208,10 @@ void SemanticDetectorModel::detect(double range, double bearing, size_t label, i
     }
     const double halfFov = 0.5 * obs.fov_rad;
     TSemanticDetection d;
-    d.range_m = std::clamp(range + o.range_noise_std_m * rng.drawGaussian1D_normalized(), 0.0,
-                           o.max_range_m);
+    const double bias =
+        o.range_bias_m.empty() ? 0.0 : rangeBias(o.range_bias_m, bearing, obs.fov_rad);
+    d.range_m = std::clamp(range + bias + o.range_noise_std_m * rng.drawGaussian1D_normalized(),
+                           0.0, o.max_range_m);
     d.bearing_rad =
         std::clamp(mrpt::math::wrapToPi(bearing + mrpt::DEG2RAD(o.bearing_noise_std_deg) *
                                                       rng.drawGaussian1D_normalized()),

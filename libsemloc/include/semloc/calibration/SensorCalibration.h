@@ -81,7 +81,10 @@ struct TMapOffset
 /** The samples behind the fits (the report's histograms and curves). */
 struct TCalibrationSamples
 {
-    std::vector<double> rangeResiduals_m;      //!< detection minus object range
+    std::vector<double> rangeResiduals_m;  //!< detection minus object range
+    /** ... the detection's bearing over half the field of view (over pi for a full circle):
+     *  the variable of the range bias (rangeBias()). */
+    std::vector<double> rangeResidualBearing;
     std::vector<double> bearingResiduals_deg;  //!< detection minus object bearing
     std::vector<double> visibleRanges_m;       //!< range of every in-view object ...
     std::vector<int> visibleDetected;          //!< ... 1 when a detection matched it
@@ -155,6 +158,29 @@ struct TCalibrationResult
     /** The odometry's heading drift: what its heading gains per minute beyond the truth
      *  [deg/min] (signed; the heading errors' sum over the time they span). */
     TCalibrationFit heading_drift_deg_per_min;
+    /** The detector's range bias by bearing ([MetricMap_semanticMap_00_likelihoodOpts]
+     *  range_bias_m: coefficients of rangeBias(), empty: none) and each coefficient's 95 %
+     *  half-width [m]: robust least squares (residuals over 4 robust sigmas left out) of the
+     *  range residuals against 1, u, u^2, u^3, u the bearing over half the view, one pass at a
+     *  time, each pass matching the detections with the ranges less the bias so far; kept
+     *  when the pass's fit lowers the squared residuals significantly (n ln(SSE(0) / SSE) over
+     *  kRangeBiasChi2, a likelihood-ratio test of 4 parameters at 0.1 %). The sigmas and the
+     *  other fits are of the detections with the bias taken off, as the filter takes it. */
+    std::vector<double> rangeBias_m, rangeBiasCi95_m;
+    /** The robust sigma of the range residuals with no bias taken off [m] (0: not computed). */
+    double sigmaRangeUncorrected_m = 0;
+    static constexpr double kRangeBiasChi2 = 18.47;
+    /** How late the vehicle follows its odometry [s] ([MotionModel] odometry_delay_s): the
+     *  delay whose re-cut increments (OdometryDelay) err least in heading against the ground
+     *  truth, over a grid of kDelayStep_s up to kMaxFittedDelay_s; 0 unless it lowers their
+     *  squared heading errors significantly (n ln(SSE(0) / SSE(d)) over kDelayChi2, a
+     *  likelihood-ratio test of one parameter at 0.1 %). ci95: the profile interval's
+     *  half-width. The odometry fits below are made on the re-cut increments. */
+    TCalibrationFit odometry_delay_s;
+    /** RMS heading error of the odometry's increments as they come and re-cut by the delay
+     *  written [deg]. */
+    double odomHeadingRms_deg = 0, odomHeadingRmsDelayed_deg = 0;
+    static constexpr double kDelayStep_s = 0.01, kMaxFittedDelay_s = 2.0, kDelayChi2 = 10.83;
     /** The factors the odometry's position and heading noise were multiplied by so that the
      *  errors over the spans between detections (TCalibrationSamples::span*) are those the
      *  per-step model adds up to (1: the per-step fit already covers them). */
@@ -309,8 +335,8 @@ public:
         /** One filter run per seed and setting. */
         std::vector<uint32_t> seeds = {1, 2};
         /** The factors tried on the detector's sigmas and on the motion noise. */
-        std::vector<double> sensorScales = {1, 1.5, 2, 3, 4, 6};
-        std::vector<double> motionScales = {1, 2, 4};
+        std::vector<double> sensorScales = {1, 1.5, 2, 3, 4, 6, 8};
+        std::vector<double> motionScales = {1, 1.5, 2, 4};
         /** The share of the steps with ground truth whose NEES must be inside its bound
          *  (less its sampling tolerance: Consistent()). */
         double minInsideShare = 0.95;

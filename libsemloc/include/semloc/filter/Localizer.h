@@ -15,6 +15,7 @@
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/FreeSpaceSampler.h>
 #include <semloc/filter/MotionModel.h>
+#include <semloc/filter/OdometryDelay.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
 #include <semloc/filter/StepRecord.h>
 #include <semloc/world/World.h>
@@ -297,6 +298,8 @@ private:
                             const mrpt::obs::CSensoryFrame& sf);
     TStepInfo m_last;
     std::optional<mrpt::obs::CActionRobotMovement2D> m_lastMovement;
+    /** [MotionModel] odometry_delay_s: the increments re-cut, from reset() on. */
+    OdometryDelay m_odometryDelay;
     size_t m_steps = 0;
     /** Scan beams with impossible ranges, made invalid before the update. */
     size_t m_beamsInvalid = 0;

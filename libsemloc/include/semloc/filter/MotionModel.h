@@ -70,6 +70,11 @@ public:
         /** The standard deviation of a drift rate's change over one minute [deg/min] (a random
          *  walk: over dt, this times sqrt(dt / 60 s)). */
         double heading_drift_walk_deg_per_min = 0;
+        /** How late the vehicle follows its odometry [s] (OdometryDelay): each step's
+         *  increment is re-cut to cover what the odometry said `odometry_delay_s` earlier
+         *  (commanded speeds executed after the drive's latency; clocks that differ). 0: the
+         *  increments as they come. Needs timestamped actions and Gaussian odometry. */
+        double odometry_delay_s = 0;
         /** The walk semloc-calibrate sets when the odometry's heading drifts, and
          *  config/semantic.ini's [deg/min]. */
         static constexpr double kCalibratedDriftWalkDegPerMin = 5;

@@ -46,6 +46,12 @@ inline void readDouble(const mrpt::config::CConfigFileBase& c, const std::string
     readDouble(c, section, key, value, range.lo, range.hi);
 }
 
+/** Reads a comma-separated list of 1 to `maxCount` finite numbers, each in [lo, hi]; keeps
+ *  `values` when the key is absent. Throws naming [section] key as readDouble() does. */
+void readDoubles(const mrpt::config::CConfigFileBase& c, const std::string& section,
+                 const std::string& key, std::vector<double>& values, size_t maxCount, double lo,
+                 double hi);
+
 /** Reads an integer in [lo, hi]; keeps `value` when the key is absent. */
 void readInt(const mrpt::config::CConfigFileBase& c, const std::string& section,
              const std::string& key, int& value, int lo, int hi);

@@ -210,6 +210,11 @@ public:
          *  its axis at the same range, linear in |bearing| between, in [0, 1]; 1: the same
          *  across the field of view (a camera that misses objects near its image's border). */
         double p_detect_edge_ratio = 1.0;
+        /** The detector's range bias by bearing [m]: up to 4 coefficients of rangeBias()
+         *  (DetectionProbability.h), c0 + c1 u + c2 u^2 + c3 u^3 with u the bearing over half
+         *  the field of view; each detection's range is read less it (at least 0) by both
+         *  models. Empty (default) or zeros: none. */
+        std::vector<double> range_bias_m;
         /** probabilistic: expected false positives per scan (Poisson mean). */
         double clutter_per_scan = 0.2;
         /** probabilistic: probability a detection carries a wrong label. */
@@ -251,6 +256,10 @@ public:
          *  times 1 - (1 - p_detect_edge_ratio) min(|theta| / (fov / 2), 1) when fov < 2 pi,
          *  clamped to [1e-6, 1]. */
         double detectionProbability(double rho, double R, double theta, double fov) const;
+        /** A detection's range `rho` [m] at bearing `theta` [rad] less range_bias_m's bias
+         *  for a field of view `fov` [rad], kept within the coverage [0, R] (a detection the
+         *  models score is of an object within the max range `R`). */
+        double correctedRange(double rho, double theta, double R, double fov) const;
 
         /** Reads `section` strictly (unknown keys and bad values are errors). */
         void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,

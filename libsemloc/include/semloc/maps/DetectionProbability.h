@@ -1,9 +1,10 @@
-/* semloc — the probabilistic detector's detection probability, one formula for the semantic
- * map's model and the simulator's detector. */
+/* semloc — the probabilistic detector's detection probability and range bias, one formula each
+ * for the semantic map's model and the simulator's detector. */
 #pragma once
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace semloc
 {
@@ -20,5 +21,30 @@ inline double detectionProbability(double pNear, double pFar, double edgeRatio, 
         p *= 1 - (1 - edgeRatio) * std::min(2 * std::abs(theta) / fov, 1.0);
     }
     return p;
+}
+
+/** The most coefficients of rangeBias(). */
+constexpr size_t kRangeBiasTerms = 4;
+
+/** What a detector's range reads beyond the true one at bearing `theta` [rad] in the sensor
+ *  frame, for a field of view `fov` [rad]: c[0] + c[1] u + c[2] u^2 + c[3] u^3 [m], u =
+ *  theta / (fov / 2) the bearing over the half view (theta / pi for a full circle), so each
+ *  coefficient is in metres and their sum is the bias at the view's edge (`theta` taken in
+ *  [-pi, pi]). `c` holds up to
+ *  kRangeBiasTerms coefficients (the others 0; none: no bias). A camera ranging by an
+ *  object's apparent size reads short towards its image's border; a sonar's sound speed,
+ *  long. */
+inline double rangeBias(const std::vector<double>& c, double theta, double fov)
+{
+    // A bearing given in [0, 2 pi) or beyond is taken in [-pi, pi].
+    const double wrapped =
+        (theta >= -M_PI && theta <= M_PI) ? theta : std::remainder(theta, 2 * M_PI);
+    const double u = wrapped / (fov < 2 * M_PI ? 0.5 * fov : M_PI);
+    double b = 0;
+    for (size_t k = c.size(); k-- > 0;)
+    {
+        b = b * u + c[k];
+    }
+    return b;
 }
 }  // namespace semloc

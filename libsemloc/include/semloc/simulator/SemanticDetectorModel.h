@@ -37,7 +37,8 @@ namespace semloc
  *  - detected with P_D(r, b) = (p_detect_near + (p_detect_far - p_detect_near) r / max_range_m)
  *    (1 - (1 - p_detect_edge_ratio) min(|b| / (fov / 2), 1)) (the second factor 1 for a
  *    360-degree field of view): CSemanticMap's P_D;
- *  - range r + N(0, range_noise_std_m^2) clamped to [0, max_range_m], bearing
+ *  - range r + rangeBias(range_bias_m, b, fov) + N(0, range_noise_std_m^2) clamped to
+ *    [0, max_range_m] (the bias CSemanticMap's range_bias_m takes off), bearing
  *    b + N(0, bearing_noise_std_deg^2) wrapped and clamped to the field of view (so every
  *    detection is valid for CObservationSemantic::isValid);
  *  - misread range: with probability p_range_outlier the range is instead uniform over
@@ -74,6 +75,9 @@ public:
         double range_noise_std_m = 0.5;
         /** Std. dev. of the bearing noise [deg]. */
         double bearing_noise_std_deg = 3.0;
+        /** The range's bias by bearing [m]: up to 4 coefficients of rangeBias()
+         *  (DetectionProbability.h); empty: none. */
+        std::vector<double> range_bias_m;
         /** Detection probability of a visible object at zero range. */
         double p_detect_near = 0.95;
         /** Detection probability of a visible object at max range (linear in between). */
