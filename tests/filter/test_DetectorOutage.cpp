@@ -40,16 +40,26 @@ semloc::SensoryFrameLikelihood::TOutageTerms terms(double t_s, bool silent = tru
     return o;
 }
 
-/** A semantic observation of the paper world from `truth` at time t_s; none detected in a
- *  silence. */
+/** A semantic observation of the paper world from `truth` at time t_s; none of the map's
+ *  objects detected in a silence, only (with `unknownInSilence`) a diver close ahead, a label
+ *  the map does not know. */
 std::shared_ptr<semloc::CObservationSemantic> frameObs(const semloc::World& w, const TPose2D& truth,
-                                                       double t_s, bool silent)
+                                                       double t_s, bool silent,
+                                                       bool unknownInSilence = false)
 {
     auto obs = std::make_shared<semloc::CObservationSemantic>(semloc::test::observe(w, truth));
     obs->timestamp = mrpt::Clock::fromDouble(1000 + t_s);
     if (silent)
     {
         obs->detections.clear();
+        if (unknownInSilence)
+        {
+            semloc::TSemanticDetection d;
+            d.label = "diver";
+            d.range_m = 2;
+            d.bearing_rad = 0.1;
+            obs->detections.push_back(d);
+        }
     }
     return obs;
 }
@@ -75,7 +85,7 @@ struct SilenceRun
 
 /** Tracks along the leg y = 4 of the paper world from a cloud around the truth: 10 frames
  *  with detections, 60 silent ones (objects in view), 10 with detections again. */
-SilenceRun runSilence(double outageEvery_s, size_t threads)
+SilenceRun runSilence(double outageEvery_s, size_t threads, bool unknownInSilence = false)
 {
     const auto world = semloc::World::FromFile(kPaperWorld);
     auto sem = CSemanticMap::Create();
@@ -102,7 +112,7 @@ SilenceRun runSilence(double outageEvery_s, size_t threads)
         const bool silent = k >= 10 && k < 70;
         const auto acts = odometry(0.25);
         mrpt::obs::CSensoryFrame sf;
-        sf.insert(frameObs(world, truth, k, silent));
+        sf.insert(frameObs(world, truth, k, silent, unknownInSilence));
         pf.executeOn(pdf, &acts, &sf);
         const auto mean = pdf.getMeanVal();
         const double err = std::hypot(mean.x() - truth.x, mean.y() - truth.y);
@@ -120,6 +130,22 @@ SilenceRun runSilence(double outageEvery_s, size_t threads)
     return r;
 }
 }  // namespace
+
+TEST(DetectorOutage, ObjectsUnknownToTheMapLeaveAFrameSilent)
+{
+    // A silence in which the detector reports only something the map does not know (a diver
+    // close ahead): for the map's objects it is a silence, found as one, and the filter holds.
+    const SilenceRun on = runSilence(300, 1, true);
+    EXPECT_LT(on.maxErrorInSilence, 0.5);
+    EXPECT_LT(on.errorAfter, 0.5);
+    EXPECT_GT(on.outageAtSilenceEnd, 0.9);
+    EXPECT_LT(on.outageAfter, 0.1);
+    // The same as a silence with nothing reported at all: unknown detections weigh every pose
+    // alike.
+    const SilenceRun empty = runSilence(300, 1);
+    EXPECT_EQ(on.maxErrorInSilence, empty.maxErrorInSilence);
+    EXPECT_EQ(on.outageAtSilenceEnd, empty.outageAtSilenceEnd);
+}
 
 TEST(DetectorOutage, ChainRelaxesToItsStationaryProbability)
 {

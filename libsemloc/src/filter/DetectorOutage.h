@@ -18,13 +18,14 @@ struct OutageMix
     double logOn = 0;
 };
 
-/** The probability that the semantic detector is out: it reports nothing at all (no object,
- *  no false positive), whatever is in view — a camera in turbid water, a stalled detector.
+/** The probability that the semantic detector is out: it reports nothing of the map's objects
+ *  (no object, no false positive), whatever is in view — a camera in turbid water, a stalled
+ *  detector, a view blocked by something the map does not know.
  *
  *  The detector is on or out, a continuous-time Markov chain: it goes out at rate
  *  a = 1 / outage_every_s and comes back at rate b = 1 / outage_mean_s. A frame with a
- *  detection proves it on. A silent frame (SensoryFrameLikelihood::TOutageTerms::silent) is
- *  scored as the mixture
+ *  detection the map knows proves it on. A silent frame
+ *  (SensoryFrameLikelihood::TOutageTerms::silent) is scored as the mixture
  *      p(z | x) = pi + (1 - pi) p_on(z | x),
  *  pi the probability of an outage carried to the frame's time, p_on the model's likelihood
  *  of an empty scan (no clutter, every object in view missed). The state is one for the

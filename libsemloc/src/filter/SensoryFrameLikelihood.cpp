@@ -251,10 +251,20 @@ bool SensoryFrameLikelihood::planOutage(const Term& t)
     {
         return false;
     }
-    const bool silent =
-        t.path == Path::Semantic
-            ? static_cast<const CObservationSemantic&>(*t.obs).detections.empty()
-            : static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs).sensedData.empty();
+    // Silent: nothing of the map's objects reported. Detections of what the map does not know
+    // (other vehicles, divers) weigh every pose alike, so a frame of them only is, for the
+    // map's objects, an empty one: a view blocked by them is not evidence against the poses
+    // that should see objects, scan after scan.
+    bool silent = false;
+    if (t.path == Path::Semantic)
+    {
+        const auto seen = map.check(static_cast<const CObservationSemantic&>(*t.obs));
+        silent = seen.used == 0 && seen.invalid == 0;
+    }
+    else
+    {
+        silent = static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs).sensedData.empty();
+    }
     m_outage.silent = m_outage.silent && silent;
     if (!m_outage.present)
     {

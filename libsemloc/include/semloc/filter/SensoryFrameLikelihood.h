@@ -72,7 +72,9 @@ public:
     {
         /** The frame has at least one such term. */
         bool present = false;
-        /** None of their observations holds a detection (usable or not). */
+        /** None of their observations holds a detection the map knows (its label or id; an
+         *  invalid reading counts as one): detections of objects unknown to the map only
+         *  leave a frame silent. */
         bool silent = true;
         /** The first such observation's timestamp. */
         mrpt::Clock::time_point t{};
