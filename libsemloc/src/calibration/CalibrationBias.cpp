@@ -230,8 +230,9 @@ std::string SensorCalibration::BiasText(const TCalibrationResult& r)
     {
         const auto& c = r.rangeBias_m;
         t << "range bias by bearing: " << num(c[0]) << " m on the axis, "
-          << num(c[0] - c[1] + c[2] - c[3]) << " m and " << num(c[0] + c[1] + c[2] + c[3])
-          << " m at the edges of the view; taken off each detection (range_bias_m), the "
+          << num(c[0] - c[1] + c[2] - c[3]) << " m at bearing -fov/2, "
+          << num(c[0] + c[1] + c[2] + c[3])
+          << " m at +fov/2; taken off each detection (range_bias_m), the "
              "range residuals' robust sigma "
           << num(r.sigmaRangeUncorrected_m) << " m with it left on\n";
     }

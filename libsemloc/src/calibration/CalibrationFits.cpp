@@ -3,7 +3,6 @@
 
 #include <mrpt/core/bits_math.h>
 #include <semloc/filter/MotionModel.h>
-#include <semloc/maps/DetectionProbability.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -268,79 +267,6 @@ double madSigma(std::vector<double> x)
         v = std::abs(v - m);
     }
     return 1.482602218505602 * median(std::move(x));
-}
-
-std::vector<double> fitRangeBias(const TCalibrationSamples& s, std::vector<double>& ci95)
-{
-    ci95.clear();
-    const std::vector<double>& y = s.rangeResiduals_m;
-    const std::vector<double>& u = s.rangeResidualBearing;
-    const size_t n = std::min(y.size(), u.size());
-    if (n < kMinRangeBiasResiduals)
-    {
-        return {};
-    }
-    constexpr auto kTerms = static_cast<Eigen::Index>(kRangeBiasTerms);
-    Eigen::VectorXd c = Eigen::VectorXd::Zero(kTerms);
-    // Residuals over 4 robust sigmas of the fit so far are left out (clutter the gate let
-    // in, misreads), three times.
-    std::vector<bool> kept(n, true);
-    double sse = 0, sse0 = 0;
-    size_t m = 0;
-    Eigen::MatrixXd normal;
-    for (int round = 0; round < 3; round++)
-    {
-        std::vector<double> res(n);
-        for (size_t i = 0; i < n; i++)
-        {
-            res[i] = y[i] - (c[0] + u[i] * (c[1] + u[i] * (c[2] + u[i] * c[3])));
-        }
-        const double sigma = madSigma(res);
-        m = 0;
-        for (size_t i = 0; i < n; i++)
-        {
-            kept[i] = std::abs(res[i]) <= 4 * sigma;
-            m += kept[i] ? 1 : 0;
-        }
-        if (m < kMinRangeBiasResiduals)
-        {
-            return {};
-        }
-        Eigen::MatrixXd a(static_cast<Eigen::Index>(m), kTerms);
-        Eigen::VectorXd b(static_cast<Eigen::Index>(m));
-        Eigen::Index row = 0;
-        for (size_t i = 0; i < n; i++)
-        {
-            if (kept[i])
-            {
-                a.row(row) << 1, u[i], u[i] * u[i], u[i] * u[i] * u[i];
-                b[row++] = y[i];
-            }
-        }
-        const auto qr = a.colPivHouseholderQr();
-        if (qr.rank() < kTerms)
-        {
-            return {};  // the bearings do not vary enough for a cubic
-        }
-        c = qr.solve(b);
-        sse = (a * c - b).squaredNorm();
-        sse0 = b.squaredNorm();
-        normal = a.transpose() * a;
-    }
-    const auto dm = static_cast<double>(m);
-    if (!(sse > 0) || dm * std::log(sse0 / sse) <= TCalibrationResult::kRangeBiasChi2)
-    {
-        return {};
-    }
-    const Eigen::MatrixXd cov = normal.inverse() * (sse / (dm - static_cast<double>(kTerms)));
-    std::vector<double> out(kRangeBiasTerms);
-    ci95.resize(kRangeBiasTerms);
-    for (Eigen::Index k = 0; k < kTerms; k++)
-    {
-        out[static_cast<size_t>(k)] = c[k];
-        ci95[static_cast<size_t>(k)] = 1.96 * std::sqrt(cov(k, k));
-    }
-    return out;
 }
 
 std::vector<double> nonNegativeLeastSquares(const std::vector<std::vector<double>>& cols,

@@ -4,6 +4,8 @@
 
 #include <mrpt/math/TPose2D.h>
 #include <semloc/calibration/SensorCalibration.h>
+#include <semloc/io/GroundTruthFile.h>
+#include <semloc/observation/CObservationSemantic.h>
 
 #include <vector>
 
@@ -29,6 +31,28 @@ void fitDetector(TCalibrationResult& r);
  *  bearings do not vary enough to fit a cubic. */
 std::vector<double> fitRangeBias(const TCalibrationSamples& s, std::vector<double>& ci95);
 constexpr size_t kMinRangeBiasResiduals = 40;
+/** `bias` (kRangeBiasTerms coefficients, or empty: none) plus what fitRangeBias() finds in
+ *  `s`, its interval in `ci95`; both left as they are when it finds none. */
+void addRangeBias(const TCalibrationSamples& s, std::vector<double>& bias,
+                  std::vector<double>& ci95);
+/** `obs` with each detection's range less the bias (rangeBias()), kept within [0, its max
+ *  range]: the ranges the filter reads. */
+CObservationSemantic lessRangeBias(const CObservationSemantic& obs,
+                                   const std::vector<double>& bias);
+
+/** One odometry action of the rawlog: its time, its increment and the ground-truth row at
+ *  that time. */
+struct TimedIncrement
+{
+    double t;
+    mrpt::math::TPose2D u;
+    const GroundTruthRow* row;
+};
+
+/** TCalibrationResult::odometry_delay_s from the actions `steps` in their order, and the
+ *  heading RMS of the increments before and after it (odomHeadingRms_deg,
+ *  odomHeadingRmsDelayed_deg). */
+void fitOdometryDelay(const std::vector<TimedIncrement>& steps, TCalibrationResult& r);
 
 /** a1..a4, minStdXY, minStdPHI from the odometry samples of `r` (all 0 with fewer than 4
  *  increments: n says so). */

@@ -122,8 +122,8 @@ std::string rangeBiasComment(const TCalibrationResult& r)
     return "calibrated: n = " + n + ", +/- " + ci +
            " (95 %), robust least squares of the range residuals against 1, u, u^2, u^3 (u: "
            "the bearing over half the view): " +
-           number(c[0]) + " m on the axis, " + number(c[0] - c[1] + c[2] - c[3]) + " and " +
-           number(c[0] + c[1] + c[2] + c[3]) + " m at the edges";
+           number(c[0]) + " m on the axis, " + number(c[0] - c[1] + c[2] - c[3]) +
+           " m at bearing -fov/2, " + number(c[0] + c[1] + c[2] + c[3]) + " m at +fov/2";
 }
 
 /** The base's lines, with `key` of `section` set (replaced where the base has it, else added

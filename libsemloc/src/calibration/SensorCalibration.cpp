@@ -10,7 +10,6 @@
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/GroundTruth.h>
 #include <semloc/filter/OdometryDelay.h>
-#include <semloc/maps/DetectionProbability.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
 
@@ -430,19 +429,12 @@ struct Span
     }
 };
 
-/** The odometry's actions in order: time, increment, and the ground-truth row at that time. */
-struct TimedIncrement
+std::vector<detail::TimedIncrement> timedIncrements(const mrpt::obs::CRawlog& rawlog,
+                                                    const std::string& rawlogName,
+                                                    const GroundTruth& gt,
+                                                    const SensorCalibration::TOptions& o)
 {
-    double t;
-    mrpt::math::TPose2D u;
-    const GroundTruthRow* row;
-};
-
-std::vector<TimedIncrement> timedIncrements(const mrpt::obs::CRawlog& rawlog,
-                                            const std::string& rawlogName, const GroundTruth& gt,
-                                            const SensorCalibration::TOptions& o)
-{
-    std::vector<TimedIncrement> out;
+    std::vector<detail::TimedIncrement> out;
     for (size_t i = 0; i < rawlog.size(); i++)
     {
         if (rawlog.getType(i) != mrpt::obs::CRawlog::etActionCollection)
@@ -458,75 +450,6 @@ std::vector<TimedIncrement> timedIncrements(const mrpt::obs::CRawlog& rawlog,
         }
     }
     return out;
-}
-
-/** The sum of the squared heading errors [rad^2] of the increments re-cut by `delay_s`
- *  against the ground truth, and how many there are. */
-double headingSse(const std::vector<TimedIncrement>& steps, double delay_s, size_t& n)
-{
-    OdometryDelay delay(delay_s);
-    double sse = 0;
-    n = 0;
-    for (size_t k = 0; k < steps.size(); k++)
-    {
-        const double phi = delay.step(steps[k].t, steps[k].u).phi;
-        if (k == 0)
-        {
-            continue;
-        }
-        const double truth = mrpt::math::wrapToPi(steps[k].row->phi - steps[k - 1].row->phi);
-        const double e = mrpt::math::wrapToPi(phi - truth);
-        sse += e * e;
-        n++;
-    }
-    return sse;
-}
-
-/** TCalibrationResult::odometry_delay_s and the heading RMS before and after it. */
-void fitOdometryDelay(const std::vector<TimedIncrement>& steps, TCalibrationResult& r)
-{
-    size_t n = 0;
-    const double sse0 = headingSse(steps, 0, n);
-    const auto grid = static_cast<int>(
-        std::lround(TCalibrationResult::kMaxFittedDelay_s / TCalibrationResult::kDelayStep_s));
-    std::vector<double> sse(static_cast<size_t>(grid) + 1, sse0);
-    size_t best = 0;
-    for (int k = 1; k <= grid; k++)
-    {
-        size_t nk = 0;
-        sse[static_cast<size_t>(k)] = headingSse(steps, k * TCalibrationResult::kDelayStep_s, nk);
-        if (sse[static_cast<size_t>(k)] < sse[best])
-        {
-            best = static_cast<size_t>(k);
-        }
-    }
-    auto& f = r.odometry_delay_s;
-    f.n = n;
-    f.method = "the delay whose re-cut increments err least in heading (grid of " +
-               std::to_string(static_cast<int>(TCalibrationResult::kDelayStep_s * 1000)) +
-               " ms), kept when n ln(SSE(0) / SSE(delay)) > " +
-               std::to_string(TCalibrationResult::kDelayChi2).substr(0, 5);
-    r.odomHeadingRms_deg = n > 0 ? mrpt::RAD2DEG(std::sqrt(sse0 / static_cast<double>(n))) : 0;
-    r.odomHeadingRmsDelayed_deg = r.odomHeadingRms_deg;
-    if (n < TCalibrationResult::kMinMovingIncrements || !(sse[best] > 0) ||
-        static_cast<double>(n) * std::log(sse0 / sse[best]) <= TCalibrationResult::kDelayChi2)
-    {
-        f.value = 0;
-        return;
-    }
-    f.value = static_cast<double>(best) * TCalibrationResult::kDelayStep_s;
-    // The profile interval: the delays within chi2(1, 95 %) = 3.84 of the best.
-    double half = 0;
-    for (size_t k = 0; k < sse.size(); k++)
-    {
-        if (static_cast<double>(n) * std::log(sse[k] / sse[best]) <= 3.84)
-        {
-            half = std::max(half, std::abs(static_cast<double>(k) - static_cast<double>(best)) *
-                                      TCalibrationResult::kDelayStep_s);
-        }
-    }
-    f.ci95 = std::max(half, TCalibrationResult::kDelayStep_s);
-    r.odomHeadingRmsDelayed_deg = mrpt::RAD2DEG(std::sqrt(sse[best] / static_cast<double>(n)));
 }
 
 /** Walks the rawlog: every semantic scan and every odometry action against the ground truth. */
@@ -579,17 +502,7 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
                 const GroundTruthRow& row =
                     rowAt(gt, obs->timestamp, o.gtTolerance_s, rawlogName, i);
                 // The ranges as the filter reads them: less the bias found so far.
-                CObservationSemantic corrected;
-                if (!r.rangeBias_m.empty())
-                {
-                    corrected = *obs;
-                    for (auto& d : corrected.detections)
-                    {
-                        d.range_m = std::max(
-                            0.0, d.range_m - rangeBias(r.rangeBias_m, d.bearing_rad, obs->fov_rad));
-                    }
-                }
-                addScan(r.rangeBias_m.empty() ? *obs : corrected, row.pose(), toMap, world,
+                addScan(detail::lessRangeBias(*obs, r.rangeBias_m), row.pose(), toMap, world,
                         modelFor(*obs, world, model), gate, r);
                 if (!obs->detections.empty())
                 {
@@ -621,7 +534,7 @@ TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
     // before it fitted (none in the first).
     detail::RigidTransform2D toMap;
     TCalibrationResult delayFit;
-    fitOdometryDelay(timedIncrements(rawlog, rawlogName, gt, options), delayFit);
+    detail::fitOdometryDelay(timedIncrements(rawlog, rawlogName, gt, options), delayFit);
     TCalibrationResult r;
     std::vector<double> rangeBias, rangeBiasCi95;
     double sigmaUncorrected = 0;
@@ -647,17 +560,7 @@ TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
             {
                 sigmaUncorrected = detail::madSigma(r.samples.rangeResiduals_m);
             }
-            std::vector<double> ci95;
-            const auto more = detail::fitRangeBias(r.samples, ci95);
-            if (!more.empty())
-            {
-                rangeBias.resize(kRangeBiasTerms, 0.0);
-                for (size_t k = 0; k < kRangeBiasTerms; k++)
-                {
-                    rangeBias[k] += more[k];
-                }
-                rangeBiasCi95 = ci95;
-            }
+            detail::addRangeBias(r.samples, rangeBias, rangeBiasCi95);
         }
         r.sigmaRangeUncorrected_m = sigmaUncorrected;
         detail::fitDetector(r);

@@ -6,7 +6,6 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
-#include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/DetectionPoseSampler.h>
 #include <semloc/filter/Localizer.h>
@@ -157,47 +156,6 @@ const mrpt::obs::CActionCollection& withUsableMovement(const mrpt::obs::CActionC
     marked.estimationMethod = mrpt::obs::CActionRobotMovement2D::emScan2DMatching;
     copy.clear();
     copy.insert(marked);
-    return copy;
-}
-
-/** `acts` with its best 2D movement's mean re-cut by `delay` (OdometryDelay) at the movement's
- *  time (else `sf`'s), in `copy`; `acts` itself when the delay is 0 or it has no 2D movement.
- *  Throws when the step has no timestamp or its movement is not Gaussian. */
-const mrpt::obs::CActionCollection& withDelay(const mrpt::obs::CActionCollection& acts,
-                                              const mrpt::obs::CSensoryFrame& sf,
-                                              OdometryDelay& delay,
-                                              mrpt::obs::CActionCollection& copy)
-{
-    const auto best = acts.getBestMovementEstimation();
-    if (delay.delay() == 0 || !best)
-    {
-        return acts;
-    }
-    mrpt::Clock::time_point t = best->timestamp;
-    if (t == INVALID_TIMESTAMP && sf.size() > 0)
-    {
-        t = sf.getObservationByIndex(0)->timestamp;
-    }
-    if (t == INVALID_TIMESTAMP)
-    {
-        THROW_EXCEPTION(
-            "[MotionModel] odometry_delay_s > 0 needs timestamped steps: an action and its "
-            "observations have no timestamp");
-    }
-    const auto* gauss = dynamic_cast<const mrpt::poses::CPosePDFGaussian*>(best->poseChange.get());
-    if (!gauss)
-    {
-        THROW_EXCEPTION(
-            "[MotionModel] odometry_delay_s > 0 needs Gaussian odometry (CPosePDFGaussian); "
-            "this step's movement is a " +
-            std::string(best->poseChange->GetRuntimeClass()->className));
-    }
-    mrpt::obs::CActionRobotMovement2D moved(*best);
-    moved.poseChange = mrpt::poses::CPosePDF::Ptr(std::make_shared<mrpt::poses::CPosePDFGaussian>(
-        mrpt::poses::CPose2D(delay.step(mrpt::Clock::toDouble(t), gauss->mean.asTPose())),
-        gauss->cov));
-    copy.clear();
-    copy.insert(moved);
     return copy;
 }
 
@@ -445,9 +403,9 @@ void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs
     const bool replaced =
         withValidObservations(sf, *m_map, checked, m_observationsInvalid, m_beamsInvalid);
     mrpt::obs::CActionCollection rederived, marked, delayed;
-    const mrpt::obs::CActionCollection& acts = withDelay(
+    const mrpt::obs::CActionCollection& acts = m_odometryDelay.apply(
         withUsableMovement(MotionModel(m_options.motion_model).apply(action, rederived), marked),
-        sf, m_odometryDelay, delayed);
+        sf, delayed);
     m_lastMovement.reset();
     if (const auto move = acts.getBestMovementEstimation())
     {

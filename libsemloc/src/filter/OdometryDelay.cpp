@@ -1,3 +1,6 @@
+#include <mrpt/core/exceptions.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/poses/CPosePDFGaussian.h>
 #include <semloc/filter/OdometryDelay.h>
 
 #include <algorithm>
@@ -116,5 +119,41 @@ mrpt::math::TPose2D OdometryDelay::step(double t, const mrpt::math::TPose2D& u)
         m_pieces.pop_front();
     }
     return out;
+}
+
+const mrpt::obs::CActionCollection& OdometryDelay::apply(const mrpt::obs::CActionCollection& acts,
+                                                         const mrpt::obs::CSensoryFrame& sf,
+                                                         mrpt::obs::CActionCollection& copy)
+{
+    const auto best = acts.getBestMovementEstimation();
+    if (m_delay == 0 || !best)
+    {
+        return acts;
+    }
+    mrpt::Clock::time_point t = best->timestamp;
+    if (t == INVALID_TIMESTAMP && sf.size() > 0)
+    {
+        t = sf.getObservationByIndex(0)->timestamp;
+    }
+    if (t == INVALID_TIMESTAMP)
+    {
+        THROW_EXCEPTION(
+            "[MotionModel] odometry_delay_s > 0 needs timestamped steps: an action and its "
+            "observations have no timestamp");
+    }
+    const auto* gauss = dynamic_cast<const mrpt::poses::CPosePDFGaussian*>(best->poseChange.get());
+    if (!gauss)
+    {
+        THROW_EXCEPTION(
+            "[MotionModel] odometry_delay_s > 0 needs Gaussian odometry (CPosePDFGaussian); "
+            "this step's movement is a " +
+            std::string(best->poseChange->GetRuntimeClass()->className));
+    }
+    mrpt::obs::CActionRobotMovement2D moved(*best);
+    moved.poseChange = mrpt::poses::CPosePDF::Ptr(std::make_shared<mrpt::poses::CPosePDFGaussian>(
+        mrpt::poses::CPose2D(step(mrpt::Clock::toDouble(t), gauss->mean.asTPose())), gauss->cov));
+    copy.clear();
+    copy.insert(moved);
+    return copy;
 }
 }  // namespace semloc

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <mrpt/math/TPose2D.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CSensoryFrame.h>
 
 #include <cstddef>
 #include <deque>
@@ -38,6 +40,14 @@ public:
      *  starts the history. Throws std::invalid_argument when `t` is not finite or before the
      *  previous step's time. */
     mrpt::math::TPose2D step(double t, const mrpt::math::TPose2D& u);
+
+    /** `acts` with its best 2D movement's mean re-cut by step() at the movement's time (else
+     *  `sf`'s first observation's), its covariance kept, in `copy`; `acts` itself when the
+     *  delay is 0 or it holds no 2D movement. Throws when the step has no timestamp or its
+     *  movement is not a CPosePDFGaussian. What Localizer does before each prediction. */
+    const mrpt::obs::CActionCollection& apply(const mrpt::obs::CActionCollection& acts,
+                                              const mrpt::obs::CSensoryFrame& sf,
+                                              mrpt::obs::CActionCollection& copy);
 
     /** Forgets the history (a new run). */
     void reset();
