@@ -326,8 +326,9 @@ TEST(CalibrationLimits, BaseThatLocalizeRefusesIsRefusedFirst)
 
 TEST(CalibrationLimits, RangeBiasReportedWarnedAndCoveredByTheSigma)
 {
-    // Every range read 0.3 m too far (sigma 0.5): the mean residual is reported and warned,
-    // and the sigma written is that of the zero-mean model, sqrt(0.5^2 + 0.3^2) = 0.583.
+    // Every range read 0.3 m too far (sigma 0.5): found as a range bias (0.3 m on the axis
+    // and at both edges, within 0.1 m), taken off the ranges (their mean residual then about
+    // 0, the sigma written the noise's 0.5 m), reported and warned.
     auto o = paperRun(26);
     const Simulator sim(o);
     auto res = sim.run();
@@ -335,17 +336,26 @@ TEST(CalibrationLimits, RangeBiasReportedWarnedAndCoveredByTheSigma)
     const auto r = SensorCalibration::Estimate(res.rawlog, "sim.rawlog", sim.world(),
                                                res.groundTruth, SensorCalibration::TOptions());
     std::cout << SensorCalibration::BiasText(r);
-    EXPECT_NEAR(r.bias.range_m, 0.3, 0.05);
+    ASSERT_EQ(r.rangeBias_m.size(), 4U);
+    const auto& c = r.rangeBias_m;
+    EXPECT_NEAR(c[0], 0.3, 0.05);
+    EXPECT_NEAR(c[0] - c[1] + c[2] - c[3], 0.3, 0.1);
+    EXPECT_NEAR(c[0] + c[1] + c[2] + c[3], 0.3, 0.1);
+    EXPECT_NEAR(r.bias.range_m, 0, 0.05);
     EXPECT_NEAR(r.bias.sigmaRangeAround_m, 0.5, 0.05);
-    EXPECT_NEAR(r.sigma_range_m.value, std::hypot(0.5, 0.3), 0.05);
+    EXPECT_NEAR(r.sigma_range_m.value, 0.5, 0.05);
+    EXPECT_GT(r.sigmaRangeUncorrected_m, 0.5);
     EXPECT_NEAR(r.bias.bearing_deg, 0, 0.5);
+    EXPECT_TRUE(has(SensorCalibration::BiasText(r), "range bias by bearing: 0."));
     const auto w = SensorCalibration::Warnings(r);
     std::string all;
     for (const auto& s : w)
     {
         all += s + "\n";
     }
-    EXPECT_TRUE(has(all, "the range residuals' mean is 0.")) << all;
+    EXPECT_TRUE(has(all, "the detector's ranges read 0.")) << all;
+    EXPECT_TRUE(has(all, "taken off each detection (range_bias_m)")) << all;
+    EXPECT_FALSE(has(all, "the range residuals' mean")) << all;
     EXPECT_FALSE(has(all, "the bearing residuals' mean")) << all;
     EXPECT_FALSE(has(all, "the map is offset")) << all;
 }

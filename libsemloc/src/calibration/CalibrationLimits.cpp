@@ -5,6 +5,7 @@
 #include <semloc/filter/MotionModel.h>
 #include <semloc/maps/CSemanticMap.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -169,6 +170,22 @@ void biasWarnings(const TCalibrationResult& r, std::vector<std::string>& out)
                       " m): a bias of the detector's ranges; sigma_range_m is written as "
                       "sqrt(sigma^2 + mean^2) = " +
                       num(r.sigma_range_m.value) + " m (the filter's model has no bias)");
+    }
+    if (!r.rangeBias_m.empty())
+    {
+        // The bias on the axis and at the two edges of the view (u = 0, -1, 1).
+        const auto& c = r.rangeBias_m;
+        const double axis = c[0], lo = c[0] - c[1] + c[2] - c[3], hi = c[0] + c[1] + c[2] + c[3];
+        const double largest = std::max({std::abs(axis), std::abs(lo), std::abs(hi)});
+        if (largest > std::max(kBias * b.sigmaRangeAround_m, minRange))
+        {
+            out.push_back("the detector's ranges read " + num(axis) + " m off on its axis, " +
+                          num(lo) + " and " + num(hi) +
+                          " m at the edges of its view, more than half their sigma (" +
+                          num(b.sigmaRangeAround_m) +
+                          " m): a range bias by bearing, taken off each detection "
+                          "(range_bias_m); check the detector's range calibration");
+        }
     }
     if (r.sigma_bearing_deg.status != Status::TooLittleData &&
         std::abs(b.bearing_deg) > std::max(kBias * b.sigmaBearingAround_deg, minBearing))

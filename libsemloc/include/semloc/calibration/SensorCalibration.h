@@ -315,8 +315,9 @@ public:
     /** What the user must know of the fits, one sentence each (semloc-calibrate prints them
      *  on stderr as warnings; report.md lists them): a fit clamped into the range the filter
      *  accepts, a fit with too little data (the base's value written), a bias of the
-     *  residuals over half their sigma, a map offset moving the objects more than
-     *  sigma_range_m. */
+     *  residuals over half their sigma, a range bias by bearing over half the range sigma on
+     *  the axis or at an edge of the view (taken off, but that large), a map offset moving
+     *  the objects more than sigma_range_m. */
     static std::vector<std::string> Warnings(const TCalibrationResult& result);
 
     /** The bias and map offset as lines for the terminal and report.md. */
