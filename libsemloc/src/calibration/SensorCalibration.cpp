@@ -10,6 +10,7 @@
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/GroundTruth.h>
 #include <semloc/filter/OdometryDelay.h>
+#include <semloc/maps/DetectionProbability.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
 
@@ -262,8 +263,8 @@ void addMatch(const CObservationSemantic& obs, const TSemanticDetection& d,
     if (v.range_m + 3 * gate.sigmaRange_m <= obs.maxRange_m && v.range_m >= 3 * gate.sigmaRange_m)
     {
         s.rangeResiduals_m.push_back(d.range_m - v.range_m);
-        s.rangeResidualBearing.push_back(d.bearing_rad /
-                                         (obs.fov_rad < 2 * M_PI ? 0.5 * obs.fov_rad : M_PI));
+        // The bearing over half the view, as rangeBias() takes it.
+        s.rangeResidualBearing.push_back(rangeBias({0, 1}, d.bearing_rad, obs.fov_rad));
         s.rangeResidualsAtTruth_m.push_back(d.range_m - local.norm());
     }
     if (std::abs(v.bearing_rad) + 3 * gate.sigmaBearing_rad <= 0.5 * obs.fov_rad)

@@ -1,3 +1,5 @@
+/* semloc — OdometryDelay: the increments of an odometry the vehicle follows late, re-cut over
+ * the delayed interval in SE(2). */
 #include <mrpt/core/exceptions.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/poses/CPosePDFGaussian.h>

@@ -4,6 +4,7 @@
 #include <mrpt/config/CConfigFileBase.h>
 
 #include <string>
+#include <vector>
 
 #include "io/Text.h"
 
@@ -15,6 +16,19 @@ inline void writeExact(mrpt::config::CConfigFileBase& c, const std::string& sect
                        const std::string& key, double value, const std::string& comment)
 {
     c.write(section, key, fixedText(value), 24, 24, comment);
+}
+
+/** Writes `values` comma-separated, each as writeExact() writes a number; "0" for none. */
+inline void writeExactList(mrpt::config::CConfigFileBase& c, const std::string& section,
+                           const std::string& key, const std::vector<double>& values,
+                           const std::string& comment)
+{
+    std::string text;
+    for (const double v : values)
+    {
+        text += (text.empty() ? "" : ", ") + fixedText(v);
+    }
+    c.write(section, key, text.empty() ? std::string("0") : text, 24, 24, comment);
 }
 
 /** Writes a text value with its comment, or without the comment when the value is empty: MRPT

@@ -19,7 +19,6 @@
 
 #include "io/BoundedRead.h"
 #include "io/ExactConfigWrite.h"
-#include "io/Text.h"
 #include "maps/LabelIndex.h"
 #include "maps/SemanticIndex.h"
 
@@ -228,13 +227,8 @@ void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFil
     detail::writeExact(c, s, "p_detect_far", p_detect_far, "probabilistic: P_D at max range");
     detail::writeExact(c, s, "p_detect_edge_ratio", p_detect_edge_ratio,
                        "probabilistic: P_D at the edge of the view / on its axis");
-    std::string bias;
-    for (const double b : range_bias_m)
-    {
-        bias += (bias.empty() ? "" : ", ") + detail::shortestText(b);
-    }
-    c.write(s, "range_bias_m", bias.empty() ? std::string("0") : bias, 24, 24,
-            "range bias c0, c1, c2, c3 [m] in bearing / half the view");
+    detail::writeExactList(c, s, "range_bias_m", range_bias_m,
+                           "range bias c0, c1, c2, c3 [m] in bearing / half the view");
     detail::writeExact(c, s, "clutter_per_scan", clutter_per_scan,
                        "probabilistic: mean false positives per scan");
     detail::writeExact(c, s, "p_confusion", p_confusion, "probabilistic: P(wrong label)");

@@ -11,7 +11,6 @@
 #include <cmath>
 
 #include "io/ExactConfigWrite.h"
-#include "io/Text.h"
 #include "simulator/SensorMount.h"
 #include "simulator/SimRandom.h"
 
@@ -60,13 +59,8 @@ void SemanticDetectorModel::TOptions::saveToConfigFile(mrpt::config::CConfigFile
     writeExact(c, s, "fov_deg", fov_deg, "field of view, centred ahead [deg]");
     writeExact(c, s, "range_noise_std_m", range_noise_std_m, "range noise [m]");
     writeExact(c, s, "bearing_noise_std_deg", bearing_noise_std_deg, "bearing noise [deg]");
-    std::string bias;
-    for (const double b : range_bias_m)
-    {
-        bias += (bias.empty() ? "" : ", ") + detail::shortestText(b);
-    }
-    c.write(s, "range_bias_m", bias.empty() ? std::string("0") : bias, 24, 24,
-            "range bias c0, c1, c2, c3 [m] in bearing / half the view");
+    detail::writeExactList(c, s, "range_bias_m", range_bias_m,
+                           "range bias c0, c1, c2, c3 [m] in bearing / half the view");
     writeExact(c, s, "p_detect_near", p_detect_near, "P(detect) of a visible object at 0 m");
     writeExact(c, s, "p_detect_far", p_detect_far, "P(detect) at max range (linear between)");
     writeExact(c, s, "p_detect_edge_ratio", p_detect_edge_ratio,

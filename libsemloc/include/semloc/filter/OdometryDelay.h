@@ -60,7 +60,8 @@ public:
     static void logIncrement(const mrpt::math::TPose2D& u, double& vx, double& vy, double& w);
 
 private:
-    /** A step of the odometry: (t0, t1] at the twist (vx, vy, w). */
+    /** A step of the odometry: (t0, t1] and the twist (vx, vy, w) that makes its whole
+     *  increment (a part f of the step is expTwist(vx, vy, w, f)). */
     struct Piece
     {
         double t0, t1, vx, vy, w;
