@@ -135,9 +135,11 @@ TEST(OdometryDelay, KeepsAHistoryOfTheDelayOnlyAndStartsAgainOnReset)
 
 TEST(OdometryDelay, RefusesWhatItCannotCut)
 {
-    EXPECT_THROW(OdometryDelay(-0.1), std::invalid_argument);
-    EXPECT_THROW(OdometryDelay(OdometryDelay::kMaxDelay_s * 2), std::invalid_argument);
-    EXPECT_THROW(OdometryDelay(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
+    // (A function, not a statement OdometryDelay(x);, which clang may read as a declaration.)
+    const auto make = [](double d) { return OdometryDelay(d); };
+    EXPECT_THROW(make(-0.1), std::invalid_argument);
+    EXPECT_THROW(make(OdometryDelay::kMaxDelay_s * 2), std::invalid_argument);
+    EXPECT_THROW(make(std::numeric_limits<double>::quiet_NaN()), std::invalid_argument);
     OdometryDelay delay(0.2);
     delay.step(5, {0, 0, 0});
     EXPECT_THROW(delay.step(4.9, {0, 0, 0}), std::invalid_argument);

@@ -136,11 +136,12 @@ TEST(CSemanticMap, IniErrorsNameSectionAndKey)
         e = errorOf([&] { mapFromIni(head + "p_range_outlier=" + bad + "\n"); });
         EXPECT_NE(e.find("p_range_outlier"), std::string::npos) << bad << ": " << e;
     }
-    for (const auto& [bad, needle] :
+    for (const auto& [value, needle] :
          {std::pair{"0.1, x", "'x' is not a number"}, std::pair{"1, 2, 3, 4, 5", "at most 4"},
           std::pair{"0.1,", "is not a list of numbers"}, std::pair{"nan", "not a finite number"},
           std::pair{"2000", "out of range"}})
     {
+        const std::string bad = value;  // a lambda may not capture a structured binding
         e = errorOf([&] { mapFromIni(head + "range_bias_m=" + bad + "\n"); });
         EXPECT_NE(e.find("range_bias_m"), std::string::npos) << bad << ": " << e;
         EXPECT_NE(e.find(needle), std::string::npos) << bad << ": " << e;
