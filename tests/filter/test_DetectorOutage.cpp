@@ -129,6 +129,22 @@ SilenceRun runSilence(double outageEvery_s, size_t threads, bool unknownInSilenc
     }
     return r;
 }
+/** The filter held through the silence (within 0.5 m in it and after), found the outage and
+ *  its end. */
+void expectHeldThroughTheSilence(const SilenceRun& on)
+{
+    EXPECT_LT(on.maxErrorInSilence, 0.5);
+    EXPECT_LT(on.errorAfter, 0.5);
+    EXPECT_GT(on.outageAtSilenceEnd, 0.9);
+    EXPECT_LT(on.outageAfter, 0.1);
+}
+
+/** Two runs gave the same numbers. */
+void expectSameRun(const SilenceRun& a, const SilenceRun& b)
+{
+    EXPECT_EQ(a.maxErrorInSilence, b.maxErrorInSilence);
+    EXPECT_EQ(a.outageAtSilenceEnd, b.outageAtSilenceEnd);
+}
 }  // namespace
 
 TEST(DetectorOutage, ObjectsUnknownToTheMapLeaveAFrameSilent)
@@ -136,15 +152,10 @@ TEST(DetectorOutage, ObjectsUnknownToTheMapLeaveAFrameSilent)
     // A silence in which the detector reports only something the map does not know (a diver
     // close ahead): for the map's objects it is a silence, found as one, and the filter holds.
     const SilenceRun on = runSilence(300, 1, true);
-    EXPECT_LT(on.maxErrorInSilence, 0.5);
-    EXPECT_LT(on.errorAfter, 0.5);
-    EXPECT_GT(on.outageAtSilenceEnd, 0.9);
-    EXPECT_LT(on.outageAfter, 0.1);
+    expectHeldThroughTheSilence(on);
     // The same as a silence with nothing reported at all: unknown detections weigh every pose
     // alike.
-    const SilenceRun empty = runSilence(300, 1);
-    EXPECT_EQ(on.maxErrorInSilence, empty.maxErrorInSilence);
-    EXPECT_EQ(on.outageAtSilenceEnd, empty.outageAtSilenceEnd);
+    expectSameRun(on, runSilence(300, 1));
 }
 
 TEST(DetectorOutage, ChainRelaxesToItsStationaryProbability)
@@ -255,13 +266,8 @@ TEST(DetectorOutage, ASilenceNoLongerDragsTheFilterAway)
     // Without the model every silent frame pays (1 - P_D) per object in view: the cloud moves
     // to poses that see fewer objects.
     EXPECT_GT(off.maxErrorInSilence, 1.0);
-    EXPECT_LT(on.maxErrorInSilence, 0.5);
-    EXPECT_LT(on.errorAfter, 0.5);
     // The model found the outage and its end.
-    EXPECT_GT(on.outageAtSilenceEnd, 0.9);
-    EXPECT_LT(on.outageAfter, 0.1);
+    expectHeldThroughTheSilence(on);
     // The same numbers on two threads.
-    const SilenceRun two = runSilence(300, 2);
-    EXPECT_EQ(on.maxErrorInSilence, two.maxErrorInSilence);
-    EXPECT_EQ(on.outageAtSilenceEnd, two.outageAtSilenceEnd);
+    expectSameRun(on, runSilence(300, 2));
 }

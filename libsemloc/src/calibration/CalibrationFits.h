@@ -35,10 +35,11 @@ constexpr size_t kMinRangeBiasResiduals = 40;
  *  `s`, its interval in `ci95`; both left as they are when it finds none. */
 void addRangeBias(const TCalibrationSamples& s, std::vector<double>& bias,
                   std::vector<double>& ci95);
-/** `obs` with each detection's range less the bias (rangeBias()), kept within [0, its max
- *  range]: the ranges the filter reads. */
-CObservationSemantic lessRangeBias(const CObservationSemantic& obs,
-                                   const std::vector<double>& bias);
+/** `obs` with each detection's range less the bias (rangeLessBias(): within [0, its max
+ *  range]), in `copy`: the ranges the filter reads; `obs` itself without a bias. */
+const CObservationSemantic& lessRangeBias(const CObservationSemantic& obs,
+                                          const std::vector<double>& bias,
+                                          CObservationSemantic& copy);
 
 /** One odometry action of the rawlog: its time, its increment and the ground-truth row at
  *  that time. */

@@ -101,17 +101,19 @@ void addRangeBias(const TCalibrationSamples& s, std::vector<double>& bias,
     ci95 = moreCi95;
 }
 
-CObservationSemantic lessRangeBias(const CObservationSemantic& obs, const std::vector<double>& bias)
+const CObservationSemantic& lessRangeBias(const CObservationSemantic& obs,
+                                          const std::vector<double>& bias,
+                                          CObservationSemantic& copy)
 {
-    CObservationSemantic out = obs;
-    if (!bias.empty())
+    if (bias.empty())
     {
-        for (auto& d : out.detections)
-        {
-            d.range_m = std::clamp(d.range_m - rangeBias(bias, d.bearing_rad, obs.fov_rad), 0.0,
-                                   obs.maxRange_m);
-        }
+        return obs;
     }
-    return out;
+    copy = obs;
+    for (auto& d : copy.detections)
+    {
+        d.range_m = rangeLessBias(bias, d.range_m, d.bearing_rad, obs.maxRange_m, obs.fov_rad);
+    }
+    return copy;
 }
 }  // namespace semloc::detail

@@ -263,8 +263,7 @@ void addMatch(const CObservationSemantic& obs, const TSemanticDetection& d,
     if (v.range_m + 3 * gate.sigmaRange_m <= obs.maxRange_m && v.range_m >= 3 * gate.sigmaRange_m)
     {
         s.rangeResiduals_m.push_back(d.range_m - v.range_m);
-        // The bearing over half the view, as rangeBias() takes it.
-        s.rangeResidualBearing.push_back(rangeBias({0, 1}, d.bearing_rad, obs.fov_rad));
+        s.rangeResidualBearing.push_back(bearingOverHalfView(d.bearing_rad, obs.fov_rad));
         s.rangeResidualsAtTruth_m.push_back(d.range_m - local.norm());
     }
     if (std::abs(v.bearing_rad) + 3 * gate.sigmaBearing_rad <= 0.5 * obs.fov_rad)
@@ -503,8 +502,9 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
                 const GroundTruthRow& row =
                     rowAt(gt, obs->timestamp, o.gtTolerance_s, rawlogName, i);
                 // The ranges as the filter reads them: less the bias found so far.
-                addScan(detail::lessRangeBias(*obs, r.rangeBias_m), row.pose(), toMap, world,
-                        modelFor(*obs, world, model), gate, r);
+                CObservationSemantic corrected;
+                addScan(detail::lessRangeBias(*obs, r.rangeBias_m, corrected), row.pose(), toMap,
+                        world, modelFor(*obs, world, model), gate, r);
                 if (!obs->detections.empty())
                 {
                     span.close(r);
@@ -544,10 +544,8 @@ TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
         r = TCalibrationResult();
         r.rangeBias_m = rangeBias;
         r.rangeBiasCi95_m = rangeBiasCi95;
-        r.odometry_delay_s = delayFit.odometry_delay_s;
-        r.odomHeadingRms_deg = delayFit.odomHeadingRms_deg;
-        r.odomHeadingRmsDelayed_deg = delayFit.odomHeadingRmsDelayed_deg;
-        collect(rawlog, rawlogName, world, gt, options, gate, toMap, r.odometry_delay_s.value, r);
+        collect(rawlog, rawlogName, world, gt, options, gate, toMap,
+                delayFit.odometry_delay_s.value, r);
         if (r.scans == 0)
         {
             throw std::runtime_error("rawlog '" + rawlogName +
@@ -577,6 +575,9 @@ TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
             r.mapOffset.rms_m > TCalibrationResult::kBiasSigmas * r.bias.sigmaRangeAround_m;
         toMap = large ? total : detail::RigidTransform2D();
     }
+    r.odometry_delay_s = delayFit.odometry_delay_s;
+    r.odomHeadingRms_deg = delayFit.odomHeadingRms_deg;
+    r.odomHeadingRmsDelayed_deg = delayFit.odomHeadingRmsDelayed_deg;
     detail::fitOdometry(r);
     detail::applyLimits(r);
     return r;

@@ -148,8 +148,7 @@ config::TValueRange CSemanticMap::TLikelihoodOptions::range(const std::string& k
 double CSemanticMap::TLikelihoodOptions::correctedRange(double rho, double theta, double R,
                                                         double fov) const
 {
-    return range_bias_m.empty() ? rho
-                                : std::clamp(rho - rangeBias(range_bias_m, theta, fov), 0.0, R);
+    return rangeLessBias(range_bias_m, rho, theta, R, fov);
 }
 
 void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,

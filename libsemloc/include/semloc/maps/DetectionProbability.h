@@ -34,17 +34,31 @@ constexpr size_t kRangeBiasTerms = 4;
  *  kRangeBiasTerms coefficients (the others 0; none: no bias). A camera ranging by an
  *  object's apparent size reads short towards its image's border; a sonar's sound speed,
  *  long. */
-inline double rangeBias(const std::vector<double>& c, double theta, double fov)
+/** The bearing `theta` [rad] (taken in [-pi, pi]) over half the field of view `fov` [rad]
+ *  (over pi for a full circle): rangeBias()'s variable u. */
+inline double bearingOverHalfView(double theta, double fov)
 {
-    // A bearing given in [0, 2 pi) or beyond is taken in [-pi, pi].
     const double wrapped =
         (theta >= -M_PI && theta <= M_PI) ? theta : std::remainder(theta, 2 * M_PI);
-    const double u = wrapped / (fov < 2 * M_PI ? 0.5 * fov : M_PI);
+    return wrapped / (fov < 2 * M_PI ? 0.5 * fov : M_PI);
+}
+
+inline double rangeBias(const std::vector<double>& c, double theta, double fov)
+{
+    const double u = bearingOverHalfView(theta, fov);
     double b = 0;
     for (size_t k = c.size(); k-- > 0;)
     {
         b = b * u + c[k];
     }
     return b;
+}
+
+/** A detection's range `rho` [m] at bearing `theta` less rangeBias(c, theta, fov), kept
+ *  within the coverage [0, R]; `rho` as it is without a bias (`c` empty). */
+inline double rangeLessBias(const std::vector<double>& c, double rho, double theta, double R,
+                            double fov)
+{
+    return c.empty() ? rho : std::clamp(rho - rangeBias(c, theta, fov), 0.0, R);
 }
 }  // namespace semloc
