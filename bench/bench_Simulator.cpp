@@ -4,7 +4,7 @@
  * Run: build/bench/bench_Simulator
  * Counter `per_step`: seconds per simulated step. */
 #include <benchmark/benchmark.h>
-#include <semloc/io/GroundTruthFile.h>
+#include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <cstdio>

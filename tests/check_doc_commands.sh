@@ -2,8 +2,8 @@
 # Runs every shell command of the fenced ```sh (```bash, ```shell) blocks of README.md and
 # docs/*.md, each block's commands in order in one shell, in a fresh copy of the repository
 # (its tracked and unignored files) whose build/ holds links to this build's bin/, libsemloc/,
-# bench/ and tests/. A command that fails fails the test, naming the file, the line and the
-# command. How the commands are run (docs/testing.md, "The documented commands"):
+# libsemloc_tools/, bench/ and tests/. A command that fails fails the test, naming the file, the
+# line and the command. How the commands are run (docs/testing.md, "The documented commands"):
 # - `/tmp/` in a command is the copy's own tmp/ (a fresh one: nothing from an earlier run,
 #   nothing shared with a run beside it); the message shows the command as written;
 # - SEMLOC_BENCHMARK_RUNS=1: semloc-benchmark runs each documented benchmark with 1 run
@@ -38,7 +38,7 @@ else
   (cd "$src" && tar --exclude='./build*' --exclude=./results --exclude=./.git -cf - .) |
     (cd "$repo" && tar -xf -)
 fi
-for d in bin libsemloc bench tests; do
+for d in bin libsemloc libsemloc_tools bench tests; do
   [ -e "$build/$d" ] && ln -s "$build/$d" "$repo/build/$d"
 done
 

@@ -28,3 +28,8 @@ message(STATUS "${out}")
 if(NOT rc EQUAL 0)
   message(FATAL_ERROR "the example did not localize (exit ${rc}):\n${out}${err}")
 endif()
+# A robot links the core alone: the example needs libsemloc, not libsemloc_tools.
+execute_process(COMMAND ldd ${OUT_DIR}/build/robot_loop OUTPUT_VARIABLE libs RESULT_VARIABLE rc)
+if(NOT rc EQUAL 0 OR NOT libs MATCHES "libsemloc\\.so" OR libs MATCHES "libsemloc_tools")
+  message(FATAL_ERROR "the example must link libsemloc alone; ldd says:\n${libs}")
+endif()

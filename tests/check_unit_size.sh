@@ -15,7 +15,7 @@ while IFS= read -r f; do
         echo "$f: $n lines (at most $max_lines: split it by concept)"
         status=1
     fi
-done < <(find libsemloc apps -name '*.cpp' -o -name '*.h' | sort)
+done < <(find libsemloc libsemloc_tools apps -name '*.cpp' -o -name '*.h' | sort)
 
 # Every translation unit the build compiles (library, tools, tests, benchmarks), checked by
 # .clang-tidy's readability-function-size alone.

@@ -5,9 +5,9 @@
  * docs/tools.md, "semloc-calibrate". */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/calibration/SensorCalibration.h>
+#include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/ErrorMessage.h>
-#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>

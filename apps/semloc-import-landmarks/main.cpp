@@ -7,10 +7,10 @@
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CRawlog.h>
 #include <mrpt/system/filesystem.h>
+#include <semloc/dataset/GroundTruthFile.h>
+#include <semloc/dataset/LandmarkImport.h>
 #include <semloc/io/ErrorMessage.h>
-#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
-#include <semloc/io/LandmarkImport.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
 #include <semloc/io/RawlogWriter.h>

@@ -11,8 +11,8 @@
 #include <mrpt/core/bits_math.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/system/filesystem.h>
-#include <semloc/io/DatasetImport.h>
-#include <semloc/io/GroundTruthFile.h>
+#include <semloc/dataset/DatasetImport.h>
+#include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>

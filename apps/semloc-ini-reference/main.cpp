@@ -1,7 +1,7 @@
 /* semloc-ini-reference: prints every ini section semloc reads, each key at its default
  * with a comment (docs/ini-reference.md holds this output). Takes no arguments. */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <semloc/io/IniReference.h>
+#include <semloc/experiment/IniReference.h>
 
 #include <iostream>
 

@@ -4,7 +4,7 @@
 #include <mrpt/core/exceptions.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
-#include <semloc/world/WorldPlot.h>
+#include <semloc/plot/WorldPlot.h>
 
 #include <algorithm>
 #include <iostream>

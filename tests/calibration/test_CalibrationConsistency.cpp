@@ -2,7 +2,7 @@
  * widens a model that is too sure of itself, deterministically, and says so in the ini. */
 #include <gtest/gtest.h>
 #include <semloc/calibration/SensorCalibration.h>
-#include <semloc/io/GroundTruthFile.h>
+#include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/simulator/Simulator.h>
 

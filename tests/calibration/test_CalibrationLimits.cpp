@@ -7,8 +7,8 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <semloc/calibration/SensorCalibration.h>
+#include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/experiment/LocalizationExperiment.h>
-#include <semloc/io/GroundTruthFile.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/Simulator.h>

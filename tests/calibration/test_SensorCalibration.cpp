@@ -4,8 +4,8 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/calibration/SensorCalibration.h>
+#include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/filter/MotionModel.h>
-#include <semloc/io/GroundTruthFile.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/simulator/Simulator.h>
 

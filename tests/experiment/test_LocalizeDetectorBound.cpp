@@ -5,9 +5,9 @@
  * ground truth leaves its steps out. */
 #include <gtest/gtest.h>
 #include <mrpt/containers/yaml.h>
+#include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/experiment/LocalizationExperiment.h>
-#include <semloc/io/GroundTruthFile.h>
 #include <semloc/simulator/DetectorBound.h>
 #include <semloc/simulator/Simulator.h>
 

@@ -7,9 +7,9 @@
 #include <mrpt/containers/yaml.h>
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CObservationOdometry.h>
+#include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/ErrorMessage.h>
-#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/simulator/Simulator.h>

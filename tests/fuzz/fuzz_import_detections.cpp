@@ -4,7 +4,7 @@
  * nonzero times strictly increasing (rows of one time form one scan), and every detection has
  * a valid label, a finite range >= 0, a bearing within +-4 pi, a confidence in [0, 1] and an
  * id that is -1 or positive. */
-#include <semloc/io/DatasetImport.h>
+#include <semloc/dataset/DatasetImport.h>
 #include <semloc/observation/Labels.h>
 
 #include <cmath>

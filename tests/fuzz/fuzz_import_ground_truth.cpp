@@ -3,7 +3,7 @@
  * file; accepted rows are at least one, at finite times strictly increasing, with finite
  * positions and wrapped headings, and interpolate (DatasetImport::groundTruthAtSteps, as
  * semloc-import does at its step times) to finite poses at their times and between them. */
-#include <semloc/io/DatasetImport.h>
+#include <semloc/dataset/DatasetImport.h>
 
 #include <cmath>
 #include <cstddef>

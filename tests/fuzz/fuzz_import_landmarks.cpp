@@ -5,7 +5,7 @@
  * positive ids, valid labels, finite centres and a finite sigma_m >= 0 (standard deviations
  * both or neither). Their world must be made or refused with an exception; a world made
  * writes YAML that loads again to the same text. */
-#include <semloc/io/DatasetImport.h>
+#include <semloc/dataset/DatasetImport.h>
 #include <semloc/observation/Labels.h>
 #include <semloc/world/World.h>
 

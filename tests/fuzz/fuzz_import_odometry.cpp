@@ -3,7 +3,7 @@
  * file; an accepted track has two rows or more, finite times strictly increasing, finite poses
  * with wrapped headings, and interpolates to its own poses at its times and to a finite pose
  * between them. */
-#include <semloc/io/DatasetImport.h>
+#include <semloc/dataset/DatasetImport.h>
 
 #include <cmath>
 #include <cstddef>

@@ -7,12 +7,12 @@
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
-#include <semloc/io/PngText.h>
 #include <semloc/io/RawlogReader.h>
 #include <semloc/io/RawlogWriter.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/observation/Labels.h>
+#include <semloc/plot/PngText.h>
 
 #include <filesystem>
 #include <fstream>

@@ -13,8 +13,8 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/random/RandomGenerators.h>
+#include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/io/ConfigHelpers.h>
-#include <semloc/io/GroundTruthFile.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/maps/CStructureMap.h>
 #include <semloc/simulator/Simulator.h>

@@ -1,0 +1,457 @@
+/* semloc — Simulator: trajectory, sensors, rawlog and ground truth. */
+#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/core/Clock.h>
+#include <mrpt/core/bits_math.h>
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose2D.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <mrpt/serialization/CArchive.h>
+#include <mrpt/system/filesystem.h>
+#include <semloc/dataset/GroundTruthFile.h>
+#include <semloc/io/ConfigHelpers.h>
+#include <semloc/io/Interrupt.h>
+#include <semloc/io/OutputPaths.h>
+#include <semloc/io/RawlogReader.h>
+#include <semloc/io/RawlogWriter.h>
+#include <semloc/simulator/Simulator.h>
+#include <semloc/simulator/TrajectoryFollower.h>
+
+#include <charconv>
+#include <chrono>
+#include <climits>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <utility>
+
+#include "io/ExactConfigWrite.h"
+#include "io/Text.h"
+#include "io/TextFiles.h"
+#include "simulator/Distractors.h"
+#include "simulator/SimRandom.h"
+
+namespace semloc
+{
+namespace
+{
+const char* const kSimulation = "Simulation";
+const char* const kOdometry = "Odometry";
+const char* const kSonar = "Sonar";
+const char* const kDetector = "SemanticDetector";
+const char* const kKidnapping = "Kidnapping";
+/** The first words of the effective configuration writeDataset() writes. */
+const char* const kConfigHeader = "// semloc-simulate: ";
+
+/** config::resolveNextToIni, plus the ini's directory joined with a separator: MRPT 2.5.8's
+ *  extractFileDirectory() returns no trailing '/', so resolveNextToIni misses files next to
+ *  the ini (reported; this fallback can go once it is fixed there). */
+/** `<dir>/<stem><suffix>` for a path `<dir>/<stem>.<ext>`. */
+std::string besides(const std::string& path, const std::string& suffix)
+{
+    std::filesystem::path p(path);
+    return (p.parent_path() / (p.stem().string() + suffix)).string();
+}
+}  // namespace
+
+// ------------------------------------------------------------------ options
+
+void TSimulationOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                            const std::string& s)
+{
+    config::rejectUnknownKeys(c, s, config::keysOf(*this));
+    // An empty world_file is unset, as the effective configuration writes it before one is
+    // given (running without one fails: "world_file: not set").
+    const std::string given = c.read_string(s, "world_file", "");
+    if (!given.empty())
+    {
+        const std::string found = config::resolveNextToIni(c, given);
+        if (!mrpt::system::fileExists(found))
+        {
+            THROW_EXCEPTION("ini [" + s + "] world_file: " + config::missingFileMessage(c, given));
+        }
+        world_file = mrpt::system::toAbsolutePath(found, true);
+    }
+    int seedInt = static_cast<int>(seed);
+    config::readInt(c, s, "seed", seedInt, 0, INT_MAX);
+    seed = static_cast<uint32_t>(seedInt);
+    config::readDouble(c, s, "time_step_s", time_step_s, 1e-6, 1e6);
+    config::readDouble(c, s, "speed_mps", speed_mps, 0, 1e3);
+    config::readInt(c, s, "max_steps", max_steps, 0, INT_MAX);
+    config::readDouble(c, s, "start_time_s", start_time_s, 0, 4e9);
+    if (c.keyExists(s, "output_rawlog"))
+    {
+        output_rawlog = c.read_string(s, "output_rawlog", "");
+        if (output_rawlog.empty())
+        {
+            THROW_EXCEPTION("ini [" + s + "] output_rawlog: empty file name");
+        }
+    }
+}
+
+void TSimulationOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                          const std::string& s) const
+{
+    using detail::writeExact;
+    detail::writeText(c, s, "world_file", world_file, "world YAML with a trajectory");
+    c.write(s, "seed", static_cast<int>(seed), 24, 24, "seed of every random stream");
+    writeExact(c, s, "time_step_s", time_step_s, "time between steps [s]");
+    writeExact(c, s, "speed_mps", speed_mps, "vehicle speed [m/s]; 0: the trajectory's");
+    c.write(s, "max_steps", max_steps, 24, 24, "0: the whole trajectory");
+    writeExact(c, s, "start_time_s", start_time_s, "time of step 0 [s since 1970]");
+    detail::writeText(c, s, "output_rawlog", output_rawlog,
+                      "dataset; also <stem>_gt.txt, <stem>.ini");
+}
+
+void TKidnappingOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                            const std::string& s)
+{
+    config::rejectUnknownKeys(c, s, config::keysOf(*this));
+    config::readBool(c, s, "enabled", enabled);
+    config::readInt(c, s, "step", step, 1, INT_MAX);
+    config::readBool(c, s, "random_pose", random_pose);
+    config::readDouble(c, s, "x_m", x_m, -1e6, 1e6);
+    config::readDouble(c, s, "y_m", y_m, -1e6, 1e6);
+    config::readDouble(c, s, "phi_deg", phi_deg, -360, 360);
+}
+
+void TKidnappingOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                          const std::string& s) const
+{
+    using detail::writeExact;
+    c.write(s, "enabled", enabled, 24, 24, "teleport the vehicle once");
+    c.write(s, "step", step, 24, 24, "at this step (>= 1)");
+    c.write(s, "random_pose", random_pose, 24, 24, "true: a random free pose");
+    writeExact(c, s, "x_m", x_m, "else this pose: x [m]");
+    writeExact(c, s, "y_m", y_m, "y [m] (free space)");
+    writeExact(c, s, "phi_deg", phi_deg, "heading [deg]");
+}
+
+void TSimulatorOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c)
+{
+    simulation.loadFromConfigFile(c, kSimulation);
+    odometry.loadFromConfigFile(c, kOdometry);
+    sonar.loadFromConfigFile(c, kSonar);
+    detector.loadFromConfigFile(c, kDetector);
+    kidnapping.loadFromConfigFile(c, kKidnapping);
+}
+
+void TSimulatorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
+{
+    simulation.saveToConfigFile(c, kSimulation);
+    odometry.saveToConfigFile(c, kOdometry);
+    sonar.saveToConfigFile(c, kSonar);
+    detector.saveToConfigFile(c, kDetector);
+    kidnapping.saveToConfigFile(c, kKidnapping);
+}
+
+TSimulatorOptions TSimulatorOptions::FromConfigFile(const std::string& iniPath)
+{
+    config::checkIniFile(iniPath, "ini file");
+    TSimulatorOptions o;
+    o.loadFromConfigFile(mrpt::config::CConfigFile(iniPath));
+    return o;
+}
+
+// ------------------------------------------------------------------ results
+
+std::string SimulationResult::summary() const
+{
+    return mrpt::format(
+        "%zu steps, %.2f detections/scan, %.1f of %zu sonar beams valid/scan, simulated in %.3f s",
+        steps, meanDetections, meanValidBeams, beamsPerScan, wallTime_s);
+}
+
+// ------------------------------------------------------------------ simulator
+
+Simulator::Simulator(const World& world, const TSimulatorOptions& options)
+    : m_world(world), m_options(options)
+{
+    const std::string where = "world '" + world.name + "' (" + world.source + ")";
+    if (!world.trajectory || world.trajectory->waypoints.size() < 2)
+    {
+        THROW_EXCEPTION(where + " has no trajectory: the simulator follows its waypoints");
+    }
+    if (!(speed() > 0))
+    {
+        THROW_EXCEPTION(where + ": speed_mps must be > 0 (or set [Simulation] speed_mps)");
+    }
+    const auto& k = options.kidnapping;
+    if (k.enabled && !k.random_pose && !world.isFree(k.x_m, k.y_m))
+    {
+        THROW_EXCEPTION(mrpt::format("ini [%s] x_m, y_m: (%g, %g) is not free space of %s",
+                                     kKidnapping, k.x_m, k.y_m, where.c_str()));
+    }
+}
+
+Simulator::Simulator(const TSimulatorOptions& options)
+    : Simulator(
+          [&]
+          {
+              if (options.simulation.world_file.empty())
+              {
+                  THROW_EXCEPTION(std::string("ini [") + kSimulation + "] world_file: not set");
+              }
+              return World::FromFile(options.simulation.world_file);
+          }(),
+          options)
+{
+}
+
+double Simulator::speed() const
+{
+    return m_options.simulation.speed_mps > 0 ? m_options.simulation.speed_mps
+                                              : m_world.trajectory->speed_mps;
+}
+
+namespace
+{
+/** The random streams of a run, one per source of noise (SimRandom.h). */
+struct SimStreams
+{
+    mrpt::random::CRandomGenerator odometry, sonar, detector, kidnap, gaps, distractors;
+
+    explicit SimStreams(uint32_t seed)
+        : odometry(detail::streamSeed(seed, detail::SimStream::Odometry)),
+          sonar(detail::streamSeed(seed, detail::SimStream::Sonar)),
+          detector(detail::streamSeed(seed, detail::SimStream::Detector)),
+          kidnap(detail::streamSeed(seed, detail::SimStream::Kidnapping)),
+          gaps(detail::streamSeed(seed, detail::SimStream::DetectorGaps)),
+          distractors(detail::streamSeed(seed, detail::SimStream::Distractors))
+    {
+    }
+};
+
+/** The detector's silences ([SemanticDetector] gap_every_s, gap_min_s, gap_max_s): starts
+ *  an exponential time apart (from the end of the previous one), lengths uniform. */
+class Silences
+{
+public:
+    Silences(const SemanticDetectorModel::TOptions& o, double t0,
+             mrpt::random::CRandomGenerator& rng)
+        : m_o(o), m_rng(rng)
+    {
+        m_start = m_end = t0;
+        next();
+    }
+    /** True if the detector is silent at time t (times must not decrease). */
+    bool silent(double t)
+    {
+        while (m_o.gap_every_s > 0 && t >= m_end)
+        {
+            next();
+        }
+        return m_o.gap_every_s > 0 && t >= m_start && t < m_end;
+    }
+
+private:
+    void next()
+    {
+        if (m_o.gap_every_s <= 0)
+        {
+            return;
+        }
+        const double wait = -m_o.gap_every_s * std::log(1.0 - detail::uniform01(m_rng));
+        m_start = m_end + wait;
+        m_end =
+            m_start + m_o.gap_min_s + (m_o.gap_max_s - m_o.gap_min_s) * detail::uniform01(m_rng);
+    }
+    const SemanticDetectorModel::TOptions& m_o;
+    mrpt::random::CRandomGenerator& m_rng;
+    double m_start = 0, m_end = 0;
+};
+
+/** The sensor models of a run. */
+struct Sensors
+{
+    OdometryModel odometry;
+    SonarModel sonar;
+    SemanticDetectorModel detector;
+};
+
+/** What the steps of a run add up to, for the summary. */
+struct StepCounts
+{
+    size_t detections = 0, validBeams = 0;
+};
+
+/** The step at `stamp`: the odometry of `increment` as the action, then the sonar scan and
+ *  the detections at the true `pose` as the sensory frame, appended to the rawlog with the
+ *  pose as ground truth. Draws odometry, sonar and detector noise in that order. */
+void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPose2D& increment,
+                const mrpt::math::TPose2D& pose, mrpt::Clock::time_point stamp, double dt,
+                bool silent, const detail::Distractors& distractors, SimulationResult& res,
+                StepCounts& counts)
+{
+    auto action = sensors.odometry.measure(increment, rng.odometry, dt);
+    action.timestamp = stamp;
+    auto actions = mrpt::obs::CActionCollection::Create();
+    actions->insert(action);
+
+    auto scan = sensors.sonar.measure(pose, rng.sonar);
+    scan->timestamp = stamp;
+    auto semantic = sensors.detector.measure(pose, rng.detector, distractors.now());
+    semantic->timestamp = stamp;
+    if (silent)
+    {
+        semantic->detections.clear();  // drawn all the same: the other steps keep their noise
+    }
+    for (size_t b = 0; b < scan->getScanSize(); b++)
+    {
+        counts.validBeams += scan->getScanRangeValidity(b) ? 1 : 0;
+    }
+    counts.detections += semantic->detections.size();
+    auto frame = mrpt::obs::CSensoryFrame::Create();
+    frame->insert(scan);
+    frame->insert(semantic);
+
+    res.rawlog.insert(actions);
+    res.rawlog.insert(frame);
+    res.groundTruth.push_back({mrpt::Clock::toDouble(stamp), pose.x, pose.y, pose.phi});
+    res.detectorSilent.push_back(silent ? 1 : 0);
+}
+
+/** Where the kidnapped vehicle is put: a random free pose, or the configured one. */
+mrpt::math::TPose2D kidnapPose(const TKidnappingOptions& kidnap, const World& world,
+                               mrpt::random::CRandomGenerator& rng)
+{
+    return kidnap.random_pose
+               ? world.sampleFreePose(rng)
+               : mrpt::math::TPose2D(kidnap.x_m, kidnap.y_m,
+                                     mrpt::math::wrapToPi(mrpt::DEG2RAD(kidnap.phi_deg)));
+}
+}  // namespace
+
+SimulationResult Simulator::run() const
+{
+    const auto wallStart = std::chrono::steady_clock::now();
+    const TSimulatorOptions& o = m_options;
+    SimStreams rng(o.simulation.seed);
+    const Sensors sensors{OdometryModel(o.odometry), SonarModel(m_world, o.sonar),
+                          SemanticDetectorModel(m_world, o.detector)};
+    const double dt = o.simulation.time_step_s;
+    TrajectoryFollower vehicle(m_world.trajectory->waypoints, speed() * dt);
+    const size_t maxSteps = static_cast<size_t>(o.simulation.max_steps);
+    const auto& kidnap = o.kidnapping;
+
+    SimulationResult res;
+    res.beamsPerScan = static_cast<size_t>(o.sonar.beam_count);
+    StepCounts counts;
+    bool kidnapped = false;
+    Silences silences(o.detector, o.simulation.start_time_s, rng.gaps);
+    detail::Distractors distractors(m_world, sensors.detector, rng.distractors);
+    mrpt::poses::CPose2D previous(vehicle.pose());
+    for (size_t k = 0;; k++)
+    {
+        if (interruptRequested())
+        {
+            throw Interrupted();  // Ctrl-C (installInterruptHandlers): nothing simulated
+        }
+        if (k > 0)
+        {
+            vehicle.step();
+            distractors.step(dt);
+        }
+        const mrpt::poses::CPose2D increment = mrpt::poses::CPose2D(vehicle.pose()) - previous;
+        if (kidnap.enabled && k == static_cast<size_t>(kidnap.step))
+        {
+            // The odometry keeps reporting `increment`: it does not see the teleport.
+            vehicle.teleport(kidnapPose(kidnap, m_world, rng.kidnap));
+            kidnapped = true;
+        }
+        const mrpt::math::TPose2D pose = vehicle.pose();
+        const auto stamp =
+            mrpt::Clock::fromDouble(o.simulation.start_time_s + static_cast<double>(k) * dt);
+        const double t = o.simulation.start_time_s + static_cast<double>(k) * dt;
+        recordStep(sensors, rng, increment, pose, stamp, k > 0 ? dt : 0.0, silences.silent(t),
+                   distractors, res, counts);
+        previous = mrpt::poses::CPose2D(pose);
+        if (vehicle.finished() || (maxSteps > 0 && k + 1 >= maxSteps))
+        {
+            break;
+        }
+    }
+    res.steps = res.groundTruth.size();
+    if (kidnap.enabled && !kidnapped)
+    {
+        THROW_EXCEPTION(
+            mrpt::format("ini [%s] step: %d is beyond the last step of the "
+                         "simulation (%zu steps: 0..%zu)",
+                         kKidnapping, kidnap.step, res.steps, res.steps - 1));
+    }
+    res.meanDetections = static_cast<double>(counts.detections) / static_cast<double>(res.steps);
+    res.meanValidBeams = static_cast<double>(counts.validBeams) / static_cast<double>(res.steps);
+    res.wallTime_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
+    return res;
+}
+
+// ------------------------------------------------------------------ files
+
+std::string Simulator::configPath(const std::string& rawlogPath)
+{
+    return besides(rawlogPath, ".ini");
+}
+
+void Simulator::writeDataset(const SimulationResult& result, const std::string& rawlogPath) const
+{
+    ASSERTMSG_(!rawlogPath.empty(), "Simulator::writeDataset: empty output path");
+    checkDatasetPaths(rawlogPath, {m_options.simulation.world_file});
+    const std::string gtPath = GroundTruthFile::PathFor(rawlogPath),
+                      iniPath = configPath(rawlogPath);
+    writeOutputFiles(
+        {rawlogPath, gtPath, iniPath},
+        [&](const std::vector<std::string>& tmp)
+        {
+            GzOutputFile out(tmp[0]);  // its errors name the file and the reason
+            auto ar = mrpt::serialization::archiveFrom(out);
+            writeRawlogSignature(ar, "semloc-simulate: seed " +
+                                         std::to_string(m_options.simulation.seed) + ", world " +
+                                         m_options.simulation.world_file);
+            for (const auto& obj : result.rawlog)
+            {
+                ar << *obj;
+                if (interruptRequested())
+                {
+                    throw Interrupted();  // the temporary files are removed
+                }
+            }
+            out.close();
+
+            GroundTruthFile::Write(result.groundTruth, tmp[1]);
+
+            TSimulatorOptions effective = m_options;
+            effective.simulation.output_rawlog = rawlogPath;
+            mrpt::config::CConfigFileMemory ini;
+            effective.saveToConfigFile(ini);
+            detail::writeFile(
+                tmp[2], kConfigHeader + std::string("the effective configuration of ") +
+                            rawlogPath + " (every key; rerunning it reproduces the dataset)\n" +
+                            ini.getContent());
+        });
+}
+
+void Simulator::checkDatasetPaths(const std::string& rawlogPath,
+                                  const std::vector<std::string>& inputs)
+{
+    const std::string gtPath = GroundTruthFile::PathFor(rawlogPath),
+                      iniPath = configPath(rawlogPath);
+    if (gtPath == rawlogPath || iniPath == rawlogPath)
+    {
+        THROW_EXCEPTION("output rawlog '" + rawlogPath +
+                        "' collides with its ground-truth or ini file name (give it an "
+                        "extension such as .rawlog)");
+    }
+    checkOutputFile(rawlogPath, inputs, RawlogReader::IsSemlocRawlog);
+    checkOutputFile(gtPath, inputs, GroundTruthFile::IsGroundTruthFile);
+    checkOutputFile(iniPath, inputs,
+                    [](const std::string& p) { return fileStartsWith(p, kConfigHeader); });
+}
+
+}  // namespace semloc
