@@ -5,12 +5,12 @@
  * Run: build/bench/bench_FilterStep [--benchmark_filter=semantic] */
 #include <benchmark/benchmark.h>
 #include <mrpt/bayes/CParticleFilter.h>
-#include <mrpt/config/CConfigFile.h>
 #include <mrpt/poses/CPosePDFParticles.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/FreeSpaceSampler.h>
 #include <semloc/filter/ParallelExecutor.h>
+#include <semloc/io/ConfigHelpers.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/maps/LocalizationMap.h>
 #include <semloc/observation/CObservationSemantic.h>
@@ -29,12 +29,12 @@ constexpr size_t kStep = 20;
  *  ~5 here). The semantic likelihood's cost grows with those counts. */
 constexpr size_t kBusyStep = 270;
 
-/** The paper dataset (config/simulate.ini), simulated once. */
+/** The paper dataset (config/simulate/simulate.ini), simulated once. */
 const semloc::SimulationResult& dataset()
 {
     static const semloc::SimulationResult sim =
-        semloc::Simulator(
-            semloc::TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini"))
+        semloc::Simulator(semloc::TSimulatorOptions::FromConfigFile(
+                              SEMLOC_SOURCE_DIR "/config/simulate/simulate.ini"))
             .run();
     return sim;
 }
@@ -48,8 +48,9 @@ const semloc::LocalizationMap& maps(const std::string& variant)
     if (it == cache.end())
     {
         const bool paper = variant == "semantic_paper";
-        const mrpt::config::CConfigFile ini(SEMLOC_SOURCE_DIR "/config/" +
-                                            (paper ? std::string("semantic") : variant) + ".ini");
+        const semloc::config::IniFileInMemory ini(SEMLOC_SOURCE_DIR "/config/localize/" +
+                                                  (paper ? std::string("semantic") : variant) +
+                                                  ".ini");
         it = cache
                  .emplace(variant, semloc::LocalizationMap::FromConfig(
                                        ini, SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml"))
@@ -77,7 +78,7 @@ void BM_FilterStep(benchmark::State& state, const std::string& variant, size_t s
 
     semloc::CParallelMonteCarloLocalization2D pdf;
     pdf.options.metricMap = lm.map;
-    // As semloc-localize with the variant's ini: free_space_prior = 1 (every config/*.ini).
+    // As semloc-localize with the variant's ini: free_space_prior = 1 (every config/localize/*.ini).
     pdf.setFreeSpaceSampler(
         std::make_shared<semloc::FreeSpaceSampler>(semloc::FreeSpaceSampler::FromWorld(*lm.world)));
     pdf.setFreeSpacePrior(true);

@@ -1,8 +1,7 @@
-/* semloc benchmarks — semloc-simulate's engine on the paper scenario (config/simulate.ini):
- * the whole trajectory (431 steps of 61 sonar beams and one detection scan) in memory, and
- * writing the dataset (gz rawlog, ground truth, effective ini).
- * Run: build/bench/bench_Simulator
- * Counter `per_step`: seconds per simulated step. */
+/* semloc benchmarks — semloc-simulate's engine on the paper scenario
+ * (config/simulate/simulate.ini): the whole trajectory (431 steps of 61 sonar beams and one
+ * detection scan) in memory, and writing the dataset (gz rawlog, ground truth, effective ini). Run:
+ * build/bench/bench_Simulator Counter `per_step`: seconds per simulated step. */
 #include <benchmark/benchmark.h>
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/simulator/Simulator.h>
@@ -14,8 +13,8 @@ namespace
 {
 const semloc::Simulator& paperSimulator()
 {
-    static const semloc::Simulator sim(
-        semloc::TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini"));
+    static const semloc::Simulator sim(semloc::TSimulatorOptions::FromConfigFile(
+        SEMLOC_SOURCE_DIR "/config/simulate/simulate.ini"));
     return sim;
 }
 

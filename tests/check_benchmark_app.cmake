@@ -1,7 +1,7 @@
 # Runs semloc-benchmark on a small experiment (3 runs x semantic + geometric, a short
 # trajectory, few particles): every output exists with its columns, the figures are PNGs,
 # results do not depend on `jobs`, and bad configurations fail clearly leaving no output.
-# Inputs: APP, CONFIG_DIR (the repository's config/), OUT_DIR.
+# Inputs: APP, CONFIG_DIR (the repository's config/localize/), SIMULATE_INI, OUT_DIR.
 cmake_policy(SET CMP0007 NEW)  # keep the empty cells of CSV rows
 set(dir ${OUT_DIR}/benchmark_app)
 file(REMOVE_RECURSE ${dir})
@@ -10,12 +10,12 @@ file(MAKE_DIRECTORY ${dir})
 function(write_ini name jobs extra)
   file(WRITE ${dir}/${name}.ini
        "[Benchmark]\nruns = 3\nvariants = ${CONFIG_DIR}/semantic.ini, geometric.ini\n"
-       "simulate_ini = ${CONFIG_DIR}/simulate.ini\noutput_dir = ${dir}/${name}_out\n"
+       "simulate_ini = ${SIMULATE_INI}\noutput_dir = ${dir}/${name}_out\n"
        "jobs = ${jobs}\nmax_steps = 30\nparticles = 300  // few, fast\n${extra}")
   # `geometric.ini` is resolved next to the benchmark ini.
   file(COPY ${CONFIG_DIR}/geometric.ini DESTINATION ${dir})
   file(READ ${dir}/geometric.ini g)
-  string(REPLACE "../maps/" "${CONFIG_DIR}/../maps/" g "${g}")
+  string(REPLACE "../../maps/" "${CONFIG_DIR}/../../maps/" g "${g}")
   file(WRITE ${dir}/geometric.ini "${g}")
 endfunction()
 

@@ -1,7 +1,7 @@
 /* semloc-benchmark: the paper's experiment, R seeds × variants (results.csv, curves.csv,
  * report.md, figures).
- *   semloc-benchmark config/benchmark.ini [-o results/benchmark]
- *   semloc-benchmark config/robustness.ini   (scenarios: sensor faults, kidnapping) */
+ *   semloc-benchmark config/benchmark/benchmark.ini [-o results/benchmark]
+ *   semloc-benchmark config/benchmark/robustness.ini   (scenarios: sensor faults, kidnapping) */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/format.h>
 #include <semloc/experiment/Benchmark.h>
@@ -19,7 +19,8 @@
 namespace
 {
 TCLAP::CmdLine cmd("semloc-benchmark", ' ', "0.1");
-TCLAP::UnlabeledValueArg<std::string> argIni("config", "Benchmark ini (see config/benchmark.ini)",
+TCLAP::UnlabeledValueArg<std::string> argIni("config",
+                                             "Benchmark ini (see config/benchmark/benchmark.ini)",
                                              true, "", "benchmark.ini", cmd);
 TCLAP::ValueArg<std::string> argOut("o", "output-dir", "Overrides output_dir", false, "", "DIR",
                                     cmd);

@@ -7,6 +7,7 @@
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/experiment/LocalizationExperiment.h>
+#include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
@@ -18,7 +19,6 @@
 #include <fstream>
 #include <iostream>
 #include <memory>
-#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -51,18 +51,6 @@ TCLAP::ValueArg<int> argConsistencySeeds(
 TCLAP::ValueArg<double> argGate("", "gate-m",
                                 "Matching gate around an object's centre [m] (default 3)", false,
                                 3.0, "G", cmd);
-
-std::string readText(const std::string& path)
-{
-    std::ifstream f(path, std::ios::binary);
-    std::stringstream s;
-    s << f.rdbuf();
-    if (!f)
-    {
-        throw std::runtime_error("ini '" + path + "': cannot be read");
-    }
-    return s.str();
-}
 
 /** The calibrated ini `written` (to be renamed `out`) loads in semloc-localize: it always
  *  should (every fit is kept to its key's range, the base was checked). */
@@ -128,7 +116,7 @@ void run()
         throw std::invalid_argument("--consistency-seeds must be in [0, 100]");
     }
     // Everything is read and checked before anything is written.
-    const std::string baseText = readText(base);
+    const std::string baseText = semloc::config::readIniText(base);  // its bases resolved
     semloc::SensorCalibration::CheckBase(base, argWorld.getValue());
     const auto world = semloc::World::FromFile(argWorld.getValue());
     const auto gt = semloc::GroundTruthFile::Read(argGroundTruth.getValue());

@@ -1,5 +1,6 @@
 /* semloc-localize: MRPT pf-localization's configuration, our particle filter, docs/design.md's
- * outputs. semloc-localize config/semantic.ini [dataset.rawlog] [--threads N] [--seed S] [-o DIR]
+ * outputs. semloc-localize config/localize/semantic.ini [dataset.rawlog] [--threads N] [--seed S]
+ * [-o DIR]
  *                   [--allow-truncated] */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/experiment/LocalizationExperiment.h>

@@ -1,5 +1,5 @@
 /* semloc-simulate: a dataset for the paper's experiment (rawlog + ground truth + effective ini).
- *   semloc-simulate config/simulate.ini -o dataset.rawlog --seed 7 [--csv dataset_csv] */
+ *   semloc-simulate config/simulate/simulate.ini -o dataset.rawlog --seed 7 [--csv dataset_csv] */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
@@ -13,7 +13,8 @@
 namespace
 {
 TCLAP::CmdLine cmd("semloc-simulate", ' ', "0.1");
-TCLAP::UnlabeledValueArg<std::string> argIni("config", "Simulation ini (see config/simulate.ini)",
+TCLAP::UnlabeledValueArg<std::string> argIni("config",
+                                             "Simulation ini (see config/simulate/simulate.ini)",
                                              true, "", "simulate.ini", cmd);
 TCLAP::ValueArg<std::string> argOut(
     "o", "output",

@@ -25,11 +25,12 @@ namespace
 namespace fs = std::filesystem;
 const std::string kPaper = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
 
-/** config/semantic.ini with 1000 particles (the stage runs the filter several times). */
+/** config/localize/semantic.ini with 1000 particles (the stage runs the filter several times). */
 std::string smallBase()
 {
-    return semloc::test::withKeys(semloc::test::readText(SEMLOC_SOURCE_DIR "/config/semantic.ini"),
-                                  "semantic.ini", {{"particles_count", "1000"}});
+    return semloc::test::withKeys(
+        semloc::test::readText(SEMLOC_SOURCE_DIR "/config/localize/semantic.ini"), "semantic.ini",
+        {{"particles_count", "1000"}});
 }
 
 /** A simulated run of the paper's world, written to `dir`, and its fits. */

@@ -35,7 +35,7 @@ namespace fs = std::filesystem;
 namespace
 {
 const std::string kPaper = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
-const std::string kSemanticIni = SEMLOC_SOURCE_DIR "/config/semantic.ini";
+const std::string kSemanticIni = SEMLOC_SOURCE_DIR "/config/localize/semantic.ini";
 const std::string kLik = "MetricMap_semanticMap_00_likelihoodOpts";
 
 using semloc::test::readText;
@@ -248,7 +248,7 @@ TEST(CalibrationLimits, NoClutterClampedToTheSmallestRateTheFilterTakes)
 
 TEST(CalibrationLimits, OneScanKeepsTheBasesValues)
 {
-    auto o = TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini");
+    auto o = TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate/simulate.ini");
     o.simulation.max_steps = 1;
     o.simulation.seed = 2;
     const auto t = calibrateTool("one_scan", o);

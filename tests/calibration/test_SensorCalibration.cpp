@@ -32,7 +32,7 @@ using semloc::World;
 namespace
 {
 const std::string kPaper = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
-const std::string kSemanticIni = SEMLOC_SOURCE_DIR "/config/semantic.ini";
+const std::string kSemanticIni = SEMLOC_SOURCE_DIR "/config/localize/semantic.ini";
 
 std::string readFile(const std::string& path)
 {
@@ -648,7 +648,8 @@ TEST(SensorCalibration, ToolCalibratesOneScanAndDrawsEveryFigure)
             fs::path(SEMLOC_TEST_OUT) / ("calibrate_one_scan_" + std::to_string(seed));
         fs::remove_all(dir);
         fs::create_directories(dir);
-        auto o = TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini");
+        auto o =
+            TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate/simulate.ini");
         o.simulation.max_steps = 1;
         o.simulation.seed = seed;
         const Simulator sim(o);

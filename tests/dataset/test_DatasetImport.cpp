@@ -382,7 +382,7 @@ int runTool(const std::string& commandLine, const fs::path& log)
  *  ground truth and landmarks. */
 void exportSimulation(const fs::path& d)
 {
-    auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate.ini");
+    auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate/simulate.ini");
     o.simulation.world_file = kSrc + "/maps/paper_50x50.yaml";
     o.detector.sensor_x_m = 0.5;
     o.detector.sensor_yaw_deg = 10;
@@ -433,10 +433,10 @@ void exportSimulation(const fs::path& d)
     write(d / "lm.csv", lm.str());
 }
 
-/** config/semantic.ini on the imported dataset, `particles` particles. */
+/** config/localize/semantic.ini on the imported dataset, `particles` particles. */
 void writeIni(const fs::path& d, int particles)
 {
-    std::string ini = readText(kSrc + "/config/semantic.ini");
+    std::string ini = readText(kSrc + "/config/localize/semantic.ini");
     const std::vector<std::pair<std::string, std::string>> keys = {
         {"map_file", "run_world.yaml"},
         {"ground_truth_path_file", "run_gt.txt"},

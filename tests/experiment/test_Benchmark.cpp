@@ -1,4 +1,4 @@
-/* Tests of semloc::Benchmark: config/benchmark.ini's defaults, the uniform filter, strict
+/* Tests of semloc::Benchmark: config/benchmark/benchmark.ini's defaults, the uniform filter, strict
  * keys, and runs that depend on their seed only. */
 #include <gtest/gtest.h>
 #include <mrpt/core/exceptions.h>
@@ -24,8 +24,10 @@ std::string writeIni(const std::string& name, const std::string& body)
 {
     std::string path = std::string(SEMLOC_TEST_OUT) + "/" + name;
     std::ofstream(path) << "[Benchmark]\nsimulate_ini = " << kConfig
-                        << "simulate.ini\nvariants = " << kConfig << "semantic.ini, " << kConfig
-                        << "geometric.ini\noutput_dir = " << SEMLOC_TEST_OUT << "/bench_unused\n"
+                        << "simulate/simulate.ini\nvariants = " << kConfig
+                        << "localize/semantic.ini, " << kConfig
+                        << "localize/geometric.ini\noutput_dir = " << SEMLOC_TEST_OUT
+                        << "/bench_unused\n"
                         << body;
     return path;
 }
@@ -46,7 +48,7 @@ std::string errorOf(const std::string& path)
 
 TEST(Benchmark, ShippedIniIsThePapersExperimentWithOneParticleBudgetForAllVariants)
 {
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/benchmark.ini");
     EXPECT_EQ(b.options().runs, 100);
     EXPECT_FALSE(b.options().same_filter);
     ASSERT_EQ(b.variants().size(), 5u);
@@ -155,7 +157,7 @@ TEST(Benchmark, InterruptStopsTheRunsAndWritesNothing)
 
 TEST(Benchmark, ShippedAssociationIniComparesTheTwoAssociationsInTheirWorlds)
 {
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "association.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/association.ini");
     ASSERT_EQ(b.scenarios().size(), 3u);
     for (const auto& sc : b.scenarios())
     {
@@ -176,7 +178,7 @@ TEST(Benchmark, ShippedAssociationIniComparesTheTwoAssociationsInTheirWorlds)
 
 TEST(Benchmark, ScenarioSetsTheInitialCloudOfEveryVariant)
 {
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "global_start.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/global_start.ini");
     ASSERT_EQ(b.scenarios().size(), 2u);
     using Mode = semloc::Localizer::InitMode;
     for (const auto& sc : b.scenarios())
@@ -202,7 +204,7 @@ TEST(Benchmark, ScenarioSetsTheInitialCloudOfEveryVariant)
 
 TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
 {
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "realdata.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/realdata.ini");
     ASSERT_EQ(b.scenarios().size(), 7u);
     const auto& all = b.scenarios().back();
     EXPECT_EQ(b.scenarios()[4].scenario().name, "misread_ranges");
@@ -245,7 +247,7 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
 
 TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
 {
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "recovery.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/recovery.ini");
     ASSERT_EQ(b.scenarios().size(), 2u);
     EXPECT_EQ(b.scenarios()[0].scenario().name, "nominal");
     EXPECT_FALSE(b.scenarios()[0].simulation().kidnapping.enabled);
@@ -277,7 +279,7 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
 
 TEST(Benchmark, ShippedKldIniComparesTheFixedCountWithKld)
 {
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "kld.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/kld.ini");
     ASSERT_EQ(b.scenarios().size(), 7u);
     EXPECT_TRUE(b.scenarios().back().simulation().kidnapping.enabled);
     for (const auto& sc : b.scenarios())
@@ -298,7 +300,7 @@ TEST(Benchmark, ShippedKldIniComparesTheFixedCountWithKld)
 
 TEST(Benchmark, ShippedMisreadIniComparesTheGaussianRangeWithTheHeavyTailedOne)
 {
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "misread.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/misread.ini");
     ASSERT_EQ(b.scenarios().size(), 5u);
     EXPECT_EQ(b.scenarios()[2].scenario().name, "misread_ranges");
     EXPECT_EQ(b.scenarios()[2].simulation().detector.p_range_outlier, 0.2);
@@ -321,7 +323,7 @@ TEST(Benchmark, ShippedMisreadIniComparesTheGaussianRangeWithTheHeavyTailedOne)
 
 TEST(Benchmark, ShippedPaperModelIniRunsThePaperLikelihoodEverywhere)
 {
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "paper_model.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/paper_model.ini");
     ASSERT_EQ(b.scenarios().size(), 6u);
     for (const auto& sc : b.scenarios())
     {
@@ -333,7 +335,7 @@ TEST(Benchmark, ShippedPaperModelIniRunsThePaperLikelihoodEverywhere)
 
 TEST(Benchmark, ShippedChangedWorldIniSimulatesInAChangedWorld)
 {
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "changed_world.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/changed_world.ini");
     ASSERT_EQ(b.scenarios().size(), 8u);
     const auto& far = b.scenarios()[7].scenario();
     EXPECT_EQ(far.name, "all_1m");
@@ -386,7 +388,7 @@ TEST(Benchmark, ShippedChangedWorldIniSimulatesInAChangedWorld)
 
 TEST(Benchmark, ShippedMapDoubtsIniGivesEachVariantOneDoubtOfTheSurveyedMap)
 {
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "map_doubts.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/map_doubts.ini");
     ASSERT_EQ(b.scenarios().size(), 6u);
     EXPECT_EQ(b.scenarios()[4].scenario().name, "all");
     const semloc::World surveyed =
@@ -423,10 +425,10 @@ TEST(Benchmark, ShippedMapDoubtsIniGivesEachVariantOneDoubtOfTheSurveyedMap)
 
 TEST(Benchmark, ScenarioSectionsOverlayTheVariantsOwn)
 {
-    // config/sensitivity.ini: each scenario replaces one key of the variants' semantic model,
-    // in memory (the shipped files stay as they are).
-    const std::string before = semloc::test::readText(kConfig + "semantic.ini");
-    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "sensitivity.ini");
+    // config/benchmark/sensitivity.ini: each scenario replaces one key of the variants' semantic
+    // model, in memory (the shipped files stay as they are).
+    const std::string before = semloc::test::readText(kConfig + "localize/semantic.ini");
+    const auto b = semloc::Benchmark::FromConfigFile(kConfig + "benchmark/sensitivity.ini");
     ASSERT_EQ(b.scenarios().size(), 13u);
     auto model = [](const semloc::Benchmark& sc, size_t v)
     { return sc.variants()[v].maps.map->mapByClass<semloc::CSemanticMap>()->likelihoodOptions; };
@@ -441,7 +443,7 @@ TEST(Benchmark, ScenarioSectionsOverlayTheVariantsOwn)
     // The rest of a variant is its own: semantic_basic runs without recovery, semantic with.
     EXPECT_FALSE(b.scenarios()[1].variants()[0].options.filter.recovery.enabled());
     EXPECT_TRUE(b.scenarios()[1].variants()[1].options.filter.recovery.enabled());
-    EXPECT_EQ(semloc::test::readText(kConfig + "semantic.ini"), before);
+    EXPECT_EQ(semloc::test::readText(kConfig + "localize/semantic.ini"), before);
 
     // A key the variants do not know is an error naming it.
     const std::string scenario = std::string(SEMLOC_TEST_OUT) + "/bench_overlay.ini";

@@ -3,7 +3,6 @@
  * report.md), every shipped benchmark keeps the maps it had; a benchmark of one particle (no
  * spread: zero on a log axis) draws every figure. */
 #include <gtest/gtest.h>
-#include <mrpt/config/CConfigFile.h>
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/io/ConfigHelpers.h>
 
@@ -19,14 +18,15 @@ namespace fs = std::filesystem;
 const std::string kConfig = std::string(SEMLOC_SOURCE_DIR) + "/config/";
 const std::string kMaps = std::string(SEMLOC_SOURCE_DIR) + "/maps/";
 
-/** A benchmark of config/semantic.ini on simulate.ini with the world `world` (in dir `name`). */
+/** A benchmark of config/localize/semantic.ini on simulate.ini with the world `world` (in dir
+ * `name`). */
 std::string writeBenchmark(const std::string& name, const std::string& world,
                            const std::string& extra)
 {
     const fs::path dir = fs::path(SEMLOC_TEST_OUT) / name;
     fs::remove_all(dir);
     fs::create_directories(dir);
-    std::ifstream in(kConfig + "simulate.ini");
+    std::ifstream in(kConfig + "simulate/simulate.ini");
     std::ofstream sim(dir / "sim.ini");
     for (std::string line; std::getline(in, line);)
     {
@@ -34,7 +34,7 @@ std::string writeBenchmark(const std::string& name, const std::string& world,
     }
     std::ofstream(dir / "bench.ini")
         << "[Benchmark]\nruns = 2\njobs = 2\nmax_steps = 40\n"
-        << "variants = " << kConfig << "semantic.ini\n"
+        << "variants = " << kConfig << "localize/semantic.ini\n"
         << "simulate_ini = sim.ini\noutput_dir = " << (dir / "out").string() << "\n"
         << extra;
     return (dir / "bench.ini").string();
@@ -43,7 +43,7 @@ std::string writeBenchmark(const std::string& name, const std::string& world,
 /** The world name of `ini`'s [LocalizationExperiment] map_file (resolved next to it). */
 std::string ownMapName(const std::string& ini)
 {
-    mrpt::config::CConfigFile c(ini);
+    const semloc::config::IniFileInMemory c(ini);
     return semloc::World::FromFile(semloc::config::resolveNextToIni(
                                        c, c.read_string("LocalizationExperiment", "map_file", "")))
         .name;
@@ -70,9 +70,12 @@ TEST(BenchmarkMaps, AnotherMapIsKeptWhenAskedAndSaidOutLoud)
     EXPECT_EQ(b.variants()[0].maps.world->name, "paper_50x50");
     ASSERT_EQ(b.mapWarnings().size(), 1u);
     const std::string w = b.mapWarnings()[0];
-    EXPECT_NE(w.find("variant 'semantic' localizes against '" + kMaps + "paper_50x50.yaml'"),
-              std::string::npos)
-        << w;
+    // The map as the variant names it (a path from the working directory where it exists
+    // there, else resolved next to its ini).
+    const auto at = w.find("variant 'semantic' localizes against '");
+    ASSERT_NE(at, std::string::npos) << w;
+    const auto named = w.substr(at + 38, w.find('\'', at + 38) - at - 38);
+    EXPECT_TRUE(fs::equivalent(named, kMaps + "paper_50x50.yaml")) << w;
     EXPECT_NE(w.find("(map_from_world = false)"), std::string::npos) << w;
     EXPECT_NE(w.find("harbour_symmetric.yaml"), std::string::npos) << w;
     const auto res = b.run();
@@ -99,10 +102,10 @@ TEST(BenchmarkMaps, SameWorldUnderAnotherFileIsNotADifferentMap)
 TEST(BenchmarkMaps, EveryShippedBenchmarkKeepsItsMaps)
 {
     size_t checked = 0;
-    for (const auto& e : fs::directory_iterator(kConfig))
+    for (const auto& e : fs::directory_iterator(kConfig + "benchmark"))
     {
         if (!e.is_regular_file() || e.path().extension() != ".ini" ||
-            !mrpt::config::CConfigFile(e.path().string()).sectionExists("Benchmark"))
+            !semloc::config::IniFileInMemory(e.path().string()).sectionExists("Benchmark"))
         {
             continue;
         }

@@ -40,7 +40,7 @@ struct Dataset
     std::vector<semloc::TDetectorBoundStep> bound;
 };
 
-/** 150 steps of config/simulate.ini on the paper's world (its objects made points when
+/** 150 steps of config/simulate/simulate.ini on the paper's world (its objects made points when
  *  `points`: nothing hides them), the odometry's heading drifting 2 deg/min, as `name`. */
 Dataset simulate(const std::string& name, bool points)
 {
@@ -59,7 +59,7 @@ Dataset simulate(const std::string& name, bool points)
     Dataset d;
     d.world = stem + "_world.yaml";
     world.saveToFile(d.world);
-    auto options = semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate.ini");
+    auto options = semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate/simulate.ini");
     options.simulation.max_steps = 150;
     options.odometry.heading_drift_deg_per_min = 2;
     const semloc::Simulator sim(semloc::World::FromFile(d.world), options);
@@ -70,13 +70,14 @@ Dataset simulate(const std::string& name, bool points)
     return d;
 }
 
-/** config/semantic.ini (the simulator's detector, a heading drift state) with `keys`
+/** config/localize/semantic.ini (the simulator's detector, a heading drift state) with `keys`
  *  replaced and map_file = `world`, written as kOut/<name>.ini. */
 std::string config(const std::string& world, const std::string& name,
                    std::vector<std::pair<std::string, std::string>> keys = {})
 {
     keys.emplace_back("map_file", world);
-    const std::string out = withKeys(readText(kConfig + "semantic.ini"), "semantic.ini", keys);
+    const std::string out =
+        withKeys(readText(kConfig + "localize/semantic.ini"), "semantic.ini", keys);
     const auto path = kOut / (name + ".ini");
     std::ofstream(path) << out;
     return path.string();

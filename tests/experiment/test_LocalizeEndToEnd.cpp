@@ -9,6 +9,7 @@
 #include <mrpt/obs/CObservationOdometry.h>
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/experiment/LocalizationExperiment.h>
+#include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
@@ -92,8 +93,9 @@ std::map<std::string, std::string> outputsWithoutTiming(const fs::path& dir)
     return out;
 }
 
-/** `config` (a file of config/) with `key = value` lines replaced (the key must be there)
- *  and map_file made absolute (the paper world unless given), written to the test output directory.
+/** `config` (a file of config/localize/, its base resolved) with `key = value` lines replaced (the
+ * key must be there) and map_file made absolute (the paper world unless given), written to the test
+ * output directory.
  */
 std::string patchedConfig(const std::string& config,
                           std::vector<std::pair<std::string, std::string>> keys,
@@ -103,7 +105,8 @@ std::string patchedConfig(const std::string& config,
     {
         keys.emplace_back("map_file", SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
     }
-    const std::string out = withKeys(readText(kConfig + config), config, keys);
+    const std::string out =
+        withKeys(semloc::config::readIniText(kConfig + "localize/" + config), config, keys);
     const auto path = kOut / (name + ".ini");
     std::ofstream(path) << out;
     return path.string();
@@ -124,7 +127,7 @@ LocalizationExperiment::TResult localize(const std::string& ini, const std::stri
 class LocalizeEndToEnd : public ::testing::Test
 {
 protected:
-    /** The paper dataset of config/simulate.ini (431 steps), and its ground truth. */
+    /** The paper dataset of config/simulate/simulate.ini (431 steps), and its ground truth. */
     static std::string rawlog;
 
     static void SetUpTestSuite()
@@ -134,7 +137,7 @@ protected:
         // into its own file (a shared one was overwritten while another process read it).
         rawlog = (kOut / ("paper_" + std::to_string(::getpid()) + ".rawlog")).string();
         const semloc::Simulator sim(
-            semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate.ini"));
+            semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate/simulate.ini"));
         sim.writeDataset(sim.run(), rawlog);
     }
 };
@@ -143,7 +146,7 @@ std::string LocalizeEndToEnd::rawlog;
 
 TEST_F(LocalizeEndToEnd, SemanticConvergesFromUniformStartAndWritesTheContract)
 {
-    const auto res = localize(kConfig + "semantic.ini", rawlog, "semantic", 8000);
+    const auto res = localize(kConfig + "localize/semantic.ini", rawlog, "semantic", 8000);
     const auto& m = res.metrics;
     EXPECT_EQ(res.variant, "semantic");
     EXPECT_EQ(m.steps, 431u);
@@ -231,7 +234,7 @@ TEST_F(LocalizeEndToEnd, StartSeededByTheFirstDetectionsConvergesAtOnceWhateverT
 
 TEST_F(LocalizeEndToEnd, GeometricConvergesFromUniformStart)
 {
-    const auto res = localize(kConfig + "geometric.ini", rawlog, "geometric", 6000);
+    const auto res = localize(kConfig + "localize/geometric.ini", rawlog, "geometric", 6000);
     EXPECT_EQ(res.variant, "geometric");
     EXPECT_TRUE(res.metrics.converged);
     EXPECT_LT(res.metrics.final_err_m, 0.5);
@@ -265,7 +268,8 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
                                          "semantic_drift_threads")}};
     for (const auto& [name, ini] : runs)
     {
-        const std::string path = ini.find('/') == std::string::npos ? kConfig + ini : ini;
+        const std::string path =
+            ini.find('/') == std::string::npos ? kConfig + "localize/" + ini : ini;
         std::map<std::string, std::string> reference;
         for (int threads : {1, 2, 3})
         {
@@ -294,7 +298,7 @@ TEST_F(LocalizeEndToEnd, OutputsAreByteIdenticalWhateverTheThreadCount)
 
 TEST_F(LocalizeEndToEnd, KidnappedVehicleIsRelocalizedWithRecovery)
 {
-    auto so = semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate.ini");
+    auto so = semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate/simulate.ini");
     so.kidnapping.enabled = true;  // at step 200, to (25, 25, 0)
     const semloc::Simulator sim(so);
     const std::string kidnapped = (kOut / "kidnapped.rawlog").string();
@@ -322,7 +326,7 @@ TEST(LocalizeHeadingDrift, TheDriftStateLearnsTheOdometrysDriftAndKeepsTheTrack)
     // state the filter's drift rate ends near 15 deg/min and its error after convergence is
     // below the same filter's without it (which reports 0).
     fs::create_directories(kOut);
-    auto so = semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate.ini");
+    auto so = semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate/simulate.ini");
     so.odometry.heading_drift_deg_per_min = 15;
     so.detector.gap_every_s = 120;
     so.detector.gap_min_s = 60;
@@ -330,7 +334,8 @@ TEST(LocalizeHeadingDrift, TheDriftStateLearnsTheOdometrysDriftAndKeepsTheTrack)
     const std::string rawlog = (kOut / "drift15.rawlog").string();
     const semloc::Simulator sim(so);
     sim.writeDataset(sim.run(), rawlog);
-    const auto off = localize(kConfig + "semantic_nodrift.ini", rawlog, "drift_off", 2000, 1);
+    const auto off =
+        localize(kConfig + "localize/semantic_nodrift.ini", rawlog, "drift_off", 2000, 1);
     const auto on = localize(patchedConfig("semantic.ini",
                                            {{"heading_drift_std_deg_per_min", "15"},
                                             {"heading_drift_walk_deg_per_min", "1"}},
@@ -462,7 +467,7 @@ TEST_F(LocalizeEndToEnd, ObservationsOnlyRawlogWorks)
     fs::copy_file(semloc::GroundTruthFile::PathFor(rawlog),
                   semloc::GroundTruthFile::PathFor(obsOnly), fs::copy_options::overwrite_existing);
 
-    const auto res = localize(kConfig + "semantic.ini", obsOnly, "obs_only", 8000);
+    const auto res = localize(kConfig + "localize/semantic.ini", obsOnly, "obs_only", 8000);
     EXPECT_EQ(res.rawlogFormat, "observations-only");
     EXPECT_EQ(res.metrics.steps, 431u) << "one step per timestamp: sonar + detections together";
     EXPECT_TRUE(res.metrics.converged);
@@ -498,7 +503,7 @@ TEST_F(LocalizeEndToEnd, InterruptWritesNoOutputAndKeepsAPreviousOne)
     // Ctrl-C in semloc-localize (a request, as its handler makes): Interrupted at the next
     // rawlog entry, or before the staged outputs replace a previous run's; nothing of the
     // interrupted run is left, a previous output directory stays as it was.
-    const std::string ini = kConfig + "semantic.ini";
+    const std::string ini = kConfig + "localize/semantic.ini";
     const auto first = localize(ini, rawlog, "interrupted_run", 300, 1);
     const std::string steps = readText(first.outputDir + "/steps.csv");
     size_t seen = 0;
@@ -577,26 +582,27 @@ TEST_F(LocalizeEndToEnd, BadConfigurationsFailClearlyWithoutOutput)
     }
 }
 
-TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
+TEST(ShippedConfigs, SemanticVariantsNameTheirBaseAndSetTheirKeysOnly)
 {
-    // Every line after the header comment, but the variant's own keys, the name and the output
-    // directory, is the same in a variant and its base.
+    // A variant file names its base and sets its own keys, its name and its output directory:
+    // read with its base, every other key has the base's value.
     using Keys = std::map<std::string, std::string>;
-    auto body = [](const std::string& file, const Keys& own)
+    auto keysOf = [](const std::string& file)
     {
-        std::istringstream in(readText(kConfig + file));
-        std::string line, out;
-        bool header = true;
-        while (std::getline(in, line))
+        const semloc::config::IniFileInMemory ini(kConfig + "localize/" + file);
+        std::vector<std::string> sections;
+        ini.getAllSections(sections);
+        Keys keys;  // "[section] key" -> value
+        for (const auto& section : sections)
         {
-            header = header && (line.empty() || line[0] == '#');
-            const std::string key = line.substr(0, line.find_first_of(" ="));
-            if (!header && !own.count(key) && key != "variant" && key != "logOutput_dir")
+            std::vector<std::string> names;
+            ini.getAllKeys(section, names);
+            for (const auto& k : names)
             {
-                out += line + "\n";
+                keys["[" + section + "] " + k] = ini.read_string(section, k, "");
             }
         }
-        return out;
+        return keys;
     };
     struct Variant
     {
@@ -606,10 +612,10 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
     const std::vector<Variant> variants = {
         {"semantic_marginal", "semantic", {{"association", "marginal"}}},
         {"semantic_misread", "semantic", {{"p_range_outlier", "0.05"}}},
-        {"semantic_surveyed", "semantic", {{"map_file", "../maps/paper_50x50_surveyed.yaml"}}},
-        {"semantic_positions", "semantic", {{"map_file", "../maps/paper_50x50_positions.yaml"}}},
-        {"semantic_existence", "semantic", {{"map_file", "../maps/paper_50x50_existence.yaml"}}},
-        {"semantic_classes", "semantic", {{"map_file", "../maps/paper_50x50_classes.yaml"}}},
+        {"semantic_surveyed", "semantic", {{"map_file", "../../maps/paper_50x50_surveyed.yaml"}}},
+        {"semantic_positions", "semantic", {{"map_file", "../../maps/paper_50x50_positions.yaml"}}},
+        {"semantic_existence", "semantic", {{"map_file", "../../maps/paper_50x50_existence.yaml"}}},
+        {"semantic_classes", "semantic", {{"map_file", "../../maps/paper_50x50_classes.yaml"}}},
         {"semantic_norecovery", "semantic", {{"recovery_trigger", "off"}}},
         {"semantic_nodrift", "semantic", {{"heading_drift_walk_deg_per_min", "0"}}},
         {"semantic_amcl",
@@ -632,19 +638,24 @@ TEST(ShippedConfigs, SemanticVariantsDifferFromTheirBaseInTheirKeysOnly)
          {{"model", "paper"}, {"init_PDF_mode", "3"}, {"missed_object_penalty", "0.9"}}}};
     for (const auto& v : variants)
     {
-        EXPECT_EQ(body(v.name + ".ini", v.own), body(v.base + ".ini", v.own)) << v.name;
-        const std::string text = readText(kConfig + v.name + ".ini");
+        const std::string text = readText(kConfig + "localize/" + v.name + ".ini");
+        EXPECT_NE(text.find("\nbase = " + v.base + ".ini\n"), std::string::npos) << v.name;
+        const Keys mine = keysOf(v.name + ".ini"), base = keysOf(v.base + ".ini");
+        EXPECT_GT(base.size(), 60u) << v.base;
+        Keys expected = base;
         for (const auto& [key, value] : v.own)
         {
-            const auto at = text.find("\n" + key + " ");
-            ASSERT_NE(at, std::string::npos) << v.name << " " << key;
-            const auto eq = text.find("= ", at);
-            EXPECT_EQ(text.substr(eq + 2, value.size()), value) << v.name << " " << key;
-            const char after = text[eq + 2 + value.size()];
-            EXPECT_TRUE(after == ' ' || after == '\n') << v.name << " " << key;
+            // The own keys are the base's, with another value.
+            const auto it = std::find_if(
+                base.begin(), base.end(),
+                [&key](const auto& kv) { return kv.first.substr(kv.first.find("] ") + 2) == key; });
+            ASSERT_NE(it, base.end()) << v.name << " " << key;
+            EXPECT_NE(it->second, value) << v.name << " " << key;
+            expected[it->first] = value;
         }
-        EXPECT_NE(text.find("\nvariant                 = " + v.name + "\n"), std::string::npos)
-            << v.name;
+        expected["[LocalizationExperiment] variant"] = v.name;
+        expected["[LocalizationExperiment] logOutput_dir"] = "results/" + v.name;
+        EXPECT_EQ(mine, expected) << v.name;
     }
 }
 
@@ -655,7 +666,7 @@ TEST(ShippedConfigs, MapVariantsDifferFromTheirFilterInTheMapsOnly)
     // spell out [MotionModel]; its source = rawlog, the default, uses none of its other keys.
     auto outsideMaps = [](const std::string& file)
     {
-        std::istringstream in(readText(kConfig + file));
+        std::istringstream in(semloc::config::readIniText(kConfig + "localize/" + file));
         std::map<std::string, std::string> keys;  // "[section] key" -> value and comment
         std::string line, section;
         while (std::getline(in, line))
@@ -688,8 +699,11 @@ TEST(ShippedConfigs, MapVariantsDifferFromTheirFilterInTheMapsOnly)
         const auto v = outsideMaps(variant);
         EXPECT_GT(v.size(), 30u) << variant;
         EXPECT_EQ(v, outsideMaps(filter)) << variant << " vs " << filter;
-        EXPECT_EQ(readText(kConfig + variant).find("[MotionModel]"), std::string::npos) << variant;
-        EXPECT_NE(readText(kConfig + filter).find("\nsource                  = rawlog "),
+        EXPECT_EQ(readText(kConfig + "localize/" + variant).find("[MotionModel]"),
+                  std::string::npos)
+            << variant;
+        EXPECT_NE(semloc::config::readIniText(kConfig + "localize/" + filter)
+                      .find("\nsource                  = rawlog "),
                   std::string::npos)
             << filter;
     }

@@ -33,8 +33,8 @@ size_t lineCount(const fs::path& p)
     return n;
 }
 
-/** semloc-localize (config/semantic.ini, 20 particles, one thread) on a `steps`-step log; its
- *  peak resident set [MiB]. */
+/** semloc-localize (config/localize/semantic.ini, 20 particles, one thread) on a `steps`-step log;
+ * its peak resident set [MiB]. */
 double localizeLongLog(size_t steps)
 {
     const fs::path d = fs::path(SEMLOC_TEST_OUT) / ("long_log_" + std::to_string(steps));
@@ -45,8 +45,8 @@ double localizeLongLog(size_t steps)
                                (d / "long_gt.txt").string());
     double rss = 0;
     const int rc = semloc::test::runMeasured(
-        {kBin + "/semloc-localize", kSrc + "/config/semantic.ini", (d / "long.rawlog").string(),
-         "-o", (d / "out").string(), "-n", "20", "-t", "1", "-q"},
+        {kBin + "/semloc-localize", kSrc + "/config/localize/semantic.ini",
+         (d / "long.rawlog").string(), "-o", (d / "out").string(), "-n", "20", "-t", "1", "-q"},
         d / "localize.log", rss);
     EXPECT_EQ(rc, 0) << semloc::test::readText(d / "localize.log");
     EXPECT_EQ(lineCount(d / "out" / "steps.csv"), steps + 1) << "a row per step and the header";

@@ -1,4 +1,4 @@
-/* semloc tests — the robustness experiment (config/robustness.ini): the fault
+/* semloc tests — the robustness experiment (config/benchmark/robustness.ini): the fault
  * scenarios simulate the rates they document, and the filters keep working under them:
  * semantic under 30 % false positives, 50 % missed detections, 10 % class confusion (each
  * alone and together), geometric under 30 % sonar dropouts, converge in >= 90 % of 20 seeded
@@ -22,7 +22,7 @@ using semloc::Benchmark;
 
 namespace
 {
-const std::string kRobustness = SEMLOC_SOURCE_DIR "/config/robustness.ini";
+const std::string kRobustness = SEMLOC_SOURCE_DIR "/config/benchmark/robustness.ini";
 
 const Benchmark& scenario(const Benchmark& b, const std::string& name)
 {

@@ -68,8 +68,8 @@ bool isPng(const fs::path& p)
 class RunPlotTest : public ::testing::Test
 {
 protected:
-    /** A run of config/semantic.ini (300 particles, particles of every 50th step) on the paper
-     *  dataset; with `save` 0 no particles.csv. */
+    /** A run of config/localize/semantic.ini (300 particles, particles of every 50th step) on the
+     * paper dataset; with `save` 0 no particles.csv. */
     static fs::path localize(const std::string& name, int save, int particles = 300)
     {
         LocalizationExperiment::TOverrides ov;
@@ -77,7 +77,9 @@ protected:
         ov.logOutput_dir = (kOut / name).string();
         ov.particles_count = particles;
         ov.particles_save_every = save;
-        LocalizationExperiment::FromConfigFile(SEMLOC_SOURCE_DIR "/config/semantic.ini", ov).run();
+        LocalizationExperiment::FromConfigFile(SEMLOC_SOURCE_DIR "/config/localize/semantic.ini",
+                                               ov)
+            .run();
         return kOut / name;
     }
 
@@ -85,8 +87,8 @@ protected:
     {
         fs::create_directories(kOut);
         rawlog = (kOut / ("paper_" + std::to_string(::getpid()) + ".rawlog")).string();
-        const semloc::Simulator sim(
-            semloc::TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini"));
+        const semloc::Simulator sim(semloc::TSimulatorOptions::FromConfigFile(
+            SEMLOC_SOURCE_DIR "/config/simulate/simulate.ini"));
         sim.writeDataset(sim.run(), rawlog);
     }
     static std::string rawlog;

@@ -9,10 +9,10 @@
 
 namespace semloc::test
 {
-/** The paper trajectory's first `steps` steps, simulated with config/simulate.ini. */
+/** The paper trajectory's first `steps` steps, simulated with config/simulate/simulate.ini. */
 inline SimulationResult simulate(int steps)
 {
-    auto o = TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini");
+    auto o = TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate/simulate.ini");
     o.simulation.max_steps = steps;
     return Simulator(o).run();
 }

@@ -343,12 +343,12 @@ TEST(MotionModel, LocalizerMovesByTheIncrementsReCutForTheDelay)
 
 TEST(MotionModel, SimulatorsModelRederivedChangesNothing)
 {
-    // config/semantic.ini's [MotionModel] values are config/simulate.ini's [Odometry]: with
-    // source = gaussian the filter runs exactly as with the rawlog's own noise.
+    // config/localize/semantic.ini's [MotionModel] values are config/simulate/simulate.ini's
+    // [Odometry]: with source = gaussian the filter runs exactly as with the rawlog's own noise.
     const auto world = semloc::World::FromFile(kPaperWorld);
     const auto sim = simulate(12);
     mrpt::config::CConfigFileMemory c;
-    c.setContent(semloc::test::readText(SEMLOC_SOURCE_DIR "/config/semantic.ini"));
+    c.setContent(semloc::test::readText(SEMLOC_SOURCE_DIR "/config/localize/semantic.ini"));
     Localizer::TOptions o = gaussianStart(800, 1.5);
     o.motion_model.loadFromConfigFile(c, "MotionModel");
     EXPECT_EQ(o.motion_model.source, MotionModel::Source::Rawlog);

@@ -41,7 +41,7 @@ void writeText(const fs::path& p, const std::string& s)
 /** A 6-step simulated paper dataset (action / sensory-frame pairs). */
 semloc::SimulationResult simulate()
 {
-    auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate.ini");
+    auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate/simulate.ini");
     o.simulation.world_file = kSrc + "/maps/paper_50x50.yaml";
     o.simulation.max_steps = 6;
     return semloc::Simulator(o).run();
@@ -75,8 +75,8 @@ fs::path writeIni(const fs::path& dir, const std::string& extra, Keys keys, cons
             keys.push_back(kv);
         }
     }
-    const std::string out = semloc::test::withKeys(readText(kSrc + "/config/" + name + ".ini"),
-                                                   name + ".ini", std::move(keys));
+    const std::string out = semloc::test::withKeys(
+        readText(kSrc + "/config/localize/" + name + ".ini"), name + ".ini", std::move(keys));
     writeText(dir / "loc.ini", out + extra + "\n");
     return dir / "loc.ini";
 }

@@ -275,11 +275,12 @@ Cases iniMapCases()
          [](const fs::path& d)
          {
              writeText(d / "gone.ini", "[Scenario]\nname = gone\nworld_removed_share = 1.5\n");
-             writeText(d / "bench.ini",
-                       "[Benchmark]\nruns = 1\nvariants = " + kSrc +
-                           "/config/semantic.ini\nsimulate_ini = " + kSrc +
-                           "/config/simulate.ini\nscenarios = " + (d / "gone.ini").string() +
-                           "\noutput_dir = " + (d / "results").string() + "\n");
+             writeText(
+                 d / "bench.ini",
+                 "[Benchmark]\nruns = 1\nvariants = " + kSrc +
+                     "/config/localize/semantic.ini\nsimulate_ini = " + kSrc +
+                     "/config/simulate/simulate.ini\nscenarios = " + (d / "gone.ini").string() +
+                     "\noutput_dir = " + (d / "results").string() + "\n");
              return std::vector<std::string>{"semloc-benchmark", (d / "bench.ini").string()};
          }},
         {"benchmark-unknown-key",
@@ -357,8 +358,8 @@ Cases outputFileCases()
          [](const fs::path& d)
          {
              writeText(d / "one.ini", "[Benchmark]\nruns = 1\nvariants = " + kSrc +
-                                          "/config/semantic.ini\nsimulate_ini = " + kSrc +
-                                          "/config/simulate.ini\n");
+                                          "/config/localize/semantic.ini\nsimulate_ini = " + kSrc +
+                                          "/config/simulate/simulate.ini\n");
              return std::vector<std::string>{"semloc-benchmark", (d / "one.ini").string(), "-o",
                                              "."};
          }},
@@ -396,14 +397,16 @@ Cases outputFileCases()
          [](const fs::path& d)
          {
              fs::create_directory(d / "out.rawlog");
-             return std::vector<std::string>{"semloc-simulate", kSrc + "/config/simulate.ini", "-o",
+             return std::vector<std::string>{"semloc-simulate",
+                                             kSrc + "/config/simulate/simulate.ini", "-o",
                                              (d / "out.rawlog").string()};
          }},
         {"simulate-companion-not-semloc",
          [](const fs::path& d)
          {
              writeText(d / "notes.ini", "my notes\n");
-             return std::vector<std::string>{"semloc-simulate", kSrc + "/config/simulate.ini", "-o",
+             return std::vector<std::string>{"semloc-simulate",
+                                             kSrc + "/config/simulate/simulate.ini", "-o",
                                              (d / "notes.rawlog").string()};
          }},
         {"plot-out-is-input",
@@ -431,7 +434,8 @@ Cases outputOverUserFileCases()
          [](const fs::path& d)
          {
              writeText(d / "my.rawlog", plainBytes(d));  // MRPT's rawlog, not semloc's
-             return std::vector<std::string>{"semloc-simulate", kSrc + "/config/simulate.ini", "-o",
+             return std::vector<std::string>{"semloc-simulate",
+                                             kSrc + "/config/simulate/simulate.ini", "-o",
                                              (d / "my.rawlog").string()};
          }},
         {"plot-out-not-semloc",
@@ -553,11 +557,11 @@ Cases worldContentCases()
         {"grid-too-large-for-resolution",
          [](const fs::path& d)
          {
-             // config/grid_lf.ini (0.1 m cells) on a 7 x 7 km world.
+             // config/localize/grid_lf.ini (0.1 m cells) on a 7 x 7 km world.
              writeText(d / "w.yaml",
                        "name: w\nbounds: {x_min: 0, x_max: 7000, y_min: 0, y_max: "
                        "7000}\nobjects: []\n");
-             std::istringstream in(readText(kSrc + "/config/grid_lf.ini"));
+             std::istringstream in(readText(kSrc + "/config/localize/grid_lf.ini"));
              std::string ini;
              for (std::string line; std::getline(in, line);)
              {

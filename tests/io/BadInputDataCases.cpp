@@ -194,7 +194,8 @@ Cases rawlogOdometryCases()
         {"rawlog-odometry-very-noisy",
          [](const fs::path& d)
          {
-             auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate.ini");
+             auto o =
+                 semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate/simulate.ini");
              o.simulation.world_file = kSrc + "/maps/paper_50x50.yaml";
              o.simulation.max_steps = 6;
              o.odometry.min_xy_std_m = 5;
@@ -447,7 +448,7 @@ std::vector<std::string> calibrate(const fs::path& d, size_t gtRows, const std::
         gt << r.t << " " << r.x << " " << r.y << " " << r.phi << "\n";
     }
     writeText(d / "gt.txt", gt.str());
-    fs::copy_file(kSrc + "/config/" + base + ".ini", d / "base.ini");
+    fs::copy_file(kSrc + "/config/localize/" + base + ".ini", d / "base.ini");
     return {"semloc-calibrate",
             (d / "data.rawlog").string(),
             "--world",

@@ -105,8 +105,8 @@ Cases figureCases()
              writeText(d / "bench.ini",
                        "[Benchmark]\nruns = 1\nmax_steps = 10\nparticles = 100\n"
                        "variants = " +
-                           kSrc + "/config/semantic.ini\nsimulate_ini = " + kSrc +
-                           "/config/simulate.ini\noutput_dir = out\n");
+                           kSrc + "/config/localize/semantic.ini\nsimulate_ini = " + kSrc +
+                           "/config/simulate/simulate.ini\noutput_dir = out\n");
              return std::vector<std::string>{"semloc-benchmark", (d / "bench.ini").string()};
          }},
         {"calibrate-figure-not-drawn",

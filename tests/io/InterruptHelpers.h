@@ -206,18 +206,18 @@ inline std::optional<int> signalAndWait(const Tool& t, int sig, bool group, doub
 /** A short simulated dataset of the paper's world, in `d`. */
 inline void writeDataset(const fs::path& d)
 {
-    auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate.ini");
+    auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate/simulate.ini");
     o.simulation.world_file = kSrc + "/maps/paper_50x50.yaml";
     o.simulation.max_steps = 6;
     semloc::Simulator sim(o);
     sim.writeDataset(sim.run(), (d / "ds.rawlog").string());
 }
 
-/** `config/<name>` with each `key = value` of `set` replacing the line of that key. */
+/** `config/localize/<name>` with each `key = value` of `set` replacing the line of that key. */
 inline void writeConfig(const fs::path& to, const std::string& name,
                         const std::vector<std::pair<std::string, std::string>>& set)
 {
-    std::istringstream in(readText(kSrc + "/config/" + name));
+    std::istringstream in(readText(kSrc + "/config/localize/" + name));
     std::ofstream out(to);
     for (std::string line; std::getline(in, line);)
     {

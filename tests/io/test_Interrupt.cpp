@@ -190,10 +190,10 @@ TEST(Interrupt, PlotWorldEndsGnuplotAndLeavesNothing)
 TEST(Interrupt, BenchmarkNamesTheSignalThatKilledARun)
 {
     const fs::path d = freshDir("bench_killed");
-    std::ofstream(d / "bench.ini")
-        << "[Benchmark]\nsimulate_ini = " << kSrc << "/config/simulate.ini\nvariants = " << kSrc
-        << "/config/semantic.ini\noutput_dir = out\nruns = 1\n"
-           "jobs = 1\nparticles = 2000\n";
+    std::ofstream(d / "bench.ini") << "[Benchmark]\nsimulate_ini = " << kSrc
+                                   << "/config/simulate/simulate.ini\nvariants = " << kSrc
+                                   << "/config/localize/semantic.ini\noutput_dir = out\nruns = 1\n"
+                                      "jobs = 1\nparticles = 2000\n";
     const auto before = listing(d);
     const Tool t = start({kBin + "/semloc-benchmark", "bench.ini"}, d);
     std::vector<pid_t> runs;

@@ -146,7 +146,7 @@ void stress(const std::vector<std::string>& argv, const fs::path& d,
 /** A simulated dataset of `steps` steps in `d`/ds.rawlog (and its ground truth). */
 void simulateDataset(const fs::path& d, int steps)
 {
-    auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate.ini");
+    auto o = semloc::TSimulatorOptions::FromConfigFile(kSrc + "/config/simulate/simulate.ini");
     o.simulation.world_file = kSrc + "/maps/paper_50x50.yaml";
     o.simulation.max_steps = steps;
     semloc::Simulator sim(o);
@@ -159,8 +159,8 @@ TEST(InterruptStress, LocalizeTwoSignalsLeaveNothing)
     const fs::path d = freshDir("stress_localize");
     simulateDataset(d, 60);
     std::mt19937 rng(1);
-    stress({kBin + "/semloc-localize", kSrc + "/config/semantic.ini", "ds.rawlog", "-o", "out",
-            "--save-particles", "1", "-q"},
+    stress({kBin + "/semloc-localize", kSrc + "/config/localize/semantic.ini", "ds.rawlog", "-o",
+            "out", "--save-particles", "1", "-q"},
            d, {"out"}, rng);
 }
 
@@ -169,8 +169,8 @@ TEST(InterruptStress, BenchmarkTwoSignalsLeaveNothing)
     const fs::path d = freshDir("stress_benchmark");
     std::ofstream(d / "bench.ini")
         << "[Benchmark]\nruns = 4\njobs = 2\nparticles = 500\nvariants = " << kSrc
-        << "/config/semantic.ini\nsimulate_ini = " << kSrc
-        << "/config/simulate.ini\noutput_dir = out\n";
+        << "/config/localize/semantic.ini\nsimulate_ini = " << kSrc
+        << "/config/simulate/simulate.ini\noutput_dir = out\n";
     std::mt19937 rng(2);
     stress({kBin + "/semloc-benchmark", "bench.ini"}, d, {"out"}, rng);
 }
@@ -206,8 +206,8 @@ TEST(InterruptStress, PlotRunTwoSignalsLeaveNothing)
 {
     const fs::path d = freshDir("stress_plot_run");
     simulateDataset(d, 60);
-    const Tool loc = start({kBin + "/semloc-localize", kSrc + "/config/semantic.ini", "ds.rawlog",
-                            "-o", "run", "--save-particles", "1", "-n", "2000", "-q"},
+    const Tool loc = start({kBin + "/semloc-localize", kSrc + "/config/localize/semantic.ini",
+                            "ds.rawlog", "-o", "run", "--save-particles", "1", "-n", "2000", "-q"},
                            d);
     int status = 0;
     ASSERT_EQ(::waitpid(loc.pid, &status, 0), loc.pid);

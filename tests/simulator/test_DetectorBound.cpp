@@ -191,7 +191,8 @@ TEST(DetectorBound, AnUnknownHeadingDriftOnlyRaisesTheBound)
 
 TEST(DetectorBound, SimulatedRunFollowsTheDetector)
 {
-    auto o = semloc::TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini");
+    auto o = semloc::TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR
+                                                       "/config/simulate/simulate.ini");
     o.simulation.max_steps = 120;
     const semloc::Simulator sim(o);
     const auto run = sim.run();

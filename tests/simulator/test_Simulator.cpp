@@ -1020,14 +1020,16 @@ TEST(TSimulatorOptions, SaveWritesEveryKeyAndReadsBackIdentically)
 
 TEST(TSimulatorOptions, ExampleIniLoadsWithTheDocumentedDefaults)
 {
-    const auto o = TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate.ini");
+    const auto o =
+        TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate/simulate.ini");
     const TSimulatorOptions d;
     mrpt::config::CConfigFileMemory a, b;
     TSimulatorOptions withWorld = d;
     withWorld.simulation.world_file = o.simulation.world_file;
     o.saveToConfigFile(a);
     withWorld.saveToConfigFile(b);
-    EXPECT_EQ(a.getContent(), b.getContent()) << "config/simulate.ini and the defaults differ";
+    EXPECT_EQ(a.getContent(), b.getContent())
+        << "config/simulate/simulate.ini and the defaults differ";
     EXPECT_TRUE(std::filesystem::equivalent(o.simulation.world_file, kPaper));
 }
 

@@ -1,8 +1,8 @@
 /* semloc tests — a 20 x 20 km world with 300 objects, simulated and localized by the tools
- * (semloc-simulate, semloc-localize with config/semantic.ini) within a memory budget: what a
- * run keeps per unit of area is bounded (the free-space raster, the object index, the
- * visibility tables, the ray caster's grid), so the peak resident set of each tool stays
- * near that of the 50 x 50 m paper world (about 110 MB). */
+ * (semloc-simulate, semloc-localize with config/localize/semantic.ini) within a memory budget: what
+ * a run keeps per unit of area is bounded (the free-space raster, the object index, the visibility
+ * tables, the ray caster's grid), so the peak resident set of each tool stays near that of the 50 x
+ * 50 m paper world (about 110 MB). */
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -78,7 +78,7 @@ TEST(LargeWorld, A20kmWorldIsSimulatedAndLocalizedWithinTheMemoryBudget)
 
     // A 200-step survey (1 m/s, 1 s steps) in the middle of the world.
     std::ofstream(d / "sim.ini") << withKeys(
-        readText(kSrc + "/config/simulate.ini"),
+        readText(kSrc + "/config/simulate/simulate.ini"),
         {{"world_file", (d / "large.yaml").string()}, {"max_steps", "200"}});
     double rss = 0;
     ASSERT_EQ(
@@ -91,9 +91,9 @@ TEST(LargeWorld, A20kmWorldIsSimulatedAndLocalizedWithinTheMemoryBudget)
     EXPECT_LT(rss, kBudget_MiB);
 #endif
 
-    const std::string semantic = readText(kSrc + "/config/semantic.ini");
-    // Global localization (config/semantic.ini as shipped: 10000 particles uniform over the
-    // free space of 400 km2): the first cloud and every free-space test at this scale.
+    const std::string semantic = readText(kSrc + "/config/localize/semantic.ini");
+    // Global localization (config/localize/semantic.ini as shipped: 10000 particles uniform over
+    // the free space of 400 km2): the first cloud and every free-space test at this scale.
     std::ofstream(d / "global.ini")
         << withKeys(semantic, {{"map_file", (d / "large.yaml").string()}});
     ASSERT_EQ(run({"semloc-localize", (d / "global.ini").string(), (d / "large.rawlog").string(),

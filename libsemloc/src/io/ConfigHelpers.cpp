@@ -200,31 +200,6 @@ void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& secti
     value = s;
 }
 
-void checkIniFile(const std::string& path, const std::string& kind)
-{
-    const std::string file = kind + " '" + path + "'";
-    if (!std::filesystem::exists(path))
-    {
-        THROW_EXCEPTION(file + " does not exist");
-    }
-    if (std::filesystem::is_directory(path))
-    {
-        THROW_EXCEPTION(file + " is a directory, not a file");
-    }
-    std::ifstream f(path, std::ios::binary);
-    if (!f)
-    {
-        THROW_EXCEPTION("cannot read " + file);
-    }
-    std::stringstream text;
-    text << f.rdbuf();
-    if (f.bad())
-    {
-        THROW_EXCEPTION("cannot read " + file);
-    }
-    checkIniText(text.str(), file);
-}
-
 void checkIniText(const std::string& text, const std::string& file)
 {
     // MRPT's ini reader (SimpleIni) matches sections and keys regardless of ASCII case.
@@ -304,18 +279,6 @@ void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string
     }
 }
 
-IniFileInMemory::IniFileInMemory(const std::string& path) : m_path(path)
-{
-    std::ifstream in(path, std::ios::binary);
-    if (!in)
-    {
-        THROW_EXCEPTION("cannot read ini file '" + path + "'");
-    }
-    std::ostringstream text;
-    text << in.rdbuf();
-    setContent(text.str());
-}
-
 std::string iniFileOf(const mrpt::config::CConfigFileBase& source)
 {
     if (const auto* f = dynamic_cast<const mrpt::config::CConfigFile*>(&source))
@@ -340,13 +303,31 @@ std::string nextToIni(const std::string& origin, const std::string& file)
 }
 }  // namespace
 
+namespace
+{
+/** The files `source` was read from: an IniFileInMemory's file and its bases, a CConfigFile's
+ *  file, or none. */
+std::vector<std::string> iniFilesOf(const mrpt::config::CConfigFileBase& source)
+{
+    if (const auto* m = dynamic_cast<const IniFileInMemory*>(&source))
+    {
+        return m->files();
+    }
+    if (std::string f = iniFileOf(source); !f.empty())
+    {
+        return {f};
+    }
+    return {};
+}
+}  // namespace
+
 std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file)
 {
     if (file.empty() || file[0] == '/' || mrpt::system::fileExists(file))
     {
         return file;
     }
-    if (const std::string origin = iniFileOf(source); !origin.empty())
+    for (const auto& origin : iniFilesOf(source))
     {
         std::string joined = nextToIni(origin, file);
         if (mrpt::system::fileExists(joined))
@@ -361,11 +342,16 @@ std::string missingFileMessage(const mrpt::config::CConfigFileBase& source,
                                const std::string& written)
 {
     std::string m = "file '" + written + "' does not exist";
-    const std::string origin = iniFileOf(source);
-    if (!written.empty() && written[0] != '/' && !origin.empty())
+    const auto origins = iniFilesOf(source);
+    if (!written.empty() && written[0] != '/' && !origins.empty())
     {
-        m += " (tried '" + nextToIni(origin, written) + "' next to the ini '" + origin + "' and '" +
-             written + "' from the working directory)";
+        m += " (tried";
+        for (size_t i = 0; i < origins.size(); i++)
+        {
+            m += std::string(i == 0 ? " '" : ", '") + nextToIni(origins[i], written) +
+                 "' next to " + (i == 0 ? "the ini '" : "its base '") + origins[i] + "'";
+        }
+        m += " and '" + written + "' from the working directory)";
     }
     return m;
 }

@@ -4,12 +4,12 @@
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/filter/MotionModel.h>
+#include <semloc/io/ConfigHelpers.h>
 #include <semloc/maps/CSemanticMap.h>
 
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <stdexcept>
@@ -300,10 +300,7 @@ void requireSemanticMap(const std::string& baseIni, const std::string& baseName)
 void SensorCalibration::CheckBase(const std::string& basePath, const std::string& worldPath)
 {
     LocalizationExperiment::CheckConfig(basePath, worldPath);
-    std::ifstream f(basePath, std::ios::binary);
-    std::stringstream text;
-    text << f.rdbuf();
-    requireSemanticMap(text.str(), basePath);
+    requireSemanticMap(config::readIniText(basePath), basePath);
 }
 
 std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std::string& baseName,

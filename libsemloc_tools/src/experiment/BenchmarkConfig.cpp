@@ -27,8 +27,8 @@ namespace
 using detail::trim;
 const std::string kSection = "Benchmark";
 const std::vector<std::string> kKeys = {
-    "runs",      "variants",  "simulate_ini", "output_dir", "jobs",          "filter_threads",
-    "max_steps", "particles", "same_filter",  "scenarios",  "map_from_world"};
+    "runs",      "variants",  "variants_dir", "simulate_ini", "output_dir",    "jobs",
+    "filter_threads", "max_steps", "particles", "same_filter", "scenarios", "map_from_world"};
 const std::string kScenarioSection = "Scenario";
 const std::vector<std::string> kScenarioKeys = {"name",
                                                 "description",
@@ -114,7 +114,7 @@ void readScenarioFile(const std::string& path, int maxSteps, Benchmark::TScenari
     try
     {
         config::checkIniFile(path, "scenario file");
-        mrpt::config::CConfigFile sini(path);
+        const config::IniFileInMemory sini(path, "scenario file");
         if (!sini.sectionExists(kScenarioSection))
         {
             THROW_EXCEPTION("no [" + kScenarioSection + "] section");
@@ -155,17 +155,18 @@ void readScenarioFile(const std::string& path, int maxSteps, Benchmark::TScenari
     }
 }
 
-/** The variant `name` of [Benchmark] variants: its ini (`<name>.ini`, or a path ending in
- *  .ini, resolved next to `ini`) and its maps (of `mapFile` instead of its map_file when
- *  given); throws naming the variant. */
+/** The variant `name` of [Benchmark] variants: its ini (`<name>.ini` in `dir`, or a path
+ *  ending in .ini, resolved next to `ini`) and its maps (of `mapFile` instead of its map_file
+ *  when given); throws naming the variant. */
 Benchmark::TVariant readVariant(const mrpt::config::CConfigFileBase& ini,
-                                const std::string& iniPath, const std::string& name,
-                                const std::string& mapFile,
+                                const std::string& iniPath, const std::string& dir,
+                                const std::string& name, const std::string& mapFile,
                                 const std::vector<std::array<std::string, 3>>& overlay)
 {
     const bool isFile = name.size() > 4 && name.substr(name.size() - 4) == ".ini";
+    const std::string file = isFile || dir.empty() ? name : dir + "/" + name;
     Benchmark::TVariant v;
-    v.iniPath = resolveFile(ini, iniPath, kSection, "variants", isFile ? name : name + ".ini");
+    v.iniPath = resolveFile(ini, iniPath, kSection, "variants", isFile ? file : file + ".ini");
     try
     {
         config::checkIniFile(v.iniPath);
@@ -211,6 +212,7 @@ void Benchmark::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     {
         scenarios = readList(c, s, "scenarios");
     }
+    variants_dir = trim(c.read_string(s, "variants_dir", variants_dir));
     simulate_ini = trim(c.read_string(s, "simulate_ini", simulate_ini));
     output_dir = trim(c.read_string(s, "output_dir", output_dir));
     readInt(c, s, "jobs", jobs, 0, 4096);
@@ -234,6 +236,7 @@ void Benchmark::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
 {
     c.write(s, "runs", runs);
     c.write(s, "variants", joinList(variants));
+    c.write(s, "variants_dir", variants_dir);
     c.write(s, "simulate_ini", simulate_ini);
     c.write(s, "output_dir", output_dir);
     c.write(s, "jobs", jobs);
@@ -344,7 +347,7 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::strin
     ASSERTMSG_(runs >= 0 && runs <= TOptions::kMaxRuns,
                "runs must be in [0, " + std::to_string(TOptions::kMaxRuns) + "] (0: the ini's)");
     config::checkIniFile(iniPath);
-    mrpt::config::CConfigFile ini(iniPath);
+    const config::IniFileInMemory ini(iniPath);
     if (!ini.sectionExists(kSection))
     {
         THROW_EXCEPTION("ini '" + iniPath + "': no [" + kSection + "] section");
@@ -408,11 +411,16 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::strin
 
 std::vector<std::string> Benchmark::inputFiles() const
 {
-    std::vector<std::string> files = {m_iniPath, m_options.simulate_ini,
-                                      m_simulation.simulation.world_file};
+    std::vector<std::string> files = {m_simulation.simulation.world_file};
+    for (const auto& ini : {m_iniPath, m_options.simulate_ini})
+    {
+        const auto chain = config::iniFileAndBases(ini);
+        files.insert(files.end(), chain.begin(), chain.end());
+    }
     for (const auto& v : m_variants)
     {
-        files.push_back(v.iniPath);
+        const auto chain = config::iniFileAndBases(v.iniPath);
+        files.insert(files.end(), chain.begin(), chain.end());
         files.push_back(v.options.map_file);
     }
     for (const auto& sc : m_scenarios)
@@ -429,7 +437,7 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
     for (const auto& name : o.variants)
     {
         TVariant v = readVariant(
-            ini, m_iniPath, name,
+            ini, m_iniPath, o.variants_dir, name,
             mapFromWorld() ? m_simulation.simulation.world_file : std::string(), m_variantOverlay);
         for (const auto& w : m_variants)
         {

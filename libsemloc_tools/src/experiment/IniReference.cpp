@@ -37,7 +37,8 @@ std::string iniReference()
     loc.saveToConfigFile(c, "LocalizationExperiment");
     // semloc-benchmark
     Benchmark::TOptions().saveToConfigFile(c, "Benchmark");
-    // semloc-benchmark scenario files (config/faults/*.ini): [Scenario] + simulate.ini keys
+    // semloc-benchmark scenario files (config/benchmark/faults/*.ini): [Scenario] + simulate.ini
+    // keys
     Benchmark::TScenario().saveToConfigFile(c, "Scenario");
     // semloc-simulate
     TSimulatorOptions sim;

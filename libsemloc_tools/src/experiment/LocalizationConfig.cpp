@@ -393,7 +393,7 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     config::checkIniFile(iniPath);
     LocalizationExperiment e;
     e.m_iniPath = iniPath;
-    auto ini = std::make_shared<mrpt::config::CConfigFile>(iniPath);
+    auto ini = std::make_shared<config::IniFileInMemory>(iniPath);
     e.m_ini = ini;
     checkSections(*ini, iniPath);
 
@@ -470,7 +470,9 @@ void LocalizationExperiment::CheckConfig(const std::string& iniPath, const std::
 std::vector<std::string> LocalizationExperiment::inputFiles() const
 {
     const auto& o = m_options;
-    return {m_iniPath, o.rawlog_file, o.map_file, o.ground_truth_path_file};
+    auto files = config::iniFileAndBases(m_iniPath);
+    files.insert(files.end(), {o.rawlog_file, o.map_file, o.ground_truth_path_file});
+    return files;
 }
 
 namespace detail

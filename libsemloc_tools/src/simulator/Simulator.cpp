@@ -155,7 +155,7 @@ TSimulatorOptions TSimulatorOptions::FromConfigFile(const std::string& iniPath)
 {
     config::checkIniFile(iniPath, "ini file");
     TSimulatorOptions o;
-    o.loadFromConfigFile(mrpt::config::CConfigFile(iniPath));
+    o.loadFromConfigFile(config::IniFileInMemory(iniPath, "ini file"));
     return o;
 }
 

@@ -76,7 +76,7 @@ public:
          *  increments as they come. Needs timestamped actions and Gaussian odometry. */
         double odometry_delay_s = 0;
         /** The walk semloc-calibrate sets when the odometry's heading drifts, and
-         *  config/semantic.ini's [deg/min]. */
+         *  config/localize/semantic.ini's [deg/min]. */
         static constexpr double kCalibratedDriftWalkDegPerMin = 5;
         /** True when the filter keeps a heading drift per particle. */
         bool headingDrift() const

@@ -10,8 +10,23 @@
 
 namespace semloc::config
 {
-/** Throws naming `kind` and `path` if the ini file does not exist, is a directory or cannot
- *  be read, else checks its text with checkIniText(). */
+/** The text of the ini file `path` with its bases resolved. A file may name, before its first
+ *  section, the ini it changes: `base = FILE` (relative to the file, else to the working
+ *  directory). Its text is then the base's (itself resolved) with the file's keys laid over
+ *  it: a key the base sets is replaced on its line, a new key goes at the end of its section,
+ *  a new section at the end; the `base` line itself is dropped. Each file is checked with
+ *  checkIniText(); throws naming `kind`, the file and the line for a missing, unreadable or
+ *  bad file, a missing base, a cycle of bases or bases over 16 deep. `files`, if given, gets
+ *  the file and its bases, `path` first. */
+std::string readIniText(const std::string& path, const std::string& kind = "config file",
+                        std::vector<std::string>* files = nullptr);
+
+/** The ini file `path` and its bases (readIniText's `files`); just `path` when it cannot be
+ *  read (the error is its reader's to report). */
+std::vector<std::string> iniFileAndBases(const std::string& path);
+
+/** Throws as readIniText() does if the ini file or one of its bases does not exist, is a
+ *  directory, cannot be read or fails checkIniText(). */
 void checkIniFile(const std::string& path, const std::string& kind = "config file");
 
 /** Throws "<file>:LINE: ..." (`file` names the text, e.g. "config file 'x.ini'") for
@@ -70,19 +85,22 @@ void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& secti
 void rejectUnknownKeys(const mrpt::config::CConfigFileBase& c, const std::string& section,
                        const std::vector<std::string>& known);
 
-/** An ini file's text held (and changed) in memory that remembers the file it came from:
- *  relative paths in it resolve next to that file, as in the file itself
- *  (resolveNextToIni). */
+/** An ini file's text, its bases resolved (readIniText), held (and changed) in memory; it
+ *  remembers the files it came from: relative paths in it resolve next to them, as in the
+ *  files themselves (resolveNextToIni). */
 class IniFileInMemory : public mrpt::config::CConfigFileMemory
 {
 public:
-    /** The text of `path` (read here; throws if it cannot be). */
-    explicit IniFileInMemory(const std::string& path);
+    /** The text of `path` and its bases (read here; throws as readIniText() does). */
+    explicit IniFileInMemory(const std::string& path, const std::string& kind = "config file");
     /** The file it came from. */
     const std::string& path() const { return m_path; }
+    /** The file and its bases, the file first. */
+    const std::vector<std::string>& files() const { return m_files; }
 
 private:
     std::string m_path;
+    std::vector<std::string> m_files;
 };
 
 /** The file `source` was read from (a CConfigFile or an IniFileInMemory), "" if none. */
@@ -91,14 +109,14 @@ std::string iniFileOf(const mrpt::config::CConfigFileBase& source);
 /** "file 'WRITTEN' does not exist", and when `written` is relative and `source` came from a
  *  file, the paths tried: "(tried 'DIR/WRITTEN' next to the ini 'INI' and 'WRITTEN' from the
  *  working directory)", DIR the ini's directory as given (a symlinked ini's own, not its
- *  target's). */
+ *  target's); with bases, "'DIR2/WRITTEN' next to its base 'BASE'" after the ini's. */
 std::string missingFileMessage(const mrpt::config::CConfigFileBase& source,
                                const std::string& written);
 
 /** `file` as given if it exists (or is absolute or empty), else resolved next to the ini
- *  file `source` was read from (a CConfigFile or an IniFileInMemory), if it exists there: ini
- *  files name their maps relative to themselves, as users expect, while MRPT's own tools
- *  resolve from the working directory. */
+ *  file `source` was read from (a CConfigFile or an IniFileInMemory), then next to each of its
+ *  bases, where it exists first: ini files name their maps relative to themselves, as users
+ *  expect, while MRPT's own tools resolve from the working directory. */
 std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file);
 
 /** The keys an options struct writes in saveToConfigFile (its complete key set), computed once

@@ -56,9 +56,12 @@ public:
         static constexpr int kMaxRuns = 1000000;
         /** Number of runs (seeds 1..runs), 1..kMaxRuns. */
         int runs = 100;
-        /** Variant names (`<name>.ini` next to benchmark.ini) or ini paths (resolved next to
+        /** Variant names (`<name>.ini` in variants_dir) or ini paths (resolved next to
          *  benchmark.ini). */
         std::vector<std::string> variants{"semantic", "geometric", "grid_lf", "grid_rt", "fused"};
+        /** The folder of the variants named without `.ini` (relative: next to benchmark.ini,
+         *  else from the working directory); empty: benchmark.ini's own folder. */
+        std::string variants_dir;
         /** The simulation (semloc-simulate's ini; resolved next to benchmark.ini). */
         std::string simulate_ini = "simulate.ini";
         /** Output directory (relative: from the working directory). */

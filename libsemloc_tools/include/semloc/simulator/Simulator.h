@@ -69,7 +69,7 @@ struct TKidnappingOptions : public mrpt::config::CLoadableOptions
                           const std::string& section) const override;
 };
 
-/** Every option of a simulation: the sections of `config/simulate.ini`. */
+/** Every option of a simulation: the sections of `config/simulate/simulate.ini`. */
 struct TSimulatorOptions
 {
     TSimulationOptions simulation;             //!< [Simulation]
