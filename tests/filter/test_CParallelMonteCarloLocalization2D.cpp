@@ -106,10 +106,16 @@ uint64_t bitsOf(double v)
 /** A map whose likelihood is NaN for every pose: the filter must survive it. */
 class CNanMap : public semloc::CStructureMap
 {
+    // Both interfaces, as BatchLikelihood's contract asks of a subclass that changes one.
     double internal_computeObservationLikelihood(const mrpt::obs::CObservation&,
                                                  const mrpt::poses::CPose3D&) const override
     {
         return std::numeric_limits<double>::quiet_NaN();
+    }
+    void logLikelihoods(const mrpt::obs::CObservation&, const TPose2D*, size_t n,
+                        double* out) const override
+    {
+        std::fill_n(out, n, std::numeric_limits<double>::quiet_NaN());
     }
 };
 }  // namespace
@@ -749,7 +755,7 @@ TEST(CParallelMonteCarloLocalization2D, InjectedParticlesEarnTheirWeightAndStill
         }
         // Right after the injection: the injected particles hold 1e-4 of a resampled one's
         // weight, whatever their number.
-        double maxW = -INFINITY;
+        double maxW = -std::numeric_limits<double>::infinity();
         for (const auto& p : pdf.m_particles)
         {
             maxW = std::max(maxW, p.log_w);

@@ -17,7 +17,7 @@ namespace fs = std::filesystem;
 /** A fresh directory for one test. */
 fs::path freshDir(const std::string& name)
 {
-    const auto dir = fs::path(SEMLOC_TEST_OUT) / "ini_base" / name;
+    auto dir = fs::path(SEMLOC_TEST_OUT) / "ini_base" / name;
     fs::remove_all(dir);
     fs::create_directories(dir);
     return dir;

@@ -1,15 +1,16 @@
 /* semloc — SensoryFrameLikelihood: MRPT's per-particle observation likelihood, per chunk. */
+#include <mrpt/maps/CBeaconMap.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimplePointsMap.h>
-#include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/poses/CPose3D.h>
 #include <semloc/filter/ParallelExecutor.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/maps/BatchLikelihood.h>
 #include <semloc/maps/CSemanticMap.h>
-#include <semloc/maps/CStructureMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 #include <algorithm>
@@ -101,23 +102,19 @@ SensoryFrameLikelihood::Path SensoryFrameLikelihood::choosePath(
     {
         return Path::Zero;  // CMetricMap::computeObservationLikelihood returns 0
     }
-    // Exact types only: a subclass may override the likelihood the fast paths bypass.
-    if (typeid(map) == typeid(CSemanticMap))
+    // A sensor model of its own (CSemanticMap, CStructureMap, a program's): its batch.
+    if (const auto* model = dynamic_cast<const BatchLikelihood*>(&map))
     {
-        if (dynamic_cast<const CObservationSemantic*>(&obs))
-        {
-            return Path::Semantic;
-        }
-        if (dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
-        {
-            return Path::SemanticBearingRange;
-        }
-        return Path::Zero;
+        return model->uses(obs) ? Path::Model : Path::Zero;
     }
-    if (typeid(map) == typeid(CStructureMap))
+    // MRPT's maps: the generic call, in parallel where it only reads the map and the
+    // observation. CBeaconMap (range-only acoustic beacons, LBL) reads its beacons alone and
+    // scores CObservationBeaconRanges only (0 for any other observation, as it returns); exact
+    // types, as a subclass may keep state of its own.
+    if (typeid(map) == typeid(mrpt::maps::CBeaconMap))
     {
-        return dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs) ? Path::Structure
-                                                                             : Path::Zero;
+        return typeid(obs) == typeid(mrpt::obs::CObservationBeaconRanges) ? Path::GenericParallel
+                                                                          : Path::Zero;
     }
     if (const auto* grid = dynamic_cast<const COccupancyGridMap2D*>(&map);
         grid && isThreadSafeGrid(*grid))
@@ -200,9 +197,10 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
         {
             usable = usable || map->canComputeObservationLikelihood(*o);
             const Path path = m_enabled ? choosePath(*o, *map) : Path::Zero;
-            if (path == Path::Semantic && !checkedBy)
+            if (path == Path::Model && !checkedBy &&
+                dynamic_cast<const CObservationSemantic*>(o.get()))
             {
-                checkedBy = static_cast<const CSemanticMap*>(map);
+                checkedBy = dynamic_cast<const CSemanticMap*>(map);
             }
             if (path == Path::Zero)
             {
@@ -211,6 +209,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
             Term t;
             t.obs = o.get();
             t.map = map;
+            t.model = dynamic_cast<const BatchLikelihood*>(map);
             t.path = path;
             t.firstOfObservation = first;
             first = false;
@@ -241,11 +240,14 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
 
 bool SensoryFrameLikelihood::planOutage(const Term& t)
 {
-    if (t.path != Path::Semantic && t.path != Path::SemanticBearingRange)
+    const auto* semantic =
+        t.path == Path::Model ? dynamic_cast<const CSemanticMap*>(t.map) : nullptr;
+    if (!semantic)
     {
         return false;
     }
-    const auto& map = static_cast<const CSemanticMap&>(*t.map);
+    const auto& map = *semantic;
+    const auto* detections = dynamic_cast<const CObservationSemantic*>(t.obs);
     const auto& lo = map.likelihoodOptions;
     if (!(lo.outage_every_s > 0) || lo.model != CSemanticMap::Model::Probabilistic)
     {
@@ -256,9 +258,9 @@ bool SensoryFrameLikelihood::planOutage(const Term& t)
     // map's objects, an empty one: a view blocked by them is not evidence against the poses
     // that should see objects, scan after scan.
     bool silent = false;
-    if (t.path == Path::Semantic)
+    if (detections)
     {
-        const auto seen = map.check(static_cast<const CObservationSemantic&>(*t.obs));
+        const auto seen = map.check(*detections);
         silent = seen.used == 0 && seen.invalid == 0;
     }
     else
@@ -278,18 +280,20 @@ bool SensoryFrameLikelihood::planOutage(const Term& t)
 
 void SensoryFrameLikelihood::planWithoutObjects(const Term& t)
 {
-    size_t used = 0;
-    if (t.path == Path::Semantic)
+    const auto* semantic =
+        t.path == Path::Model ? dynamic_cast<const CSemanticMap*>(t.map) : nullptr;
+    if (!semantic)
     {
-        m_withoutObjects.logLik +=
-            static_cast<const CSemanticMap&>(*t.map).logLikelihoodWithoutObjects(
-                static_cast<const CObservationSemantic&>(*t.obs), &used);
+        return;
     }
-    else if (t.path == Path::SemanticBearingRange)
+    size_t used = 0;
+    if (const auto* detections = dynamic_cast<const CObservationSemantic*>(t.obs))
     {
-        m_withoutObjects.logLik +=
-            static_cast<const CSemanticMap&>(*t.map).logLikelihoodWithoutObjects(
-                static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs), &used);
+        m_withoutObjects.logLik += semantic->logLikelihoodWithoutObjects(*detections, &used);
+    }
+    else if (const auto* br = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(t.obs))
+    {
+        m_withoutObjects.logLik += semantic->logLikelihoodWithoutObjects(*br, &used);
     }
     m_withoutObjects.detections += used;
 }
@@ -322,25 +326,9 @@ void SensoryFrameLikelihood::evaluateTerm(const Term& t, const TPose2D* poses, s
 {
     switch (t.path)
     {
-        case Path::Semantic:
-            static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
-                static_cast<const CObservationSemantic&>(*t.obs), poses + b, m, term);
+        case Path::Model:
+            t.model->logLikelihoods(*t.obs, poses + b, m, term);
             break;
-        case Path::SemanticBearingRange:
-            static_cast<const CSemanticMap*>(t.map)->computeLogLikelihoods(
-                static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs), poses + b, m,
-                term);
-            break;
-        case Path::Structure:
-        {
-            const auto& st = static_cast<const CStructureMap&>(*t.map);
-            const auto& scan = static_cast<const mrpt::obs::CObservation2DRangeScan&>(*t.obs);
-            for (size_t i = 0; i < m; i++)
-            {
-                term[i] = st.computeLogLikelihood(scan, poses[b + i]);
-            }
-            break;
-        }
         case Path::GenericParallel:
             for (size_t i = 0; i < m; i++)
             {

@@ -231,7 +231,7 @@ std::string resolvedText(const std::string& path, const std::string& kind,
                          std::vector<std::string>& chain)
 {
     const std::string file = kind + " '" + path + "'";
-    const std::string text = readText(path, file);
+    std::string text = readText(path, file);
     checkIniText(text, file);
     const auto lines = classify(text);
     const auto base =
@@ -242,13 +242,13 @@ std::string resolvedText(const std::string& path, const std::string& kind,
     {
         if (std::filesystem::weakly_canonical(earlier).string() == canonical)
         {
-            std::string cycle;
+            std::string cycle = "the bases of " + kind + " '" + chain.front() + "' form a cycle: ";
             for (const auto& c : chain)
             {
-                cycle += "'" + c + "' -> ";
+                cycle.append("'").append(c).append("' -> ");
             }
-            THROW_EXCEPTION("the bases of " + kind + " '" + chain.front() +
-                            "' form a cycle: " + cycle + "'" + path + "'");
+            cycle.append("'").append(path).append("'");
+            THROW_EXCEPTION(cycle);
         }
     }
     chain.push_back(path);

@@ -289,6 +289,21 @@ double CStructureMap::computeLogLikelihood(const mrpt::obs::CObservation2DRangeS
     return logLik;
 }
 
+bool CStructureMap::uses(const mrpt::obs::CObservation& obs) const
+{
+    return dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs) != nullptr;
+}
+
+void CStructureMap::logLikelihoods(const mrpt::obs::CObservation& obs, const TPose2D* poses,
+                                   size_t n, double* out) const
+{
+    const auto* scan = dynamic_cast<const mrpt::obs::CObservation2DRangeScan*>(&obs);
+    for (size_t i = 0; i < n; i++)
+    {
+        out[i] = scan ? computeLogLikelihood(*scan, poses[i]) : 0.0;
+    }
+}
+
 bool CStructureMap::internal_canComputeObservationLikelihood(
     const mrpt::obs::CObservation& obs) const
 {

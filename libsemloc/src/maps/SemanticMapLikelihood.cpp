@@ -144,7 +144,7 @@ semantic::ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& lo,
 }  // namespace
 
 template <typename OBS>
-void CSemanticMap::logLikelihoods(const OBS& obs, const TPose2D* poses, size_t n, double* out) const
+void CSemanticMap::likelihoodsOf(const OBS& obs, const TPose2D* poses, size_t n, double* out) const
 {
     Scratch& sc = scratch();
     const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
@@ -225,7 +225,7 @@ double CSemanticMap::computeLogLikelihood(const CObservationSemantic& obs,
                                           const TPose2D& pose) const
 {
     double ll = 0;
-    logLikelihoods(obs, &pose, 1, &ll);
+    likelihoodsOf(obs, &pose, 1, &ll);
     return ll;
 }
 
@@ -233,20 +233,43 @@ double CSemanticMap::computeLogLikelihood(const mrpt::obs::CObservationBearingRa
                                           const TPose2D& pose) const
 {
     double ll = 0;
-    logLikelihoods(obs, &pose, 1, &ll);
+    likelihoodsOf(obs, &pose, 1, &ll);
     return ll;
 }
 
 void CSemanticMap::computeLogLikelihoods(const CObservationSemantic& obs, const TPose2D* poses,
                                          size_t n, double* out) const
 {
-    logLikelihoods(obs, poses, n, out);
+    likelihoodsOf(obs, poses, n, out);
 }
 
 void CSemanticMap::computeLogLikelihoods(const mrpt::obs::CObservationBearingRange& obs,
                                          const TPose2D* poses, size_t n, double* out) const
 {
-    logLikelihoods(obs, poses, n, out);
+    likelihoodsOf(obs, poses, n, out);
+}
+
+bool CSemanticMap::uses(const mrpt::obs::CObservation& obs) const
+{
+    return dynamic_cast<const CObservationSemantic*>(&obs) != nullptr ||
+           dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs) != nullptr;
+}
+
+void CSemanticMap::logLikelihoods(const mrpt::obs::CObservation& obs, const TPose2D* poses,
+                                  size_t n, double* out) const
+{
+    if (const auto* s = dynamic_cast<const CObservationSemantic*>(&obs))
+    {
+        likelihoodsOf(*s, poses, n, out);
+    }
+    else if (const auto* br = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
+    {
+        likelihoodsOf(*br, poses, n, out);
+    }
+    else
+    {
+        std::fill_n(out, n, 0.0);  // not used: no term (uses() is false)
+    }
 }
 
 CSemanticMap::TObservationCheck CSemanticMap::check(const CObservationSemantic& obs) const

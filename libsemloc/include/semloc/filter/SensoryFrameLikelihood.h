@@ -12,6 +12,7 @@
 
 namespace semloc
 {
+class BatchLikelihood;
 class ParallelExecutor;
 
 /** log p(sf | pose) for every particle pose, the sensor model of the filter.
@@ -21,14 +22,14 @@ class ParallelExecutor;
  *  CMetricMap::computeObservationLikelihood (0 for a map or multimap whose
  *  `enableObservationLikelihood` is off), added in the same order. Each (observation, map)
  *  term takes the fastest path that gives the same value:
- *  - CSemanticMap with CObservationSemantic or CObservationBearingRange: the batch
- *    computeLogLikelihoods() on each thread's contiguous chunk of poses;
- *  - CStructureMap with CObservation2DRangeScan: CStructureMap::computeLogLikelihood();
- *  - our maps with an observation they do not use: 0, not evaluated;
- *  - COccupancyGridMap2D with the ray-tracing or Thrun likelihood-field method: the generic
- *    call on every thread (the first pose is evaluated alone first, so the lazy caches of
- *    the observation are built before threads share it; the grid's likelihood-field cache
- *    is filled completely before the first multi-threaded use);
+ *  - a map that is a BatchLikelihood (CSemanticMap, CStructureMap, a program's own sensor
+ *    model): BatchLikelihood::logLikelihoods() on each thread's contiguous chunk of poses; 0,
+ *    not evaluated, for an observation it does not use;
+ *  - COccupancyGridMap2D with the ray-tracing or Thrun likelihood-field method, and
+ *    CBeaconMap with CObservationBeaconRanges: the generic call on every thread (the first
+ *    pose is evaluated alone first, so the lazy caches of the observation are built before
+ *    threads share it; the grid's likelihood-field cache is filled completely before the
+ *    first multi-threaded use); CBeaconMap with any other observation: 0, not evaluated;
  *  - any other map: the generic call, for every pose on the calling thread (MRPT's other
  *    maps keep mutable caches that are not safe to share).
  *
@@ -143,9 +144,8 @@ private:
     enum class Path
     {
         Zero,
-        Semantic,
-        SemanticBearingRange,
-        Structure,
+        /** A BatchLikelihood map. */
+        Model,
         GenericParallel,
         GenericSerial
     };
@@ -153,6 +153,8 @@ private:
     {
         const mrpt::obs::CObservation* obs = nullptr;
         const mrpt::maps::CMetricMap* map = nullptr;
+        /** The map as a BatchLikelihood (Path::Model). */
+        const BatchLikelihood* model = nullptr;
         Path path = Path::Zero;
         /** Index into m_serial for GenericSerial. */
         size_t serialIndex = 0;

@@ -7,6 +7,7 @@
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/poses/CPose3D.h>
 #include <semloc/io/ConfigHelpers.h>
+#include <semloc/maps/BatchLikelihood.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 
@@ -117,7 +118,7 @@ class LabelIndex;
  *  Both models are evaluated without allocation, through a uniform-grid index over the
  *  objects (cost independent of map size at fixed density), and are safe to call from
  *  many threads at once. */
-class CSemanticMap : public mrpt::maps::CMetricMap
+class CSemanticMap : public mrpt::maps::CMetricMap, public BatchLikelihood
 {
     DEFINE_SERIALIZABLE(CSemanticMap, semloc)
 
@@ -347,6 +348,11 @@ public:
     /** Batch version for MRPT landmark observations. */
     void computeLogLikelihoods(const mrpt::obs::CObservationBearingRange& obs,
                                const mrpt::math::TPose2D* poses, size_t n, double* out) const;
+    /** BatchLikelihood: semantic observations and MRPT's landmark observations. */
+    bool uses(const mrpt::obs::CObservation& obs) const override;
+    /** BatchLikelihood: computeLogLikelihoods() of either observation. */
+    void logLikelihoods(const mrpt::obs::CObservation& obs, const mrpt::math::TPose2D* poses,
+                        size_t n, double* out) const override;
     /** Log-likelihood of `obs` from a pose with no object of the map in view: every
      *  detection the likelihood uses is clutter (probabilistic model: -lambda + l log kappa;
      *  paper model: l log p_u), the same at every pose. log p(z | x) minus this is the
@@ -423,8 +429,8 @@ private:
         const mrpt::obs::CObservation& obs) const override;
 
     template <typename OBS>
-    void logLikelihoods(const OBS& obs, const mrpt::math::TPose2D* poses, size_t n,
-                        double* out) const;
+    void likelihoodsOf(const OBS& obs, const mrpt::math::TPose2D* poses, size_t n,
+                       double* out) const;
     template <typename OBS>
     double withoutObjects(const OBS& obs, size_t* used) const;
     /** Rebuilds the label table and the grid index after any change of m_objects. */

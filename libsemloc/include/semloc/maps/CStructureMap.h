@@ -6,6 +6,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/math/TSegment2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <semloc/maps/BatchLikelihood.h>
 #include <semloc/maps/RayCaster.h>
 #include <semloc/world/World.h>
 
@@ -43,7 +44,7 @@ namespace semloc
  *
  *  computeLogLikelihood() allocates nothing, makes no virtual call per beam, and is safe
  *  to call from many threads at once. */
-class CStructureMap : public mrpt::maps::CMetricMap
+class CStructureMap : public mrpt::maps::CMetricMap, public BatchLikelihood
 {
     DEFINE_SERIALIZABLE(CStructureMap, semloc)
 
@@ -105,6 +106,11 @@ public:
     /** log p(scan | vehicle pose) by the beam model (class documentation). Finite. */
     double computeLogLikelihood(const mrpt::obs::CObservation2DRangeScan& scan,
                                 const mrpt::math::TPose2D& pose) const;
+    /** BatchLikelihood: 2D range scans. */
+    bool uses(const mrpt::obs::CObservation& obs) const override;
+    /** BatchLikelihood: computeLogLikelihood() at each pose. */
+    void logLikelihoods(const mrpt::obs::CObservation& obs, const mrpt::math::TPose2D* poses,
+                        size_t n, double* out) const override;
     /** @} */
 
     // CMetricMap interface

@@ -1,0 +1,260 @@
+/* semloc tests — a sensor model defined here only, plugged into the filter through
+ * BatchLikelihood (docs/design.md, "Adding a sensor model"): a position fix (MRPT's
+ * CObservationRobotPose, e.g. a surfaced AUV's GPS or a USBL fix) scored by a map of this
+ * test's own, with no line of the filter changed. */
+#include <gtest/gtest.h>
+#include <mrpt/bayes/CParticleFilter.h>
+#include <mrpt/maps/CBeaconMap.h>
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationBeaconRanges.h>
+#include <mrpt/obs/CObservationRobotPose.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <semloc/filter/CParallelMonteCarloLocalization2D.h>
+#include <semloc/filter/ParallelExecutor.h>
+#include <semloc/filter/SensoryFrameLikelihood.h>
+#include <semloc/maps/BatchLikelihood.h>
+#include <semloc/maps/CSemanticMap.h>
+#include <semloc/observation/CObservationSemantic.h>
+
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+namespace
+{
+using mrpt::math::TPose2D;
+
+/** The plugged model: log p(fix | pose) of a Gaussian position fix (isotropic, the fix's own
+ *  x variance). A points map of MRPT's only to be a CMetricMap; its points are not used. */
+class PositionFixModel : public mrpt::maps::CSimplePointsMap, public semloc::BatchLikelihood
+{
+public:
+    /** Batch calls made (the filter used the plugged path). */
+    mutable std::atomic<size_t> batchCalls{0};
+
+    static double logLik(const mrpt::obs::CObservationRobotPose& fix, double x, double y)
+    {
+        const double var = fix.pose.cov(0, 0);
+        const double dx = x - fix.pose.mean.x(), dy = y - fix.pose.mean.y();
+        return -0.5 * (dx * dx + dy * dy) / var;
+    }
+
+    bool uses(const mrpt::obs::CObservation& obs) const override
+    {
+        return dynamic_cast<const mrpt::obs::CObservationRobotPose*>(&obs) != nullptr;
+    }
+
+    void logLikelihoods(const mrpt::obs::CObservation& obs, const TPose2D* poses, size_t n,
+                        double* out) const override
+    {
+        batchCalls.fetch_add(1, std::memory_order_relaxed);
+        const auto& fix = dynamic_cast<const mrpt::obs::CObservationRobotPose&>(obs);
+        for (size_t i = 0; i < n; i++)
+        {
+            out[i] = logLik(fix, poses[i].x, poses[i].y);
+        }
+    }
+
+    // MRPT's per-pose interface, the same values (what MRPT's own filter would use).
+    bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override
+    {
+        return uses(obs);
+    }
+    double internal_computeObservationLikelihood(const mrpt::obs::CObservation& obs,
+                                                 const mrpt::poses::CPose3D& from) const override
+    {
+        const auto* fix = dynamic_cast<const mrpt::obs::CObservationRobotPose*>(&obs);
+        return fix ? logLik(*fix, from.x(), from.y()) : 0.0;
+    }
+};
+
+mrpt::obs::CSensoryFrame fixFrame(double x, double y, double sigma)
+{
+    auto fix = mrpt::obs::CObservationRobotPose::Create();
+    fix->pose.mean = mrpt::poses::CPose3D(x, y, 0, 0, 0, 0);
+    fix->pose.cov.setIdentity();
+    fix->pose.cov *= sigma * sigma;
+    mrpt::obs::CSensoryFrame sf;
+    sf.insert(fix);
+    return sf;
+}
+
+mrpt::obs::CActionCollection forward(double d)
+{
+    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions opts;
+    opts.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
+    mrpt::obs::CActionRobotMovement2D move;
+    move.computeFromOdometry(mrpt::poses::CPose2D(d, 0, 0), opts);
+    mrpt::obs::CActionCollection acts;
+    acts.insert(move);
+    return acts;
+}
+
+struct FixRun
+{
+    std::vector<TPose2D> particles;
+    double error = 0;
+    size_t batchCalls = 0;
+};
+
+/** 30 steps east along y = 5 from a start uniform over 20 x 20 m (the heading known within
+ *  0.2 rad: a fix tells the position only), a fix (0.5 m) each step. */
+FixRun localize(size_t threads)
+{
+    auto model = std::make_shared<PositionFixModel>();
+    auto multi = mrpt::maps::CMultiMetricMap::Create();
+    multi->maps.push_back(model);
+    semloc::CParallelMonteCarloLocalization2D pdf;
+    pdf.options.metricMap = multi;
+    pdf.setExecutor(std::make_shared<semloc::ParallelExecutor>(threads));
+    mrpt::random::getRandomGenerator().randomize(5);
+    pdf.resetUniform(0, 20, 0, 20, -0.2, 0.2, 3000);
+    mrpt::bayes::CParticleFilter pf;
+    pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
+    mrpt::random::CRandomGenerator noise(11);
+    TPose2D truth(2, 5, 0);
+    for (int k = 0; k < 30; k++)
+    {
+        truth.x += 0.4;
+        const auto acts = forward(0.4);
+        auto sf = fixFrame(truth.x + 0.5 * noise.drawGaussian1D_normalized(),
+                           truth.y + 0.5 * noise.drawGaussian1D_normalized(), 0.5);
+        pf.executeOn(pdf, &acts, &sf);
+    }
+    FixRun r;
+    const auto mean = pdf.getMeanVal();
+    r.error = std::hypot(mean.x() - truth.x, mean.y() - truth.y);
+    for (size_t i = 0; i < pdf.size(); i++)
+    {
+        r.particles.push_back(pdf.m_particles[i].d);
+    }
+    r.batchCalls = model->batchCalls.load();
+    return r;
+}
+}  // namespace
+
+TEST(PluggedSensorModel, TheFilterLocalizesWithAModelItDoesNotKnow)
+{
+    const FixRun one = localize(1);
+    EXPECT_GT(one.batchCalls, 0u);  // the plugged batch, not MRPT's per-pose call
+    EXPECT_LT(one.error, 0.5);
+    // Deterministic for any number of threads.
+    const FixRun two = localize(2);
+    ASSERT_EQ(one.particles.size(), two.particles.size());
+    for (size_t i = 0; i < one.particles.size(); i++)
+    {
+        ASSERT_EQ(one.particles[i], two.particles[i]) << i;
+    }
+}
+
+TEST(PluggedSensorModel, ItsTermIsMrptsValueAddedToTheOtherMaps)
+{
+    // The plugged model beside the semantic map: each pose's frame log-likelihood is MRPT's
+    // (1 + the maps' computeObservationLikelihood, per observation), bit for bit.
+    auto model = std::make_shared<PositionFixModel>();
+    auto semantic = semloc::CSemanticMap::Create();
+    semantic->loadFromWorldFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
+    auto multi = mrpt::maps::CMultiMetricMap::Create();
+    multi->maps.push_back(semantic);
+    multi->maps.push_back(model);
+    auto sf = fixFrame(7, 5, 0.8);
+    auto det = semloc::CObservationSemantic::Create();
+    det->detections.push_back({semantic->objects().at(0).label, 3.0, 0.1, 1.0, -1});
+    sf.insert(det);
+
+    std::vector<TPose2D> poses;
+    poses.reserve(600);
+    for (int i = 0; i < 600; i++)
+    {
+        poses.emplace_back(0.08 * i, 5 + 0.05 * i, -1 + 0.004 * i);
+    }
+    semloc::ParallelExecutor executor(2);
+    semloc::SensoryFrameLikelihood lik(*multi);
+    std::vector<double> out(poses.size());
+    model->batchCalls = 0;
+    lik.evaluate(sf, poses.data(), poses.size(), out.data(), executor);
+    EXPECT_GT(model->batchCalls.load(), 0u);
+    for (size_t i = 0; i < poses.size(); i++)
+    {
+        const auto p = mrpt::poses::CPose3D(mrpt::math::TPose3D(poses[i]));
+        double expected = 1;
+        for (const auto& obs : sf)
+        {
+            double sum = 0;
+            for (const auto& m : multi->maps)
+            {
+                sum += m->computeObservationLikelihood(*obs, p);
+            }
+            expected += sum;
+        }
+        ASSERT_EQ(out[i], expected) << i;
+    }
+    EXPECT_EQ(lik.stats().observations_used, 2u);
+}
+
+TEST(PluggedSensorModel, MrptsBeaconMapAddsItsTermOnEveryThread)
+{
+    // MRPT's own range-only beacon map (LBL), beside the semantic map, through the generic
+    // call: MRPT's value at each pose, the same for 1 and 3 threads.
+    auto beacons = mrpt::maps::CBeaconMap::Create();
+    beacons->likelihoodOptions.rangeStd = 0.5;
+    const double xy[4][2] = {{0, 0}, {50, 0}, {50, 50}, {0, 50}};
+    for (int i = 0; i < 4; i++)
+    {
+        mrpt::maps::CBeacon b;
+        b.m_ID = i + 1;
+        b.m_locationGauss.mean = mrpt::poses::CPoint3D(xy[i][0], xy[i][1], -10);
+        beacons->push_back(b);
+    }
+    auto semantic = semloc::CSemanticMap::Create();
+    semantic->loadFromWorldFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
+    auto multi = mrpt::maps::CMultiMetricMap::Create();
+    multi->maps.push_back(semantic);
+    multi->maps.push_back(beacons);
+    auto ranges = mrpt::obs::CObservationBeaconRanges::Create();
+    ranges->maxSensorDistance = 200;
+    for (int i = 0; i < 4; i++)
+    {
+        mrpt::obs::CObservationBeaconRanges::TMeasurement m;
+        m.beaconID = i + 1;
+        m.sensedDistance = static_cast<float>(
+            std::sqrt(std::pow(20 - xy[i][0], 2) + std::pow(15 - xy[i][1], 2) + 100.0));
+        ranges->sensedData.push_back(m);
+    }
+    mrpt::obs::CSensoryFrame sf;
+    sf.insert(ranges);
+    auto det = semloc::CObservationSemantic::Create();
+    det->detections.push_back({semantic->objects().at(0).label, 3.0, 0.1, 1.0, -1});
+    sf.insert(det);
+
+    std::vector<TPose2D> poses;
+    poses.reserve(2000);
+    for (int i = 0; i < 2000; i++)
+    {
+        poses.emplace_back(10 + 0.01 * i, 15, 0.003 * i);  // through (20, 15)
+    }
+    std::vector<std::vector<double>> outs;
+    for (size_t threads : {1, 3})
+    {
+        semloc::ParallelExecutor executor(threads);
+        semloc::SensoryFrameLikelihood lik(*multi);
+        outs.emplace_back(poses.size());
+        lik.evaluate(sf, poses.data(), poses.size(), outs.back().data(), executor);
+    }
+    EXPECT_EQ(outs[0], outs[1]);
+    double best = -1e300;
+    for (size_t i = 0; i < poses.size(); i++)
+    {
+        const auto p = mrpt::poses::CPose3D(mrpt::math::TPose3D(poses[i]));
+        const double expected = 1 + beacons->computeObservationLikelihood(*ranges, p) +
+                                semantic->computeObservationLikelihood(*det, p);
+        ASSERT_EQ(outs[0][i], expected) << i;
+        best = std::max(best, beacons->computeObservationLikelihood(*ranges, p));
+    }
+    EXPECT_GT(best, -1.0);  // the path passes near (20, 15), where the ranges were taken
+}
