@@ -6,6 +6,7 @@
 #include <semloc/io/ErrorMessage.h>
 
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -25,7 +26,7 @@ constexpr size_t kMaxBaseDepth = 16;
 std::string lower(std::string s)
 {
     std::transform(s.begin(), s.end(), s.begin(),
-                   [](unsigned char ch) { return std::tolower(ch); });
+                   [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
     return s;
 }
 
