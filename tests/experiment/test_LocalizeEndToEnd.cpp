@@ -643,9 +643,11 @@ TEST(ShippedConfigs, SemanticVariantsNameTheirBaseAndSetTheirKeysOnly)
         const Keys mine = keysOf(v.name + ".ini"), base = keysOf(v.base + ".ini");
         EXPECT_GT(base.size(), 60u) << v.base;
         Keys expected = base;
-        for (const auto& [key, value] : v.own)
+        for (const auto& own : v.own)
         {
             // The own keys are the base's, with another value.
+            const std::string& key = own.first;
+            const std::string& value = own.second;
             const auto it = std::find_if(
                 base.begin(), base.end(),
                 [&key](const auto& kv) { return kv.first.substr(kv.first.find("] ") + 2) == key; });
