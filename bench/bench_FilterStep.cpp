@@ -78,7 +78,8 @@ void BM_FilterStep(benchmark::State& state, const std::string& variant, size_t s
 
     semloc::CParallelMonteCarloLocalization2D pdf;
     pdf.options.metricMap = lm.map;
-    // As semloc-localize with the variant's ini: free_space_prior = 1 (every config/localize/*.ini).
+    // As semloc-localize with the variant's ini: free_space_prior = 1 (every
+    // config/localize/*.ini).
     pdf.setFreeSpaceSampler(
         std::make_shared<semloc::FreeSpaceSampler>(semloc::FreeSpaceSampler::FromWorld(*lm.world)));
     pdf.setFreeSpacePrior(true);

@@ -27,8 +27,8 @@ namespace
 using detail::trim;
 const std::string kSection = "Benchmark";
 const std::vector<std::string> kKeys = {
-    "runs",      "variants",  "variants_dir", "simulate_ini", "output_dir",    "jobs",
-    "filter_threads", "max_steps", "particles", "same_filter", "scenarios", "map_from_world"};
+    "runs",           "variants",  "variants_dir", "simulate_ini", "output_dir", "jobs",
+    "filter_threads", "max_steps", "particles",    "same_filter",  "scenarios",  "map_from_world"};
 const std::string kScenarioSection = "Scenario";
 const std::vector<std::string> kScenarioKeys = {"name",
                                                 "description",
