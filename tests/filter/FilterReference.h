@@ -15,7 +15,7 @@
 #include <tuple>
 #include <vector>
 
-#include "filter/ParticleRuns.h"
+#include "filter/ParticleStore.h"
 
 namespace semloc::reference
 {

@@ -134,7 +134,15 @@ TEST(FilterReference, MotionSampleEqualsMrptsSamplerAndComposition)
         }
         const auto before = particles;
         std::vector<TPose2D> out(n);
-        semloc::detail::movePoses(drawer, key, particles.data(), i0, n, out.data());
+        for (size_t k = 0; k < n; k++)
+        {
+            out[k] = particles[k].d;
+        }
+        semloc::detail::movePoses(drawer, key, out.data(), i0, n);
+        for (size_t k = 0; k < n; k++)
+        {
+            particles[k].d = out[k];
+        }
         for (size_t k = 0; k < n; k++, cases++)
         {
             const TPose2D ref = semloc::reference::movedPose(pdf, key, i0 + k, before[k].d);
@@ -297,7 +305,7 @@ TEST(FilterReference, SystematicResamplingIndicesEqualTheReference)
         {
             carriedFrom[i] = static_cast<double>(i) + 0.5;
         }
-        const semloc::detail::CarriedValues carried{carriedFrom.data(), carriedTo.data()};
+        const semloc::detail::CarriedValues carried{carriedFrom.data(), carriedTo.data(), 1};
         fast.resample(u, from, to, pool, carry ? &carried : nullptr);
         ASSERT_EQ(to.size(), M);
         for (size_t i = 0; i < M; i++)
@@ -342,9 +350,10 @@ TEST(FilterReference, FilterStepResamplesAsTheReference)
             continue;
         }
         std::vector<double> w;
-        semloc::detail::weightsAndESS(
-            pf.m_particles, pf.executor(),
-            semloc::detail::minMaxLogWeights(pf.m_particles, pf.executor()), &w);
+        const ParticleList particles(pf.m_particles.begin(), pf.m_particles.end());
+        semloc::detail::weightsAndESS(particles, pf.executor(),
+                                      semloc::detail::minMaxLogWeights(particles, pf.executor()),
+                                      &w);
         mrpt::bayes::CParticleFilter::TParticleFilterOptions o;
         o.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
         o.BETA = 1.01;

@@ -4,32 +4,25 @@
  * re-initialization and injection in ParticleRecovery.cpp. */
 #include <mrpt/core/exceptions.h>
 #include <mrpt/obs/CActionCollection.h>
-#include <mrpt/obs/CActionRobotMovement2D.h>
-#include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/poses/CPose3D.h>
-#include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/ParallelExecutor.h>
+#include <semloc/filter/ParticleMotionModel.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <optional>
 
-#include "filter/DetectorOutage.h"
 #include "filter/Estimate.h"
-#include "filter/HeadingDrift.h"
 #include "filter/KldResampling.h"
-#include "filter/MotionSampling.h"
-#include "filter/ParticleRuns.h"
+#include "filter/ParticleStore.h"
+#include "filter/RecoveryPolicy.h"
 #include "filter/Resampling.h"
 #include "filter/Weights.h"
 
 namespace semloc
 {
-using detail::forEachRun;
 using detail::WeightRange;
 using mrpt::math::TPose2D;
 
@@ -50,61 +43,48 @@ struct alignas(64) PassPartial
  *  extremes and the counters per thread (exact whatever the ranges). */
 struct UpdatePass
 {
-    detail::ParticleList& particles;
+    detail::ParticleStore& store;
     TPose2D* poses;
     double* logLik;
-    const detail::GaussianIncrementDrawer* drawer;
-    uint64_t key;
-    const detail::DriftStep* drift;  ///< the heading drift, or nullptr
+    const ParticleMotionModel* motion;  ///< the prediction's, or nullptr
     const SensoryFrameLikelihood* likelihood;
-    const FreeSpaceSampler* prior;    ///< the free-space prior's, or nullptr
-    const detail::OutageMix* outage;  ///< the outage mixture, or nullptr
-    double* outageLik;                ///< its per-particle terms (with outage)
+    const FreeSpaceSampler* prior;  ///< the free-space prior's, or nullptr
     double pow;
     std::vector<PassPartial>& partial;
 
-    /** Moves the particles [b, e) (with a drawer) and copies their poses to `poses`. */
+    /** Copies the poses of particles [b, e) to `poses` and moves them (with a motion
+     *  model). */
     void movePoses(size_t b, size_t e) const
     {
-        forEachRun(particles, b, e,
-                   [&](auto* p, size_t i0, size_t n)
-                   {
-                       TPose2D* out = poses + i0;
-                       if (drawer)
-                       {
-                           detail::movePoses(*drawer, key, p, i0, n, out, drift);
-                           return;
-                       }
-                       for (size_t k = 0; k < n; k++)
-                       {
-                           out[k] = p[k].d;
-                       }
-                   });
+        detail::Particle* p = store.particles.data();
+        for (size_t i = b; i < e; i++)
+        {
+            poses[i] = p[i].d;
+        }
+        if (motion)
+        {
+            motion->move(b, e - b, poses + b, store.dim() ? store.state(b) : nullptr);
+            for (size_t i = b; i < e; i++)
+            {
+                p[i].d = poses[i];
+            }
+        }
     }
 
     /** Weights the particles [b, e) by their likelihoods and the prior. */
     void weigh(size_t b, size_t e, size_t thread) const
     {
         PassPartial& acc = partial[thread];
-        acc.nonfinite +=
-            likelihood->evaluateChunk(poses, b, e, logLik, outage ? outageLik : nullptr);
-        if (outage)
-        {
-            detail::DetectorOutage::apply(*outage, logLik + b, outageLik + b, e - b);
-        }
+        acc.nonfinite += likelihood->evaluateChunk(poses, b, e, logLik);
         if (prior)
         {
             acc.outside += prior->excludeOutside(poses + b, e - b, logLik + b);
         }
         // Even and odd particles' extremes apart: two dependency chains.
         WeightRange even = acc.range, odd;
-        forEachRun(particles, b, e,
-                   [&](auto* p, size_t i0, size_t n)
-                   {
-                       const double* l = logLik + i0;
-                       detail::addExtremes(n, even, odd,
-                                           [&](size_t k) { return p[k].log_w += l[k] * pow; });
-                   });
+        detail::Particle* p = store.particles.data() + b;
+        const double* l = logLik + b;
+        detail::addExtremes(e - b, even, odd, [&](size_t k) { return p[k].log_w += l[k] * pow; });
         even.add(odd);
         acc.range = even;
     }
@@ -113,7 +93,7 @@ struct UpdatePass
     void run(ParallelExecutor& ex, bool move, bool weight) const
     {
         ex.forEachRange(
-            particles.size(),
+            store.particles.size(),
             [&](size_t b, size_t e, size_t thread)
             {
                 if (move)
@@ -133,10 +113,11 @@ struct UpdatePass
 CParallelMonteCarloLocalization2D::CParallelMonteCarloLocalization2D(size_t M)
     : CMonteCarloLocalization2D(M),
       m_executor(std::make_shared<ParallelExecutor>(1)),
-      m_systematic(std::make_unique<detail::SystematicResampling>()),
-      m_outage(std::make_unique<detail::DetectorOutage>()),
-      m_drift(std::make_unique<detail::HeadingDrift>()),
-      m_driftStep(std::make_unique<detail::DriftStep>())
+      m_recovery(std::make_unique<detail::RecoveryPolicy>()),
+      m_odometry(std::make_shared<OdometryMotionModel>()),
+      m_motion(m_odometry),
+      m_store(std::make_unique<detail::ParticleStore>()),
+      m_systematic(std::make_unique<detail::SystematicResampling>())
 {
     setLoggerName("CParallelMonteCarloLocalization2D");
 }
@@ -152,22 +133,36 @@ void CParallelMonteCarloLocalization2D::setExecutor(std::shared_ptr<ParallelExec
 void CParallelMonteCarloLocalization2D::setFreeSpaceSampler(
     std::shared_ptr<const FreeSpaceSampler> sampler)
 {
-    m_sampler = std::move(sampler);
+    m_recovery->setSampler(std::move(sampler));
 }
 
 void CParallelMonteCarloLocalization2D::setRecoveryOptions(const AugmentedMCL::TOptions& o)
 {
-    m_augmented = AugmentedMCL(o);
+    m_recovery->setOptions(o);
+}
+
+const CParallelMonteCarloLocalization2D::TRecoveryStats&
+CParallelMonteCarloLocalization2D::recoveryStats() const
+{
+    return m_recovery->stats();
+}
+
+double CParallelMonteCarloLocalization2D::lastInjectionProbability() const
+{
+    return m_recovery->lastInjectionProbability();
 }
 
 double CParallelMonteCarloLocalization2D::detectorOutageProbability() const
 {
-    return m_outage->probability();
+    return m_likelihood ? m_likelihood->detectorOutageProbability() : 0;
 }
 
 void CParallelMonteCarloLocalization2D::resetDetectorOutage()
 {
-    m_outage->reset();
+    if (m_likelihood)
+    {
+        m_likelihood->resetState();
+    }
 }
 
 SensoryFrameLikelihood::TStats CParallelMonteCarloLocalization2D::likelihoodStats() const
@@ -188,16 +183,17 @@ void CParallelMonteCarloLocalization2D::prepareLikelihood()
 
 void CParallelMonteCarloLocalization2D::resetFromSampler(size_t particleCount)
 {
-    ASSERTMSG_(m_sampler, "resetFromSampler: no FreeSpaceSampler was set");
+    const auto& sampler = m_recovery->sampler();
+    ASSERTMSG_(sampler, "resetFromSampler: no FreeSpaceSampler was set");
     ASSERT_(particleCount > 0);
     m_particles.resize(particleCount);
     auto& rng = mrpt::random::getRandomGenerator();
     for (auto& p : m_particles)
     {
-        p.d = m_sampler->draw(rng);
+        p.d = sampler->draw(rng);
         p.log_w = 0;
     }
-    resetHeadingDrift();
+    resetMotionState();
 }
 
 void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal(
@@ -211,59 +207,50 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
                    "CParallelMonteCarloLocalization2D needs options.metricMap (one map for "
                    "every particle)");
     }
-    std::optional<detail::GaussianIncrementDrawer> drawer;
-    uint64_t key = 0;
-    m_stepDrift = false;
-    if (actions && !mrptKld(PF_options))
+    auto& rng = mrpt::random::getRandomGenerator();
+    if (actions && mrptKld(PF_options))
     {
-        prepareDrift(*actions, sf);
+        // KLD sampling: MRPT's own implementation (prediction only, no frame).
+        ASSERTMSG_(m_motion == m_odometry && m_store->dim() == 0,
+                   "a motion model with a state of its particles (heading drift, a model of "
+                   "one's own) needs the filter's prediction: adaptiveSampleSize = 1 only with "
+                   "KLD at the resampling steps (setKldAtResampling)");
+        CMonteCarloLocalization2D::prediction_and_update_pfStandardProposal(actions, nullptr,
+                                                                            PF_options);
     }
-    if (actions)
+    m_store->syncFrom(m_particles, *m_motion, rng);
+    const bool move = actions && !mrptKld(PF_options);
+    if (move)
     {
-        if (mrptKld(PF_options))
-        {
-            // KLD sampling: MRPT's own implementation (prediction only, no frame).
-            CMonteCarloLocalization2D::prediction_and_update_pfStandardProposal(actions, nullptr,
-                                                                                PF_options);
-        }
-        else if (const auto gauss = detail::gaussianMotion(*actions))
-        {
-            // One key per step from MRPT's generator (the seed decides it); each particle's
-            // numbers from (key, index), drawn and applied on every thread.
-            auto& rng = mrpt::random::getRandomGenerator();
-            key = (static_cast<uint64_t>(rng.drawUniform32bit()) << 32) | rng.drawUniform32bit();
-            drawer.emplace(*gauss);
-        }
-        else
-        {
-            predictOtherMotion(*actions);
-        }
+        m_motion->prepare({*actions, sf, m_store->particles.size(), m_store->states()}, rng);
     }
     WeightRange range;
-    const bool rangeKnown =
-        (drawer || sf) && predictAndUpdate(drawer ? &*drawer : nullptr, key, sf, PF_options, range);
+    const bool rangeKnown = (move || sf) && predictAndUpdate(move, sf, PF_options, range);
     // CParticleFilter::executeOn's resampling test, done here where the weights are at hand:
     // executeOn then finds equal weights (its normalizeWeights() and ESS() are a max/min
     // pass) and does not resample again.
+    auto& particles = m_store->particles;
     m_essBeforeResampling = detail::weightsAndESS(
-        m_particles, *m_executor,
-        rangeKnown ? range : detail::minMaxLogWeights(m_particles, *m_executor), &m_linW);
+        particles, *m_executor,
+        rangeKnown ? range : detail::minMaxLogWeights(particles, *m_executor), &m_linW);
     if (!mrptKld(PF_options) && m_essBeforeResampling < PF_options.BETA)
     {
         resampleIfDegenerate(PF_options);
     }
+    m_store->syncTo(m_particles);
     MRPT_END
 }
 
 void CParallelMonteCarloLocalization2D::resampleIfDegenerate(
     const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o)
 {
+    auto& particles = m_store->particles;
     if (o.adaptiveSampleSize)  // KLD at the resampling steps (MRPT's KLD never gets here)
     {
         auto& rng = mrpt::random::getRandomGenerator();
         const double u = rng.drawUniform(0.0, 1.0);
-        detail::kldResample(m_linW, m_particles, options.KLD_params, u, rng, m_resampleIdx);
-        performSubstitution(m_resampleIdx);
+        detail::kldResample(m_linW, particles, options.KLD_params, u, rng, m_resampleIdx);
+        substituteStore(m_resampleIdx);
         return;
     }
     // Either branch takes the random numbers MRPT's performResampling() would, at the same
@@ -272,212 +259,29 @@ void CParallelMonteCarloLocalization2D::resampleIfDegenerate(
     {
         m_systematic->setWeights(m_linW);
         const double u = mrpt::random::getRandomGenerator().drawUniform(0.0, 1.0);
-        const auto carried = carriedDrift(m_particles.size());
-        m_systematic->resample(u, m_particles, m_resampled, *m_executor,
-                               carried ? &*carried : nullptr);
-        swapResampled(carried.has_value());
+        m_systematic->resample(u, particles, m_store->resampled, *m_executor,
+                               m_store->carried(particles.size()));
+        m_store->swapResampled();
         return;
     }
-    std::vector<double> logW(m_particles.size());
+    resampleStore(o);
+}
+
+void CParallelMonteCarloLocalization2D::resampleStore(
+    const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o)
+{
+    // MRPT's performResampling(): the log-weights, computeResampling(), the substitution.
+    auto& particles = m_store->particles;
+    std::vector<double> logW(particles.size());
     for (size_t i = 0; i < logW.size(); i++)
     {
-        logW[i] = m_particles[i].log_w;
+        logW[i] = particles[i].log_w;
     }
     computeResampling(o.resamplingMethod, logW, m_resampleIdx);
-    performSubstitution(m_resampleIdx);
+    substituteStore(m_resampleIdx);
 }
 
-void CParallelMonteCarloLocalization2D::predictOtherMotion(
-    const mrpt::obs::CActionCollection& actions)
-{
-    // Any other motion model (MRPT's Thrun particles, 3D actions): MRPT's sampler and its
-    // 3D composition, as PF_SLAM_implementation_pfStandardProposal.
-    const size_t M = m_particles.size();
-    const auto mov2D = actions.getBestMovementEstimation();
-    if (mov2D)
-    {
-        ASSERT_(mov2D->poseChange);
-        m_movementDrawer.setPosePDF(*mov2D->poseChange);
-    }
-    else if (const auto mov3D = actions.getActionByClass<mrpt::obs::CActionRobotMovement3D>())
-    {
-        m_movementDrawer.setPosePDF(mov3D->poseChange);
-    }
-    else
-    {
-        THROW_EXCEPTION(
-            "Action list does not contain any CActionRobotMovement2D or CActionRobotMovement3D "
-            "object!");
-    }
-    std::vector<mrpt::poses::CPose3D> incr(M);
-    auto& rng = mrpt::random::getRandomGenerator();
-    for (size_t i = 0; i < M; i++)
-    {
-        m_movementDrawer.drawSample(incr[i]);
-        if (m_stepDrift)
-        {
-            // The heading drift (prepareDrift): the rate off the increment's yaw, then its walk.
-            double& rate = m_driftStep->rates[i];
-            incr[i].setYawPitchRoll(incr[i].yaw() - rate * m_driftStep->dt, incr[i].pitch(),
-                                    incr[i].roll());
-            rate += m_driftStep->walk * rng.drawGaussian1D_normalized();
-        }
-    }
-    m_executor->forEachChunk(
-        M,
-        [&](size_t b, size_t e)
-        {
-            for (size_t i = b; i < e; i++)
-            {
-                const mrpt::poses::CPose3D p(mrpt::math::TPose3D(m_particles[i].d));
-                m_particles[i].d = TPose2D((p + incr[i]).asTPose());
-            }
-        });
-}
-
-bool CParallelMonteCarloLocalization2D::predictAndUpdate(
-    const detail::GaussianIncrementDrawer* drawer, uint64_t key, const mrpt::obs::CSensoryFrame* sf,
-    const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options, WeightRange& range)
-{
-    const size_t M = m_particles.size();
-    m_poses.resize(M);
-    if (!sf)
-    {
-        updateParticles(drawer, key, false, false, PF_options.powFactor);  // prediction only
-        return false;
-    }
-    ASSERTMSG_(M > 0, "the particle set is empty");
-    prepareLikelihood();
-    const bool chunkwise = m_likelihood->plan(*sf, *m_executor);
-    // Augmented MCL averages the likelihood of measurements: a frame that measures nothing
-    // (an odometry-only step of an imported log) would count as a perfect fit.
-    const auto& ro = m_augmented.options();
-    const bool recovery =
-        ro.enabled() && m_likelihood->measures() &&
-        (ro.trigger != RecoveryTrigger::Evidence || m_likelihood->withoutObjects().detections > 0);
-    const double lsePrior = recovery ? detail::logSumExpWeights(m_particles, *m_executor) : 0;
-    m_logLik.resize(M);
-    std::optional<detail::OutageMix> mix;
-    if (m_likelihood->outageTerms().present)
-    {
-        mix = m_outage->predict(m_likelihood->outageTerms());
-        m_outageLik.resize(mix ? M : 0);
-    }
-    range =
-        updateParticles(drawer, key, true, chunkwise, PF_options.powFactor, mix ? &*mix : nullptr);
-    if (mix)
-    {
-        m_outage->update(m_particles, m_outageLik.data());
-    }
-    if (!std::isfinite(range.max))
-    {
-        // Every weight vanished: nothing left to normalize. Start over from the free space.
-        reinitialize(*sf);
-        range = WeightRange{0, 0};
-        return true;
-    }
-    m_lastPInject = 0;
-    if (recovery)
-    {
-        // w_avg = sum_i w_prior_i p(z | x_i) / sum_i w_prior_i (§8.3.5, with weights).
-        const double logWAvg = detail::logSumExpWeights(m_particles, *m_executor) - lsePrior;
-        const double pInject =
-            ro.trigger == RecoveryTrigger::Evidence
-                ? m_augmented.updateEvidence(logWAvg - PF_options.powFactor *
-                                                           m_likelihood->withoutObjects().logLik)
-                : m_augmented.update(logWAvg);
-        m_lastPInject = pInject;
-        if (pInject > 0 && m_sampler)
-        {
-            injectRandomParticles(pInject, *sf, PF_options);
-            return false;  // resampled and partly replaced: scan the weights again
-        }
-    }
-    return true;
-}
-
-WeightRange CParallelMonteCarloLocalization2D::updateParticles(
-    const detail::GaussianIncrementDrawer* drawer, uint64_t key, bool weigh, bool chunkwise,
-    double powFactor, const detail::OutageMix* outage)
-{
-    // One pass per particle range: the prediction (or the poses' copy), the likelihood and
-    // the weight update. A likelihood that needs every pose first (generic MRPT maps) takes
-    // a pass of its own after the prediction. Without `weigh` (no frame), the prediction
-    // alone.
-    ParallelExecutor& ex = *m_executor;
-    std::vector<PassPartial> partial(ex.threads());
-    const UpdatePass pass{m_particles,
-                          m_poses.data(),
-                          m_logLik.data(),
-                          drawer,
-                          key,
-                          m_stepDrift ? m_driftStep.get() : nullptr,
-                          m_likelihood.get(),
-                          m_freeSpacePrior ? m_sampler.get() : nullptr,
-                          outage,
-                          m_outageLik.data(),
-                          powFactor,
-                          partial};
-    if (!weigh)
-    {
-        pass.run(ex, true, false);
-        return {};
-    }
-    if (!chunkwise)
-    {
-        pass.run(ex, true, false);
-        m_likelihood->preEvaluate(m_poses.data(), m_particles.size());
-    }
-    pass.run(ex, chunkwise, true);
-
-    WeightRange range;
-    size_t nonfinite = 0;
-    for (const PassPartial& p : partial)
-    {
-        range.add(p.range);
-        m_recoveryStats.outside_free_space += p.outside;
-        nonfinite += p.nonfinite;
-    }
-    m_likelihood->addNonfinite(nonfinite);
-    return range;
-}
-
-double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w)
-{
-    if (m_particles.empty())
-    {
-        return 0;
-    }
-    const WeightRange r = detail::minMaxLogWeights(m_particles, *m_executor);
-    // MRPT's loop starts from the first weight: a NaN there stays (std::max/min never pick
-    // a NaN later on).
-    const double first = m_particles[0].log_w;
-    const double maxW = std::isnan(first) ? first : r.max;
-    const double minW = std::isnan(first) ? first : r.min;
-    if (maxW == 0)
-    {
-        // Already normalized (e.g. just resampled): subtracting 0 changes nothing.
-        if (out_max_log_w)
-        {
-            *out_max_log_w = 0;
-        }
-        return std::exp(-minW);
-    }
-    detail::shiftLogWeights(m_particles, *m_executor, maxW);
-    if (out_max_log_w)
-    {
-        *out_max_log_w = maxW;
-    }
-    return std::exp(maxW - minW);
-}
-
-double CParallelMonteCarloLocalization2D::ESS() const
-{
-    return detail::weightsAndESS(m_particles, *m_executor,
-                                 detail::minMaxLogWeights(m_particles, *m_executor), nullptr);
-}
-
-void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<size_t>& indx)
+void CParallelMonteCarloLocalization2D::substituteStore(const std::vector<size_t>& indx)
 {
     // MRPT sorts the indices first (the particle order after resampling); every resampling
     // method of computeResampling() already returns them sorted, so sort only if needed.
@@ -489,25 +293,176 @@ void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<si
         std::sort(sorted.begin(), sorted.end());
         idx = &sorted;
     }
-    const auto carried = carriedDrift(idx->size());
-    detail::substituteParticles(*idx, m_particles, m_resampled, *m_executor,
-                                carried ? &*carried : nullptr);
-    swapResampled(carried.has_value());
+    detail::substituteParticles(*idx, m_store->particles, m_store->resampled, *m_executor,
+                                m_store->carried(idx->size()));
+    m_store->swapResampled();
+}
+
+bool CParallelMonteCarloLocalization2D::predictAndUpdate(
+    bool move, const mrpt::obs::CSensoryFrame* sf,
+    const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options, WeightRange& range)
+{
+    auto& particles = m_store->particles;
+    const size_t M = particles.size();
+    m_poses.resize(M);
+    if (!sf)
+    {
+        updateParticles(move, false, false, PF_options.powFactor);  // prediction only
+        return false;
+    }
+    ASSERTMSG_(M > 0, "the particle set is empty");
+    prepareLikelihood();
+    const bool chunkwise = m_likelihood->plan(*sf, *m_executor);
+    const bool recovery = m_recovery->watches(*m_likelihood);
+    const double lsePrior = recovery ? detail::logSumExpWeights(particles, *m_executor) : 0;
+    m_logLik.resize(M);
+    m_likelihood->beginUpdate(M);
+    range = updateParticles(move, true, chunkwise, PF_options.powFactor);
+    if (m_likelihood->updatesState())
+    {
+        for (size_t i = 0; i < M; i++)
+        {
+            m_logLik[i] = particles[i].log_w;
+        }
+    }
+    m_likelihood->endUpdate(m_logLik.data(), M);
+    if (!std::isfinite(range.max))
+    {
+        // Every weight vanished: nothing left to normalize. Start over from the free space.
+        reinitialize(*sf);
+        range = WeightRange{0, 0};
+        return true;
+    }
+    if (!recovery)
+    {
+        m_recovery->noTrigger();
+        return true;
+    }
+    // w_avg = sum_i w_prior_i p(z | x_i) / sum_i w_prior_i (§8.3.5, with weights).
+    const double logWAvg = detail::logSumExpWeights(particles, *m_executor) - lsePrior;
+    const double pInject = m_recovery->trigger(logWAvg, *m_likelihood, PF_options.powFactor);
+    if (pInject > 0)
+    {
+        // Table 8.3: the set resampled, then each particle replaced with probability p_inject.
+        detail::shiftLogWeights(particles, *m_executor,
+                                detail::minMaxLogWeights(particles, *m_executor).max);
+        resampleStore(PF_options);
+        m_recovery->inject(*m_store, pInject, *sf, options.metricMap.get());
+        return false;  // resampled and partly replaced: scan the weights again
+    }
+    return true;
+}
+
+void CParallelMonteCarloLocalization2D::reinitialize(const mrpt::obs::CSensoryFrame& sf)
+{
+    const auto& sampler = m_recovery->sampler();
+    MRPT_LOG_WARN_STREAM("every particle weight is zero after the update: re-initializing "
+                         << m_store->particles.size() << " particles over the "
+                         << (sampler ? sampler->description() : "same poses"));
+    m_recovery->reinitialize(*m_store, sf, options.metricMap.get());
+}
+
+WeightRange CParallelMonteCarloLocalization2D::updateParticles(bool move, bool weigh,
+                                                               bool chunkwise, double powFactor)
+{
+    // One pass per particle range: the prediction (or the poses' copy), the likelihood and
+    // the weight update. A likelihood that needs every pose first (generic MRPT maps) takes
+    // a pass of its own after the prediction. Without `weigh` (no frame), the prediction
+    // alone.
+    ParallelExecutor& ex = *m_executor;
+    std::vector<PassPartial> partial(ex.threads());
+    const UpdatePass pass{
+        *m_store,           m_poses.data(),
+        m_logLik.data(),    move ? m_motion.get() : nullptr,
+        m_likelihood.get(), m_freeSpacePrior ? m_recovery->sampler().get() : nullptr,
+        powFactor,          partial};
+    if (!weigh)
+    {
+        pass.run(ex, true, false);
+        return {};
+    }
+    if (!chunkwise)
+    {
+        pass.run(ex, true, false);
+        m_likelihood->preEvaluate(m_poses.data(), m_store->particles.size());
+    }
+    pass.run(ex, chunkwise, true);
+
+    WeightRange range;
+    size_t nonfinite = 0, outside = 0;
+    for (const PassPartial& p : partial)
+    {
+        range.add(p.range);
+        outside += p.outside;
+        nonfinite += p.nonfinite;
+    }
+    m_recovery->countOutside(outside);
+    m_likelihood->addNonfinite(nonfinite);
+    return range;
+}
+
+double CParallelMonteCarloLocalization2D::normalizeWeights(double* out_max_log_w)
+{
+    if (m_particles.empty())
+    {
+        return 0;
+    }
+    // MRPT's loop starts from the first weight: a NaN there stays (std::max/min never pick
+    // a NaN later on).
+    WeightRange r;
+    for (const auto& p : m_particles)
+    {
+        r.add(p.log_w);
+    }
+    const double first = m_particles[0].log_w;
+    const double maxW = std::isnan(first) ? first : r.max;
+    const double minW = std::isnan(first) ? first : r.min;
+    if (out_max_log_w)
+    {
+        *out_max_log_w = maxW == 0 ? 0 : maxW;
+    }
+    if (maxW != 0)  // else already normalized (e.g. just resampled): nothing to subtract
+    {
+        for (auto& p : m_particles)
+        {
+            p.log_w -= maxW;
+        }
+    }
+    return std::exp(maxW - minW);
+}
+
+double CParallelMonteCarloLocalization2D::ESS() const
+{
+    thread_local detail::ParticleList copy;  // this thread's calls' buffer
+    copy.assign(m_particles.begin(), m_particles.end());
+    return detail::weightsAndESS(copy, *m_executor, detail::minMaxLogWeights(copy, *m_executor),
+                                 nullptr);
+}
+
+void CParallelMonteCarloLocalization2D::performSubstitution(const std::vector<size_t>& indx)
+{
+    m_store->syncFrom(m_particles, *m_motion, mrpt::random::getRandomGenerator());
+    substituteStore(indx);
+    m_store->syncTo(m_particles);
 }
 
 void CParallelMonteCarloLocalization2D::getMean(mrpt::poses::CPose2D& mean) const
 {
-    thread_local std::vector<double> w;  // this thread's calls' buffer
+    thread_local std::vector<double> w;  // this thread's calls' buffers
+    thread_local detail::ParticleList copy;
+    copy.assign(m_particles.begin(), m_particles.end());
     double weightSum = 0;
-    mean = detail::meanAndWeights(m_particles, *m_executor, w, weightSum);
+    mean = detail::meanAndWeights(copy, *m_executor, w, weightSum);
 }
 
 std::tuple<CParallelMonteCarloLocalization2D::cov_mat_t,
            CParallelMonteCarloLocalization2D::type_value>
 CParallelMonteCarloLocalization2D::getCovarianceAndMean() const
 {
-    thread_local std::vector<double> w;  // this thread's calls' buffer
-    return detail::covarianceAndMean(m_particles, *m_executor, w);
+    thread_local std::vector<double> w;  // this thread's calls' buffers
+    thread_local detail::ParticleList copy;
+    copy.assign(m_particles.begin(), m_particles.end());
+    return detail::covarianceAndMean(copy, *m_executor, w);
 }
 
 std::tuple<CParallelMonteCarloLocalization2D::cov_mat_t,
@@ -515,9 +470,11 @@ std::tuple<CParallelMonteCarloLocalization2D::cov_mat_t,
            CParallelMonteCarloLocalization2D::type_value>
 CParallelMonteCarloLocalization2D::covariancesAndMean() const
 {
-    thread_local std::vector<double> w;  // this thread's calls' buffer
+    thread_local std::vector<double> w;  // this thread's calls' buffers
+    thread_local detail::ParticleList copy;
+    copy.assign(m_particles.begin(), m_particles.end());
     cov_mat_t poseCov;
-    auto [cov, mean] = detail::covarianceAndMean(m_particles, *m_executor, w, &poseCov);
+    auto [cov, mean] = detail::covarianceAndMean(copy, *m_executor, w, &poseCov);
     return {cov, poseCov, mean};
 }
 

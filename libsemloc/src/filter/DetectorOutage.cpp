@@ -9,7 +9,7 @@
 
 namespace semloc::detail
 {
-std::optional<OutageMix> DetectorOutage::predict(const SensoryFrameLikelihood::TOutageTerms& terms)
+bool DetectorOutage::predict(const SensoryFrameLikelihood::TOutageTerms& terms)
 {
     if (terms.t == INVALID_TIMESTAMP)
     {
@@ -34,11 +34,12 @@ std::optional<OutageMix> DetectorOutage::predict(const SensoryFrameLikelihood::T
     if (!terms.silent)
     {
         m_p = 0;  // a detection: the detector is on
-        return std::nullopt;
+        return false;
     }
     // Never exactly 0 or 1: both hypotheses stay open.
     const double p = std::clamp(m_p, 1e-12, 1 - 1e-12);
-    return OutageMix{std::log(p), std::log1p(-p)};
+    m_mix = OutageMix{std::log(p), std::log1p(-p)};
+    return true;
 }
 
 void DetectorOutage::apply(const OutageMix& mix, double* logLik, double* outage, size_t n)
@@ -58,24 +59,23 @@ void DetectorOutage::apply(const OutageMix& mix, double* logLik, double* outage,
     }
 }
 
-void DetectorOutage::update(const ParticleList& particles, const double* outage)
+void DetectorOutage::update(const double* logW, const double* outage, size_t n)
 {
     double maxW = -std::numeric_limits<double>::infinity();
-    for (const auto& p : particles)
+    for (size_t i = 0; i < n; i++)
     {
-        maxW = std::max(maxW, p.log_w);
+        maxW = std::max(maxW, logW[i]);
     }
     if (!std::isfinite(maxW))
     {
         return;  // no weight left: the prediction stands
     }
     double sumW = 0, sumOut = 0;
-    size_t i = 0;
-    for (const auto& p : particles)
+    for (size_t i = 0; i < n; i++)
     {
-        const double w = std::exp(p.log_w - maxW);
+        const double w = std::exp(logW[i] - maxW);
         sumW += w;
-        sumOut += w * std::exp(outage[i++]);
+        sumOut += w * std::exp(outage[i]);
     }
     m_p = std::clamp(sumOut / sumW, 0.0, 1.0);
 }

@@ -7,8 +7,6 @@
 #include <cstddef>
 #include <optional>
 
-#include "filter/ParticleRuns.h"
-
 namespace semloc::detail
 {
 /** The outage mixture's log-weights at a silent frame: log pi and log(1 - pi). */
@@ -39,17 +37,19 @@ public:
     /** Forgets the state (the next frame starts from the chain's stationary probability). */
     void reset() { m_known = false; }
 
-    /** The mixture of the frame of `terms` (present) if it is silent: the last probability
-     *  carried to the frame's time. A frame with a detection sets the probability to 0 and
-     *  has no mixture. Throws for a frame without a timestamp. */
-    std::optional<OutageMix> predict(const SensoryFrameLikelihood::TOutageTerms& terms);
+    /** True, with mix() set, when the frame of `terms` (present) is silent: the mixture of
+     *  the last probability carried to the frame's time. A frame with a detection sets the
+     *  probability to 0 and has no mixture (false). Throws for a frame without a timestamp. */
+    bool predict(const SensoryFrameLikelihood::TOutageTerms& terms);
+    /** The mixture of the last predict() that returned true. */
+    const OutageMix* mix() const { return &m_mix; }
 
     /** In place for n particles: logLik[i] (containing the outage terms' sum outage[i]) gets
      *  the mixture instead of outage[i]; outage[i] becomes log P(out | z, x_i). */
     static void apply(const OutageMix& mix, double* logLik, double* outage, size_t n);
 
-    /** The posterior from the particles' updated log-weights and apply()'s outage[]. */
-    void update(const ParticleList& particles, const double* outage);
+    /** The posterior from the n particles' updated log-weights and apply()'s outage[]. */
+    void update(const double* logW, const double* outage, size_t n);
 
     /** The probability of an outage after the last frame (its prediction if that frame
      *  left no weight). */
@@ -58,6 +58,7 @@ public:
 private:
     bool m_known = false;
     double m_p = 0;
+    OutageMix m_mix;
     mrpt::Clock::time_point m_t{};
 };
 }  // namespace semloc::detail

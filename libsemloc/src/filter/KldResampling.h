@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "filter/ParticleRuns.h"
+#include "filter/ParticleStore.h"
 
 namespace mrpt::random
 {

@@ -391,7 +391,7 @@ void Localizer::reset()
             break;
         }
     }
-    m_pdf->resetHeadingDrift();
+    m_pdf->resetMotionState();
     m_odometryDelay = OdometryDelay(o.motion_model.odometry_delay_s);
     m_last = TStepInfo();
     m_last.particles = m_pdf->size();
@@ -479,6 +479,8 @@ void Localizer::seedFromDetections(const mrpt::obs::CActionCollection& action,
         }
     }
     m_initializedFromDetections = drawn;
+    // The seeded particles are the initial cloud: they keep the states drawn with it.
+    m_pdf->adoptParticles();
 }
 
 void Localizer::setOdometry(const mrpt::obs::CObservationOdometry& odo)

@@ -86,8 +86,9 @@ inline mrpt::math::TPose2D compose(const mrpt::math::TPose2D& p, double s, doubl
     return {xy[0], xy[1], wrapToPiExact(p.phi + u.phi)};
 }
 
-/** The heading drift of a prediction step: the particles' rates [rad/s] (HeadingDrift), the
- *  step's seconds and the std of a rate's change over them [rad/s]. */
+/** The heading drift of a prediction step: the particles' rates [rad/s] (rates[k] the rate
+ *  of the k-th particle moved), the step's seconds and the std of a rate's change over them
+ *  [rad/s]. */
 struct DriftStep
 {
     double* rates;
@@ -95,29 +96,28 @@ struct DriftStep
     double walk;
 };
 
-/** Moves the n particles p[0..n) (indices i0...) by their increments drawn from `drawer`
- *  with step key `key`, and copies the new poses to out. With `drift`, each increment's
- *  heading loses its particle's rate times dt, and the rate walks by a fourth normal of the
- *  particle's stream. The headings' sin and cos two particles at a time (fastSinCos2: the
- *  same bits as one at a time). */
-template <typename Drawer, typename Particle>
-inline void movePoses(const Drawer& drawer, uint64_t key, Particle* p, size_t i0, size_t n,
-                      mrpt::math::TPose2D* out, const DriftStep* drift = nullptr)
+/** Moves the n poses poses[0..n) (particles i0...) in place by their increments drawn from
+ *  `drawer` with step key `key`. With `drift`, each increment's heading loses its particle's
+ *  rate times dt, and the rate walks by a fourth normal of the particle's stream. The
+ *  headings' sin and cos two particles at a time (fastSinCos2: the same bits as one at a
+ *  time). */
+template <typename Drawer>
+inline void movePoses(const Drawer& drawer, uint64_t key, mrpt::math::TPose2D* poses, size_t i0,
+                      size_t n, const DriftStep* drift = nullptr)
 {
     forEachSinCos(
-        n, [&](size_t k) { return p[k].d.phi; },
+        n, [&](size_t k) { return poses[k].phi; },
         [&](size_t k, double s, double c)
         {
             ParticleNormals normals(key, i0 + k);
             mrpt::math::TPose2D u = drawer.draw(normals);
             if (drift)
             {
-                double& rate = drift->rates[i0 + k];
+                double& rate = drift->rates[k];
                 u.phi -= rate * drift->dt;
                 rate += drift->walk * normals();
             }
-            p[k].d = compose(p[k].d, s, c, u);
-            out[k] = p[k].d;
+            poses[k] = compose(poses[k], s, c, u);
         });
 }
 }  // namespace semloc::detail

@@ -105,7 +105,7 @@ void SystematicResampling::copyBlock(size_t blk, double u, double step, const Pa
                        dst[k].log_w = 0;  // equal weights after resampling
                        if (carried)
                        {
-                           carried->to[d0 + k] = carried->from[j];
+                           carried->copy(j, d0 + k);
                        }
                    }
                });
@@ -146,7 +146,7 @@ void substituteParticles(const std::vector<size_t>& idx, const ParticleList& fro
                 dst->log_w = 0;  // equal weights after resampling
                 if (carried)
                 {
-                    carried->to[i] = carried->from[idx[i]];
+                    carried->copy(idx[i], i);
                 }
             }
         },

@@ -5,7 +5,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "filter/ParticleRuns.h"
+#include "filter/ParticleStore.h"
 
 namespace semloc
 {
@@ -14,14 +14,6 @@ class ParallelExecutor;
 
 namespace semloc::detail
 {
-/** A value per particle that follows its particle through a resampling: from[j] belongs to
- *  the old particle j, to[k] receives the value of the particle that new particle k copies. */
-struct CarriedValues
-{
-    const double* from;
-    double* to;
-};
-
 /** Systematic resampling (Kitagawa 1996; Thrun et al., Probabilistic Robotics, Table 4.4):
  *  M equally spaced pointers t_i = (u + i) W / M, u in [0, 1), into the cumulative weights
  *  c_j = w_0 + ... + w_j (W = c_{M-1}); particle j takes the pointers in [c_{j-1}, c_j), the
@@ -42,8 +34,8 @@ public:
      *  resample()); throws unless their sum is positive. */
     void setWeights(const std::vector<double>& w);
     /** Writes the resampled particles of `from` (as many as weights) to `to`, log-weights 0,
-     *  for the uniform offset `u` in [0, 1); with `carried`, a value per particle (its
-     *  heading drift) follows its particle from carried->from to carried->to. */
+     *  for the uniform offset `u` in [0, 1); with `carried`, the values of each particle (its
+     *  motion state) follow it from carried->from to carried->to. */
     void resample(double u, const ParticleList& from, ParticleList& to, ParallelExecutor& ex,
                   const CarriedValues* carried = nullptr);
 

@@ -19,6 +19,8 @@
 #include <limits>
 #include <typeinfo>
 
+#include "filter/DetectorOutage.h"
+
 namespace semloc
 {
 using mrpt::maps::COccupancyGridMap2D;
@@ -80,6 +82,7 @@ bool isThreadSafeGrid(const COccupancyGridMap2D& g)
 }  // namespace
 
 SensoryFrameLikelihood::SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map)
+    : m_detectorOutage(std::make_unique<detail::DetectorOutage>())
 {
     if (const auto* mm = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(&map))
     {
@@ -94,6 +97,8 @@ SensoryFrameLikelihood::SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map
         m_maps.push_back(&map);
     }
 }
+
+SensoryFrameLikelihood::~SensoryFrameLikelihood() = default;
 
 SensoryFrameLikelihood::Path SensoryFrameLikelihood::choosePath(
     const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map) const
@@ -183,6 +188,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
     m_terms.clear();
     m_nSerial = 0;
     m_outage = TOutageTerms();
+    m_outageMixed = false;
     m_withoutObjects = TWithoutObjects();
     bool anyParallelGeneric = false;
     for (const auto& o : sf)
@@ -344,9 +350,11 @@ void SensoryFrameLikelihood::evaluateTerm(const Term& t, const TPose2D* poses, s
     }
 }
 
-size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, size_t e, double* out,
-                                             double* outageOut) const
+size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, size_t e,
+                                             double* out) const
 {
+    // The outage terms' sum per particle (written on disjoint chunks by the threads).
+    double* outageOut = m_outageMixed ? m_outageOut : nullptr;
     const size_t m = e - b;
     // Per-thread scratch, grown only (no allocation or clearing per chunk).
     thread_local std::vector<double> obsScratch, termScratch;
@@ -398,7 +406,44 @@ size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, siz
             firstSum = false;
         }
     }
+    if (outageOut)
+    {
+        detail::DetectorOutage::apply(*m_detectorOutage->mix(), out + b, outageOut + b, m);
+    }
     return nonfinite;
+}
+
+void SensoryFrameLikelihood::beginUpdate(size_t particles)
+{
+    m_outageMixed = false;
+    if (!m_outage.present)
+    {
+        return;
+    }
+    m_outageMixed = m_detectorOutage->predict(m_outage);
+    m_outageLik.resize(m_outageMixed ? particles : 0);
+    m_outageOut = m_outageLik.data();
+}
+
+void SensoryFrameLikelihood::endUpdate(const double* logWeights, size_t n)
+{
+    if (m_outageMixed)
+    {
+        ASSERT_EQUAL_(n, m_outageLik.size());
+        m_detectorOutage->update(logWeights, m_outageLik.data(), n);
+    }
+    m_outageMixed = false;
+}
+
+double SensoryFrameLikelihood::detectorOutageProbability() const
+{
+    return m_detectorOutage->probability();
+}
+
+void SensoryFrameLikelihood::resetState()
+{
+    m_detectorOutage->reset();
+    m_outageMixed = false;
 }
 
 void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const TPose2D* poses,

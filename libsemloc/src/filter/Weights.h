@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "filter/ParticleRuns.h"
+#include "filter/ParticleStore.h"
 
 namespace semloc
 {

@@ -8,6 +8,7 @@
 #include <semloc/filter/AugmentedMCL.h>
 #include <semloc/filter/DetectionPoseSampler.h>
 #include <semloc/filter/FreeSpaceSampler.h>
+#include <semloc/filter/ParticleMotionModel.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
 
 #include <algorithm>
@@ -22,15 +23,13 @@
 namespace semloc
 {
 class ParallelExecutor;
+class OdometryMotionModel;
+class ParticleMotionModel;
 namespace detail
 {
-class GaussianIncrementDrawer;
-class HeadingDrift;
-struct DriftStep;
-struct CarriedValues;
+class ParticleStore;
+class RecoveryPolicy;
 class SystematicResampling;
-class DetectorOutage;
-struct OutageMix;
 struct WeightRange;
 }  // namespace detail
 
@@ -39,18 +38,24 @@ struct WeightRange;
  *  mrpt::bayes::CParticleFilter::executeOn like its base class.
  *
  *  ## The step (pfStandardProposal)
- *  - Prediction, fixed sample size, Gaussian odometry (CPosePDFGaussian): one 64-bit key per
- *    step from MRPT's global generator (mrpt::random::getRandomGenerator(), so the seed
- *    decides it), then each particle's increment from its own counter-based stream
+ *  The step takes the particles from MRPT's list (m_particles, where MRPT's methods and the
+ *  filter's users read and write them between steps) into a contiguous store where each
+ *  particle also carries its motion state, works there, and gives them back at its end.
+ *  - Prediction, fixed sample size: the motion model (setMotionModel(); by default
+ *    OdometryMotionModel) prepares the step on this thread, then moves the particles on the
+ *    executor's threads. The odometry's: with Gaussian odometry (CPosePDFGaussian) one 64-bit
+ *    key per step from MRPT's global generator (mrpt::random::getRandomGenerator(), so the
+ *    seed decides it), then each particle's increment from its own counter-based stream
  *    (splitmix64 of key and particle index, ziggurat normals, MRPT's CPoseRandomSampler
- *    transform mean + Z sqrt(D) n), drawn and composed (2D) on the executor's threads.
- *    Other motion models (Thrun's particles, 3D actions): MRPT's sampler on this thread.
+ *    transform mean + Z sqrt(D) n), composed in 2D; other odometry (Thrun's particles, 3D
+ *    actions): MRPT's sampler on this thread, composed on the executor's threads.
  *  - Prediction, adaptive sample size (KLD, `adaptiveSampleSize = 1`): MRPT's own sequential
  *    implementation, which draws a new set from the weights at every step; with
  *    setKldAtResampling() the Gaussian prediction above instead, the sample size changing
  *    only at the resampling steps (see "Resampling").
  *  - Update: every particle's log-likelihood on the executor's threads
- *    (SensoryFrameLikelihood: MRPT's value, its fast paths), added to the log-weight times
+ *    (SensoryFrameLikelihood: MRPT's value, its fast paths, and the sensor models' state
+ *    from frame to frame: the detector's outages), added to the log-weight times
  *    `powFactor`, exactly as MRPT.
  *  The other algorithms (pfAuxiliaryPFStandard, pfAuxiliaryPFOptimal) run MRPT's code
  *  unchanged, sequential and without recovery.
@@ -72,6 +77,7 @@ struct WeightRange;
  *  frame's detections).
  *
  *  ## Recovery (off by default)
+ *  A policy of its own (detail::RecoveryPolicy) decides and draws; the step resamples.
  *  Augmented MCL (AugmentedMCL): when p_inject > 0 the particles are resampled at once
  *  (`resamplingMethod`) and each is replaced, with probability p_inject, by a random pose:
  *  with probability `from_detections` one consistent with a detection of the frame's
@@ -81,7 +87,9 @@ struct WeightRange;
  *  Uniform injection over a 50 x 50 m map almost never lands within a metre and a few degrees
  *  of the truth; a detection of an object at range r leaves a circle of radius r per
  *  candidate object, so after a kidnapping some injected particles start near the truth.
- *  An injected particle's log-weight is log(`injected_weight`), a resampled one's 0.
+ *  An injected particle's log-weight is log(`injected_weight`), a resampled one's 0. A
+ *  re-initialized or injected particle keeps its motion state (e.g. its heading drift rate:
+ *  the odometry's, not the lost pose's).
  *  All draws come from MRPT's global generator on the calling thread: deterministic, the
  *  same for any thread count.
  *
@@ -147,32 +155,48 @@ public:
     /** With `adaptiveSampleSize = 1`: KLD-sampling at the resampling steps (true) instead of
      *  MRPT's at every prediction (false, the default); see "Resampling". */
     void setKldAtResampling(bool on) { m_kldAtResampling = on; }
-    /** The odometry's heading drift as a state of every particle (off by default; [MotionModel]
-     *  heading_drift_std_deg_per_min, heading_drift_walk_deg_per_min): each particle's rate
-     *  starts from N(0, priorStd²) [rad/s] and walks by N(0, walkStd² dt) [rad/s per
-     *  sqrt(s)]; its prediction takes rate * dt off the odometry's heading increment, dt the
-     *  time since the previous step (needs timestamped frames). Both 0: off. */
+    /** The prediction's motion model (by default an OdometryMotionModel without heading
+     *  drift); every particle's state is drawn again from its prior (resetMotionState()). */
+    void setMotionModel(std::shared_ptr<ParticleMotionModel> model);
+    /** The prediction's motion model. */
+    const ParticleMotionModel& motionModel() const { return *m_motion; }
+    /** The odometry's heading drift as a state of every particle (OdometryMotionModel's;
+     *  [MotionModel] heading_drift_std_deg_per_min, heading_drift_walk_deg_per_min): each
+     *  particle's rate starts from N(0, priorStd²) [rad/s] and walks by N(0, walkStd² dt)
+     *  [rad/s per sqrt(s)]. Both 0: off. Sets the default motion model back (with that
+     *  drift) and resets the particles' states. */
     void setHeadingDrift(double priorStd, double walkStd);
     /** @} */
 
-    /** Every particle's heading drift rate from the prior again and the clock forgotten (a
-     *  new run; nothing when the drift is off). */
-    void resetHeadingDrift();
-    /** The particles' weighted mean heading drift rate [rad/s]: what the odometry's heading
-     *  gains per second beyond the truth (0 when the drift is off). */
+    /** Every particle's motion state from the model's prior again, and the model's memory
+     *  forgotten (a new run; e.g. the heading drift's clock). */
+    void resetMotionState();
+    /** The particles as m_particles holds them now keep their motion states: poses a program
+     *  moved itself between steps that should not get new states from the prior (as a
+     *  re-initialization keeps them). Without this, a particle whose pose changed outside
+     *  the filter gets a new state at the next step. */
+    void adoptParticles();
+    /** Every particle's motion state after the last step (the motion model's stateSize()
+     *  values per particle, particle after particle, in the particles' order). */
+    std::vector<double> motionStates() const;
+    /** The particles' weighted mean motion state after the last step (stateSize() values;
+     *  empty when the model keeps no state). */
+    std::vector<double> meanMotionState() const;
+    /** The particles' weighted mean heading drift rate [rad/s] after the last step: what the
+     *  odometry's heading gains per second beyond the truth (0 when the drift is off). */
     double headingDriftRate() const;
-    /** Every particle's heading drift rate [rad/s], in the particles' order (empty when the
-     *  drift is off). */
-    const std::vector<double>& headingDriftRates() const;
+    /** Every particle's heading drift rate [rad/s] after the last step, in the particles'
+     *  order (empty when the drift is off). */
+    std::vector<double> headingDriftRates() const;
 
     /** @name Statistics
      *  @{ */
     /** What the observations contained (skipped observations, invalid detections...). */
     SensoryFrameLikelihood::TStats likelihoodStats() const;
     /** Re-initializations and injections so far. */
-    const TRecoveryStats& recoveryStats() const { return m_recoveryStats; }
+    const TRecoveryStats& recoveryStats() const;
     /** Augmented MCL's p_inject at the last update (0 when off). */
-    double lastInjectionProbability() const { return m_lastPInject; }
+    double lastInjectionProbability() const;
     /** The probability that the semantic detector is out after the last frame (the outage
      *  model, CSemanticMap's outage_every_s > 0; 0 while it has seen no frame). */
     double detectorOutageProbability() const;
@@ -230,33 +254,18 @@ public:
     std::tuple<cov_mat_t, cov_mat_t, type_value> covariancesAndMean() const;
 
 private:
-    /** Prediction by MRPT's sampler (motion models other than the Gaussian). */
-    void predictOtherMotion(const mrpt::obs::CActionCollection& actions);
-    /** The per-particle pass: prediction by `drawer` (if any) with the step's `key`, then
-     *  (with a frame) likelihood, free-space prior and weight update; then the handling of
-     *  vanished weights and the recovery. True, with the log-weights' extremes in `range`,
-     *  when they are known at the end (a frame, no injection). */
-    bool predictAndUpdate(const detail::GaussianIncrementDrawer* drawer, uint64_t key,
-                          const mrpt::obs::CSensoryFrame* sf,
+    /** The per-particle pass (prediction if `move`; with a frame likelihood, free-space prior
+     *  and weight update; then the handling of vanished weights and the recovery). True,
+     *  with the log-weights' extremes in `range`, when they are known at the end (a frame,
+     *  no injection). */
+    bool predictAndUpdate(bool move, const mrpt::obs::CSensoryFrame* sf,
                           const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options,
                           detail::WeightRange& range);
-    /** Moves the particles (by `drawer`, if any) and, with `weigh`, weights them by the
-     *  frame planned in m_likelihood (`chunkwise`: the likelihood per range of particles);
-     *  the log-weights' extremes (with `weigh`). */
-    detail::WeightRange updateParticles(const detail::GaussianIncrementDrawer* drawer, uint64_t key,
-                                        bool weigh, bool chunkwise, double powFactor,
-                                        const detail::OutageMix* outage = nullptr);
-    /** This step's heading drift (nullptr when off): the elapsed time from the frame's (else
-     *  the action's) timestamp, the rates matched to the particle count. */
-    void prepareDrift(const mrpt::obs::CActionCollection& actions,
-                      const mrpt::obs::CSensoryFrame* sf);
-    /** The heading drift rates a resampling to `count` particles carries (nothing when the
-     *  drift is off or its rates are not the particles'). */
-    std::optional<detail::CarriedValues> carriedDrift(size_t count);
-    /** The resampled particles (and, when `drift`, the carried rates) become the set. */
-    void swapResampled(bool drift);
-    /** Every weight vanished: the particles re-drawn over the free space (with recovery on,
-     *  from the frame's detections too), log-weights 0. */
+    /** Moves the particles (`move`) and, with `weigh`, weights them by the frame planned in
+     *  m_likelihood (`chunkwise`: the likelihood per range of particles); the log-weights'
+     *  extremes (with `weigh`). */
+    detail::WeightRange updateParticles(bool move, bool weigh, bool chunkwise, double powFactor);
+    /** Every weight vanished: the recovery policy re-draws the particles. */
     void reinitialize(const mrpt::obs::CSensoryFrame& sf);
     /** MRPT's KLD sampling (redraws every step), not KLD at the resampling steps. */
     bool mrptKld(const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o) const
@@ -265,44 +274,33 @@ private:
     }
     /** CParticleFilter::executeOn's resampling test (ESS < BETA) and the resampling. */
     void resampleIfDegenerate(const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o);
-    void injectRandomParticles(double pInject, const mrpt::obs::CSensoryFrame& sf,
-                               const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o);
-    /** The frame's detections to draw recovery poses from (recovery on, from_detections > 0,
-     *  a semantic map and a usable detection), else none. */
-    std::optional<DetectionPoseSampler> detectionSampler(const mrpt::obs::CSensoryFrame& sf) const;
-    /** A recovery pose into `out`: with probability from_detections one from `detections`
-     *  in the free space (true), else uniform over the free space (false). */
-    bool drawRecoveryPose(const std::optional<DetectionPoseSampler>& detections,
-                          mrpt::math::TPose2D& out) const;
+    /** The store's weights normalized and resampled by `resamplingMethod` (MRPT's
+     *  computeResampling), as MRPT's performResampling(). */
+    void resampleStore(const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o);
+    /** The store's particles replaced by those at indices `indx` (sorted here if needed). */
+    void substituteStore(const std::vector<size_t>& indx);
 
     std::shared_ptr<ParallelExecutor> m_executor;
-    std::shared_ptr<const FreeSpaceSampler> m_sampler;
     std::unique_ptr<SensoryFrameLikelihood> m_likelihood;
     const mrpt::maps::CMetricMap* m_likelihoodMap = nullptr;
-    AugmentedMCL m_augmented;
-    TRecoveryStats m_recoveryStats;
-    double m_lastPInject = 0;
+    std::unique_ptr<detail::RecoveryPolicy> m_recovery;
     bool m_freeSpacePrior = false;
     bool m_kldAtResampling = false;
+    /** The motion model, and the default one (setHeadingDrift's). */
+    std::shared_ptr<OdometryMotionModel> m_odometry;
+    std::shared_ptr<ParticleMotionModel> m_motion;
+    /** The particles of a step, with their motion states. */
+    std::unique_ptr<detail::ParticleStore> m_store;
 
     /** Per-step buffers, reused (no allocation per step once sized). */
     std::vector<mrpt::math::TPose2D> m_poses;
     std::vector<double> m_logLik;
-    /** The outage terms per particle, then log P(out | z, x_i) (DetectorOutage). */
-    std::vector<double> m_outageLik;
-    CParticleList m_resampled;
     std::vector<size_t> m_resampleIdx;
     /** Systematic resampling's buffers. */
     std::unique_ptr<detail::SystematicResampling> m_systematic;
     /** The weights relative to the largest, of the last ESS (the systematic resampling's). */
     std::vector<double> m_linW;
     double m_essBeforeResampling = 1;
-    /** The detector's outage state. */
-    std::unique_ptr<detail::DetectorOutage> m_outage;
-    /** The particles' heading drift rates, and this step's drift (valid when m_stepDrift). */
-    std::unique_ptr<detail::HeadingDrift> m_drift;
-    std::unique_ptr<detail::DriftStep> m_driftStep;
-    bool m_stepDrift = false;
 };
 
 }  // namespace semloc

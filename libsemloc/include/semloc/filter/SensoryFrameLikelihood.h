@@ -8,10 +8,15 @@
 #include <mrpt/system/datetime.h>
 
 #include <cstddef>
+#include <memory>
 #include <vector>
 
 namespace semloc
 {
+namespace detail
+{
+class DetectorOutage;
+}
 class BatchLikelihood;
 class ParallelExecutor;
 
@@ -96,6 +101,7 @@ public:
 
     /** `map` is the filter's map (usually a CMultiMetricMap); it must outlive this object. */
     explicit SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map);
+    ~SensoryFrameLikelihood();
 
     /** Does the one-off work of the first multi-threaded evaluate() now (fills the
      *  likelihood-field caches of the occupancy grids), e.g. before timing starts. Throws
@@ -118,11 +124,10 @@ public:
     /** The terms that need every pose before any chunk (generic maps). */
     void preEvaluate(const mrpt::math::TPose2D* poses, size_t n);
     /** out[i] = log p(sf | poses[i]) for i in [b, e) (a non-finite value becomes -inf); the
-     *  number of non-finite values. With `outageOut`, outageOut[i] = the sum of the
-     *  outage terms (outageTerms()) at poses[i], part of out[i]. Safe from several threads
-     *  on disjoint chunks. */
-    size_t evaluateChunk(const mrpt::math::TPose2D* poses, size_t b, size_t e, double* out,
-                         double* outageOut = nullptr) const;
+     *  number of non-finite values. Between beginUpdate() and endUpdate(), the frame's
+     *  outage terms enter as the outage mixture. Safe from several threads on disjoint
+     *  chunks. */
+    size_t evaluateChunk(const mrpt::math::TPose2D* poses, size_t b, size_t e, double* out) const;
     /** Counts non-finite evaluations (TStats::nonfinite_likelihoods). */
     void addNonfinite(size_t count) { m_stats.nonfinite_likelihoods += count; }
     /** @} */
@@ -133,6 +138,30 @@ public:
 
     /** The outage terms of the frame of the last plan(). */
     const TOutageTerms& outageTerms() const { return m_outage; }
+
+    /** @name The sensor models' state from frame to frame: the detector's outages
+     *  A filter that weighs its particles by the planned frame calls beginUpdate() before
+     *  the chunks and endUpdate() with the particles' updated log-weights after: the
+     *  probability that the detector is out (CSemanticMap's outage model, outage_every_s >
+     *  0; one detector for the filter) is carried to the frame's time, a silent frame is
+     *  scored as the mixture pi + (1 - pi) p(z | x) (detail::DetectorOutage), and the
+     *  probability's posterior is taken from the weights. evaluate() leaves the state alone.
+     *  @{ */
+    /** Starts weighing `particles` particles by the planned frame. Throws for a frame with
+     *  outage terms and no timestamp. */
+    void beginUpdate(size_t particles);
+    /** True when endUpdate() needs the weights (the frame was scored with the outage
+     *  mixture). */
+    bool updatesState() const { return m_outageMixed; }
+    /** Ends the weighing: the outage probability's posterior from the n particles' updated
+     *  log-weights (only read when updatesState()). */
+    void endUpdate(const double* logWeights, size_t n);
+    /** The probability that the detector is out after the last frame (0 before any frame
+     *  with outage terms). */
+    double detectorOutageProbability() const;
+    /** Forgets the state (a new run). */
+    void resetState();
+    /** @} */
 
     /** The semantic terms of the frame of the last plan() with no object in view. */
     const TWithoutObjects& withoutObjects() const { return m_withoutObjects; }
@@ -181,6 +210,12 @@ private:
     /** Terms of the GenericSerial path in m_terms. */
     size_t m_nSerial = 0;
     TOutageTerms m_outage;
+    /** The detector's outage state, and whether this frame is scored with its mixture (the
+     *  outage terms per particle, then log P(out | z, x_i), in m_outageLik). */
+    std::unique_ptr<detail::DetectorOutage> m_detectorOutage;
+    bool m_outageMixed = false;
+    std::vector<double> m_outageLik;
+    double* m_outageOut = nullptr;  ///< m_outageLik's values, written by evaluateChunk()
     TWithoutObjects m_withoutObjects;
     std::vector<std::vector<double>> m_serial;
     TStats m_stats;

@@ -1,17 +1,18 @@
-/* semloc — CParallelMonteCarloLocalization2D's failure handling: re-initialization when every
- * weight vanished, and augmented MCL's injected particles, drawn from the detections or the
- * free space. */
+/* semloc — the filter's failure handling: the recovery triggers, injected particles drawn from
+ * the detections or the free space, and the re-initialization when every weight vanished. */
+#include "filter/RecoveryPolicy.h"
+
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/random/RandomGenerators.h>
-#include <semloc/filter/CParallelMonteCarloLocalization2D.h>
-#include <semloc/filter/DetectionPoseSampler.h>
+#include <semloc/filter/FreeSpaceSampler.h>
+#include <semloc/filter/SensoryFrameLikelihood.h>
 #include <semloc/maps/CSemanticMap.h>
+#include <semloc/observation/CObservationSemantic.h>
 
 #include <cmath>
-#include <optional>
 
-namespace semloc
+namespace semloc::detail
 {
 using mrpt::math::TPose2D;
 
@@ -36,28 +37,41 @@ const CSemanticMap* semanticMapOf(const mrpt::maps::CMetricMap* map)
 }
 }  // namespace
 
-void CParallelMonteCarloLocalization2D::reinitialize(const mrpt::obs::CSensoryFrame& sf)
+bool RecoveryPolicy::watches(const SensoryFrameLikelihood& lik) const
 {
-    m_recoveryStats.reinitializations++;
-    MRPT_LOG_WARN_STREAM("every particle weight is zero after the update: re-initializing "
-                         << m_particles.size() << " particles over the "
-                         << (m_sampler ? m_sampler->description() : "same poses"));
+    const auto& ro = m_augmented.options();
+    return ro.enabled() && lik.measures() &&
+           (ro.trigger != RecoveryTrigger::Evidence || lik.withoutObjects().detections > 0);
+}
+
+double RecoveryPolicy::trigger(double logWAvg, const SensoryFrameLikelihood& lik, double powFactor)
+{
+    const double pInject =
+        m_augmented.options().trigger == RecoveryTrigger::Evidence
+            ? m_augmented.updateEvidence(logWAvg - powFactor * lik.withoutObjects().logLik)
+            : m_augmented.update(logWAvg);
+    m_lastPInject = pInject;
+    return m_sampler ? pInject : 0;
+}
+
+void RecoveryPolicy::reinitialize(ParticleStore& store, const mrpt::obs::CSensoryFrame& sf,
+                                  const mrpt::maps::CMetricMap* map)
+{
+    m_stats.reinitializations++;
     if (m_sampler)
     {
         // With recovery on, from the frame's detections too (the frame that killed every
         // particle is the best evidence of where the vehicle is).
-        const auto detections = detectionSampler(sf);
-        for (auto& p : m_particles)
+        const auto detections = detectionSampler(sf, map);
+        for (auto& p : store.particles)
         {
-            m_recoveryStats.reinitialized_from_detections +=
-                drawRecoveryPose(detections, p.d) ? 1 : 0;
+            m_stats.reinitialized_from_detections += drawRecoveryPose(detections, p.d) ? 1 : 0;
             p.log_w = 0;
         }
-        // The heading drift rates stay: they are the odometry's, not the lost poses'.
     }
     else
     {
-        for (auto& p : m_particles)
+        for (auto& p : store.particles)
         {
             p.log_w = 0;
         }
@@ -66,13 +80,13 @@ void CParallelMonteCarloLocalization2D::reinitialize(const mrpt::obs::CSensoryFr
     m_lastPInject = 0;
 }
 
-std::optional<DetectionPoseSampler> CParallelMonteCarloLocalization2D::detectionSampler(
-    const mrpt::obs::CSensoryFrame& sf) const
+std::optional<DetectionPoseSampler> RecoveryPolicy::detectionSampler(
+    const mrpt::obs::CSensoryFrame& sf, const mrpt::maps::CMetricMap* map) const
 {
     std::optional<DetectionPoseSampler> out;
     if (m_augmented.options().enabled() && m_augmented.options().from_detections > 0)
     {
-        const auto* semMap = semanticMapOf(options.metricMap.get());
+        const auto* semMap = semanticMapOf(map);
         const auto obs = sf.getObservationByClass<CObservationSemantic>();
         if (semMap && obs)
         {
@@ -86,8 +100,8 @@ std::optional<DetectionPoseSampler> CParallelMonteCarloLocalization2D::detection
     return out;
 }
 
-bool CParallelMonteCarloLocalization2D::drawRecoveryPose(
-    const std::optional<DetectionPoseSampler>& detections, TPose2D& out) const
+bool RecoveryPolicy::drawRecoveryPose(const std::optional<DetectionPoseSampler>& detections,
+                                      TPose2D& out) const
 {
     auto& rng = mrpt::random::getRandomGenerator();
     if (detections && rng.drawUniform(0.0, 1.0) < m_augmented.options().from_detections)
@@ -106,21 +120,16 @@ bool CParallelMonteCarloLocalization2D::drawRecoveryPose(
     return false;
 }
 
-void CParallelMonteCarloLocalization2D::injectRandomParticles(
-    double pInject, const mrpt::obs::CSensoryFrame& sf,
-    const mrpt::bayes::CParticleFilter::TParticleFilterOptions& o)
+void RecoveryPolicy::inject(ParticleStore& store, double pInject,
+                            const mrpt::obs::CSensoryFrame& sf, const mrpt::maps::CMetricMap* map)
 {
     // Table 8.3: each particle of the resampled set is, with probability p_inject, a
     // random pose instead.
-    normalizeWeights();
-    performResampling(o);
     auto& rng = mrpt::random::getRandomGenerator();
-    const auto detections = detectionSampler(sf);
+    const auto detections = detectionSampler(sf, map);
     size_t injected = 0, fromDet = 0;
     const double logW = std::log(m_augmented.options().injected_weight);
-    // An injected particle keeps the heading drift rate of the resampled particle it replaces:
-    // a draw of the rates' posterior (the drift is the odometry's, not the pose's).
-    for (auto& p : m_particles)
+    for (auto& p : store.particles)
     {
         if (rng.drawUniform(0.0, 1.0) < pInject)
         {
@@ -131,10 +140,9 @@ void CParallelMonteCarloLocalization2D::injectRandomParticles(
     }
     if (injected > 0)
     {
-        m_recoveryStats.injection_steps++;
-        m_recoveryStats.injected_particles += injected;
-        m_recoveryStats.injected_from_detections += fromDet;
+        m_stats.injection_steps++;
+        m_stats.injected_particles += injected;
+        m_stats.injected_from_detections += fromDet;
     }
 }
-
-}  // namespace semloc
+}  // namespace semloc::detail

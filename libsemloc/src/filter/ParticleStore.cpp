@@ -1,0 +1,101 @@
+/* semloc — the filter's particles during a step, each with its motion state. */
+#include "filter/ParticleStore.h"
+
+#include <semloc/filter/ParticleMotionModel.h>
+
+#include <cstring>
+
+namespace semloc::detail
+{
+namespace
+{
+/** The same pose bit for bit (a NaN pose equals itself). */
+bool samePose(const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b)
+{
+    return std::memcmp(&a.x, &b.x, sizeof(double)) == 0 &&
+           std::memcmp(&a.y, &b.y, sizeof(double)) == 0 &&
+           std::memcmp(&a.phi, &b.phi, sizeof(double)) == 0;
+}
+}  // namespace
+
+void ParticleStore::setDim(const ParticleMotionModel& model)
+{
+    const size_t dim = model.stateSize();
+    if (dim != m_dim)
+    {
+        m_dim = dim;
+        m_state.clear();  // the old states are not this model's
+        particles.clear();
+    }
+}
+
+void ParticleStore::assign(const MrptParticleList& from, const ParticleMotionModel& model,
+                           mrpt::random::CRandomGenerator& rng)
+{
+    setDim(model);
+    particles.assign(from.begin(), from.end());
+    m_state.resize(particles.size() * m_dim);
+    for (size_t i = 0; m_dim > 0 && i < particles.size(); i++)
+    {
+        model.drawState(state(i), rng);
+    }
+}
+
+void ParticleStore::syncFrom(const MrptParticleList& from, const ParticleMotionModel& model,
+                             mrpt::random::CRandomGenerator& rng)
+{
+    setDim(model);
+    if (m_dim == 0)
+    {
+        particles.assign(from.begin(), from.end());
+        return;
+    }
+    if (particles.size() != from.size())
+    {
+        // A set of another size came from outside: every particle is new.
+        assign(from, model, rng);
+        return;
+    }
+    particles.resize(from.size());
+    m_state.resize(from.size() * m_dim);
+    size_t i = 0;
+    for (const Particle& p : from)
+    {
+        if (!samePose(p.d, particles[i].d))
+        {
+            model.drawState(state(i), rng);
+        }
+        particles[i] = p;
+        i++;
+    }
+}
+
+void ParticleStore::adopt(const MrptParticleList& from, const ParticleMotionModel& model,
+                          mrpt::random::CRandomGenerator& rng)
+{
+    setDim(model);
+    if (particles.size() != from.size())
+    {
+        syncFrom(from, model, rng);
+        return;
+    }
+    std::copy(from.begin(), from.end(), particles.begin());
+}
+
+void ParticleStore::syncTo(MrptParticleList& to) const
+{
+    to.resize(particles.size());
+    std::copy(particles.begin(), particles.end(), to.begin());
+}
+
+const CarriedValues* ParticleStore::carried(size_t count)
+{
+    if (m_dim == 0)
+    {
+        return nullptr;
+    }
+    m_resampledState.resize(count * m_dim);
+    m_carried = CarriedValues{m_state.data(), m_resampledState.data(), m_dim};
+    return &m_carried;
+}
+}  // namespace semloc::detail
