@@ -13,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <set>
 
 #include "common/AppMain.h"
 
@@ -73,9 +74,34 @@ semloc::Benchmark load()
     return bench;
 }
 
+/** The variants' deprecated keys, once per variant file. */
+void warnAboutVariants(const semloc::Benchmark& bench)
+{
+    std::set<std::string> said;
+    auto warn = [&](const semloc::Benchmark& b)
+    {
+        for (const auto& v : b.variants())
+        {
+            for (const auto& w : v.options.filter.warnings)
+            {
+                if (said.insert(v.iniPath + ": " + w).second)
+                {
+                    std::cerr << "semloc-benchmark: warning: " << v.iniPath << ": " << w << "\n";
+                }
+            }
+        }
+    };
+    warn(bench);
+    for (const auto& sc : bench.scenarios())
+    {
+        warn(sc);
+    }
+}
+
 void run()
 {
     const auto bench = load();
+    warnAboutVariants(bench);
     for (const auto& w : bench.mapWarnings())
     {
         std::cerr << "semloc-benchmark: warning: the map differs from the simulated world: " << w

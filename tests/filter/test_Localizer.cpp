@@ -62,10 +62,12 @@ PF_algorithm = pfStandardProposal
 resamplingMethod = 3
 BETA = 0.25
 threads = 3
-recovery_alpha_slow = 0.001
-recovery_alpha_fast = 0.1
-recovery_from_detections = 0.5
 free_space_prior = true
+[Recovery]
+trigger = amcl
+alpha_slow = 0.001
+alpha_fast = 0.1
+from_detections = 0.5
 [KLD_options]
 KLD_binSize_PHI_deg = 5
 [DummyOdometryParams]
@@ -113,11 +115,16 @@ minStdPHI = 3   // degrees
         {"[PF_options]\nPF_algorithm = 2\n", "pfOptimalProposal"},
         {"[PF_options]\nadaptiveSampleSize = 1\nresamplingMethod = 3\n",
          "[PF_options] adaptiveSampleSize"},
+        {"[Recovery]\nalpha_slow = 0.2\nalpha_fast = 0.1\n", "[Recovery] alpha_fast"},
+        {"[Recovery]\nfrom_detections = 1.5\n", "[Recovery] from_detections"},
+        {"[Recovery]\nfrom_detections = -0.1\n", "[Recovery] from_detections"},
+        {"[Recovery]\nrecovery_trigger = off\n", "[Recovery] recovery_trigger"},
+        // The deprecated names: their errors name them; both names at once is an error.
         {"[PF_options]\nrecovery_alpha_slow = 0.2\nrecovery_alpha_fast = 0.1\n",
-         "recovery_alpha_fast"},
+         "[PF_options] recovery_alpha_fast"},
         {"[PF_options]\nrecovery_from_detections = 1.5\n", "[PF_options] recovery_from_detections"},
-        {"[PF_options]\nrecovery_from_detections = -0.1\n",
-         "[PF_options] recovery_from_detections"},
+        {"[PF_options]\nrecovery_trigger = off\n[Recovery]\ntrigger = off\n",
+         "the same setting twice"},
         {"[LocalizationExperiment]\nparticles_count = lots\n",
          "[LocalizationExperiment] particles_count"},
         {"[LocalizationExperiment]\nparticles_count = 100 200\n", "one number"},
@@ -129,6 +136,34 @@ minStdPHI = 3   // degrees
     {
         EXPECT_NE(fails(text).find(needle), std::string::npos) << text;
     }
+}
+
+TEST(LocalizerOptions, RecoveryKeysUnderTheirOldNamesStillReadWithAWarning)
+{
+    // [PF_options] recovery_<key> was the keys' place: read as [Recovery] <key>, each with
+    // a warning naming both; written back under [Recovery].
+    Localizer::TOptions old, now;
+    old.loadFromConfigFile(iniText("[PF_options]\nrecovery_trigger = amcl\n"
+                                   "recovery_alpha_slow = 0.002\nrecovery_alpha_fast = 0.2\n"
+                                   "recovery_injected_weight = 0.5\n"),
+                           "LocalizationExperiment");
+    now.loadFromConfigFile(iniText("[Recovery]\ntrigger = amcl\nalpha_slow = 0.002\n"
+                                   "alpha_fast = 0.2\ninjected_weight = 0.5\n"),
+                           "LocalizationExperiment");
+    EXPECT_TRUE(now.warnings.empty());
+    ASSERT_EQ(old.warnings.size(), 4u);
+    EXPECT_NE(old.warnings[0].find("[PF_options] recovery_trigger is deprecated"),
+              std::string::npos)
+        << old.warnings[0];
+    EXPECT_NE(old.warnings[0].find("[Recovery] trigger"), std::string::npos);
+    mrpt::config::CConfigFileMemory a, b;
+    old.saveToConfigFile(a, "LocalizationExperiment");
+    now.saveToConfigFile(b, "LocalizationExperiment");
+    EXPECT_EQ(a.getContent(), b.getContent());
+    const auto written = iniText(a.getContent());
+    EXPECT_TRUE(written.keyExists("Recovery", "trigger"));
+    EXPECT_FALSE(written.keyExists("PF_options", "recovery_trigger"));
+    EXPECT_EQ(old.recovery.alpha_fast, 0.2);
 }
 
 TEST(Localizer, StepApiLocalizesInBothRawlogFormats)

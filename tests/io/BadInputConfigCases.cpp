@@ -157,7 +157,7 @@ Cases iniModelCases()
                                  {{"heading_drift_std_deg_per_min", "10"},
                                   {"PF_algorithm", "1"},
                                   {"free_space_prior", "0"},
-                                  {"recovery_trigger", "off"},
+                                  {"trigger", "off"},
                                   {"outage_every_s", "0"}});
          }},
         {"ini-association-needs-probabilistic",
@@ -188,30 +188,28 @@ Cases iniModelCases()
                                   {"PF_algorithm", "1"},
                                   {"free_space_prior", "0"},
                                   {"heading_drift_walk_deg_per_min", "0"},
-                                  {"recovery_trigger", "off"}});
+                                  {"trigger", "off"}});
          }},
         {"ini-recovery-trigger-unknown",
          [](const fs::path& d) {
-             return localizeGood(d, "", {{"recovery_trigger", "cusum"}});
+             return localizeGood(d, "", {{"trigger", "cusum"}});
          }},
         {"ini-recovery-rates-with-evidence",
          [](const fs::path& d)
          {
-             return localizeGood(d, "",
-                                 {{"recovery_trigger", "evidence"},
-                                  {"recovery_alpha_slow", "0.001"},
-                                  {"recovery_alpha_fast", "0.1"}});
+             return localizeGood(
+                 d, "", {{"trigger", "evidence"}, {"alpha_slow", "0.001"}, {"alpha_fast", "0.1"}});
          }},
         {"ini-recovery-evidence-without-semantic-map",
          [](const fs::path& d)
          {
              saveGz(simulate().rawlog, d / "data.rawlog");
-             return localize(d, writeConfig(d, "geometric", {{"recovery_trigger", "evidence"}}),
+             return localize(d, writeConfig(d, "geometric", {{"trigger", "evidence"}}),
                              d / "data.rawlog");
          }},
         {"ini-recovery-injected-weight-zero",
          [](const fs::path& d) {
-             return localizeGood(d, "", {{"recovery_injected_weight", "0"}});
+             return localizeGood(d, "", {{"injected_weight", "0"}});
          }},
         {"ini-kld-at-resampling-without-kld",
          [](const fs::path& d) {

@@ -158,3 +158,47 @@ TEST(IniBase, ABaseKeyInsideASectionIsAnOrdinaryKey)
     EXPECT_EQ(ini.read_string("A", "base", ""), "b.ini");
     EXPECT_EQ(ini.files().size(), 1u);
 }
+
+TEST(IniBase, MovedKeysReadAtTheirOldPlaceWithAWarningAndOverrideEitherWay)
+{
+    const auto dir = freshDir("moved");
+    // A file of the old layout: the recovery keys in [PF_options].
+    write(dir / "old.ini",
+          "[PF_options]\nBETA = 0.5\nrecovery_trigger = amcl  // old place\n"
+          "recovery_alpha_slow = 0.001\n[KLD_options]\nKLD_delta = 0.02\n");
+    std::vector<std::string> warnings;
+    const std::string text =
+        readIniText((dir / "old.ini").string(), "config file", nullptr, &warnings);
+    EXPECT_EQ(text,
+              "[PF_options]\nBETA = 0.5\n[KLD_options]\nKLD_delta = 0.02\n[Recovery]\n"
+              "trigger = amcl  // old place\nalpha_slow = 0.001\n");
+    ASSERT_EQ(warnings.size(), 2u);
+    EXPECT_NE(warnings[0].find("old.ini':3: [PF_options] recovery_trigger is deprecated: write "
+                               "[Recovery] trigger"),
+              std::string::npos)
+        << warnings[0];
+
+    // An old-layout variant over a new-layout base, and the other way round: the variant's
+    // value wins either way, under the new name.
+    write(dir / "new.ini", "[PF_options]\nBETA = 0.5\n\n[Recovery]\ntrigger = evidence\n");
+    write(dir / "old_over_new.ini", "base = new.ini\n[PF_options]\nrecovery_trigger = off\n");
+    IniFileInMemory a((dir / "old_over_new.ini").string());
+    EXPECT_EQ(a.read_string("Recovery", "trigger", ""), "off");
+    EXPECT_FALSE(a.keyExists("PF_options", "recovery_trigger"));
+    EXPECT_EQ(a.warnings().size(), 1u);
+    write(dir / "new_over_old.ini", "base = old.ini\n[Recovery]\ntrigger = off\n");
+    IniFileInMemory b((dir / "new_over_old.ini").string());
+    EXPECT_EQ(b.read_string("Recovery", "trigger", ""), "off");
+    EXPECT_EQ(b.read_string("Recovery", "alpha_slow", ""), "0.001");
+    EXPECT_FALSE(b.keyExists("PF_options", "recovery_trigger"));
+    EXPECT_EQ(b.warnings().size(), 2u);  // the base's old names
+
+    // Both names in one file: an error naming the file and both lines.
+    write(dir / "both.ini", "[PF_options]\nrecovery_trigger = off\n[Recovery]\ntrigger = amcl\n");
+    const std::string why = problem(dir / "both.ini");
+    EXPECT_NE(why.find("both.ini':2: [PF_options] recovery_trigger and line 4's [Recovery] "
+                       "trigger: the same setting twice"),
+              std::string::npos)
+        << why;
+    EXPECT_EQ(semloc::config::movedKeyNames().size(), 8u);
+}

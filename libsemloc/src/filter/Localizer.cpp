@@ -192,7 +192,7 @@ void checkAgainstMaps(const Localizer::TOptions& o, const mrpt::maps::CMultiMetr
     if (o.recovery.trigger == RecoveryTrigger::Evidence && !onlySemanticMaps(map))
     {
         THROW_EXCEPTION(
-            "[PF_options] recovery_trigger = evidence weighs the semantic detections against "
+            "[Recovery] trigger = evidence weighs the semantic detections against "
             "the map with no object in view: it needs semantic maps only in [MetricMap] (amcl "
             "works with any map)");
     }

@@ -1,6 +1,6 @@
 /* semloc — Localizer's options: pf-localization's sections ([LocalizationExperiment]'s
- * filter keys, [PF_options], [KLD_options], [DummyOdometryParams]) and [MotionModel] read
- * strictly and written back. */
+ * filter keys, [PF_options], [KLD_options], [DummyOdometryParams]), [Recovery] and
+ * [MotionModel] read strictly and written back. */
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <semloc/filter/Localizer.h>
@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <map>
 #include <thread>
 
 #include "io/ExactConfigWrite.h"
@@ -24,6 +25,45 @@ using namespace semloc::config;
 const char* const kPF = "PF_options";
 const char* const kKLD = "KLD_options";
 const char* const kOdo = "DummyOdometryParams";
+const char* const kRec = "Recovery";
+
+/** The [Recovery] keys; each was [PF_options] recovery_<key> before. */
+const std::vector<std::string> kRecoveryKeys = {
+    "trigger",      "alpha_slow",      "alpha_fast",     "evidence_margin", "evidence_threshold",
+    "inject_share", "from_detections", "injected_weight"};
+
+/** Where a [Recovery] key is read: its section and name there. */
+struct KeyPlace
+{
+    std::string section, key;
+};
+
+/** The place of each [Recovery] key: [Recovery] unless only its deprecated name in
+ *  [PF_options] is set (a warning in `warnings`); both set is an error. */
+std::map<std::string, KeyPlace> recoveryKeyPlaces(const mrpt::config::CConfigFileBase& c,
+                                                  std::vector<std::string>& warnings)
+{
+    std::map<std::string, KeyPlace> places;
+    for (const std::string& k : kRecoveryKeys)
+    {
+        const std::string old = "recovery_" + k;
+        places[k] = KeyPlace{kRec, k};
+        if (!c.keyExists(kPF, old))
+        {
+            continue;
+        }
+        if (c.keyExists(kRec, k))
+        {
+            THROW_EXCEPTION("ini [" + std::string(kPF) + "] " + old + " and [" + kRec + "] " + k +
+                            ": the same setting twice; keep [" + kRec + "] " + k +
+                            " (the old name is deprecated)");
+        }
+        places[k] = KeyPlace{kPF, old};
+        warnings.push_back("ini [" + std::string(kPF) + "] " + old + " is deprecated: write [" +
+                           kRec + "] " + k + " instead (read as that)");
+    }
+    return places;
+}
 
 const std::vector<std::string> kAlgorithms = {"pfStandardProposal", "pfAuxiliaryPFStandard",
                                               "pfOptimalProposal", "pfAuxiliaryPFOptimal"};
@@ -147,11 +187,11 @@ void loadParticleFilter(const mrpt::config::CConfigFileBase& c, Localizer::TOpti
     // [PF_options]: MRPT's TParticleFilterOptions, strictly, plus ours.
     {
         auto known = keysOf(o.pf);
-        known.insert(known.end(),
-                     {"threads", "recovery_trigger", "recovery_alpha_slow", "recovery_alpha_fast",
-                      "recovery_evidence_margin", "recovery_evidence_threshold",
-                      "recovery_inject_share", "recovery_from_detections",
-                      "recovery_injected_weight", "free_space_prior", "kld_at_resampling"});
+        known.insert(known.end(), {"threads", "free_space_prior", "kld_at_resampling"});
+        for (const std::string& k : kRecoveryKeys)
+        {
+            known.push_back("recovery_" + k);  // deprecated: [Recovery] k
+        }
         rejectUnknownKeys(c, kPF, known);
     }
     o.pf.PF_algorithm = static_cast<CParticleFilter::TParticleFilterAlgorithm>(
@@ -174,27 +214,41 @@ void loadParticleFilter(const mrpt::config::CConfigFileBase& c, Localizer::TOpti
              o.pf.pfAuxFilterStandard_FirstStageWeightsMonteCarlo);
     readBool(c, kPF, "pfAuxFilterOptimal_MLE", o.pf.pfAuxFilterOptimal_MLE);
     readInt(c, kPF, "threads", o.threads, 0, Localizer::TOptions::kMaxThreads);
-    {
-        std::string t = recoveryTriggerName(o.recovery.trigger);
-        readChoice(c, kPF, "recovery_trigger", t, {"off", "amcl", "evidence"});
-        o.recovery.trigger = t == "off"        ? RecoveryTrigger::Off
-                             : t == "evidence" ? RecoveryTrigger::Evidence
-                                               : RecoveryTrigger::Amcl;
-    }
-    readDouble(c, kPF, "recovery_alpha_slow", o.recovery.alpha_slow, 0, 1);
-    readDouble(c, kPF, "recovery_alpha_fast", o.recovery.alpha_fast, 0, 1);
-    readDouble(c, kPF, "recovery_evidence_margin", o.recovery.evidence_margin, -1e3, 1e3);
-    readDouble(c, kPF, "recovery_evidence_threshold", o.recovery.evidence_threshold, 1e-3, 1e6);
-    readDouble(c, kPF, "recovery_inject_share", o.recovery.inject_share, 1e-6, 1);
-    readDouble(c, kPF, "recovery_from_detections", o.recovery.from_detections, 0, 1);
-    readDouble(c, kPF, "recovery_injected_weight", o.recovery.injected_weight, 1e-12, 1);
     readBool(c, kPF, "free_space_prior", o.free_space_prior);
     readBool(c, kPF, "kld_at_resampling", o.kld_at_resampling);
 }
 
-/** The [PF_options] combinations MRPT or semloc do not implement. */
-void checkParticleFilter(const Localizer::TOptions& o)
+/** [Recovery] (or its keys' deprecated names in [PF_options]: `places`). */
+void loadRecovery(const mrpt::config::CConfigFileBase& c, const std::map<std::string, KeyPlace>& at,
+                  AugmentedMCL::TOptions& r)
 {
+    rejectUnknownKeys(c, kRec, kRecoveryKeys);
+    auto num = [&](const std::string& k, double& v, double lo, double hi)
+    { readDouble(c, at.at(k).section, at.at(k).key, v, lo, hi); };
+    {
+        std::string t = recoveryTriggerName(r.trigger);
+        readChoice(c, at.at("trigger").section, at.at("trigger").key, t,
+                   {"off", "amcl", "evidence"});
+        r.trigger = t == "off"        ? RecoveryTrigger::Off
+                    : t == "evidence" ? RecoveryTrigger::Evidence
+                                      : RecoveryTrigger::Amcl;
+    }
+    num("alpha_slow", r.alpha_slow, 0, 1);
+    num("alpha_fast", r.alpha_fast, 0, 1);
+    num("evidence_margin", r.evidence_margin, -1e3, 1e3);
+    num("evidence_threshold", r.evidence_threshold, 1e-3, 1e6);
+    num("inject_share", r.inject_share, 1e-6, 1);
+    num("from_detections", r.from_detections, 0, 1);
+    num("injected_weight", r.injected_weight, 1e-12, 1);
+}
+
+/** The [PF_options] and [Recovery] combinations MRPT or semloc do not implement (a recovery
+ *  key named at `at`, its place). */
+void checkParticleFilter(const Localizer::TOptions& o, const std::map<std::string, KeyPlace>& at)
+{
+    auto badRec = [&](const std::string& k, const std::string& what)
+    { bad(at.at(k).section, at.at(k).key, what); };
+    auto name = [&](const std::string& k) { return at.at(k).section == kRec ? k : at.at(k).key; };
     if (o.pf.PF_algorithm == CParticleFilter::pfOptimalProposal)
     {
         bad(kPF, "PF_algorithm",
@@ -218,16 +272,15 @@ void checkParticleFilter(const Localizer::TOptions& o)
     const bool ratesOff = o.recovery.alpha_slow == 0 && o.recovery.alpha_fast == 0;
     if (o.recovery.trigger != RecoveryTrigger::Amcl && !ratesOff)
     {
-        bad(kPF, "recovery_alpha_slow",
-            "the rates are augmented MCL's (recovery_trigger = amcl); with recovery_trigger = " +
-                recoveryTriggerName(o.recovery.trigger) + " set both to 0");
+        badRec("alpha_slow", "the rates are augmented MCL's (" + name("trigger") +
+                                 " = amcl); with " + name("trigger") + " = " +
+                                 recoveryTriggerName(o.recovery.trigger) + " set both to 0");
     }
     const bool recoveryOff = !o.recovery.enabled();
     if (o.recovery.trigger == RecoveryTrigger::Amcl && !ratesOff && recoveryOff)
     {
-        bad(kPF, "recovery_alpha_fast",
-            "augmented MCL needs 0 < recovery_alpha_slow < recovery_alpha_fast <= 1 (both 0: "
-            "off)");
+        badRec("alpha_fast", "augmented MCL needs 0 < " + name("alpha_slow") + " < " +
+                                 name("alpha_fast") + " <= 1 (both 0: off)");
     }
     if (o.free_space_prior && o.pf.PF_algorithm != CParticleFilter::pfStandardProposal)
     {
@@ -235,10 +288,8 @@ void checkParticleFilter(const Localizer::TOptions& o)
     }
     if (!recoveryOff && o.pf.PF_algorithm != CParticleFilter::pfStandardProposal)
     {
-        bad(kPF,
-            o.recovery.trigger == RecoveryTrigger::Amcl ? "recovery_alpha_slow"
-                                                        : "recovery_trigger",
-            "recovery needs PF_algorithm = 0 (pfStandardProposal)");
+        badRec(o.recovery.trigger == RecoveryTrigger::Amcl ? "alpha_slow" : "trigger",
+               "recovery needs [PF_options] PF_algorithm = 0 (pfStandardProposal)");
     }
 }
 
@@ -332,7 +383,10 @@ void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
 {
     loadInitialCloud(c, s, *this);
     loadParticleFilter(c, *this);
-    checkParticleFilter(*this);
+    warnings.clear();
+    const auto recoveryAt = recoveryKeyPlaces(c, warnings);
+    loadRecovery(c, recoveryAt, recovery);
+    checkParticleFilter(*this, recoveryAt);
     loadKLD(c, kld);
     loadOdometryNoise(c, *this);
     motion_model.loadFromConfigFile(c, MotionModel::kSection);
@@ -382,17 +436,6 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
         pf.pfAuxFilterStandard_FirstStageWeightsMonteCarlo ? "1" : "0", "PF_algorithm 1");
     put(c, kPF, "pfAuxFilterOptimal_MLE", pf.pfAuxFilterOptimal_MLE ? "1" : "0", "PF_algorithm 3");
     put(c, kPF, "threads", std::to_string(threads), "0: every hardware thread");
-    put(c, kPF, "recovery_trigger", recoveryTriggerName(recovery.trigger), "off | amcl | evidence");
-    put(c, kPF, "recovery_alpha_slow", recovery.alpha_slow, "amcl (0 0: off)");
-    put(c, kPF, "recovery_alpha_fast", recovery.alpha_fast, "");
-    put(c, kPF, "recovery_evidence_margin", recovery.evidence_margin, "evidence [nats per frame]");
-    put(c, kPF, "recovery_evidence_threshold", recovery.evidence_threshold, "evidence [nats]");
-    put(c, kPF, "recovery_inject_share", recovery.inject_share,
-        "evidence: share replaced per frame");
-    put(c, kPF, "recovery_from_detections", recovery.from_detections,
-        "fraction of injected particles drawn from the detections");
-    put(c, kPF, "recovery_injected_weight", recovery.injected_weight,
-        "weight of an injected particle relative to a resampled one, (0, 1]");
     put(c, kPF, "free_space_prior", free_space_prior ? "1" : "0",
         "weight 0 outside the free space");
     put(c, kPF, "kld_at_resampling", kld_at_resampling ? "1" : "0",
@@ -410,6 +453,16 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     put(c, kOdo, "minStdPHI", odometry_min_std_phi_deg, "[deg]");
     put(c, kOdo, "allow_no_odometry", allow_no_odometry ? "true" : "false",
         "true: a rawlog without odometry moves by zero + this noise");
+    put(c, kRec, "trigger", recoveryTriggerName(recovery.trigger), "off | amcl | evidence");
+    put(c, kRec, "alpha_slow", recovery.alpha_slow, "amcl (0 0: off)");
+    put(c, kRec, "alpha_fast", recovery.alpha_fast, "");
+    put(c, kRec, "evidence_margin", recovery.evidence_margin, "evidence [nats per frame]");
+    put(c, kRec, "evidence_threshold", recovery.evidence_threshold, "evidence [nats]");
+    put(c, kRec, "inject_share", recovery.inject_share, "evidence: share replaced per frame");
+    put(c, kRec, "from_detections", recovery.from_detections,
+        "fraction of injected particles drawn from the detections");
+    put(c, kRec, "injected_weight", recovery.injected_weight,
+        "weight of an injected particle relative to a resampled one, (0, 1]");
     motion_model.saveToConfigFile(c, MotionModel::kSection);
 }
 

@@ -196,6 +196,124 @@ std::string overlay(const std::vector<TLine>& base, const std::vector<TLine>& ov
     return text;
 }
 
+/** A key semloc moved: its old section and name, its new ones. */
+struct TMovedKey
+{
+    const char* oldSection;
+    const char* oldKey;
+    const char* section;
+    const char* key;
+};
+
+/** The recovery keys left [PF_options] (MRPT's) for a section of their own. */
+const TMovedKey kMovedKeys[] = {
+    {"PF_options", "recovery_trigger", "Recovery", "trigger"},
+    {"PF_options", "recovery_alpha_slow", "Recovery", "alpha_slow"},
+    {"PF_options", "recovery_alpha_fast", "Recovery", "alpha_fast"},
+    {"PF_options", "recovery_evidence_margin", "Recovery", "evidence_margin"},
+    {"PF_options", "recovery_evidence_threshold", "Recovery", "evidence_threshold"},
+    {"PF_options", "recovery_inject_share", "Recovery", "inject_share"},
+    {"PF_options", "recovery_from_detections", "Recovery", "from_detections"},
+    {"PF_options", "recovery_injected_weight", "Recovery", "injected_weight"},
+};
+
+/** The lines of `lines` (one file's) that hold a moved key under its old name, each with
+ *  its move; throws when the file also sets the key under its new name. */
+std::map<size_t, const TMovedKey*> oldKeyLines(const std::vector<TLine>& lines,
+                                               const std::string& file)
+{
+    std::map<size_t, const TMovedKey*> moved;
+    for (size_t i = 0; i < lines.size(); i++)
+    {
+        for (const auto& m : kMovedKeys)
+        {
+            if (lines[i].section != lower(m.oldSection) || lines[i].key != lower(m.oldKey))
+            {
+                continue;
+            }
+            moved[i] = &m;
+            for (size_t j = 0; j < lines.size(); j++)
+            {
+                if (lines[j].section == lower(m.section) && lines[j].key == lower(m.key))
+                {
+                    THROW_EXCEPTION(mrpt::format(
+                        "%s:%zu: [%s] %s and line %zu's [%s] %s: the same setting twice; "
+                        "keep [%s] %s (the old name is deprecated)",
+                        file.c_str(), i + 1, m.oldSection, m.oldKey, j + 1, m.section, m.key,
+                        m.section, m.key));
+                }
+            }
+        }
+    }
+    return moved;
+}
+
+/** `lines` (one file's) with every moved key at its new place: `key = <the old line's text
+ *  after its '='>` at the end of the new section (a new section at the end if the file has
+ *  none), a warning per key. */
+std::string moveOldKeys(const std::vector<TLine>& lines, const std::string& file,
+                        std::vector<std::string>* warnings)
+{
+    const auto moved = oldKeyLines(lines, file);
+    std::map<std::string, std::vector<std::string>> added;  // new section -> its lines
+    for (const auto& [i, m] : moved)
+    {
+        const std::string& t = lines[i].text;
+        added[lower(m->section)].push_back(std::string(m->key) + " " + t.substr(t.find('=')));
+        if (warnings)
+        {
+            warnings->push_back(
+                mrpt::format("%s:%zu: [%s] %s is deprecated: write [%s] %s instead (read as that)",
+                             file.c_str(), i + 1, m->oldSection, m->oldKey, m->section, m->key));
+        }
+    }
+    std::map<std::string, size_t> sectionEnd;  // the last line of each section's content
+    for (size_t i = 0; i < lines.size(); i++)
+    {
+        if (moved.count(i) == 0 && (lines[i].isSection || !lines[i].key.empty()))
+        {
+            sectionEnd[lines[i].section] = i;
+        }
+    }
+    std::map<size_t, std::string> after;  // an added section's lines follow its last line
+    for (const auto& entry : added)
+    {
+        if (const auto end = sectionEnd.find(entry.first); end != sectionEnd.end())
+        {
+            after[end->second] = entry.first;
+        }
+    }
+    std::string text;
+    for (size_t i = 0; i < lines.size(); i++)
+    {
+        if (moved.count(i) == 0)
+        {
+            text += lines[i].text + "\n";
+        }
+        if (const auto it = after.find(i); it != after.end())
+        {
+            for (const auto& a : added[it->second])
+            {
+                text += a + "\n";
+            }
+            added.erase(it->second);
+        }
+    }
+    for (const auto& m : kMovedKeys)  // sections the file does not have, in the table's order
+    {
+        if (const auto it = added.find(lower(m.section)); it != added.end())
+        {
+            text += std::string("[") + m.section + "]\n";
+            for (const auto& a : it->second)
+            {
+                text += a + "\n";
+            }
+            added.erase(it);
+        }
+    }
+    return text;
+}
+
 /** The base `written` names (next to `from`, else from the working directory), as a path. */
 std::string resolveBase(const std::string& from, const std::string& written, size_t lineNo,
                         const std::string& file)
@@ -229,11 +347,12 @@ std::string resolveBase(const std::string& from, const std::string& written, siz
 }
 
 std::string resolvedText(const std::string& path, const std::string& kind,
-                         std::vector<std::string>& chain)
+                         std::vector<std::string>& chain, std::vector<std::string>* warnings)
 {
     const std::string file = kind + " '" + path + "'";
     std::string text = readText(path, file);
     checkIniText(text, file);
+    text = moveOldKeys(classify(text), file, warnings);
     const auto lines = classify(text);
     const auto base =
         std::find_if(lines.begin(), lines.end(),
@@ -263,16 +382,16 @@ std::string resolvedText(const std::string& path, const std::string& kind,
     }
     const size_t lineNo = static_cast<size_t>(base - lines.begin()) + 1;
     const std::string basePath = resolveBase(path, valueOf(base->text), lineNo, file);
-    const std::string baseText = resolvedText(basePath, kind, chain);
+    const std::string baseText = resolvedText(basePath, kind, chain, warnings);
     return overlay(classify(baseText), lines);
 }
 }  // namespace
 
 std::string readIniText(const std::string& path, const std::string& kind,
-                        std::vector<std::string>* files)
+                        std::vector<std::string>* files, std::vector<std::string>* warnings)
 {
     std::vector<std::string> chain;
-    std::string text = resolvedText(path, kind, chain);
+    std::string text = resolvedText(path, kind, chain, warnings);
     if (files != nullptr)
     {
         *files = chain;
@@ -299,9 +418,20 @@ void checkIniFile(const std::string& path, const std::string& kind)
     (void)readIniText(path, kind);
 }
 
+std::vector<std::string> movedKeyNames()
+{
+    std::vector<std::string> names;
+    for (const auto& m : kMovedKeys)
+    {
+        names.push_back(
+            mrpt::format("[%s] %s -> [%s] %s", m.oldSection, m.oldKey, m.section, m.key));
+    }
+    return names;
+}
+
 IniFileInMemory::IniFileInMemory(const std::string& path, const std::string& kind) : m_path(path)
 {
-    setContent(readIniText(path, kind, &m_files));
+    setContent(readIniText(path, kind, &m_files, &m_warnings));
 }
 
 }  // namespace semloc::config

@@ -177,6 +177,8 @@ Benchmark::TVariant readVariant(const mrpt::config::CConfigFileBase& ini,
             vini.write(section, key, value);
         }
         v.options.loadFromConfigFile(vini, "LocalizationExperiment");
+        auto& warnings = v.options.filter.warnings;
+        warnings.insert(warnings.begin(), vini.warnings().begin(), vini.warnings().end());
         if (!mapFile.empty())
         {
             v.options.map_file = mapFile;  // the simulated world (map_from_world)

@@ -35,8 +35,8 @@ const std::string kSection = "LocalizationExperiment";
 
 /** Sections semloc-localize reads; [MetricMap_...] are checked by LocalizationMap. */
 const std::vector<std::string> kSections = {
-    kSection,   "PF_options", "KLD_options", "DummyOdometryParams", MotionModel::kSection,
-    "MetricMap"};
+    kSection,   "PF_options",          "KLD_options", "DummyOdometryParams",
+    "Recovery", MotionModel::kSection, "MetricMap"};
 
 /** pf-localization keys about its 3D display, repetitions or 3D particles: accepted,
  *  carried over to the effective configuration, not used. */
@@ -401,7 +401,12 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     o.loadFromConfigFile(*ini, kSection);
     e.m_carried = carriedKeys(*ini);
     applyOverrides(o, ov);
-    e.m_warnings = resourceWarnings(o.filter, ov);
+    e.m_warnings = ini->warnings();  // deprecated keys (in the files, and as read)
+    e.m_warnings.insert(e.m_warnings.end(), o.filter.warnings.begin(), o.filter.warnings.end());
+    for (auto& w : resourceWarnings(o.filter, ov))
+    {
+        e.m_warnings.push_back(std::move(w));
+    }
     checkInputFiles(o, *ini);
     if (!o.ground_truth_path_file.empty())
     {

@@ -179,7 +179,7 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "# every weight zero: particles re-initialized over the free space\n"
       << "reinitializations: " << res.recovery.reinitializations << "\n"
       << "reinitialized_from_detections: " << res.recovery.reinitialized_from_detections << "\n"
-      << "# augmented MCL (recovery_alpha_slow / recovery_alpha_fast)\n"
+      << "# injected particles ([Recovery] trigger)\n"
       << "injection_steps: " << res.recovery.injection_steps << "\n"
       << "injected_particles: " << res.recovery.injected_particles << "\n"
       << "injected_from_detections: " << res.recovery.injected_from_detections << "\n"

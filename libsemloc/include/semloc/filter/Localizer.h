@@ -117,16 +117,17 @@ public:
         mrpt::bayes::CParticleFilter::TParticleFilterOptions pf;
         /** Threads of the per-particle work, 0..kMaxThreads; 0 = every hardware thread. */
         int threads = 0;
-        /** Augmented MCL (recovery_alpha_slow, recovery_alpha_fast; off by default) and the
-         *  fraction of injected particles drawn from the detections
-         *  (recovery_from_detections). */
-        AugmentedMCL::TOptions recovery;
         /** Weight zero for particles outside the free space (free_space_prior). */
         bool free_space_prior = false;
         /** With adaptiveSampleSize = 1: KLD-sampling at the resampling steps instead of
          *  MRPT's at every step (kld_at_resampling; CParallelMonteCarloLocalization2D). */
         bool kld_at_resampling = false;
         /** @} */
+
+        /** [Recovery]: the trigger (off, amcl, evidence) and the injected particles (off by
+         *  default). Read from [PF_options] recovery_<key> too, the keys' former place,
+         *  with a warning in `warnings`. */
+        AugmentedMCL::TOptions recovery;
 
         /** [KLD_options]: MRPT's KLD-sampling parameters (adaptiveSampleSize = 1). */
         mrpt::slam::TKLDParams kld;
@@ -148,6 +149,10 @@ public:
          *  minStdXY, minStdPHI (source = gaussian; then the [DummyOdometryParams] noise above
          *  is not used). See MotionModel. */
         MotionModel::TOptions motion_model;
+
+        /** What loadFromConfigFile() found that still works but should change (a key under
+         *  its deprecated name): one message per finding, naming the key and its place. */
+        std::vector<std::string> warnings;
 
         TOptions();
         /** Reads the section strictly: an unknown key or a bad value is an error naming it. */

@@ -17,9 +17,18 @@ namespace semloc::config
  *  a new section at the end; the `base` line itself is dropped. Each file is checked with
  *  checkIniText(); throws naming `kind`, the file and the line for a missing, unreadable or
  *  bad file, a missing base, a cycle of bases or bases over 16 deep. `files`, if given, gets
- *  the file and its bases, `path` first. */
+ *  the file and its bases, `path` first.
+ *
+ *  A key semloc moved to another section (movedKeyNames()) is read at its old place too: in
+ *  each file, before the overlay, it is moved to its new section and name, and `warnings`,
+ *  if given, gets one message naming the file, the line and both names (the old and the
+ *  new name in one file is an error). */
 std::string readIniText(const std::string& path, const std::string& kind = "config file",
-                        std::vector<std::string>* files = nullptr);
+                        std::vector<std::string>* files = nullptr,
+                        std::vector<std::string>* warnings = nullptr);
+
+/** The keys semloc moved, "[OLD_SECTION] old_key -> [SECTION] key" each. */
+std::vector<std::string> movedKeyNames();
 
 /** The ini file `path` and its bases (readIniText's `files`); just `path` when it cannot be
  *  read (the error is its reader's to report). */
@@ -97,10 +106,13 @@ public:
     const std::string& path() const { return m_path; }
     /** The file and its bases, the file first. */
     const std::vector<std::string>& files() const { return m_files; }
+    /** The keys found under their deprecated names (readIniText's `warnings`). */
+    const std::vector<std::string>& warnings() const { return m_warnings; }
 
 private:
     std::string m_path;
     std::vector<std::string> m_files;
+    std::vector<std::string> m_warnings;
 };
 
 /** The file `source` was read from (a CConfigFile or an IniFileInMemory), "" if none. */

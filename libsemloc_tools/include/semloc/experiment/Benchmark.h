@@ -110,12 +110,12 @@ public:
         std::vector<std::string> variants;
         /** Particles of every variant of this scenario; 0: [Benchmark] particles. */
         int particles = 0;
-        /** true: every variant runs with augmented MCL recovery (recovery_trigger = amcl,
+        /** true: every variant runs with augmented MCL recovery ([Recovery] trigger = amcl,
          *  the two rates below), whatever its own trigger. */
         bool recovery = false;
-        /** [PF_options] recovery_alpha_slow when `recovery`. */
+        /** [Recovery] alpha_slow when `recovery`. */
         double recovery_alpha_slow = 0.001;
-        /** [PF_options] recovery_alpha_fast when `recovery`. */
+        /** [Recovery] alpha_fast when `recovery`. */
         double recovery_alpha_fast = 0.1;
         /** With a kidnapping: a run succeeds if it recovers (RunMetrics::recovery_steps)
          *  within this many steps of the kidnapping. */

@@ -29,8 +29,8 @@ namespace semloc
  *  keys that only concern its display or 3D mode are accepted and ignored; `use_3D_poses`
  *  must be false and `experimentRepetitions` 1. Ours, in [LocalizationExperiment]: `seed`,
  *  `variant`, `convergence_max_err_xy_m`, `convergence_max_var_xy_m2`,
- *  `convergence_min_steps`; in [PF_options]: `threads`, `recovery_alpha_slow`,
- *  `recovery_alpha_fast`. Relative input paths are resolved next to the ini first
+ *  `convergence_min_steps`; in [PF_options]: `threads`, `free_space_prior`,
+ *  `kld_at_resampling`; [Recovery]; [MotionModel]. Relative input paths are resolved next to the ini first
  *  (config::resolveNextToIni), `logOutput_dir` from the working directory (as MRPT). An
  *  empty `ground_truth_path_file` takes semloc-simulate's `<rawlog stem>_gt.txt` if it
  *  exists (GroundTruthFile::PathFor).
