@@ -123,7 +123,7 @@ struct CurrentRun
 /** 60 steps of 1 s: the vehicle makes 0.4 m/s east through the water, which carries it by
  *  (kCurrentX, kCurrentY); a position fix (0.5 m) each step. With `model`, the current is
  *  every particle's state; without, the odometry's model (no current). */
-CurrentRun track(size_t threads, std::shared_ptr<WaterCurrentModel> model)
+CurrentRun track(size_t threads, const std::shared_ptr<WaterCurrentModel>& model)
 {
     auto multi = mrpt::maps::CMultiMetricMap::Create();
     multi->maps.push_back(std::make_shared<semloc::test::PositionFixModel>());
@@ -232,7 +232,7 @@ TEST(PluggedMotionModel, AParticlePlacedFromOutsideGetsAStateFromThePrior)
     const std::vector<double> after = pdf.motionStates();
     for (size_t i = 0; i < 40; i++)
     {
-        ASSERT_EQ(after[2 * i], states[2 * 9]);
-        ASSERT_EQ(after[2 * i + 1], states[2 * 9 + 1]);
+        ASSERT_EQ(after[2 * i], states[18]);  // particle 9's
+        ASSERT_EQ(after[2 * i + 1], states[19]);
     }
 }

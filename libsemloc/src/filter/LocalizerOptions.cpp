@@ -54,13 +54,16 @@ std::map<std::string, KeyPlace> recoveryKeyPlaces(const mrpt::config::CConfigFil
         }
         if (c.keyExists(kRec, k))
         {
-            THROW_EXCEPTION("ini [" + std::string(kPF) + "] " + old + " and [" + kRec + "] " + k +
-                            ": the same setting twice; keep [" + kRec + "] " + k +
-                            " (the old name is deprecated)");
+            THROW_EXCEPTION(
+                mrpt::format("ini [%s] %s and [%s] %s: the same setting twice; keep "
+                             "[%s] %s (the old name is deprecated)",
+                             kPF, old.c_str(), kRec, k.c_str(), kRec, k.c_str()));
         }
         places[k] = KeyPlace{kPF, old};
-        warnings.push_back("ini [" + std::string(kPF) + "] " + old + " is deprecated: write [" +
-                           kRec + "] " + k + " instead (read as that)");
+        warnings.push_back(
+            mrpt::format("ini [%s] %s is deprecated: write [%s] %s instead (read "
+                         "as that)",
+                         kPF, old.c_str(), kRec, k.c_str()));
     }
     return places;
 }

@@ -130,7 +130,7 @@ void OdometryMotionModel::move(size_t i0, size_t n, mrpt::math::TPose2D* poses,
                "OdometryMotionModel::move() without prepare() for these particles");
     for (size_t k = 0; k < n; k++)
     {
-        const mrpt::poses::CPose3D p(mrpt::math::TPose3D(poses[k]));
+        const mrpt::poses::CPose3D p{mrpt::math::TPose3D(poses[k])};
         poses[k] = mrpt::math::TPose2D((p + m_increments[i0 + k]).asTPose());
     }
 }

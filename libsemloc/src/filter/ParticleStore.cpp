@@ -3,18 +3,25 @@
 
 #include <semloc/filter/ParticleMotionModel.h>
 
+#include <cstdint>
 #include <cstring>
 
 namespace semloc::detail
 {
 namespace
 {
+uint64_t bitsOf(double v)
+{
+    uint64_t b = 0;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+}
+
 /** The same pose bit for bit (a NaN pose equals itself). */
 bool samePose(const mrpt::math::TPose2D& a, const mrpt::math::TPose2D& b)
 {
-    return std::memcmp(&a.x, &b.x, sizeof(double)) == 0 &&
-           std::memcmp(&a.y, &b.y, sizeof(double)) == 0 &&
-           std::memcmp(&a.phi, &b.phi, sizeof(double)) == 0;
+    return bitsOf(a.x) == bitsOf(b.x) && bitsOf(a.y) == bitsOf(b.y) &&
+           bitsOf(a.phi) == bitsOf(b.phi);
 }
 }  // namespace
 
