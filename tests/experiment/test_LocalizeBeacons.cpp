@@ -69,7 +69,9 @@ std::map<std::string, std::string> keysOf(const std::string& file)
         ini.getAllKeys(section, names);
         for (const auto& k : names)
         {
-            keys["[" + section + "] " + k] = ini.read_string(section, k, "");
+            std::string name = "[" + section;
+            name += "] " + k;
+            keys[name] = ini.read_string(section, k, "");
         }
     }
     return keys;
