@@ -2,10 +2,13 @@
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFile.h>
 #include <mrpt/config/CConfigFileMemory.h>
+#include <mrpt/maps/CBeaconMap.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
+#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/maps/LocalizationMap.h>
 
+#include <cmath>
 #include <fstream>
 #include <string>
 
@@ -18,6 +21,14 @@ using semloc::test::iniText;
 namespace
 {
 const std::string kPaperWorld = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
+const std::string kLblWorld = SEMLOC_SOURCE_DIR "/maps/paper_50x50_lbl.yaml";
+const std::string kBeaconIni = R"(
+[MetricMap]
+semanticMap_count = 1
+beaconMap_count = 1
+[MetricMap_beaconMap_00_likelihoodOpts]
+rangeStd = 0.5
+)";
 
 }  // namespace
 
@@ -143,4 +154,89 @@ resolution = 0.5
     const std::string e = errorOf(
         [&] { semloc::LocalizationMap::FromConfig(ini, world, SEMLOC_SOURCE_DIR "/x.gridmap"); });
     EXPECT_NE(e.find("a loaded world stands for a world YAML file"), std::string::npos) << e;
+}
+
+TEST(LocalizationMap, ABeaconMapHoldsTheWorldsBeacons)
+{
+    // MRPT's CBeaconMap from [MetricMap] beaconMap_count, filled from the map file's world.
+    const auto lm = semloc::LocalizationMap::FromConfig(iniText(kBeaconIni), kLblWorld);
+    ASSERT_TRUE(lm.world);
+    EXPECT_EQ(lm.variant(), "beaconMap+semantic");
+    const auto beacons = lm.map->mapByClass<mrpt::maps::CBeaconMap>();
+    ASSERT_TRUE(beacons);
+    EXPECT_EQ(beacons->likelihoodOptions.rangeStd, 0.5);
+    ASSERT_EQ(beacons->size(), lm.world->beacons.size());
+    ASSERT_EQ(beacons->size(), 3u);
+    for (size_t i = 0; i < beacons->size(); i++)
+    {
+        const auto& b = beacons->get(i);
+        const auto& w = lm.world->beacons[i];
+        EXPECT_EQ(b.m_ID, w.id);
+        EXPECT_EQ(b.m_typePDF, mrpt::maps::CBeacon::pdfGauss);
+        EXPECT_EQ(b.m_locationGauss.mean, mrpt::poses::CPoint3D(w.x, w.y, w.z));
+        EXPECT_LE(b.m_locationGauss.cov.maxCoeff(), 1e-6);
+    }
+    // The ranges of a pose score best there (the ranges to beacons 1 and 3).
+    mrpt::obs::CObservationBeaconRanges obs;
+    for (const int id : {1, 3})
+    {
+        const auto& w = lm.world->beacons[static_cast<size_t>(id - 1)];
+        mrpt::obs::CObservationBeaconRanges::TMeasurement m;
+        m.beaconID = id;
+        m.sensedDistance = static_cast<float>(
+            std::sqrt((w.x - 20) * (w.x - 20) + (w.y - 30) * (w.y - 30) + w.z * w.z));
+        obs.sensedData.push_back(m);
+    }
+    const auto at = [&](double x, double y)
+    { return beacons->computeObservationLikelihood(obs, mrpt::poses::CPose3D(x, y, 0, 0, 0, 0)); };
+    EXPECT_GT(at(20, 30), at(21, 30));
+    EXPECT_GT(at(20, 30), at(20, 29));
+    // The effective configuration says the ranges' standard deviation.
+    EXPECT_NE(lm.effectiveConfig(iniText(kBeaconIni)).find("rangeStd"), std::string::npos);
+
+    // A world given by the semantic map's own world_file fills it as well.
+    const auto own = semloc::LocalizationMap::FromConfig(
+        iniText(kBeaconIni + "[MetricMap_semanticMap_00_creationOpts]\nworld_file = " + kLblWorld +
+                "\n"),
+        "");
+    EXPECT_EQ(own.map->mapByClass<mrpt::maps::CBeaconMap>()->size(), 3u);
+}
+
+TEST(LocalizationMap, ABeaconMapWithoutBeaconsIsAnErrorNamingTheKeyAndTheWorld)
+{
+    const std::string path = std::string(SEMLOC_TEST_OUT) + "/localization_map_beacons.ini";
+    std::ofstream(path) << kBeaconIni;
+    const std::string e = errorOf(
+        [&] { semloc::LocalizationMap::FromConfig(mrpt::config::CConfigFile(path), kPaperWorld); });
+    EXPECT_NE(e.find("ini '" + path + "': [MetricMap] beaconMap_count: "), std::string::npos) << e;
+    EXPECT_NE(e.find("world file '" + kPaperWorld + "', which has none"), std::string::npos) << e;
+
+    const std::string noWorld = errorOf(
+        [&] {
+            semloc::LocalizationMap::FromConfig(iniText("[MetricMap]\nbeaconMap_count = 1\n"), "");
+        });
+    EXPECT_NE(noWorld.find("ini [MetricMap] beaconMap_count: the beacon map is empty"),
+              std::string::npos)
+        << noWorld;
+
+    for (const char* bad : {"0", "-0.5"})
+    {
+        const std::string text = std::string("[MetricMap]\nbeaconMap_count = 1\n") +
+                                 "[MetricMap_beaconMap_00_likelihoodOpts]\nrangeStd = " + bad +
+                                 "\n";
+        const std::string r =
+            errorOf([&] { semloc::LocalizationMap::FromConfig(iniText(text), kLblWorld); });
+        EXPECT_NE(r.find("ini [MetricMap_beaconMap_00_likelihoodOpts] rangeStd: "),
+                  std::string::npos)
+            << r;
+    }
+    const std::string inf = errorOf(
+        [&]
+        {
+            semloc::LocalizationMap::FromConfig(
+                iniText("[MetricMap]\nbeaconMap_count = 1\n"
+                        "[MetricMap_beaconMap_00_likelihoodOpts]\nrangeStd = inf\n"),
+                kLblWorld);
+        });
+    EXPECT_NE(inf.find("rangeStd: 'inf' is not a finite number"), std::string::npos) << inf;
 }

@@ -994,6 +994,8 @@ TEST(TSimulatorOptions, SaveWritesEveryKeyAndReadsBackIdentically)
     o.detector.report_ids = true;
     o.detector.fov_deg = 1e-5;
     o.kidnapping.enabled = true;
+    o.beacons.enabled = true;
+    o.beacons.range_std_m = 0.1 + 0.7;  // not a short decimal
     mrpt::config::CConfigFileMemory c;
     o.saveToConfigFile(c);
     for (const auto& [section, opts] :
@@ -1002,7 +1004,8 @@ TEST(TSimulatorOptions, SaveWritesEveryKeyAndReadsBackIdentically)
              {"Odometry", &o.odometry},
              {"Sonar", &o.sonar},
              {"SemanticDetector", &o.detector},
-             {"Kidnapping", &o.kidnapping}})
+             {"Kidnapping", &o.kidnapping},
+             {"BeaconRanging", &o.beacons}})
     {
         std::vector<std::string> keys;
         c.getAllKeys(section, keys);
@@ -1015,6 +1018,7 @@ TEST(TSimulatorOptions, SaveWritesEveryKeyAndReadsBackIdentically)
     EXPECT_EQ(c.getContent(), c2.getContent());
     EXPECT_EQ(back.simulation.time_step_s, 0.1 + 0.2);
     EXPECT_EQ(back.odometry.xy_std_per_m, 1.0 / 3);
+    EXPECT_EQ(back.beacons.range_std_m, 0.1 + 0.7);
     EXPECT_EQ(back.simulation.seed, 123456789u);
 }
 

@@ -20,6 +20,8 @@ objects:
   - {id: 2, label: pillar,   shape: cylinder, center: [20.0, 5.0], radius: 0.6}
   - {id: 3, label: wreck,    shape: polygon, points: [[30, 30], [34, 31], [33, 35], [29, 34]]}
   - {id: 4, label: marker,   shape: point, center: [12.0, 40.0]}   # seen by the detector, not by sonar
+beacons:                                                  # optional; acoustic transponders (LBL)
+  - {id: 1, x: -5, y: -5, z: -10}
 trajectory:                                               # optional; used by semloc-simulate
   speed_mps: 0.5
   waypoints: [[2, 2], [48, 2], [48, 7], [2, 7]]
@@ -60,6 +62,8 @@ TEST(World, AcceptsDesignExample)
     EXPECT_GT(w.objects[2].center.x, 29.0);
     EXPECT_LT(w.objects[2].center.x, 34.0);
     EXPECT_EQ(w.objects[3].shape, ShapeType::Point);
+    ASSERT_EQ(w.beacons.size(), 1u);
+    EXPECT_EQ(w.beacons[0].z, -10.0);
     ASSERT_TRUE(w.trajectory.has_value());
     EXPECT_EQ(w.trajectory->waypoints.size(), 4u);
     EXPECT_DOUBLE_EQ(w.trajectory->speed_mps, 0.5);
@@ -265,6 +269,100 @@ TEST(World, RejectsEachKindOfBadFileWithFileObjectAndKey)
             EXPECT_NE(e.find(m), std::string::npos) << c.name << ": '" << m << "' not in: " << e;
         }
     }
+}
+
+TEST(World, ReadsWritesAndRefusesAcousticBeacons)
+{
+    const char* text = R"(bounds: {x_min: 0, x_max: 50, y_min: 0, y_max: 50}
+objects:
+  - {id: 1, label: pillar, shape: cylinder, center: [5, 5], radius: 0.5}
+beacons:
+  - {id: 0, x: -5, y: 2.5, z: -10}
+  - {id: 7, x: 55, y: 60}
+)";
+    const World a = World::FromText(text, "lbl.yaml");
+    ASSERT_EQ(a.beacons.size(), 2u);
+    EXPECT_EQ(a.beacons[0].id, 0);
+    EXPECT_EQ(a.beacons[0].x, -5.0);  // outside the bounds: a beacon may be moored there
+    EXPECT_EQ(a.beacons[0].y, 2.5);
+    EXPECT_EQ(a.beacons[0].z, -10.0);
+    EXPECT_EQ(a.beacons[1].id, 7);
+    EXPECT_EQ(a.beacons[1].z, 0.0) << "z defaults to 0";
+    // Written back (z only where not 0), read back the same, through a file too.
+    const std::string yaml = a.toYamlText();
+    EXPECT_NE(
+        yaml.find("beacons:\n  - {id: 0, x: -5, y: 2.5, z: -10}\n  - {id: 7, x: 55, y: 60}\n"),
+        std::string::npos)
+        << yaml;
+    const std::string path = std::string(SEMLOC_TEST_OUT) + "/world_beacons.yaml";
+    a.saveToFile(path);
+    const World b = World::FromFile(path);
+    ASSERT_EQ(b.beacons.size(), 2u);
+    EXPECT_EQ(b.beacons[0].z, -10.0);
+    EXPECT_EQ(b.toYamlText(), yaml);
+    // A world without beacons is written without the key; an empty list reads as none.
+    EXPECT_EQ(
+        World::FromText(withObject("{id: 1, label: a, shape: point, center: [1, 1]}"), "d.yaml")
+            .toYamlText()
+            .find("beacons"),
+        std::string::npos);
+    EXPECT_TRUE(World::FromText(
+                    withObject("{id: 1, label: a, shape: point, center: [1, 1]}") + "beacons: []\n",
+                    "e.yaml")
+                    .beacons.empty());
+
+    const std::string head = withObject("{id: 1, label: a, shape: point, center: [1, 1]}");
+    const std::vector<BadCase> cases = {
+        {"not a list", head + "beacons: {id: 1, x: 1, y: 1}\n", {"'beacons'", "list"}},
+        {"not a map", head + "beacons:\n  - 3\n", {"beacons[0]", "expected a map"}},
+        {"unknown key",
+         head + "beacons:\n  - {id: 1, x: 1, y: 1, depth: 3}\n",
+         {"beacons[0] (id 1)", "'depth'", "unknown key"}},
+        {"missing y",
+         head + "beacons:\n  - {id: 1, x: 1}\n",
+         {"beacons[0] (id 1)", "'y'", "missing"}},
+        {"missing id", head + "beacons:\n  - {x: 1, y: 1}\n", {"beacons[0]", "'id'", "missing"}},
+        {"negative id",
+         head + "beacons:\n  - {id: -1, x: 1, y: 1}\n",
+         {"beacons[0] (id -1)", "'id'", "non-negative"}},
+        {"fractional id", head + "beacons:\n  - {id: 2.5, x: 1, y: 1}\n", {"'id'", "integer"}},
+        {"duplicate id",
+         head + "beacons:\n  - {id: 4, x: 1, y: 1}\n  - {id: 4, x: 2, y: 2}\n",
+         {"beacons[1] (id 4)", "duplicate id 4"}},
+        {"non-finite x", head + "beacons:\n  - {id: 1, x: .nan, y: 1}\n", {"'x'", "not a finite"}},
+        {"infinite z",
+         head + "beacons:\n  - {id: 1, x: 1, y: 1, z: -.inf}\n",
+         {"'z'", "not a finite"}},
+        {"text y", head + "beacons:\n  - {id: 1, x: 1, y: north}\n", {"'y'", "not a number"}},
+        {"far x",
+         head + "beacons:\n  - {id: 1, x: 1e300, y: 1}\n",
+         {"'x'", "bound of world coordinates"}},
+        {"key written twice",
+         head + "beacons:\n  - {id: 1, x: 1, x: 2, y: 1}\n",
+         {"line 5, column", "key 'x' repeated"}},
+    };
+    for (const auto& c : cases)
+    {
+        const std::string e = loadError(c.text);
+        ASSERT_FALSE(e.empty()) << c.name << ": accepted";
+        EXPECT_NE(e.find("bad.yaml"), std::string::npos) << c.name << ": " << e;
+        for (const auto& m : c.mustMention)
+        {
+            EXPECT_NE(e.find(m), std::string::npos) << c.name << ": '" << m << "' not in: " << e;
+        }
+    }
+}
+
+TEST(World, ShippedLblWorldIsThePaperWorldWithBeacons)
+{
+    // maps/paper_50x50_lbl.yaml: the paper's bounds, objects and trajectory, plus beacons.
+    World lbl = World::FromFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50_lbl.yaml");
+    World paper = World::FromFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
+    EXPECT_EQ(lbl.beacons.size(), 3u);
+    EXPECT_TRUE(paper.beacons.empty());
+    lbl.beacons.clear();
+    lbl.name = paper.name;
+    EXPECT_EQ(lbl.toYamlText(), paper.toYamlText());
 }
 
 TEST(World, BoundsEveryCoordinateAndLength)

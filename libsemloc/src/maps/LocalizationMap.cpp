@@ -3,6 +3,7 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <mrpt/io/CFileGZInputStream.h>
+#include <mrpt/maps/CBeaconMap.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/maps/TMetricMapTypesRegistry.h>
@@ -24,6 +25,7 @@
 
 #include "io/ExactConfigWrite.h"
 #include "io/Text.h"
+#include "maps/BeaconMapFromWorld.h"
 
 namespace semloc
 {
@@ -453,6 +455,8 @@ LocalizationMap LocalizationMap::build(const mrpt::config::CConfigFileBase& ini,
 
     const bool fromWorld = loadMapFile(lm, mapFile, section, world);
     lm.m_worldFiles = fillMaps(lm, aliases, mapFile, section, fromWorld);
+    // After the others: a semantic or structure map's own world_file may give the world.
+    detail::fillBeaconMaps(lm, aliases, mapFile, section);
     return lm;
 }
 
@@ -545,6 +549,12 @@ std::string LocalizationMap::effectiveConfig(const mrpt::config::CConfigFileBase
             ours.write(sc, "min_y", floatText(dg->min_y));
             ours.write(sc, "max_y", floatText(dg->max_y));
             ours.write(sc, "resolution", floatText(dg->resolution));
+        }
+        else if (const auto* db =
+                     dynamic_cast<const mrpt::maps::CBeaconMap::TMapDefinition*>(def.get()))
+        {
+            detail::writeExact(ours, prefix + "_likelihoodOpts", "rangeStd",
+                               db->likelihoodOpts.rangeStd, "");
         }
         k++;
     }

@@ -333,6 +333,60 @@ void readObjects(const node_t& objs, const std::string& file, const Where& top, 
     }
 }
 
+/** beacons[index]: `id` (a non-negative integer), `x`, `y`, optional `z`. */
+WorldBeacon parseBeacon(const node_t& n, size_t index, const std::string& file)
+{
+    Where w{file, "beacons[" + std::to_string(index) + "]"};
+    if (!n.isMap())
+    {
+        w.fail("", "expected a map {id: ..., x: ..., y: ...}");
+    }
+    const auto& m = n.asMap();
+    WorldBeacon b;
+    b.id = detail::toInt(requireKey(m, "id", w), w, "id");
+    w.object += " (id " + std::to_string(b.id) + ")";
+    checkKeys(m, {"id", "x", "y", "z"}, w);
+    if (b.id < 0)
+    {
+        w.fail("id", "must be a non-negative integer");
+    }
+    b.x = toCoordinate(requireKey(m, "x", w), w, "x");
+    b.y = toCoordinate(requireKey(m, "y", w), w, "y");
+    if (const auto* z = findKey(m, "z"))
+    {
+        b.z = toCoordinate(*z, w, "z");
+    }
+    return b;
+}
+
+/** The optional acoustic beacons, in file order, with unique ids (anywhere: a beacon may be
+ *  moored outside the area particles may occupy). */
+std::vector<WorldBeacon> readBeacons(const node_t& list, const std::string& file, const Where& top)
+{
+    std::vector<WorldBeacon> beacons;
+    if (list.isNullNode())
+    {
+        return beacons;  // "beacons:" with nothing after it: none
+    }
+    if (!list.isSequence())
+    {
+        top.fail("beacons", "expected a list of beacons [{id: ..., x: ..., y: ...}, ...]");
+    }
+    std::set<int> ids;
+    for (const auto& n : list.asSequence())
+    {
+        const size_t i = beacons.size();
+        beacons.push_back(parseBeacon(n, i, file));
+        if (!ids.insert(beacons.back().id).second)
+        {
+            const Where w{file, "beacons[" + std::to_string(i) + "] (id " +
+                                    std::to_string(beacons.back().id) + ")"};
+            w.fail("id", "duplicate id " + std::to_string(beacons.back().id));
+        }
+    }
+    return beacons;
+}
+
 /** The simulated vehicle follows the waypoints: a path of zero length, or one through an
  *  object (whose inside is not free space: the true pose would weigh zero), is refused. */
 void checkTrajectory(const World& world, const WorldTrajectory& tr, const Where& wt)
@@ -414,7 +468,7 @@ World parseWorld(const node_t& doc, const std::string& file)
         top.fail("", "expected a YAML map with keys name, bounds, objects");
     }
     const auto& m = doc.asMap();
-    checkKeys(m, {"name", "bounds", "objects", "trajectory"}, top);
+    checkKeys(m, {"name", "bounds", "objects", "beacons", "trajectory"}, top);
     World world;
     world.source = file;
     if (const auto* n = findKey(m, "name"))
@@ -423,6 +477,10 @@ World parseWorld(const node_t& doc, const std::string& file)
     }
     world.bounds = readBounds(requireKey(m, "bounds", top), file, top);
     readObjects(requireKey(m, "objects", top), file, top, world);
+    if (const auto* b = findKey(m, "beacons"))
+    {
+        world.beacons = readBeacons(*b, file, top);
+    }
     if (const auto* t = findKey(m, "trajectory"))
     {
         world.trajectory = readTrajectory(*t, file, top, world);

@@ -156,6 +156,19 @@ std::string World::toYamlText() const
     {
         writeObject(o, ob);
     }
+    if (!beacons.empty())
+    {
+        o << "beacons:\n";
+        for (const auto& b : beacons)
+        {
+            o << "  - {id: " << b.id << ", x: " << num(b.x) << ", y: " << num(b.y);
+            if (b.z != 0)
+            {
+                o << ", z: " << num(b.z);
+            }
+            o << "}\n";
+        }
+    }
     if (trajectory)
     {
         o << "trajectory:\n  speed_mps: " << num(trajectory->speed_mps) << "\n  waypoints: [";
@@ -171,12 +184,17 @@ std::string World::toYamlText() const
 void World::saveToFile(const std::string& path) const
 {
     // What semloc writes, semloc reads back: the text must load, with the same name and the
-    // same objects (ids, labels, shapes; numbers are written exactly).
+    // same objects (ids, labels, shapes) and beacons (ids; numbers are written exactly).
     const std::string text = toYamlText();
     try
     {
         const World back = World::FromText(text, path);
-        bool same = back.name == name && back.objects.size() == objects.size();
+        bool same = back.name == name && back.objects.size() == objects.size() &&
+                    back.beacons.size() == beacons.size();
+        for (size_t i = 0; same && i < beacons.size(); i++)
+        {
+            same = back.beacons[i].id == beacons[i].id;
+        }
         for (size_t i = 0; same && i < objects.size(); i++)
         {
             const auto &a = objects[i], &b = back.objects[i];

@@ -101,8 +101,8 @@ std::string joinList(const std::vector<std::string>& v)
 
 /** The sections of a scenario file that overlay the simulation; every other section but
  *  [Scenario] overlays the variants' inis. */
-const std::vector<std::string> kSimulationSections = {"Simulation", "Odometry", "Sonar",
-                                                      "SemanticDetector", "Kidnapping"};
+const std::vector<std::string> kSimulationSections = {
+    "Simulation", "Odometry", "Sonar", "SemanticDetector", "Kidnapping", "BeaconRanging"};
 
 /** Reads scenario file `path` (resolved) into `scenario`, its simulation overlay into
  *  `simulation` (whose max_steps `maxSteps` > 0 replaces) and its variants' overlay (section,

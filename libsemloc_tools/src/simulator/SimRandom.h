@@ -18,7 +18,8 @@ enum class SimStream : uint64_t
     Detector = 3,
     Kidnapping = 4,
     DetectorGaps = 5,
-    Distractors = 6
+    Distractors = 6,
+    BeaconRanging = 7
 };
 
 /** 32-bit MT19937 seed of a stream: the splitmix64 finalizer (Steele, Lea & Flood 2014) of

@@ -46,6 +46,7 @@ const char* const kOdometry = "Odometry";
 const char* const kSonar = "Sonar";
 const char* const kDetector = "SemanticDetector";
 const char* const kKidnapping = "Kidnapping";
+const char* const kBeaconRanging = "BeaconRanging";
 /** The first words of the effective configuration writeDataset() writes. */
 const char* const kConfigHeader = "// semloc-simulate: ";
 
@@ -140,6 +141,7 @@ void TSimulatorOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     sonar.loadFromConfigFile(c, kSonar);
     detector.loadFromConfigFile(c, kDetector);
     kidnapping.loadFromConfigFile(c, kKidnapping);
+    beacons.loadFromConfigFile(c, kBeaconRanging);
 }
 
 void TSimulatorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
@@ -149,6 +151,7 @@ void TSimulatorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
     sonar.saveToConfigFile(c, kSonar);
     detector.saveToConfigFile(c, kDetector);
     kidnapping.saveToConfigFile(c, kKidnapping);
+    beacons.saveToConfigFile(c, kBeaconRanging);
 }
 
 TSimulatorOptions TSimulatorOptions::FromConfigFile(const std::string& iniPath)
@@ -163,9 +166,13 @@ TSimulatorOptions TSimulatorOptions::FromConfigFile(const std::string& iniPath)
 
 std::string SimulationResult::summary() const
 {
+    const std::string lbl =
+        pings > 0 ? mrpt::format("%zu pings, %.2f beacon ranges/ping, ", pings, meanBeaconRanges)
+                  : "";
     return mrpt::format(
-        "%zu steps, %.2f detections/scan, %.1f of %zu sonar beams valid/scan, simulated in %.3f s",
-        steps, meanDetections, meanValidBeams, beamsPerScan, wallTime_s);
+        "%zu steps, %.2f detections/scan, %.1f of %zu sonar beams valid/scan, %ssimulated in "
+        "%.3f s",
+        steps, meanDetections, meanValidBeams, beamsPerScan, lbl.c_str(), wallTime_s);
 }
 
 // ------------------------------------------------------------------ simulator
@@ -187,6 +194,11 @@ Simulator::Simulator(const World& world, const TSimulatorOptions& options)
     {
         THROW_EXCEPTION(mrpt::format("ini [%s] x_m, y_m: (%g, %g) is not free space of %s",
                                      kKidnapping, k.x_m, k.y_m, where.c_str()));
+    }
+    if (options.beacons.enabled && world.beacons.empty())
+    {
+        THROW_EXCEPTION(std::string("ini [") + kBeaconRanging + "] enabled: " + where +
+                        " has no beacons to range to (a `beacons:` list)");
     }
 }
 
@@ -215,7 +227,7 @@ namespace
 /** The random streams of a run, one per source of noise (SimRandom.h). */
 struct SimStreams
 {
-    mrpt::random::CRandomGenerator odometry, sonar, detector, kidnap, gaps, distractors;
+    mrpt::random::CRandomGenerator odometry, sonar, detector, kidnap, gaps, distractors, beacons;
 
     explicit SimStreams(uint32_t seed)
         : odometry(detail::streamSeed(seed, detail::SimStream::Odometry)),
@@ -223,7 +235,8 @@ struct SimStreams
           detector(detail::streamSeed(seed, detail::SimStream::Detector)),
           kidnap(detail::streamSeed(seed, detail::SimStream::Kidnapping)),
           gaps(detail::streamSeed(seed, detail::SimStream::DetectorGaps)),
-          distractors(detail::streamSeed(seed, detail::SimStream::Distractors))
+          distractors(detail::streamSeed(seed, detail::SimStream::Distractors)),
+          beacons(detail::streamSeed(seed, detail::SimStream::BeaconRanging))
     {
     }
 };
@@ -273,21 +286,23 @@ struct Sensors
     OdometryModel odometry;
     SonarModel sonar;
     SemanticDetectorModel detector;
+    BeaconRangingModel beacons;
 };
 
 /** What the steps of a run add up to, for the summary. */
 struct StepCounts
 {
-    size_t detections = 0, validBeams = 0;
+    size_t detections = 0, validBeams = 0, pings = 0, beaconRanges = 0;
 };
 
-/** The step at `stamp`: the odometry of `increment` as the action, then the sonar scan and
- *  the detections at the true `pose` as the sensory frame, appended to the rawlog with the
- *  pose as ground truth. Draws odometry, sonar and detector noise in that order. */
+/** The step at `stamp`: the odometry of `increment` as the action, then the sonar scan, the
+ *  detections and, if `ping`, the beacons' ranges at the true `pose` as the sensory frame,
+ *  appended to the rawlog with the pose as ground truth. Draws odometry, sonar, detector and
+ *  beacon noise, each from its own stream. */
 void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPose2D& increment,
                 const mrpt::math::TPose2D& pose, mrpt::Clock::time_point stamp, double dt,
-                bool silent, const detail::Distractors& distractors, SimulationResult& res,
-                StepCounts& counts)
+                bool silent, bool ping, const detail::Distractors& distractors,
+                SimulationResult& res, StepCounts& counts)
 {
     auto action = sensors.odometry.measure(increment, rng.odometry, dt);
     action.timestamp = stamp;
@@ -310,6 +325,14 @@ void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPos
     auto frame = mrpt::obs::CSensoryFrame::Create();
     frame->insert(scan);
     frame->insert(semantic);
+    if (ping)
+    {
+        auto ranges = sensors.beacons.measure(pose, rng.beacons);
+        ranges->timestamp = stamp;
+        counts.pings++;
+        counts.beaconRanges += ranges->sensedData.size();
+        frame->insert(ranges);  // last: the other observations are those of a run without it
+    }
 
     res.rawlog.insert(actions);
     res.rawlog.insert(frame);
@@ -334,7 +357,8 @@ SimulationResult Simulator::run() const
     const TSimulatorOptions& o = m_options;
     SimStreams rng(o.simulation.seed);
     const Sensors sensors{OdometryModel(o.odometry), SonarModel(m_world, o.sonar),
-                          SemanticDetectorModel(m_world, o.detector)};
+                          SemanticDetectorModel(m_world, o.detector),
+                          BeaconRangingModel(m_world, o.beacons)};
     const double dt = o.simulation.time_step_s;
     TrajectoryFollower vehicle(m_world.trajectory->waypoints, speed() * dt);
     const size_t maxSteps = static_cast<size_t>(o.simulation.max_steps);
@@ -370,7 +394,7 @@ SimulationResult Simulator::run() const
             mrpt::Clock::fromDouble(o.simulation.start_time_s + static_cast<double>(k) * dt);
         const double t = o.simulation.start_time_s + static_cast<double>(k) * dt;
         recordStep(sensors, rng, increment, pose, stamp, k > 0 ? dt : 0.0, silences.silent(t),
-                   distractors, res, counts);
+                   sensors.beacons.pingsAt(k), distractors, res, counts);
         previous = mrpt::poses::CPose2D(pose);
         if (vehicle.finished() || (maxSteps > 0 && k + 1 >= maxSteps))
         {
@@ -387,6 +411,10 @@ SimulationResult Simulator::run() const
     }
     res.meanDetections = static_cast<double>(counts.detections) / static_cast<double>(res.steps);
     res.meanValidBeams = static_cast<double>(counts.validBeams) / static_cast<double>(res.steps);
+    res.pings = counts.pings;
+    res.meanBeaconRanges = counts.pings > 0 ? static_cast<double>(counts.beaconRanges) /
+                                                  static_cast<double>(counts.pings)
+                                            : 0.0;
     res.wallTime_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     return res;

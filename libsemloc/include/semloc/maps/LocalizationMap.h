@@ -16,7 +16,9 @@ namespace semloc
  *  map file as MRPT's pf-localization does, plus world YAML files:
  *  - `*.yaml`: a World. Each semanticMap and structureMap without a `world_file` of its own
  *    loads it; each occupancyGrid becomes World::makeOccupancyGrid() at the grid's
- *    `resolution` (its likelihood and insertion options are kept);
+ *    `resolution` (its likelihood and insertion options are kept); each beaconMap (MRPT's
+ *    CBeaconMap, range-only acoustic beacons) gets the world's `beacons` (a world without
+ *    any is an error naming `beaconMap_count` and the world file);
  *  - `*.simplemap[.gz]`: every map is built from the simple map
  *    (CMultiMetricMap::loadFromProbabilisticPosesAndObservations);
  *  - `*.gridmap[.gz]`: the first occupancyGrid is read from it; its options stay those of
@@ -47,7 +49,8 @@ public:
     /** The maps. */
     mrpt::maps::CMultiMetricMap::Ptr map;
     /** The world of a `*.yaml` map file, or of the first semantic/structure map's own
-     *  world_file: the free space of the initial cloud and of recovery. */
+     *  world_file: the free space of the initial cloud and of recovery, and the beacon
+     *  maps' beacons. */
     std::optional<World> world;
     /** The map definitions read from the ini, in the order of `map->maps`. */
     mrpt::maps::TSetOfMetricMapInitializers definitions;

@@ -117,6 +117,22 @@ struct WorldBounds
     }
 };
 
+/** A range-only acoustic beacon (an LBL transponder): what MRPT's CBeaconMap holds and
+ *  semloc-simulate's [BeaconRanging] sensor measures its range to (optional list
+ *  `beacons:` of the world file). */
+struct WorldBeacon
+{
+    /** Identifier the ranges carry: a non-negative integer, unique among the beacons. */
+    int id = 0;
+    /** Position [m] (key `x`); may lie outside the bounds. */
+    double x = 0;
+    /** Position [m] (key `y`); may lie outside the bounds. */
+    double y = 0;
+    /** Height above the vehicle's plane [m] (optional key `z`; negative: below it). Ranges
+     *  are slant ranges in 3D. */
+    double z = 0;
+};
+
 /** Optional path for the simulator: waypoints followed at constant speed. */
 struct WorldTrajectory
 {
@@ -126,7 +142,8 @@ struct WorldTrajectory
     std::vector<mrpt::math::TPoint2D> waypoints;
 };
 
-/** A world: bounds, labelled objects with outlines, and an optional trajectory.
+/** A world: bounds, labelled objects with outlines, optional acoustic beacons and an
+ *  optional trajectory.
  *
  * Loaded from the YAML schema of docs/design.md and validated strictly: every error
  * names the file, the object index (and id) and the key, and is thrown as an
@@ -140,6 +157,8 @@ public:
     WorldBounds bounds;
     /** Objects in file order. */
     std::vector<WorldObject> objects;
+    /** Acoustic beacons in file order (none if the file lists none). */
+    std::vector<WorldBeacon> beacons;
     /** Optional trajectory for the simulator. */
     std::optional<WorldTrajectory> trajectory;
     /** Where the world was read from (used in error messages). */
@@ -152,7 +171,7 @@ public:
 
     /** Writes this world in the YAML schema of docs/design.md (round-trips through FromFile). */
     void saveToFile(const std::string& path) const;
-    /** The world as YAML text, one object per line in flow style. */
+    /** The world as YAML text, one object and one beacon per line in flow style. */
     std::string toYamlText() const;
 
     /** Index of the object with this id in `objects`, or -1. */

@@ -41,11 +41,12 @@ namespace semloc
  *
  *  ## Scenarios (the robustness experiment)
  *  With `scenarios`, each scenario file is an overlay of `simulate_ini` (its [Simulation],
- *  [Odometry], [Sonar], [SemanticDetector], [Kidnapping] keys replace the base's) plus a
- *  [Scenario] section (TScenario: name, variants, recovery). Each scenario is a benchmark of
- *  its own written to `output_dir/<name>/` (all the outputs above); `output_dir` also gets
- *  `scenarios.csv` and `report.md`: per scenario and variant the success rate (converged;
- *  with a kidnapping: recovered within `recovery_max_steps`), convergence and recovery. */
+ *  [Odometry], [Sonar], [SemanticDetector], [Kidnapping], [BeaconRanging] keys replace the
+ *  base's) plus a [Scenario] section (TScenario: name, variants, recovery). Each scenario is
+ *  a benchmark of its own written to `output_dir/<name>/` (all the outputs above);
+ *  `output_dir` also gets `scenarios.csv` and `report.md`: per scenario and variant the
+ *  success rate (converged; with a kidnapping: recovered within `recovery_max_steps`),
+ *  convergence and recovery. */
 class Benchmark
 {
 public:

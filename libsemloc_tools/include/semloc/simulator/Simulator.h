@@ -5,6 +5,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CRawlog.h>
 #include <semloc/dataset/GroundTruthFile.h>
+#include <semloc/simulator/BeaconRangingModel.h>
 #include <semloc/simulator/OdometryModel.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
 #include <semloc/simulator/SonarModel.h>
@@ -77,12 +78,13 @@ struct TSimulatorOptions
     SonarModel::TOptions sonar;                //!< [Sonar]
     SemanticDetectorModel::TOptions detector;  //!< [SemanticDetector]
     TKidnappingOptions kidnapping;             //!< [Kidnapping]
+    BeaconRangingModel::TOptions beacons;      //!< [BeaconRanging]
 
-    /** Reads the five sections (absent keys keep their defaults; unknown keys, bad values
+    /** Reads the six sections (absent keys keep their defaults; unknown keys, bad values
      *  and a world_file that does not exist are errors naming [section] key). Other
      *  sections are ignored, so one ini may also configure other tools. */
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& source);
-    /** Writes every key of the five sections (the effective configuration). */
+    /** Writes every key of the six sections (the effective configuration). */
     void saveToConfigFile(mrpt::config::CConfigFileBase& target) const;
     /** Loads an ini file. Throws if it cannot be read or on any bad key. */
     static TSimulatorOptions FromConfigFile(const std::string& iniPath);
@@ -93,7 +95,8 @@ struct SimulationResult
 {
     /** Action / sensory-frame rawlog: per step a CActionCollection holding one
      *  CActionRobotMovement2D, then a CSensoryFrame holding the SONAR
-     *  CObservation2DRangeScan and the SEMANTIC CObservationSemantic. */
+     *  CObservation2DRangeScan and the SEMANTIC CObservationSemantic, and at a ping of
+     *  [BeaconRanging] the LBL CObservationBeaconRanges last. */
     mrpt::obs::CRawlog rawlog;
     /** One row per step. */
     std::vector<GroundTruthRow> groundTruth;
@@ -107,10 +110,15 @@ struct SimulationResult
     double meanValidBeams = 0;
     /** Sonar beams per scan. */
     size_t beamsPerScan = 0;
+    /** Pings of [BeaconRanging] (0 when it is disabled). */
+    size_t pings = 0;
+    /** Mean beacon ranges per ping. */
+    double meanBeaconRanges = 0;
     /** Wall-clock time of the simulation [s] (not part of the dataset). */
     double wallTime_s = 0;
 
-    /** "N steps, D detections/scan, B of n sonar beams valid/scan, simulated in T s". */
+    /** "N steps, D detections/scan, B of n sonar beams valid/scan, simulated in T s"; with
+     *  pings, ", P pings, R beacon ranges/ping" before "simulated". */
     std::string summary() const;
 };
 
@@ -122,13 +130,15 @@ struct SimulationResult
  *  2. if kidnapped at this step, is teleported: the odometry of this step is still the
  *     pre-kidnap motion;
  *  3. takes a sonar scan (SonarModel) and a semantic detection scan (SemanticDetectorModel)
- *     at its true pose, which is the step's ground-truth row.
+ *     at its true pose, which is the step's ground-truth row, and at a ping the beacons'
+ *     ranges (BeaconRangingModel).
  *  Deterministic: each component draws from its own mrpt::random::CRandomGenerator seeded
  *  from `seed`; a seed gives a byte-identical rawlog, timestamps included. */
 class Simulator
 {
 public:
-    /** Validates the options against `world` (trajectory present, kidnap pose free). */
+    /** Validates the options against `world` (trajectory present, kidnap pose free,
+     *  beacons to range to). */
     Simulator(const World& world, const TSimulatorOptions& options);
     /** Loads `options.simulation.world_file`. */
     explicit Simulator(const TSimulatorOptions& options);
