@@ -131,7 +131,7 @@ TEST(ShippedConfigs, TheLblFilesAddTheBeaconsToTheirBaseAndNothingElse)
     expected["[LocalizationExperiment] map_file"] = "../../maps/paper_50x50_lbl.yaml";
     expected["[LocalizationExperiment] logOutput_dir"] = "results/semantic_lbl";
     expected["[LocalizationExperiment] variant"] = "semantic_lbl";
-    expected["[PF_options] recovery_trigger"] = "off";
+    expected["[Recovery] trigger"] = "off";
     expected["[MetricMap] beaconMap_count"] = "1";
     expected["[MetricMap_beaconMap_00_likelihoodOpts] rangeStd"] = "0.5";
     EXPECT_EQ(keysOf(kConfig + "localize/semantic_lbl.ini"), expected);
@@ -139,7 +139,8 @@ TEST(ShippedConfigs, TheLblFilesAddTheBeaconsToTheirBaseAndNothingElse)
     auto norecovery = keysOf(kConfig + "localize/semantic_norecovery.ini");
     for (const auto& [key, value] : norecovery)
     {
-        if (key.rfind("[PF_options]", 0) == 0 || key.rfind("[MotionModel]", 0) == 0)
+        if (key.rfind("[PF_options]", 0) == 0 || key.rfind("[Recovery]", 0) == 0 ||
+            key.rfind("[MotionModel]", 0) == 0)
         {
             EXPECT_EQ(expected[key], value) << key;
         }
