@@ -6,8 +6,10 @@
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CObservationOdometry.h>
+#include <mrpt/poses/CPoint3D.h>
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/Simulator.h>
@@ -275,6 +277,52 @@ Cases timeCases()
     };
 }
 
+namespace
+{
+/** Acoustic beacon ranges beside the semantic map: three frames get ranges that are not
+ *  finite (a NaN range, an infinite one, a NaN transducer position), one a fine range. */
+std::vector<std::string> beaconRangesInvalid(const fs::path& d)
+{
+    auto sim = simulate();
+    auto sem = observationsOf<semloc::CObservationSemantic>(sim.rawlog);
+    auto ranges = [&](size_t frame, float range, double sensorX)
+    {
+        auto obs = mrpt::obs::CObservationBeaconRanges::Create();
+        obs->timestamp = sem[frame]->timestamp;
+        obs->maxSensorDistance = 200;
+        obs->stdError = 0.5f;
+        mrpt::obs::CObservationBeaconRanges::TMeasurement m;
+        m.beaconID = 1;
+        m.sensedDistance = range;
+        m.sensorLocationOnRobot = mrpt::poses::CPoint3D(sensorX, 0, 0);
+        obs->sensedData.push_back(m);
+        return obs;
+    };
+    for (size_t i = 0; i < sim.rawlog.size(); i++)
+    {
+        auto sf = std::dynamic_pointer_cast<mrpt::obs::CSensoryFrame>(sim.rawlog.getAsGeneric(i));
+        if (!sf || !sf->getObservationByClass<semloc::CObservationSemantic>())
+        {
+            continue;
+        }
+        const auto obs = sf->getObservationByClass<semloc::CObservationSemantic>();
+        const size_t k = static_cast<size_t>(std::find(sem.begin(), sem.end(), obs) - sem.begin());
+        if (k < 4)
+        {
+            const float bad[] = {std::numeric_limits<float>::quiet_NaN(),
+                                 std::numeric_limits<float>::infinity(), 30.0f, 30.0f};
+            sf->insert(ranges(k, bad[k], k == 2 ? kNaN : 0.0));
+        }
+    }
+    saveGz(sim.rawlog, d / "data.rawlog");
+    return localize(
+        d,
+        writeIni(d, "[MetricMap]\nbeaconMap_count = 1\n",
+                 {{"map_file", kSrc + "/maps/paper_50x50_lbl.yaml"}, {"trigger", "off"}}),
+        d / "data.rawlog");
+}
+}  // namespace
+
 /** Observations: skipped and counted. */
 Cases observationCases()
 {
@@ -325,6 +373,7 @@ Cases observationCases()
                                        o[2]->maxRange_m = kInf;
                                    });
          }},
+        {"beacon-ranges-invalid", beaconRangesInvalid},
         {"scans-geometry-invalid",
          [](const fs::path& d)
          {

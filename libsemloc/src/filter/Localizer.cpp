@@ -6,6 +6,7 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
+#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/DetectionPoseSampler.h>
 #include <semloc/filter/Localizer.h>
@@ -248,6 +249,23 @@ std::string Localizer::invalidObservation(const mrpt::obs::CObservation& obs,
         {
             return "it has 1 beam; MRPT's occupancy grid ([MetricMap] occupancyGrid) needs at "
                    "least 2";
+        }
+    }
+    else if (const auto* lbl = dynamic_cast<const mrpt::obs::CObservationBeaconRanges*>(&obs))
+    {
+        // MRPT's CBeaconMap throws on the non-finite likelihood such a range gives.
+        for (const auto& m : lbl->sensedData)
+        {
+            const auto& at = m.sensorLocationOnRobot;
+            if (!std::isfinite(m.sensedDistance) || !std::isfinite(at.x()) ||
+                !std::isfinite(at.y()) || !std::isfinite(at.z()))
+            {
+                return mrpt::format(
+                    "its range %g to beacon %d (from (%g, %g, %g) on the "
+                    "vehicle) is not finite",
+                    static_cast<double>(m.sensedDistance), static_cast<int>(m.beaconID), at.x(),
+                    at.y(), at.z());
+            }
         }
     }
     else if (const auto* sem = dynamic_cast<const CObservationSemantic*>(&obs))
