@@ -33,6 +33,11 @@ TCLAP::ValueArg<int> argSaveParticles(
     "Write the particles of every N-th step and of the last to particles.csv "
     "(overrides particles_save_every; 0: none)",
     false, 0, "N", cmd);
+TCLAP::SwitchArg argTraceDetections(
+    "", "trace-detections",
+    "Write detections.csv: what each semantic detection adds to the weight at the estimate "
+    "and at the true pose (sets detections_trace)",
+    cmd);
 TCLAP::SwitchArg argQuiet("q", "quiet", "No progress bar and no summary", cmd);
 TCLAP::SwitchArg argAllowTruncated(
     "", "allow-truncated",
@@ -78,6 +83,10 @@ void run()
     if (argSaveParticles.isSet())
     {
         ov.particles_save_every = argSaveParticles.getValue();
+    }
+    if (argTraceDetections.isSet())
+    {
+        ov.detections_trace = true;
     }
     ov.allow_truncated = argAllowTruncated.isSet();
     const auto experiment = semloc::LocalizationExperiment::FromConfigFile(argIni.getValue(), ov);

@@ -11,6 +11,7 @@
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
+#include <semloc/maps/CSemanticMap.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -66,6 +67,7 @@ const std::vector<std::string> kRunKeys = {"rawlog_file",
                                            "logOutput_dir",
                                            "rawlog_offset",
                                            "particles_save_every",
+                                           "detections_trace",
                                            "variant",
                                            "convergence_max_err_xy_m",
                                            "convergence_max_var_xy_m2",
@@ -165,6 +167,10 @@ void applyOverrides(LocalizationExperiment::TOptions& o,
     {
         ASSERTMSG_(*ov.particles_save_every >= 0, "--save-particles must be 0 or more");
         o.particles_save_every = *ov.particles_save_every;
+    }
+    if (ov.detections_trace)
+    {
+        o.detections_trace = *ov.detections_trace;
     }
     if (ov.seed)
     {
@@ -330,6 +336,7 @@ void LocalizationExperiment::TOptions::loadFromConfigFile(const mrpt::config::CC
     logOutput_dir = trimValue(c.read_string(s, "logOutput_dir", logOutput_dir));
     readInt(c, s, "rawlog_offset", rawlog_offset, 0, std::numeric_limits<int>::max());
     readInt(c, s, "particles_save_every", particles_save_every, 0, std::numeric_limits<int>::max());
+    readBool(c, s, "detections_trace", detections_trace);
     variant = trimValue(c.read_string(s, "variant", variant));
     // MRPT's ini reader ends a value at "//" inconsistently (an inline comment): such a value
     // would not read back from the effective config.ini.
@@ -376,6 +383,8 @@ void LocalizationExperiment::TOptions::saveToConfigFile(mrpt::config::CConfigFil
     writeText(c, s, "rawlog_offset", std::to_string(rawlog_offset), "steps skipped");
     writeText(c, s, "particles_save_every", std::to_string(particles_save_every),
               "particles.csv: every N-th step and the last (0: none)");
+    writeText(c, s, "detections_trace", detections_trace ? "1" : "0",
+              "detections.csv: each semantic detection's gain at the estimate and the truth");
     writeText(c, s, "variant", variant, "name in summary.yaml");
     detail::writeExact(c, s, "convergence_max_err_xy_m", convergence.max_err_xy_m, "[m]");
     detail::writeExact(c, s, "convergence_max_var_xy_m2", convergence.max_var_xy_m2, "[m^2]");
@@ -424,6 +433,12 @@ LocalizationExperiment LocalizationExperiment::FromConfigFile(const std::string&
     checkOutputDirectory(o.logOutput_dir, e.inputFiles());
 
     e.m_maps = LocalizationMap::FromConfig(*ini, o.map_file);
+    if (o.detections_trace && !e.m_maps.map->mapByClass<CSemanticMap>())
+    {
+        THROW_EXCEPTION("ini [" + kSection +
+                        "] detections_trace: 1 (or --trace-detections) needs a semantic map "
+                        "in [MetricMap] (semanticMap_count = 1): it explains semantic detections");
+    }
     if (o.variant.empty())
     {
         o.variant = e.m_maps.variant();

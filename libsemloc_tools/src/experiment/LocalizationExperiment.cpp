@@ -16,6 +16,7 @@
 #include <optional>
 #include <utility>
 
+#include "experiment/DetectionsCsv.h"
 #include "experiment/LocalizationConfig.h"
 #include "experiment/LocalizationOutputs.h"
 #include "experiment/RunDetectorBound.h"
@@ -196,6 +197,11 @@ struct StepSinks
         {
             particles.emplace(out.path("particles.csv"), o.particles_save_every);
         }
+        if (o.detections_trace)
+        {
+            // A semantic map is there: FromConfigFile refuses the trace without one.
+            detections.emplace(out.path("detections.csv"), *maps.map->mapByClass<CSemanticMap>());
+        }
     }
     void add(TStepRecord& r, const Localizer& loc, const mrpt::obs::CSensoryFrame& sf)
     {
@@ -213,6 +219,10 @@ struct StepSinks
         {
             particles->step(r, loc.pdf());
         }
+        if (detections)
+        {
+            detections->add(r, sf);
+        }
         if (m_keep)
         {
             m_kept.push_back(r);
@@ -227,12 +237,17 @@ struct StepSinks
             particles->finish(*last, loc.pdf());
         }
         steps.finish();
+        if (detections)
+        {
+            detections->finish();
+        }
     }
 
     detail::StepsCsv steps;
     RunMetricsAccumulator metrics;
     detail::RunDetectorBound bound;
     std::optional<detail::ParticlesCsv> particles;
+    std::optional<detail::DetectionsCsv> detections;
     std::optional<TStepRecord> last;
 
 private:

@@ -30,8 +30,8 @@ namespace semloc
  *  must be false and `experimentRepetitions` 1. Ours, in [LocalizationExperiment]: `seed`,
  *  `variant`, `convergence_max_err_xy_m`, `convergence_max_var_xy_m2`,
  *  `convergence_min_steps`; in [PF_options]: `threads`, `free_space_prior`,
- *  `kld_at_resampling`; [Recovery]; [MotionModel]. Relative input paths are resolved next to the ini first
- *  (config::resolveNextToIni), `logOutput_dir` from the working directory (as MRPT). An
+ *  `kld_at_resampling`; [Recovery]; [MotionModel]. Relative input paths are resolved next to the
+ * ini first (config::resolveNextToIni), `logOutput_dir` from the working directory (as MRPT). An
  *  empty `ground_truth_path_file` takes semloc-simulate's `<rawlog stem>_gt.txt` if it
  *  exists (GroundTruthFile::PathFor).
  *
@@ -65,6 +65,10 @@ public:
         /** Write the particles of every N-th step (step 0, N, 2N, ... and the last step) to
          *  particles.csv; 0: not written. */
         int particles_save_every = 0;
+        /** Write detections.csv: what each semantic detection adds to the weight at the
+         *  estimate and at the true pose, and the map object it is most like there (a run's
+         *  diagnosis; docs/design.md, "Output contract of semloc-localize"). */
+        bool detections_trace = false;
         /** Name of the variant in summary.yaml; empty: from the maps (LocalizationMap). */
         std::string variant;
         /** Convergence criterion (docs/design.md). */
@@ -97,6 +101,8 @@ public:
         std::optional<uint32_t> seed;
         /** particles_save_every (--save-particles). */
         std::optional<int> particles_save_every;
+        /** detections_trace (--trace-detections). */
+        std::optional<bool> detections_trace;
         /** Use the intact entries before a truncated or corrupted one (--allow-truncated)
          *  instead of refusing the rawlog. */
         bool allow_truncated = false;
