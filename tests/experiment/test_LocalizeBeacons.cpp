@@ -21,6 +21,7 @@
 namespace fs = std::filesystem;
 using semloc::LocalizationExperiment;
 using semloc::test::readText;
+using semloc::test::stepsWithoutTiming;
 
 namespace
 {
@@ -37,23 +38,6 @@ std::string uniformStart(const std::string& variant)
     const fs::path path = kOut / (variant + "_uniform.ini");
     std::ofstream(path) << text;
     return path.string();
-}
-
-/** steps.csv without its update_us column (the 14th, the only one that depends on timing). */
-std::string stepsWithoutTiming(const fs::path& dir)
-{
-    std::istringstream in(readText(dir / "steps.csv"));
-    std::string line, out;
-    while (std::getline(in, line))
-    {
-        size_t begin = 0;
-        for (int k = 0; k < 13; k++)
-        {
-            begin = line.find(',', begin) + 1;
-        }
-        out += line.substr(0, begin) + line.substr(line.find(',', begin) + 1) + "\n";
-    }
-    return out;
 }
 
 /** "[section] key" -> value of every key of an ini file, its bases resolved. */

@@ -40,27 +40,8 @@ const fs::path kOut = fs::path(SEMLOC_TEST_OUT) / "localize";
 const std::string kConfig = SEMLOC_SOURCE_DIR "/config/";
 
 using semloc::test::readText;
+using semloc::test::stepsWithoutTiming;
 using semloc::test::withKeys;
-
-/** steps.csv without the update_us column, the 14th (the only one that may differ between
- *  runs). */
-std::string stepsWithoutTiming(const fs::path& dir)
-{
-    std::istringstream in(readText(dir / "steps.csv"));
-    std::string line, out;
-    while (std::getline(in, line))
-    {
-        size_t begin = 0;
-        for (int k = 0; k < 13; k++)
-        {
-            begin = line.find(',', begin) + 1;
-        }
-        const size_t end = line.find(',', begin);
-        EXPECT_NE(end, std::string::npos) << line;
-        out += line.substr(0, begin) + line.substr(end + 1) + "\n";
-    }
-    return out;
-}
 
 /** Every file of an output directory, the timing and thread-count values removed: the
  *  update_us column of steps.csv, the timing and `threads` lines of summary.yaml and the

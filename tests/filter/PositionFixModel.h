@@ -4,6 +4,8 @@
 #pragma once
 
 #include <mrpt/maps/CSimplePointsMap.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3D.h>
@@ -69,6 +71,18 @@ inline mrpt::obs::CSensoryFrame fixFrame(double x, double y, double sigma)
     mrpt::obs::CSensoryFrame sf;
     sf.insert(fix);
     return sf;
+}
+
+/** An odometry action: d metres straight ahead, MRPT's Gaussian model. */
+inline mrpt::obs::CActionCollection forward(double d)
+{
+    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions opts;
+    opts.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
+    mrpt::obs::CActionRobotMovement2D move;
+    move.computeFromOdometry(mrpt::poses::CPose2D(d, 0, 0), opts);
+    mrpt::obs::CActionCollection acts;
+    acts.insert(move);
+    return acts;
 }
 
 }  // namespace semloc::test

@@ -23,6 +23,7 @@
 namespace
 {
 using mrpt::math::TPose2D;
+using semloc::test::forward;
 
 /** Normal draws of one particle from (step key, particle index) alone: splitmix64 and
  *  Box–Muller, so any thread may move any particle. */
@@ -96,17 +97,6 @@ private:
     TPose2D m_odometry;
     uint64_t m_key = 0;
 };
-
-mrpt::obs::CActionCollection forward(double d)
-{
-    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions opts;
-    opts.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
-    mrpt::obs::CActionRobotMovement2D move;
-    move.computeFromOdometry(mrpt::poses::CPose2D(d, 0, 0), opts);
-    mrpt::obs::CActionCollection acts;
-    acts.insert(move);
-    return acts;
-}
 
 constexpr double kCurrentX = 0.25, kCurrentY = -0.15;  // the truth's [m/s]
 

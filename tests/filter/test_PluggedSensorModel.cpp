@@ -32,18 +32,8 @@ namespace
 using mrpt::math::TPose2D;
 
 using semloc::test::fixFrame;
+using semloc::test::forward;
 using semloc::test::PositionFixModel;
-
-mrpt::obs::CActionCollection forward(double d)
-{
-    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions opts;
-    opts.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
-    mrpt::obs::CActionRobotMovement2D move;
-    move.computeFromOdometry(mrpt::poses::CPose2D(d, 0, 0), opts);
-    mrpt::obs::CActionCollection acts;
-    acts.insert(move);
-    return acts;
-}
 
 struct FixRun
 {
