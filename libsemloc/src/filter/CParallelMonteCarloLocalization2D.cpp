@@ -4,7 +4,10 @@
  * re-initialization and injection in ParticleRecovery.cpp. */
 #include <mrpt/core/exceptions.h>
 #include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CActionRobotMovement3D.h>
 #include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/poses/CPose2D.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/ParallelExecutor.h>
@@ -108,6 +111,21 @@ struct UpdatePass
             kParticleGrain);
     }
 };
+
+/** `pose` moved by the actions' mean odometry increment (unchanged without one). */
+TPose2D composeIncrement(const TPose2D& pose, const mrpt::obs::CActionCollection& actions)
+{
+    mrpt::poses::CPose2D increment;
+    if (const auto m2 = actions.getBestMovementEstimation(); m2 && m2->poseChange)
+    {
+        increment = m2->poseChange->getMeanVal();
+    }
+    else if (const auto m3 = actions.getActionByClass<mrpt::obs::CActionRobotMovement3D>())
+    {
+        increment = mrpt::poses::CPose2D(m3->poseChange.getMeanVal());
+    }
+    return (mrpt::poses::CPose2D(pose) + increment).asTPose();
+}
 }  // namespace
 
 CParallelMonteCarloLocalization2D::CParallelMonteCarloLocalization2D(size_t M)
@@ -163,6 +181,7 @@ void CParallelMonteCarloLocalization2D::resetDetectorOutage()
     {
         m_likelihood->resetState();
     }
+    m_deadReckoning = TPose2D(0, 0, 0);
 }
 
 SensoryFrameLikelihood::TStats CParallelMonteCarloLocalization2D::likelihoodStats() const
@@ -219,6 +238,10 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
                                                                             PF_options);
     }
     m_store->syncFrom(m_particles, *m_motion, rng);
+    if (actions)
+    {
+        m_deadReckoning = composeIncrement(m_deadReckoning, *actions);
+    }
     const bool move = actions && !mrptKld(PF_options);
     if (move)
     {
@@ -316,7 +339,7 @@ bool CParallelMonteCarloLocalization2D::predictAndUpdate(
     const bool recovery = m_recovery->watches(*m_likelihood);
     const double lsePrior = recovery ? detail::logSumExpWeights(particles, *m_executor) : 0;
     m_logLik.resize(M);
-    m_likelihood->beginUpdate(M);
+    m_likelihood->beginUpdate(M, &m_deadReckoning);
     range = updateParticles(move, true, chunkwise, PF_options.powFactor);
     if (m_likelihood->updatesState())
     {

@@ -20,6 +20,7 @@
 #include <typeinfo>
 
 #include "filter/DetectorOutage.h"
+#include "filter/LookAlikeMemory.h"
 
 namespace semloc
 {
@@ -224,6 +225,14 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
                 t.serialIndex = m_nSerial++;
             }
             anyParallelGeneric = anyParallelGeneric || path == Path::GenericParallel;
+            if (path == Path::Model && dynamic_cast<const CObservationSemantic*>(o.get()))
+            {
+                const auto* semantic = dynamic_cast<const CSemanticMap*>(map);
+                const bool persistence =
+                    semantic && semantic->likelihoodOptions.lookalike_persistence > 0 &&
+                    semantic->likelihoodOptions.model == CSemanticMap::Model::Probabilistic;
+                t.lookAlikes = persistence ? semantic : nullptr;
+            }
             t.outage = planOutage(t);
             planWithoutObjects(t);
             m_terms.push_back(t);
@@ -333,6 +342,13 @@ void SensoryFrameLikelihood::evaluateTerm(const Term& t, const TPose2D* poses, s
     switch (t.path)
     {
         case Path::Model:
+            if (t.clutter >= 0)
+            {
+                t.lookAlikes->computeLogLikelihoods(
+                    static_cast<const CObservationSemantic&>(*t.obs), poses + b, m, term,
+                    m_clutterFactors[static_cast<size_t>(t.clutter)].data());
+                break;
+            }
             t.model->logLikelihoods(*t.obs, poses + b, m, term);
             break;
         case Path::GenericParallel:
@@ -413,8 +429,43 @@ size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, siz
     return nonfinite;
 }
 
-void SensoryFrameLikelihood::beginUpdate(size_t particles)
+void SensoryFrameLikelihood::noteLookAlikes(const TPose2D& odometry)
 {
+    size_t used = 0;
+    for (Term& t : m_terms)
+    {
+        if (!t.lookAlikes)
+        {
+            continue;
+        }
+        auto it = std::find_if(m_lookAlikes.begin(), m_lookAlikes.end(),
+                               [&](const auto& m) { return m.first == t.lookAlikes; });
+        if (it == m_lookAlikes.end())
+        {
+            m_lookAlikes.emplace_back(t.lookAlikes, std::make_unique<detail::LookAlikeMemory>());
+            it = std::prev(m_lookAlikes.end());
+        }
+        if (m_clutterFactors.size() <= used)
+        {
+            m_clutterFactors.resize(used + 1);
+        }
+        auto& factors = m_clutterFactors[used];
+        it->second->note(static_cast<const CObservationSemantic&>(*t.obs), *t.lookAlikes, odometry,
+                         factors);
+        t.clutter = static_cast<int>(used++);
+        for (const double f : factors)
+        {
+            m_withoutObjects.logLik += f;  // the same densities with no object in view
+        }
+    }
+}
+
+void SensoryFrameLikelihood::beginUpdate(size_t particles, const TPose2D* odometry)
+{
+    if (odometry)
+    {
+        noteLookAlikes(*odometry);
+    }
     m_outageMixed = false;
     if (!m_outage.present)
     {
@@ -444,6 +495,7 @@ void SensoryFrameLikelihood::resetState()
 {
     m_detectorOutage->reset();
     m_outageMixed = false;
+    m_lookAlikes.clear();
 }
 
 void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const TPose2D* poses,

@@ -134,7 +134,10 @@ config::TValueRange CSemanticMap::TLikelihoodOptions::range(const std::string& k
         {"fov_deg", {0, 360}},
         {"index_cell_m", {0.01, 1e6}},
         {"outage_every_s", {0, 1e9}},
-        {"outage_mean_s", {1e-3, 1e9}}};
+        {"outage_mean_s", {1e-3, 1e9}},
+        {"lookalike_persistence", {0, 1}},
+        {"lookalike_speed_mps", {0, 1e3}},
+        {"lookalike_window_s", {1e-3, 3600}}};
     for (const auto& [k, r] : kRanges)
     {
         if (k == key)
@@ -198,6 +201,18 @@ void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CC
     config::readDouble(c, s, "index_cell_m", index_cell_m, range("index_cell_m"));
     config::readDouble(c, s, "outage_every_s", outage_every_s, range("outage_every_s"));
     config::readDouble(c, s, "outage_mean_s", outage_mean_s, range("outage_mean_s"));
+    config::readDouble(c, s, "lookalike_persistence", lookalike_persistence,
+                       range("lookalike_persistence"));
+    config::readDouble(c, s, "lookalike_speed_mps", lookalike_speed_mps,
+                       range("lookalike_speed_mps"));
+    config::readDouble(c, s, "lookalike_window_s", lookalike_window_s, range("lookalike_window_s"));
+    if (lookalike_persistence > 0 && model != Model::Probabilistic)
+    {
+        THROW_EXCEPTION("ini [" + s +
+                        "] lookalike_persistence: the look-alike model is part of the "
+                        "probabilistic model; set model = probabilistic or "
+                        "lookalike_persistence = 0");
+    }
     if (outage_every_s > 0 && model != Model::Probabilistic)
     {
         THROW_EXCEPTION("ini [" + s +
@@ -240,6 +255,12 @@ void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFil
                        "probabilistic: mean time between detector outages [s], 0 = none");
     detail::writeExact(c, s, "outage_mean_s", outage_mean_s,
                        "probabilistic: mean length of an outage [s]");
+    detail::writeExact(c, s, "lookalike_persistence", lookalike_persistence,
+                       "probabilistic: look-alikes' detections per scan after one, 0 = none");
+    detail::writeExact(c, s, "lookalike_speed_mps", lookalike_speed_mps,
+                       "probabilistic: look-alikes' largest speed [m/s]");
+    detail::writeExact(c, s, "lookalike_window_s", lookalike_window_s,
+                       "probabilistic: look-alikes' earlier detections kept [s]");
 }
 
 void CSemanticMap::TInsertionOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,

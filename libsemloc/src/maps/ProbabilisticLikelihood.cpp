@@ -132,7 +132,12 @@ void missBlock(Scratch& sc, const ModelConsts& k, size_t m, size_t ne)
     double* miss = sc.bMiss.data();
     double* base = sc.bBase.data();
     std::fill(miss, miss + m, 1.0);
-    std::fill(base, base + m, -k.lambda + static_cast<double>(sc.dets.size()) * k.logKappa);
+    double logKappas = static_cast<double>(sc.dets.size()) * k.logKappa;
+    for (const auto& d : sc.dets)
+    {
+        logKappas += d.clutterShift;  // look-alikes' clutter densities (0 without)
+    }
+    std::fill(base, base + m, -k.lambda + logKappas);
     const uint32_t* part = sc.bPart.data();
     const double* PD = sc.bPd.data();
     for (size_t e = 0; e < ne; e++)
@@ -308,15 +313,15 @@ struct GainParts
         const double logC = this->logC(k, d, e);
         if (k.uncertain)
         {
-            return uncertainRest(k, logC, dr, db, e);
+            return uncertainRest(k, logC, dr, db, e) - d.clutterShift;
         }
         if (k.rangeOutliers)
         {
             return logC + k.logNormBearing + rangeTerm(k, -0.5 * (dr * k.ir) * (dr * k.ir)) -
-                   0.5 * (db * k.ib) * (db * k.ib) - k.logKappa;
+                   0.5 * (db * k.ib) * (db * k.ib) - k.logKappa - d.clutterShift;
         }
         return logC + k.logNorm - 0.5 * (dr * k.ir) * (dr * k.ir) -
-               0.5 * (db * k.ib) * (db * k.ib) - k.logKappa;
+               0.5 * (db * k.ib) * (db * k.ib) - k.logKappa - d.clutterShift;
     }
 };
 

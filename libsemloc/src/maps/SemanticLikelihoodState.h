@@ -18,15 +18,16 @@ namespace semloc::semantic
 /** A detection prepared for matching. */
 struct Det
 {
-    double r;       // range [m]
-    double uc, us;  // unit vector of the bearing (cos, sin), computed once per observation
-    int32_t label;  // label id, or -1 = any label (MRPT landmarks without id)
-    int32_t fixed;  // sorted index of the object it names, or -1
+    double r;             // range [m]
+    double uc, us;        // unit vector of the bearing (cos, sin), computed once per observation
+    int32_t label;        // label id, or -1 = any label (MRPT landmarks without id)
+    int32_t fixed;        // sorted index of the object it names, or -1
+    double clutterShift;  // log of its clutter density over kappa (look-alikes), >= 0
 };
 
 inline Det makeDet(double r, double bearing, int32_t label, int32_t fixed)
 {
-    return {r, std::cos(bearing), std::sin(bearing), label, fixed};
+    return {r, std::cos(bearing), std::sin(bearing), label, fixed, 0.0};
 }
 
 /** A map object predicted visible from the particle: one element of z^k. */

@@ -61,7 +61,8 @@ double wrapBearing(double b)
 
 /** Fills sc.dets with the detections the likelihood uses (once per observation). */
 Sensor prepare(const CObservationSemantic& obs, const CSemanticMap::TLikelihoodOptions& lo,
-               const CSemanticMap::Index& ix, const LabelIndex& labels, Scratch& sc)
+               const CSemanticMap::Index& ix, const LabelIndex& labels, Scratch& sc,
+               const double* clutterLogFactors = nullptr)
 {
     const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxRange_m;
     const double fov = lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : obs.fov_rad;
@@ -90,13 +91,19 @@ Sensor prepare(const CObservationSemantic& obs, const CSemanticMap::TLikelihoodO
         }
         sc.dets.push_back(semantic::makeDet(lo.correctedRange(d.range_m, d.bearing_rad, R, fov),
                                             d.bearing_rad, label, fixed));
+        if (clutterLogFactors)
+        {
+            // The look-alike persistence's clutter density, kappa e^factor (factor >= 0).
+            sc.dets.back().clutterShift = clutterLogFactors[&d - obs.detections.data()];
+        }
     }
     return s;
 }
 
 Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
                const CSemanticMap::TLikelihoodOptions& lo, const CSemanticMap::Index& ix,
-               const LabelIndex& /*labels*/, Scratch& sc)
+               const LabelIndex& /*labels*/, Scratch& sc,
+               const double* /*clutterLogFactors*/ = nullptr)
 {
     const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxSensorDistance;
     double fov =
@@ -144,10 +151,11 @@ semantic::ModelConsts modelConsts(const CSemanticMap::TLikelihoodOptions& lo,
 }  // namespace
 
 template <typename OBS>
-void CSemanticMap::likelihoodsOf(const OBS& obs, const TPose2D* poses, size_t n, double* out) const
+void CSemanticMap::likelihoodsOf(const OBS& obs, const TPose2D* poses, size_t n, double* out,
+                                 const double* clutterLogFactors) const
 {
     Scratch& sc = scratch();
-    const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc);
+    const Sensor s = prepare(obs, likelihoodOptions, *m_index, *m_labels, sc, clutterLogFactors);
     const size_t nLabels = m_labels->size();
     const semantic::ModelConsts k = s.usable
                                         ? modelConsts(likelihoodOptions, *m_index, nLabels, s, sc)
@@ -241,6 +249,21 @@ void CSemanticMap::computeLogLikelihoods(const CObservationSemantic& obs, const 
                                          size_t n, double* out) const
 {
     likelihoodsOf(obs, poses, n, out);
+}
+
+void CSemanticMap::computeLogLikelihoods(const CObservationSemantic& obs, const TPose2D* poses,
+                                         size_t n, double* out,
+                                         const double* clutterLogFactors) const
+{
+    likelihoodsOf(obs, poses, n, out, clutterLogFactors);
+}
+
+double CSemanticMap::clutterDensity(const CObservationSemantic& obs) const
+{
+    const double R = likelihoodOptions.maxRange(obs);
+    const double fov = std::min(likelihoodOptions.fieldOfView(obs), 2 * M_PI);
+    const double labels = static_cast<double>(std::max<size_t>(1, m_labels->size()));
+    return R > 0 && fov > 0 ? likelihoodOptions.clutter_per_scan / (R * fov * labels) : 0.0;
 }
 
 void CSemanticMap::computeLogLikelihoods(const mrpt::obs::CObservationBearingRange& obs,

@@ -200,7 +200,9 @@ public:
     /** The probability that the semantic detector is out after the last frame (the outage
      *  model, CSemanticMap's outage_every_s > 0; 0 while it has seen no frame). */
     double detectorOutageProbability() const;
-    /** Forgets the detector's outage state (a new run). */
+    /** Forgets the sensor models' state from frame to frame (a new run): the detector's
+     *  outage probability and the look-alikes' memory (CSemanticMap's
+     *  lookalike_persistence). */
     void resetDetectorOutage();
     /** ESS() at the end of the last step, before its resampling (see "Resampling"). */
     double essBeforeResampling() const { return m_essBeforeResampling; }
@@ -291,6 +293,10 @@ private:
     std::shared_ptr<ParticleMotionModel> m_motion;
     /** The particles of a step, with their motion states. */
     std::unique_ptr<detail::ParticleStore> m_store;
+
+    /** The vehicle's pose by its odometry (the actions' mean increments composed from the
+     *  first step): the look-alike persistence's frame. */
+    mrpt::math::TPose2D m_deadReckoning{0, 0, 0};
 
     /** Per-step buffers, reused (no allocation per step once sized). */
     std::vector<mrpt::math::TPose2D> m_poses;

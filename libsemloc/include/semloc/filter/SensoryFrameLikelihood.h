@@ -16,8 +16,10 @@ namespace semloc
 namespace detail
 {
 class DetectorOutage;
-}
+class LookAlikeMemory;
+}  // namespace detail
 class BatchLikelihood;
+class CSemanticMap;
 class ParallelExecutor;
 
 /** log p(sf | pose) for every particle pose, the sensor model of the filter.
@@ -148,8 +150,12 @@ public:
      *  probability's posterior is taken from the weights. evaluate() leaves the state alone.
      *  @{ */
     /** Starts weighing `particles` particles by the planned frame. Throws for a frame with
-     *  outage terms and no timestamp. */
-    void beginUpdate(size_t particles);
+     *  outage terms and no timestamp. With `odometry` (the vehicle's pose by its odometry at
+     *  the frame, any fixed origin), the semantic maps with look-alike persistence
+     *  (CSemanticMap's lookalike_persistence > 0) score their detections with the clutter
+     *  densities the detections of their last scans give (detail::LookAlikeMemory), and
+     *  remember the frame's; withoutObjects() then includes those densities. */
+    void beginUpdate(size_t particles, const mrpt::math::TPose2D* odometry = nullptr);
     /** True when endUpdate() needs the weights (the frame was scored with the outage
      *  mixture). */
     bool updatesState() const { return m_outageMixed; }
@@ -159,7 +165,7 @@ public:
     /** The probability that the detector is out after the last frame (0 before any frame
      *  with outage terms). */
     double detectorOutageProbability() const;
-    /** Forgets the state (a new run). */
+    /** Forgets the state (a new run): the outage probability and the look-alikes' memory. */
     void resetState();
     /** @} */
 
@@ -191,6 +197,10 @@ private:
         bool firstOfObservation = false;
         /** One of outageTerms(). */
         bool outage = false;
+        /** The map as a CSemanticMap with look-alike persistence (Path::Model), or nullptr. */
+        const CSemanticMap* lookAlikes = nullptr;
+        /** Index into m_clutterFactors of its detections' log clutter factors, or -1. */
+        int clutter = -1;
     };
 
     Path choosePath(const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map) const;
@@ -202,6 +212,8 @@ private:
     /** Adds term `t`'s likelihood without objects to m_withoutObjects if it is semantic. */
     void planWithoutObjects(const Term& t);
     void prepareGridCaches();
+    /** beginUpdate(): the look-alike terms' clutter factors, and their memories updated. */
+    void noteLookAlikes(const mrpt::math::TPose2D& odometry);
 
     std::vector<const mrpt::maps::CMetricMap*> m_maps;
     bool m_enabled = true;
@@ -217,6 +229,11 @@ private:
     std::vector<double> m_outageLik;
     double* m_outageOut = nullptr;  ///< m_outageLik's values, written by evaluateChunk()
     TWithoutObjects m_withoutObjects;
+    /** The look-alike memory of each semantic map with lookalike_persistence > 0. */
+    std::vector<std::pair<const CSemanticMap*, std::unique_ptr<detail::LookAlikeMemory>>>
+        m_lookAlikes;
+    /** The planned frame's log clutter factors, one vector per term that has them. */
+    std::vector<std::vector<double>> m_clutterFactors;
     std::vector<std::vector<double>> m_serial;
     TStats m_stats;
 };

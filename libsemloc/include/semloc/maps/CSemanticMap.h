@@ -234,6 +234,22 @@ public:
         double outage_every_s = 0.0;
         /** probabilistic: mean length of an outage [s] (with outage_every_s > 0). */
         double outage_mean_s = 60.0;
+        /** probabilistic: look-alikes that persist, rho in [0, 1]: the expected detections,
+         *  per scan, of an unmapped object (another vehicle, a diver) detected under a
+         *  map label in an earlier scan of the last lookalike_window_s. A detection near
+         *  such an earlier one (in the vehicle's odometry frame, same label) gets the
+         *  clutter density kappa + rho N(its position; the earlier one's, the two
+         *  detections' noise and lookalike_speed_mps dt) instead of kappa: a look-alike
+         *  seen scan after scan costs the poses that cannot explain it once, not every
+         *  scan. 0: clutter uniform and independent from scan to scan. Needs the filter's
+         *  frame-to-frame state (CParallelMonteCarloLocalization2D); a generic
+         *  computeObservationLikelihood() call leaves it out. */
+        double lookalike_persistence = 0.0;
+        /** probabilistic: how fast a look-alike may move [m/s] (lookalike_persistence). */
+        double lookalike_speed_mps = 0.3;
+        /** probabilistic: how far back earlier detections are remembered [s]
+         *  (lookalike_persistence). */
+        double lookalike_window_s = 1.0;
 
         /** The values loadFromConfigFile() accepts for the numeric key `key` (throws for a
          *  key that is not a number): what a tool writing the key must keep to. */
@@ -353,6 +369,16 @@ public:
     /** BatchLikelihood: computeLogLikelihoods() of either observation. */
     void logLikelihoods(const mrpt::obs::CObservation& obs, const mrpt::math::TPose2D* poses,
                         size_t n, double* out) const override;
+    /** computeLogLikelihoods() with detection k of obs.detections at the clutter density
+     *  kappa e^clutterLogFactors[k] (>= 0; one per detection of `obs`) instead of kappa
+     *  (probabilistic model; the paper model ignores them): the look-alike persistence
+     *  the filter's state supplies (lookalike_persistence). */
+    void computeLogLikelihoods(const CObservationSemantic& obs, const mrpt::math::TPose2D* poses,
+                               size_t n, double* out, const double* clutterLogFactors) const;
+    /** The uniform clutter density kappa of `obs`'s detections (probabilistic model: lambda
+     *  over the view's range x field of view x labels) [1 / (m rad)]; 0 for an observation
+     *  the likelihood cannot use. */
+    double clutterDensity(const CObservationSemantic& obs) const;
     /** Log-likelihood of `obs` from a pose with no object of the map in view: every
      *  detection the likelihood uses is clutter (probabilistic model: -lambda + l log kappa;
      *  paper model: l log p_u), the same at every pose. log p(z | x) minus this is the
@@ -429,8 +455,8 @@ private:
         const mrpt::obs::CObservation& obs) const override;
 
     template <typename OBS>
-    void likelihoodsOf(const OBS& obs, const mrpt::math::TPose2D* poses, size_t n,
-                       double* out) const;
+    void likelihoodsOf(const OBS& obs, const mrpt::math::TPose2D* poses, size_t n, double* out,
+                       const double* clutterLogFactors = nullptr) const;
     template <typename OBS>
     double withoutObjects(const OBS& obs, size_t* used) const;
     /** Rebuilds the label table and the grid index after any change of m_objects. */
