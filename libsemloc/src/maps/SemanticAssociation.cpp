@@ -62,7 +62,7 @@ void fillSlots(Scratch& sc, size_t nLabels)
     {
         slotCount = std::max<size_t>(slotCount, sc.detStart[l + 1] - sc.detStart[l]);
     }
-    const Slot none{{kInf, 0, 0, -1, -1}, 0};
+    const Slot none{{kInf, 0, 0, -1, -1, 0}, 0};
     sc.slotCount = slotCount;
     sc.slots.assign(nLabels * slotCount, none);
     for (size_t l = 0; l < nLabels; l++)
