@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #include "TestHelpers.h"
+#include "experiment/LocalizeRun.h"
 
 namespace fs = std::filesystem;
 using semloc::LocalizationExperiment;
@@ -88,12 +89,7 @@ std::vector<Row> rowsOf(const fs::path& dir, std::string& header)
 LocalizationExperiment::TResult localize(const std::string& ini, const std::string& rawlog,
                                          const std::string& name)
 {
-    LocalizationExperiment::TOverrides ov;
-    ov.rawlog_file = rawlog;
-    ov.logOutput_dir = (kOut / name).string();
-    ov.particles_count = 2000;
-    ov.detections_trace = true;
-    return LocalizationExperiment::FromConfigFile(ini, ov).run();
+    return semloc::test::localizeRun(ini, rawlog, (kOut / name).string(), 2000, std::nullopt, true);
 }
 }  // namespace
 

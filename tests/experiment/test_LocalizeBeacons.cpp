@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "TestHelpers.h"
+#include "experiment/LocalizeRun.h"
 
 namespace fs = std::filesystem;
 using semloc::LocalizationExperiment;
@@ -64,12 +65,7 @@ std::map<std::string, std::string> keysOf(const std::string& file)
 LocalizationExperiment::TResult localize(const std::string& ini, const std::string& rawlog,
                                          const std::string& name, int threads)
 {
-    LocalizationExperiment::TOverrides ov;
-    ov.rawlog_file = rawlog;
-    ov.logOutput_dir = (kOut / name).string();
-    ov.particles_count = 10000;
-    ov.threads = threads;
-    return LocalizationExperiment::FromConfigFile(ini, ov).run();
+    return semloc::test::localizeRun(ini, rawlog, (kOut / name).string(), 10000, threads);
 }
 }  // namespace
 

@@ -22,6 +22,7 @@
 #include <unistd.h>
 
 #include "TestHelpers.h"
+#include "experiment/LocalizeRun.h"
 
 namespace fs = std::filesystem;
 using semloc::LocalizationExperiment;
@@ -87,12 +88,7 @@ std::string config(const std::string& world, const std::string& name,
 LocalizationExperiment::TResult localize(const std::string& ini, const std::string& rawlog,
                                          const std::string& name)
 {
-    LocalizationExperiment::TOverrides ov;
-    ov.rawlog_file = rawlog;
-    ov.logOutput_dir = (kOut / name).string();
-    ov.particles_count = 2000;
-    ov.threads = 2;
-    return LocalizationExperiment::FromConfigFile(ini, ov).run();
+    return semloc::test::localizeRun(ini, rawlog, (kOut / name).string(), 2000, 2);
 }
 
 /** The simulator's bound `d` averaged as the benchmark does over the steps of `res`: every

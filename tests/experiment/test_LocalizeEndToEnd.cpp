@@ -27,6 +27,7 @@
 #include <unistd.h>
 
 #include "TestHelpers.h"
+#include "experiment/LocalizeRun.h"
 
 using semloc::test::errorOf;
 using semloc::test::interruptAt;
@@ -97,12 +98,7 @@ std::string patchedConfig(const std::string& config,
 LocalizationExperiment::TResult localize(const std::string& ini, const std::string& rawlog,
                                          const std::string& name, int particles, int threads = 2)
 {
-    LocalizationExperiment::TOverrides ov;
-    ov.rawlog_file = rawlog;
-    ov.logOutput_dir = (kOut / name).string();
-    ov.particles_count = particles;
-    ov.threads = threads;
-    return LocalizationExperiment::FromConfigFile(ini, ov).run();
+    return semloc::test::localizeRun(ini, rawlog, (kOut / name).string(), particles, threads);
 }
 
 class LocalizeEndToEnd : public ::testing::Test

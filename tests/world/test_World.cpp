@@ -162,6 +162,25 @@ struct BadCase
     std::vector<std::string> mustMention;
 };
 
+/** Each case's text is refused with an error naming `prefix` (when not empty) and every
+ *  string it must mention. */
+void expectRefused(const std::vector<BadCase>& cases, const std::string& prefix = "")
+{
+    for (const auto& c : cases)
+    {
+        const std::string e = loadError(c.text);
+        ASSERT_FALSE(e.empty()) << c.name << ": accepted";
+        if (!prefix.empty())
+        {
+            EXPECT_NE(e.find(prefix), std::string::npos) << c.name << ": " << e;
+        }
+        for (const auto& m : c.mustMention)
+        {
+            EXPECT_NE(e.find(m), std::string::npos) << c.name << ": '" << m << "' not in: " << e;
+        }
+    }
+}
+
 TEST(World, RejectsEachKindOfBadFileWithFileObjectAndKey)
 {
     const std::vector<BadCase> cases = {
@@ -259,16 +278,7 @@ TEST(World, RejectsEachKindOfBadFileWithFileObjectAndKey)
          "trajectory: {speed_mps: 1, waypoints: [[1, 1], [9, 2]]}\n",
          {"trajectory", "'waypoints'", "outside"}},
     };
-    for (const auto& c : cases)
-    {
-        const std::string e = loadError(c.text);
-        ASSERT_FALSE(e.empty()) << c.name << ": accepted";
-        EXPECT_NE(e.find("bad.yaml"), std::string::npos) << c.name << ": " << e;
-        for (const auto& m : c.mustMention)
-        {
-            EXPECT_NE(e.find(m), std::string::npos) << c.name << ": '" << m << "' not in: " << e;
-        }
-    }
+    expectRefused(cases, "bad.yaml");
 }
 
 TEST(World, ReadsWritesAndRefusesAcousticBeacons)
@@ -341,16 +351,7 @@ beacons:
          head + "beacons:\n  - {id: 1, x: 1, x: 2, y: 1}\n",
          {"line 5, column", "key 'x' repeated"}},
     };
-    for (const auto& c : cases)
-    {
-        const std::string e = loadError(c.text);
-        ASSERT_FALSE(e.empty()) << c.name << ": accepted";
-        EXPECT_NE(e.find("bad.yaml"), std::string::npos) << c.name << ": " << e;
-        for (const auto& m : c.mustMention)
-        {
-            EXPECT_NE(e.find(m), std::string::npos) << c.name << ": '" << m << "' not in: " << e;
-        }
-    }
+    expectRefused(cases, "bad.yaml");
 }
 
 TEST(World, ShippedLblWorldIsThePaperWorldWithBeacons)
@@ -403,15 +404,7 @@ TEST(World, BoundsEveryCoordinateAndLength)
          withObject("{id: 1, label: a, shape: point, center: [1, 1], extent_m: 1e9}"),
          {"bad.yaml': objects[0] (id 1): key 'extent_m': '1e9' is outside"}},
     };
-    for (const auto& c : cases)
-    {
-        const std::string e = loadError(c.text);
-        ASSERT_FALSE(e.empty()) << c.name << ": accepted";
-        for (const auto& m : c.mustMention)
-        {
-            EXPECT_NE(e.find(m), std::string::npos) << c.name << ": '" << m << "' not in: " << e;
-        }
-    }
+    expectRefused(cases);
 }
 
 TEST(World, RefusesATrajectoryThroughAnObjectOrOfZeroLength)
@@ -451,16 +444,7 @@ TEST(World, RefusesATrajectoryThroughAnObjectOrOfZeroLength)
          {"trajectory: key 'waypoints': the trajectory has zero length (every waypoint is "
           "[3.5, 4])"}},
     };
-    for (const auto& c : cases)
-    {
-        const std::string e = loadError(c.text);
-        ASSERT_FALSE(e.empty()) << c.name << ": accepted";
-        EXPECT_NE(e.find("bad.yaml': trajectory: "), std::string::npos) << c.name << ": " << e;
-        for (const auto& m : c.mustMention)
-        {
-            EXPECT_NE(e.find(m), std::string::npos) << c.name << ": '" << m << "' not in: " << e;
-        }
-    }
+    expectRefused(cases, "bad.yaml': trajectory: ");
 }
 
 #include <semloc/io/ErrorMessage.h>
