@@ -217,6 +217,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
             t.obs = o.get();
             t.map = map;
             t.model = dynamic_cast<const BatchLikelihood*>(map);
+            t.semantic = path == Path::Model ? dynamic_cast<const CSemanticMap*>(map) : nullptr;
             t.path = path;
             t.firstOfObservation = first;
             first = false;
@@ -225,14 +226,10 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
                 t.serialIndex = m_nSerial++;
             }
             anyParallelGeneric = anyParallelGeneric || path == Path::GenericParallel;
-            if (path == Path::Model && dynamic_cast<const CObservationSemantic*>(o.get()))
-            {
-                const auto* semantic = dynamic_cast<const CSemanticMap*>(map);
-                const bool persistence =
-                    semantic && semantic->likelihoodOptions.lookalike_persistence > 0 &&
-                    semantic->likelihoodOptions.model == CSemanticMap::Model::Probabilistic;
-                t.lookAlikes = persistence ? semantic : nullptr;
-            }
+            t.lookAlikes =
+                t.semantic && dynamic_cast<const CObservationSemantic*>(o.get()) &&
+                t.semantic->likelihoodOptions.lookalike_persistence > 0 &&
+                t.semantic->likelihoodOptions.model == CSemanticMap::Model::Probabilistic;
             t.outage = planOutage(t);
             planWithoutObjects(t);
             m_terms.push_back(t);
@@ -255,8 +252,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
 
 bool SensoryFrameLikelihood::planOutage(const Term& t)
 {
-    const auto* semantic =
-        t.path == Path::Model ? dynamic_cast<const CSemanticMap*>(t.map) : nullptr;
+    const CSemanticMap* semantic = t.semantic;
     if (!semantic)
     {
         return false;
@@ -295,8 +291,7 @@ bool SensoryFrameLikelihood::planOutage(const Term& t)
 
 void SensoryFrameLikelihood::planWithoutObjects(const Term& t)
 {
-    const auto* semantic =
-        t.path == Path::Model ? dynamic_cast<const CSemanticMap*>(t.map) : nullptr;
+    const CSemanticMap* semantic = t.semantic;
     if (!semantic)
     {
         return;
@@ -344,7 +339,7 @@ void SensoryFrameLikelihood::evaluateTerm(const Term& t, const TPose2D* poses, s
         case Path::Model:
             if (t.clutter >= 0)
             {
-                t.lookAlikes->computeLogLikelihoods(
+                t.semantic->computeLogLikelihoods(
                     static_cast<const CObservationSemantic&>(*t.obs), poses + b, m, term,
                     m_clutterFactors[static_cast<size_t>(t.clutter)].data());
                 break;
@@ -439,10 +434,10 @@ void SensoryFrameLikelihood::noteLookAlikes(const TPose2D& odometry)
             continue;
         }
         auto it = std::find_if(m_lookAlikes.begin(), m_lookAlikes.end(),
-                               [&](const auto& m) { return m.first == t.lookAlikes; });
+                               [&](const auto& m) { return m.first == t.semantic; });
         if (it == m_lookAlikes.end())
         {
-            m_lookAlikes.emplace_back(t.lookAlikes, std::make_unique<detail::LookAlikeMemory>());
+            m_lookAlikes.emplace_back(t.semantic, std::make_unique<detail::LookAlikeMemory>());
             it = std::prev(m_lookAlikes.end());
         }
         if (m_clutterFactors.size() <= used)
@@ -450,7 +445,7 @@ void SensoryFrameLikelihood::noteLookAlikes(const TPose2D& odometry)
             m_clutterFactors.resize(used + 1);
         }
         auto& factors = m_clutterFactors[used];
-        it->second->note(static_cast<const CObservationSemantic&>(*t.obs), *t.lookAlikes, odometry,
+        it->second->note(static_cast<const CObservationSemantic&>(*t.obs), *t.semantic, odometry,
                          factors);
         t.clutter = static_cast<int>(used++);
         for (const double f : factors)

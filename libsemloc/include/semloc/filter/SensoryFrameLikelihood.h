@@ -197,8 +197,10 @@ private:
         bool firstOfObservation = false;
         /** One of outageTerms(). */
         bool outage = false;
-        /** The map as a CSemanticMap with look-alike persistence (Path::Model), or nullptr. */
-        const CSemanticMap* lookAlikes = nullptr;
+        /** The map as a CSemanticMap (Path::Model), or nullptr. */
+        const CSemanticMap* semantic = nullptr;
+        /** A semantic observation of a semantic map with look-alike persistence. */
+        bool lookAlikes = false;
         /** Index into m_clutterFactors of its detections' log clutter factors, or -1. */
         int clutter = -1;
     };
