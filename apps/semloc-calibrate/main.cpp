@@ -118,6 +118,7 @@ void run()
     // Everything is read and checked before anything is written.
     const std::string baseText = semloc::config::readIniText(base);  // its bases resolved
     semloc::SensorCalibration::CheckBase(base, argWorld.getValue());
+    semloc::SensorCalibration::ReadBaseOptions(baseText, o);
     const auto world = semloc::World::FromFile(argWorld.getValue());
     const auto gt = semloc::GroundTruthFile::Read(argGroundTruth.getValue());
     const auto rawlog = semloc::RawlogReader::Load(rawlogPath);

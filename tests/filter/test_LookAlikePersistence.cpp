@@ -15,12 +15,12 @@
 #include <memory>
 #include <vector>
 
-#include "filter/LookAlikeMemory.h"
+#include <semloc/filter/LookAlikeMemory.h>
 
 using mrpt::math::TPose2D;
 using semloc::CObservationSemantic;
 using semloc::CSemanticMap;
-using semloc::detail::LookAlikeMemory;
+using semloc::LookAlikeMemory;
 
 namespace
 {

@@ -1,5 +1,5 @@
 /* semloc — the look-alike persistence's memory of detections (see LookAlikeMemory.h). */
-#include "filter/LookAlikeMemory.h"
+#include <semloc/filter/LookAlikeMemory.h>
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/system/datetime.h>
@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <cmath>
 
-namespace semloc::detail
+namespace semloc
 {
 void LookAlikeMemory::note(const CObservationSemantic& obs, const CSemanticMap& map,
                            const mrpt::math::TPose2D& odometry, std::vector<double>& factors)
@@ -23,14 +23,7 @@ void LookAlikeMemory::note(const CObservationSemantic& obs, const CSemanticMap& 
             "time between scans (set the timestamps, or lookalike_persistence = 0)");
     }
     const double t = mrpt::Clock::toDouble(obs.timestamp);
-    if (!m_points.empty() && t < m_points.back().t)
-    {
-        m_points.clear();  // the log went back in time: nothing earlier is known
-    }
-    while (!m_points.empty() && t - m_points.front().t > lo.lookalike_window_s)
-    {
-        m_points.pop_front();
-    }
+    forget(t, lo.lookalike_window_s);
     const double kappa = map.clutterDensity(obs);
     const double R = lo.maxRange(obs), fov = lo.fieldOfView(obs);
     const double sb = lo.sigma_bearing_deg * M_PI / 180.0;
@@ -42,7 +35,6 @@ void LookAlikeMemory::note(const CObservationSemantic& obs, const CSemanticMap& 
     const double sx = odometry.x + c * sp.x() - s * sp.y();
     const double sy = odometry.y + s * sp.x() + c * sp.y();
     const double syaw = odometry.phi + sp.yaw();
-    const size_t before = m_points.size();
     for (size_t k = 0; k < obs.detections.size(); k++)
     {
         const auto& d = obs.detections[k];
@@ -57,24 +49,41 @@ void LookAlikeMemory::note(const CObservationSemantic& obs, const CSemanticMap& 
         p.var = sr2 + r * r * sb * sb;
         p.t = t;
         p.label = d.label;
-        double best = 0;  // the largest Gaussian density of an earlier scan's detection
-        for (size_t j = 0; j < before; j++)
-        {
-            const Point& q = m_points[j];
-            if (q.t >= t || q.label != p.label)
-            {
-                continue;  // the same scan, or another label
-            }
-            const double dt = t - q.t;
-            const double var = p.var + q.var + u * u * dt * dt;
-            const double d2 = (p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y);
-            best = std::max(best, std::exp(-0.5 * d2 / var) / (2 * M_PI * var));
-        }
+        const double best = nearestDensity(p, u);
         if (kappa > 0)
         {
             factors[k] = std::log1p(lo.lookalike_persistence * r * best / kappa);
         }
-        m_points.push_back(std::move(p));
+        remember(std::move(p));
     }
 }
-}  // namespace semloc::detail
+
+void LookAlikeMemory::forget(double t, double window_s)
+{
+    if (!m_points.empty() && t < m_points.back().t)
+    {
+        m_points.clear();  // the log went back in time: nothing earlier is known
+    }
+    while (!m_points.empty() && t - m_points.front().t > window_s)
+    {
+        m_points.pop_front();
+    }
+}
+
+double LookAlikeMemory::nearestDensity(const Point& p, double speed_mps) const
+{
+    double best = 0;
+    for (const Point& q : m_points)
+    {
+        if (q.t >= p.t || q.label != p.label)
+        {
+            continue;  // the same scan, or another label
+        }
+        const double dt = p.t - q.t;
+        const double var = p.var + q.var + speed_mps * speed_mps * dt * dt;
+        const double d2 = (p.x - q.x) * (p.x - q.x) + (p.y - q.y) * (p.y - q.y);
+        best = std::max(best, std::exp(-0.5 * d2 / var) / (2 * M_PI * var));
+    }
+    return best;
+}
+}  // namespace semloc

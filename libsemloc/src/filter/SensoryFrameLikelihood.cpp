@@ -19,8 +19,8 @@
 #include <limits>
 #include <typeinfo>
 
+#include <semloc/filter/LookAlikeMemory.h>
 #include "filter/DetectorOutage.h"
-#include "filter/LookAlikeMemory.h"
 
 namespace semloc
 {
@@ -437,7 +437,7 @@ void SensoryFrameLikelihood::noteLookAlikes(const TPose2D& odometry)
                                [&](const auto& m) { return m.first == t.semantic; });
         if (it == m_lookAlikes.end())
         {
-            m_lookAlikes.emplace_back(t.semantic, std::make_unique<detail::LookAlikeMemory>());
+            m_lookAlikes.emplace_back(t.semantic, std::make_unique<LookAlikeMemory>());
             it = std::prev(m_lookAlikes.end());
         }
         if (m_clutterFactors.size() <= used)

@@ -297,6 +297,16 @@ void requireSemanticMap(const std::string& baseIni, const std::string& baseName)
 }
 }  // namespace
 
+void SensorCalibration::ReadBaseOptions(const std::string& baseIni, TOptions& o)
+{
+    const mrpt::config::CConfigFileMemory base(baseIni);
+    const CSemanticMap::TLikelihoodOptions defaults;
+    o.lookAlikeSpeed_mps =
+        base.read_double(kLikelihood, "lookalike_speed_mps", defaults.lookalike_speed_mps);
+    o.lookAlikeWindow_s =
+        base.read_double(kLikelihood, "lookalike_window_s", defaults.lookalike_window_s);
+}
+
 void SensorCalibration::CheckBase(const std::string& basePath, const std::string& worldPath)
 {
     LocalizationExperiment::CheckConfig(basePath, worldPath);
@@ -323,7 +333,8 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
           Fit{"p_detect_near", &r.p_detect_near}, Fit{"p_detect_far", &r.p_detect_far},
           Fit{"p_detect_edge_ratio", &r.p_detect_edge_ratio},
           Fit{"clutter_per_scan", &r.clutter_per_scan}, Fit{"p_confusion", &r.p_confusion},
-          Fit{"p_range_outlier", &r.p_range_outlier}})
+          Fit{"p_range_outlier", &r.p_range_outlier},
+          Fit{"lookalike_persistence", &r.lookalike_persistence}})
     {
         setFit(ini, base, kLikelihood, key, *fit);
     }

@@ -105,6 +105,10 @@ void limitDetector(TCalibrationResult& r)
         few(r.matched + r.misread, "detections of an object of their label", kCh, "a misread rate"),
         count(r.misread) + " misread of " + count(r.matched + r.misread) +
             " detections of an object of their label");
+    limit(r.lookalike_persistence, L::range("lookalike_persistence"), r.scans,
+          TCalibrationResult::kMinScans,
+          few(r.scans, "scans", TCalibrationResult::kMinScans, "a look-alike persistence"),
+          "the fitted chance lies outside [0, 1]");
 }
 
 void limitOdometry(TCalibrationResult& r)
@@ -234,6 +238,7 @@ std::vector<std::string> SensorCalibration::Warnings(const TCalibrationResult& r
           {"clutter_per_scan", &r.clutter_per_scan},
           {"p_confusion", &r.p_confusion},
           {"p_range_outlier", &r.p_range_outlier},
+          {"lookalike_persistence", &r.lookalike_persistence},
           {"[MotionModel] a1", &r.a1},
           {"[MotionModel] a2", &r.a2},
           {"[MotionModel] a3", &r.a3},

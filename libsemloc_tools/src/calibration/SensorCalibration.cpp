@@ -23,6 +23,7 @@
 #include <utility>
 
 #include "calibration/CalibrationFits.h"
+#include "calibration/CalibrationLookAlikes.h"
 
 namespace semloc
 {
@@ -285,7 +286,8 @@ void addMatch(const CObservationSemantic& obs, const TSemanticDetection& d,
  *  `toMap`, seen by `model`. */
 void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& truth,
              const detail::RigidTransform2D& toMap, const World& world,
-             const SemanticDetectorModel& model, const Gate& gate, TCalibrationResult& r)
+             const SemanticDetectorModel& model, const Gate& gate,
+             const SensorCalibration::TOptions& o, LookAlikeMemory& memory, TCalibrationResult& r)
 {
     const auto pose = toMap.apply(truth);
     const auto vis = model.visibleObjects(pose);
@@ -331,6 +333,8 @@ void addScan(const CObservationSemantic& obs, const mrpt::math::TPose2D& truth,
     // among what the gates left: they leave the other fits as they were.
     const size_t misread =
         gate.normalized() ? matchMisread(obs.detections, vis, world, gate, detTo, visTo) : 0;
+    detail::addLookAlikeScan(obs, sensorAt(pose, obs), detTo, model.labels(), gate.sigmaRange_m,
+                             gate.sigmaBearing_rad, o, memory, r.samples);
     const auto used = static_cast<size_t>(
         std::count_if(detTo.begin(), detTo.end(), [](int v) { return v >= 0; }));
     r.matched += same;
@@ -460,6 +464,7 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
     const GroundTruthRow* prevAction = nullptr;
     std::unique_ptr<SemanticDetectorModel> model;
     OdometryDelay delay(delay_s);
+    LookAlikeMemory memory;
     Span span;
     for (size_t i = 0; i < rawlog.size(); i++)
     {
@@ -504,7 +509,7 @@ void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, co
                 // The ranges as the filter reads them: less the bias found so far.
                 CObservationSemantic corrected;
                 addScan(detail::lessRangeBias(*obs, r.rangeBias_m, corrected), row.pose(), toMap,
-                        world, modelFor(*obs, world, model), gate, r);
+                        world, modelFor(*obs, world, model), gate, o, memory, r);
                 if (!obs->detections.empty())
                 {
                     span.close(r);
@@ -563,6 +568,7 @@ TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
         }
         r.sigmaRangeUncorrected_m = sigmaUncorrected;
         detail::fitDetector(r);
+        detail::fitLookAlikes(r);
         detail::fitBias(r);
         gate.sigmaRange_m = r.sigma_range_m.value;
         gate.sigmaBearing_rad = mrpt::DEG2RAD(r.sigma_bearing_deg.value);

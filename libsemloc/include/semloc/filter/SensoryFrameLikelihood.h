@@ -16,8 +16,8 @@ namespace semloc
 namespace detail
 {
 class DetectorOutage;
-class LookAlikeMemory;
 }  // namespace detail
+class LookAlikeMemory;
 class BatchLikelihood;
 class CSemanticMap;
 class ParallelExecutor;
@@ -153,7 +153,7 @@ public:
      *  outage terms and no timestamp. With `odometry` (the vehicle's pose by its odometry at
      *  the frame, any fixed origin), the semantic maps with look-alike persistence
      *  (CSemanticMap's lookalike_persistence > 0) score their detections with the clutter
-     *  densities the detections of their last scans give (detail::LookAlikeMemory), and
+     *  densities the detections of their last scans give (LookAlikeMemory), and
      *  remember the frame's; withoutObjects() then includes those densities. */
     void beginUpdate(size_t particles, const mrpt::math::TPose2D* odometry = nullptr);
     /** True when endUpdate() needs the weights (the frame was scored with the outage
@@ -232,8 +232,7 @@ private:
     double* m_outageOut = nullptr;  ///< m_outageLik's values, written by evaluateChunk()
     TWithoutObjects m_withoutObjects;
     /** The look-alike memory of each semantic map with lookalike_persistence > 0. */
-    std::vector<std::pair<const CSemanticMap*, std::unique_ptr<detail::LookAlikeMemory>>>
-        m_lookAlikes;
+    std::vector<std::pair<const CSemanticMap*, std::unique_ptr<LookAlikeMemory>>> m_lookAlikes;
     /** The planned frame's log clutter factors, one vector per term that has them. */
     std::vector<std::vector<double>> m_clutterFactors;
     std::vector<std::vector<double>> m_serial;

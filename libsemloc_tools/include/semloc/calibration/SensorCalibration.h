@@ -117,6 +117,14 @@ struct TCalibrationSamples
     /** The residuals of rangeResiduals_m and bearingResiduals_deg at the ground-truth pose as
      *  given (no map offset removed). */
     std::vector<double> rangeResidualsAtTruth_m, bearingResidualsAtTruth_deg;
+    /** Per clutter detection of a map label (matched to no in-view object): what the
+     *  look-alike memory (LookAlikeMemory, the detections of the earlier scans placed by the
+     *  poses of the fits) gives it, r max_j N(p; p_j, S) [1/(m rad)], and the uniform clutter
+     *  density per unit of clutter rate there, 1 / (max range x field of view x labels). */
+    std::vector<double> lookAlikeDensity, lookAlikeUniform;
+    /** Per scan: the remembered detections of earlier scans within its coverage (each may be
+     *  seen again as a look-alike). */
+    std::vector<double> lookAlikeInView;
 };
 
 /** One setting the consistency stage ran the filter with (SensorCalibration::Consistency). */
@@ -154,6 +162,18 @@ struct TCalibrationResult
     TCalibrationFit sigma_range_m, sigma_bearing_deg;
     TCalibrationFit p_detect_near, p_detect_far, p_detect_edge_ratio;
     TCalibrationFit clutter_per_scan, p_confusion, p_range_outlier;
+    /** The chance that a detection is seen again as a look-alike near where it was in the
+     *  next scans ([MetricMap_semanticMap_00_likelihoodOpts] lookalike_persistence): the
+     *  maximum likelihood of (uniform clutter rate, rho) of the clutter detections as a Poisson
+     *  process of intensity kappa + rho r max_j N (LookAlikeMemory), by expectation-
+     *  maximization; 0 unless it raises the likelihood significantly (twice the log-ratio
+     *  over kLookAlikeChi2, one parameter at 0.1 %). clutter_per_scan is then the uniform part
+     *  (less the re-sightings). */
+    TCalibrationFit lookalike_persistence;
+    /** Clutter detections the fit takes for re-sightings of a look-alike (sum of their
+     *  posterior shares). */
+    double lookAlikeResightings = 0;
+    static constexpr double kLookAlikeChi2 = 10.83;
     TCalibrationFit a1, a2, a3, a4, minStdXY, minStdPHI;
     /** The odometry's heading drift: what its heading gains per minute beyond the truth
      *  [deg/min] (signed; the heading errors' sum over the time they span). */
@@ -265,7 +285,8 @@ struct TCalibrationResult
  *  same-label clutter expected in the misread strips (uniform: the strips' area less the
  *  gates'), over the share of [0, max range] outside the gate (a misread inside it is
  *  matched); P_D's line is divided by 1 - p_range_outlier x that share (the misreads it did
- *  not count). Odometry: the error of each odometry increment against the ground-truth
+ *  not count). lookalike_persistence: TCalibrationResult::lookalike_persistence, the
+ *  detections remembered by LookAlikeMemory placed by the poses of the fits. Odometry: the error of each odometry increment against the ground-truth
  *  increment (both in the previous true pose's frame); E|e_xy| = std_xy sqrt(pi/2) for an
  *  isotropic 2D Gaussian and E|e_phi| = std_phi sqrt(2/pi), so least squares of |e| against
  *  [1, d, |dphi|] gives minStdXY, a1, a2 and minStdPHI, a3, a4 (clamped at 0); a coefficient
@@ -295,7 +316,14 @@ public:
         int gatePasses = 2;
         /** Largest time between a scan and its ground-truth row [s]. */
         double gtTolerance_s = 0.05;
+        /** The look-alikes' speed and the memory's window the persistence is fitted with
+         *  (the base ini's lookalike_speed_mps and lookalike_window_s: ReadBaseOptions()). */
+        double lookAlikeSpeed_mps = 0.3, lookAlikeWindow_s = 1.0;
     };
+
+    /** `o` with the look-alike speed and window of the base ini `baseIni`'s semantic map (its
+     *  defaults where the base has none). */
+    static void ReadBaseOptions(const std::string& baseIni, TOptions& o);
 
     /** Fits every value from `rawlog` (read from `rawlogName`, used in errors), the world's
      *  objects and the ground truth. Throws on a dataset without semantic scans, a scan without
