@@ -84,9 +84,10 @@ semloc::TCalibrationResult consistency(const semloc::TCalibrationResult& fitted,
         [](const semloc::TConsistencyTrial& t)
         {
             std::cerr << "semloc-calibrate: consistency: detector sigmas x" << t.sensorScale
-                      << ", motion noise x" << t.motionScale << ": NEES inside its 95 % bound in "
-                      << 100 * t.insideShare << " % of the steps, mean error " << t.meanErr_m
-                      << " m, " << t.converged << " of " << t.runs << " runs converged\n";
+                      << ", motion noise x" << t.motionScale << ", likelihood tempered x"
+                      << t.temper << ": NEES inside its 95 % bound in " << 100 * t.insideShare
+                      << " % of the steps, mean error " << t.meanErr_m << " m, " << t.converged
+                      << " of " << t.runs << " runs converged\n";
         });
 }
 

@@ -1,6 +1,7 @@
 /* semloc tests — semloc-calibrate's consistency stage: the filter run on the calibration run
  * widens a model that is too sure of itself, deterministically, and says so in the ini. */
 #include <gtest/gtest.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/maps/CSemanticMap.h>
@@ -149,6 +150,31 @@ TEST(CalibrationConsistency, WidenedKeepsEachValueInItsRange)
     EXPECT_DOUBLE_EQ(w.minStdPHI.value, 3);
     EXPECT_EQ(w.a1.value, 0);
     EXPECT_EQ(w.a1.widenedBy, 1);
+}
+
+TEST(CalibrationConsistency, ATemperingIsWrittenAsAFactorOnTheBasesPowFactor)
+{
+    TCalibrationResult r;
+    r.sigma_range_m.value = 0.5;
+    const auto w = SensorCalibration::Widened(r, 2, 1, 0.25);
+    EXPECT_EQ(w.temper, 0.25);
+    EXPECT_DOUBLE_EQ(w.sigma_range_m.value, 1.0);
+    const auto powFactor = [](const std::string& ini)
+    {
+        mrpt::config::CConfigFileMemory c(ini);
+        return c.read_double("PF_options", "powFactor", -1);
+    };
+    const std::string base = smallBase();
+    EXPECT_DOUBLE_EQ(powFactor(SensorCalibration::ApplyToIni(base, "semantic.ini", w, kPaper)),
+                     0.25);
+    const std::string halved = semloc::test::withKeys(base, "semantic.ini", {{"powFactor", "0.5"}});
+    const std::string ini = SensorCalibration::ApplyToIni(halved, "semantic.ini", w, kPaper);
+    EXPECT_DOUBLE_EQ(powFactor(ini), 0.125);
+    EXPECT_NE(ini.find("tempered x0.25 by the consistency stage"), std::string::npos);
+    // Not tempered: the base's value stays as it was.
+    EXPECT_DOUBLE_EQ(powFactor(SensorCalibration::ApplyToIni(
+                         halved, "semantic.ini", SensorCalibration::Widened(r, 2, 1), kPaper)),
+                     0.5);
 }
 
 TEST(CalibrationConsistency, ConsistentAllowsTheSharesSamplingError)

@@ -209,6 +209,26 @@ TEST_F(LocalizeEndToEnd, StartSeededByTheFirstDetectionsConvergesAtOnceWhateverT
               std::string::npos);
 }
 
+TEST_F(LocalizeEndToEnd, TemperedLikelihoodsLeaveTheEvidenceTriggerAsItWas)
+{
+    // A tempered likelihood (powFactor 0.05) carries a twentieth of each frame's evidence; the
+    // evidence trigger weighs it on the untempered scale, so a tracked vehicle does not look
+    // lost (on the tempered scale every frame fell short of the 2-nat margin).
+    const auto full =
+        localize(patchedConfig("semantic.ini", {}, "semantic_pow1"), rawlog, "tempered_1", 2000, 1);
+    const auto tempered =
+        localize(patchedConfig("semantic.ini", {{"powFactor", "0.05"}}, "semantic_pow005"), rawlog,
+                 "tempered_005", 2000, 1);
+    ASSERT_TRUE(full.metrics.converged);
+    ASSERT_TRUE(tempered.metrics.converged);
+    EXPECT_LT(tempered.metrics.mean_err_after_conv_m, 0.3);
+    std::cout << "injection steps: " << full.recovery.injection_steps << " at powFactor 1, "
+              << tempered.recovery.injection_steps << " at 0.05, of "
+              << tempered.metrics.steps_with_ground_truth << " steps\n";
+    EXPECT_LE(tempered.recovery.injection_steps, full.recovery.injection_steps + 10);
+    EXPECT_LT(tempered.recovery.injection_steps, tempered.metrics.steps_with_ground_truth / 10);
+}
+
 TEST_F(LocalizeEndToEnd, GeometricConvergesFromUniformStart)
 {
     const auto res = localize(kConfig + "localize/geometric.ini", rawlog, "geometric", 6000);

@@ -48,7 +48,10 @@ double RecoveryPolicy::trigger(double logWAvg, const SensoryFrameLikelihood& lik
 {
     const double pInject =
         m_augmented.options().trigger == RecoveryTrigger::Evidence
-            ? m_augmented.updateEvidence(logWAvg - powFactor * lik.withoutObjects().logLik)
+            // On the likelihoods' own scale: tempered ones carry powFactor of each frame's
+            // evidence, which the margin and the threshold are not.
+            ? m_augmented.updateEvidence((logWAvg - powFactor * lik.withoutObjects().logLik) /
+                                         powFactor)
             : m_augmented.update(logWAvg);
     m_lastPInject = pInject;
     return m_sampler ? pInject : 0;

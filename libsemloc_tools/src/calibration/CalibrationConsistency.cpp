@@ -9,6 +9,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <optional>
@@ -142,6 +143,39 @@ size_t choose(const std::vector<TConsistencyTrial>& trials, double minShare, dou
     }
     return best;
 }
+
+/** Runs one setting (sensor factor, motion factor, tempering); true when it is consistent. */
+using Trial = std::function<bool(double, double, double)>;
+
+/** The search over the motion and sensor factors at tempering `tp`: for each motion factor the
+ *  sensor factors up to the first consistent one, the next motion factor only while the last
+ *  stayed competitive. True when a setting was consistent. */
+bool search(const Trial& run, const std::vector<TConsistencyTrial>& trials, double tp,
+            bool motionFitted, const SensorCalibration::TConsistencyOptions& o)
+{
+    bool consistent = false;
+    for (const double su : o.motionScales)
+    {
+        if (!motionFitted && su != o.motionScales.front())
+        {
+            break;  // the base's motion model is kept: nothing to widen
+        }
+        const size_t row = trials.size();
+        for (const double sz : o.sensorScales)
+        {
+            if (run(sz, su, tp))
+            {
+                consistent = true;
+                break;  // wider sensor noise only spreads the cloud further
+            }
+        }
+        if (!competitive(trials, row, o.errorTolerance))
+        {
+            break;  // more motion noise has only made the error worse
+        }
+    }
+    return consistent;
+}
 }  // namespace
 
 bool SensorCalibration::Consistent(const TConsistencyTrial& t, double minShare)
@@ -153,11 +187,12 @@ bool SensorCalibration::Consistent(const TConsistencyTrial& t, double minShare)
 }
 
 TCalibrationResult SensorCalibration::Widened(const TCalibrationResult& r, double sensorScale,
-                                              double motionScale)
+                                              double motionScale, double temper)
 {
     using L = CSemanticMap::TLikelihoodOptions;
     using M = MotionModel::TOptions;
     TCalibrationResult w = r;
+    w.temper = temper;
     widen(w.sigma_range_m, sensorScale, L::range("sigma_range_m"));
     widen(w.sigma_bearing_deg, sensorScale, L::range("sigma_bearing_deg"));
     for (const auto& [key, fit] :
@@ -175,7 +210,7 @@ TCalibrationResult SensorCalibration::Consistency(
     const std::string& worldPath, const std::string& rawlogPath, const std::string& groundTruthPath,
     const TConsistencyOptions& o, const std::function<void(const TConsistencyTrial&)>& trial)
 {
-    if (o.seeds.empty() || o.sensorScales.empty() || o.motionScales.empty())
+    if (o.seeds.empty() || o.sensorScales.empty() || o.motionScales.empty() || o.tempers.empty())
     {
         throw std::invalid_argument("the consistency stage needs seeds and factors to try");
     }
@@ -190,46 +225,39 @@ TCalibrationResult SensorCalibration::Consistency(
     const std::string iniPath = dir.path("trial.ini");
     TConsistency c;
     c.minInsideShare = o.minInsideShare;
-    const bool motionFitted = r.a1.status != TCalibrationFit::Status::TooLittleData;
-    for (const double su : o.motionScales)
+    const Trial run = [&](double sz, double su, double tp)
     {
-        if (!motionFitted && su != o.motionScales.front())
         {
-            break;  // the base's motion model is kept: nothing to widen
-        }
-        const size_t row = c.trials.size();
-        for (const double sz : o.sensorScales)
-        {
+            std::ofstream f(iniPath, std::ios::binary);
+            f << ApplyToIni(baseIni, baseName, Widened(r, sz, su, tp), worldPath);
+            if (!f.flush())
             {
-                std::ofstream f(iniPath, std::ios::binary);
-                f << ApplyToIni(baseIni, baseName, Widened(r, sz, su), worldPath);
-                if (!f.flush())
-                {
-                    throw std::runtime_error("cannot write '" + iniPath + "'");
-                }
-            }
-            auto t = runTrial(iniPath, dir, rawlogPath, groundTruthPath, o);
-            t.sensorScale = sz;
-            t.motionScale = su;
-            c.trials.push_back(t);
-            if (trial)
-            {
-                trial(t);
-            }
-            if (Consistent(t, o.minInsideShare))
-            {
-                break;  // wider sensor noise only spreads the cloud further
+                throw std::runtime_error("cannot write '" + iniPath + "'");
             }
         }
-        if (!competitive(c.trials, row, o.errorTolerance))
+        auto t = runTrial(iniPath, dir, rawlogPath, groundTruthPath, o);
+        t.sensorScale = sz;
+        t.motionScale = su;
+        t.temper = tp;
+        c.trials.push_back(t);
+        if (trial)
         {
-            break;  // more motion noise has only made the error worse
+            trial(t);
+        }
+        return Consistent(t, o.minInsideShare);
+    };
+    const bool motionFitted = r.a1.status != TCalibrationFit::Status::TooLittleData;
+    for (const double tp : o.tempers)
+    {
+        if (search(run, c.trials, tp, motionFitted, o))
+        {
+            break;  // a consistent setting: a weaker likelihood only spreads the cloud further
         }
     }
     c.chosen = choose(c.trials, o.minInsideShare, o.errorTolerance);
     c.consistent = Consistent(c.trials[c.chosen], o.minInsideShare);
     const auto& best = c.trials[c.chosen];
-    TCalibrationResult out = Widened(r, best.sensorScale, best.motionScale);
+    TCalibrationResult out = Widened(r, best.sensorScale, best.motionScale, best.temper);
     out.consistency = std::move(c);
     return out;
 }
@@ -250,9 +278,11 @@ std::string SensorCalibration::ConsistencyText(const TCalibrationResult& r)
     };
     const auto& before = c.trials.front();
     const auto& after = c.trials[c.chosen];
+    const std::string tempered =
+        after.temper != 1 ? ", likelihood tempered x" + number(after.temper) : "";
     return "consistency: as fitted, " + describe(before) + "; written (detector sigmas x" +
-           number(after.sensorScale) + ", motion noise x" + number(after.motionScale) + "), " +
-           describe(after) +
+           number(after.sensorScale) + ", motion noise x" + number(after.motionScale) + tempered +
+           "), " + describe(after) +
            (c.consistent ? ""
                          : " (no setting tried reached " + number(100 * c.minInsideShare) +
                                " %: the one with the most steps inside written)") +

@@ -339,6 +339,14 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
         setFit(ini, base, kLikelihood, key, *fit);
     }
     ini.set(kLikelihood, "range_bias_m", rangeBiasText(r), rangeBiasComment(r));
+    if (r.temper != 1)
+    {
+        const double basePow =
+            mrpt::config::CConfigFileMemory(baseIni).read_double("PF_options", "powFactor", 1.0);
+        ini.set("PF_options", "powFactor", number(basePow * r.temper),
+                "calibrated: the likelihood tempered x" + number(r.temper) +
+                    " by the consistency stage (the base's " + number(basePow) + ")");
+    }
     const char* mm = MotionModel::kSection;
     if (r.a1.status == TCalibrationFit::Status::TooLittleData)
     {

@@ -207,8 +207,8 @@ std::string consistencyMarkdown(const TCalibrationResult& r)
     }
     std::ostringstream m;
     m << "\n## Consistency\n\nThe filter run on this run from its own start, against its "
-         "ground truth, with the detector sigmas and the motion noise widened (one run per "
-         "seed per row); written: the row in bold ("
+         "ground truth, with the detector sigmas and the motion noise widened and the "
+         "likelihood tempered (one run per seed per row); written: the row in bold ("
       << (c.consistent ? "the consistent one of the lowest error"
                        : "none reached the share asked "
                          "for: the most steps inside")
@@ -216,15 +216,16 @@ std::string consistencyMarkdown(const TCalibrationResult& r)
       << 100 * c.minInsideShare
       << " % asked for, less two standard errors over the steps: a filter exactly that "
          "consistent falls below it in half of its runs).\n\n"
-      << "| detector sigmas | motion noise | NEES inside [%] | mean NEES | mean error [m] | "
-         "converged |\n| --- | --- | --- | --- | --- | --- |\n";
+      << "| detector sigmas | motion noise | likelihood tempering | NEES inside [%] | mean NEES | "
+         "mean error [m] | converged |\n| --- | --- | --- | --- | --- | --- | --- |\n";
     for (size_t i = 0; i < c.trials.size(); i++)
     {
         const auto& t = c.trials[i];
         const std::string b = i == c.chosen ? "**" : "";
         m << "| " << b << "x" << t.sensorScale << b << " | " << b << "x" << t.motionScale << b
-          << " | " << 100 * t.insideShare << " | " << t.neesMean << " | " << t.meanErr_m << " | "
-          << t.converged << " of " << t.runs << " |\n";
+          << " | " << b << "x" << t.temper << b << " | " << 100 * t.insideShare << " | "
+          << t.neesMean << " | " << t.meanErr_m << " | " << t.converged << " of " << t.runs
+          << " |\n";
     }
     return m.str();
 }

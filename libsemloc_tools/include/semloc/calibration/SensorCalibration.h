@@ -130,8 +130,9 @@ struct TCalibrationSamples
 /** One setting the consistency stage ran the filter with (SensorCalibration::Consistency). */
 struct TConsistencyTrial
 {
-    /** Factors on the detector's sigmas and on the motion model's noise. */
-    double sensorScale = 1, motionScale = 1;
+    /** Factors on the detector's sigmas and on the motion model's noise, and the likelihood's
+     *  tempering (the factor on the base's [PF_options] powFactor). */
+    double sensorScale = 1, motionScale = 1, temper = 1;
     /** Filter runs (one per seed) and those that converged. */
     size_t runs = 0, converged = 0;
     /** Steps with ground truth, summed over the runs. */
@@ -201,6 +202,9 @@ struct TCalibrationResult
      *  written [deg]. */
     double odomHeadingRms_deg = 0, odomHeadingRmsDelayed_deg = 0;
     static constexpr double kDelayStep_s = 0.01, kMaxFittedDelay_s = 2.0, kDelayChi2 = 10.83;
+    /** The factor on the base's [PF_options] powFactor the consistency stage chose (1: the
+     *  base's kept). */
+    double temper = 1;
     /** The factors the odometry's position and heading noise were multiplied by so that the
      *  errors over the spans between detections (TCalibrationSamples::span*) are those the
      *  per-step model adds up to (1: the per-step fit already covers them). */
@@ -286,11 +290,11 @@ struct TCalibrationResult
  *  gates'), over the share of [0, max range] outside the gate (a misread inside it is
  *  matched); P_D's line is divided by 1 - p_range_outlier x that share (the misreads it did
  *  not count). lookalike_persistence: TCalibrationResult::lookalike_persistence, the
- *  detections remembered by LookAlikeMemory placed by the poses of the fits. Odometry: the error of each odometry increment against the ground-truth
- *  increment (both in the previous true pose's frame); E|e_xy| = std_xy sqrt(pi/2) for an
- *  isotropic 2D Gaussian and E|e_phi| = std_phi sqrt(2/pi), so least squares of |e| against
- *  [1, d, |dphi|] gives minStdXY, a1, a2 and minStdPHI, a3, a4 (clamped at 0); a coefficient
- *  whose regressor does not vary (e.g. no turns) is 0.
+ *  detections remembered by LookAlikeMemory placed by the poses of the fits. Odometry: the error of
+ * each odometry increment against the ground-truth increment (both in the previous true pose's
+ * frame); E|e_xy| = std_xy sqrt(pi/2) for an isotropic 2D Gaussian and E|e_phi| = std_phi
+ * sqrt(2/pi), so least squares of |e| against [1, d, |dphi|] gives minStdXY, a1, a2 and minStdPHI,
+ * a3, a4 (clamped at 0); a coefficient whose regressor does not vary (e.g. no turns) is 0.
  *
  *  **Bias and map offset.** The sigmas are written about 0, sqrt(sigma^2 + mean^2), the
  *  residuals' mean in TCalibrationResult::bias. After each pass the rigid transform aligning
@@ -366,6 +370,10 @@ public:
         /** The factors tried on the detector's sigmas and on the motion noise. */
         std::vector<double> sensorScales = {1, 1.5, 2, 3, 4, 6, 8};
         std::vector<double> motionScales = {1, 1.5, 2, 4};
+        /** The likelihood temperings tried, in order: the search above is made with each in
+         *  turn until a setting is consistent (every detection counted as 1/temper of one
+         *  independent reading: a detector whose errors are alike from scan to scan). */
+        std::vector<double> tempers = {1, 0.5, 0.25};
         /** The share of the steps with ground truth whose NEES must be inside its bound
          *  (less its sampling tolerance: Consistent()). */
         double minInsideShare = 0.95;
@@ -377,10 +385,11 @@ public:
     };
 
     /** `r` with its detector sigmas (sigma_range_m, sigma_bearing_deg) multiplied by
-     *  `sensorScale` and its motion noise (a1..a4, minStdXY, minStdPHI) by `motionScale`,
+     *  `sensorScale`, its motion noise (a1..a4, minStdXY, minStdPHI) by `motionScale` and its
+     *  temper set to `temper`,
      *  each kept to the range semloc-localize accepts (TooLittleData fits are left alone). */
     static TCalibrationResult Widened(const TCalibrationResult& r, double sensorScale,
-                                      double motionScale);
+                                      double motionScale, double temper = 1);
 
     /** The consistency stage: runs semloc-localize's filter (the ini ApplyToIni() makes from
      *  `baseIni` and the fits, from its own start) on the calibration run itself against its
@@ -389,12 +398,14 @@ public:
      *  the pose NEES inside its 95 % bound (RunMetrics::nees_inside_share) in minInsideShare of
      *  the steps (Consistent()); the next motion factor only while the last one gave a setting
      * whose runs all converged within errorTolerance of the lowest error so far (or none has
-     * converged in every run yet) — and returns `r` widened by the consistent setting of the lowest
-     * error, with the trials in `consistency`. When none is consistent: of the settings whose runs
-     * all converged within errorTolerance of the lowest error, the one with the most steps inside
-     * (none converged: the lowest error). `trial` is called after each setting. The runs' outputs
-     * go to a temporary directory, removed afterwards (and by the interrupt watchdog). Nothing
-     * fitted to widen (every sigma and minStd too little data): `r` as given, no trial run. */
+     * converged in every run yet); that whole search for each tempering of `tempers` in turn
+     * until one of its settings is consistent — and returns `r` widened by the consistent setting
+     * of the lowest error, with the trials in `consistency`. When none is consistent: of the
+     * settings whose runs all converged within errorTolerance of the lowest error, the one with the
+     * most steps inside (none converged: the lowest error). `trial` is called after each setting.
+     * The runs' outputs go to a temporary directory, removed afterwards (and by the interrupt
+     * watchdog). Nothing fitted to widen (every sigma and minStd too little data): `r` as given, no
+     * trial run. */
     static TCalibrationResult Consistency(
         const TCalibrationResult& r, const std::string& baseIni, const std::string& baseName,
         const std::string& worldPath, const std::string& rawlogPath,
