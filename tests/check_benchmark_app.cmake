@@ -78,7 +78,7 @@ foreach(f results.csv curves.csv report.md figures.gp)
   endif()
 endforeach()
 check_header(${o1}/results.csv
-  "run,seed,variant,particles,threads,steps,steps_with_ground_truth,converged,convergence_step,convergence_time_s,mean_err_after_conv_m,rmse_m,final_err_m,total_update_s,mean_update_us_per_particle,final_particles,reinitializations,wall_time_s,kidnap_step,recovery_steps,nees_mean,nees_inside_share")
+  "run,seed,variant,particles,threads,steps,steps_with_ground_truth,converged,convergence_step,convergence_time_s,mean_err_after_conv_m,rmse_m,final_err_m,total_update_s,mean_update_us_per_particle,final_particles,reinitializations,wall_time_s,kidnap_step,recovery_steps,nees_mean,nees_inside_share,control,distance_to_convergence_m")
 check_header(${o1}/curves.csv
   "variant,step,t_s,runs,err_xy_mean,err_xy_p10,err_xy_p50,err_xy_p90,var_xy_mean,var_xy_p10,var_xy_p50,var_xy_p90")
 file(STRINGS ${o1}/results.csv rows)

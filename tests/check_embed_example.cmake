@@ -33,3 +33,11 @@ execute_process(COMMAND ldd ${OUT_DIR}/build/robot_loop OUTPUT_VARIABLE libs RES
 if(NOT rc EQUAL 0 OR NOT libs MATCHES "libsemloc\\.so" OR libs MATCHES "libsemloc_tools")
   message(FATAL_ERROR "the example must link libsemloc alone; ldd says:\n${libs}")
 endif()
+# The active example: the policy drives until the particles converge, then the mission.
+execute_process(COMMAND ${OUT_DIR}/build/active_loop
+                        ${OUT_DIR}/install/share/semloc/maps/paper_50x50.yaml
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message(STATUS "${out}")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "converged: back to the mission")
+  message(FATAL_ERROR "the active example did not converge (exit ${rc}):\n${out}${err}")
+endif()

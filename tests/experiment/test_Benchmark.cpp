@@ -501,11 +501,13 @@ TEST(Benchmark, ResultsAndTablesShowTheConsistencyOfEveryRun)
                                  result(3, "semantic", NAN, NAN), result(1, "other", 1234.5, 0.25)};
     const std::string csv = semloc::detail::resultsCsv(runs);
     const std::string header = csv.substr(0, csv.find('\n'));
-    const std::string tail = ",kidnap_step,recovery_steps,nees_mean,nees_inside_share";
+    const std::string tail =
+        ",kidnap_step,recovery_steps,nees_mean,nees_inside_share,control,distance_to_convergence_m";
     EXPECT_EQ(header.substr(header.size() - tail.size()), tail) << header;
-    EXPECT_NE(csv.find(",,2,0.9\n"), std::string::npos) << csv;
-    EXPECT_NE(csv.find(",,4.5,0.96\n"), std::string::npos) << csv;
-    EXPECT_NE(csv.find(",,,\n"), std::string::npos) << "no ground truth: empty cells\n" << csv;
+    EXPECT_NE(csv.find(",,2,0.9,route,\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",,4.5,0.96,route,\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",,,,route,\n"), std::string::npos) << "no ground truth: empty cells\n"
+                                                           << csv;
 
     const std::string t = semloc::Benchmark::reportTable(runs, {"semantic", "other"});
     EXPECT_NE(t.find("| detector bound after conv. [m] | mean NEES | NEES inside 95 % [%] | mean "

@@ -169,7 +169,7 @@ config::TValueRange ActivePolicy::TOptions::range(const std::string& key)
     {
         return {0, 1e6};
     }
-    if (key == "distances_m")
+    if (key == "distances_m" || key == "scan_every_m")
     {
         return {1e-3, 1e3};
     }
@@ -182,8 +182,8 @@ void ActivePolicy::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
     using namespace semloc::config;
     rejectUnknownKeys(c, s,
                       {"headings", "distances_m", "look_around", "representatives", "bin_xy_m",
-                       "bin_heading_deg", "outcomes", "travel_cost_per_m", "min_free_share",
-                       "converged_var_xy_m2", "seed", "threads"});
+                       "bin_heading_deg", "outcomes", "scan_every_m", "travel_cost_per_m",
+                       "min_free_share", "converged_var_xy_m2", "seed", "threads"});
     readInt(c, s, "headings", headings, 1, kMaxHeadings);
     const auto d = range("distances_m");
     readDoubles(c, s, "distances_m", distances_m, kMaxDistances, d.lo, d.hi);
@@ -192,6 +192,7 @@ void ActivePolicy::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
     readDouble(c, s, "bin_xy_m", bin_xy_m, range("bin_xy_m"));
     readDouble(c, s, "bin_heading_deg", bin_heading_deg, range("bin_heading_deg"));
     readInt(c, s, "outcomes", outcomes, 1, kMaxOutcomes);
+    readDouble(c, s, "scan_every_m", scan_every_m, range("scan_every_m"));
     readDouble(c, s, "travel_cost_per_m", travel_cost_per_m, range("travel_cost_per_m"));
     readDouble(c, s, "min_free_share", min_free_share, range("min_free_share"));
     readDouble(c, s, "converged_var_xy_m2", converged_var_xy_m2, range("converged_var_xy_m2"));
@@ -217,6 +218,8 @@ void ActivePolicy::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                        "bin size of the representatives in heading [deg]");
     detail::writeText(c, s, "outcomes", std::to_string(outcomes),
                       "scans drawn per representative and motion");
+    detail::writeExact(c, s, "scan_every_m", scan_every_m,
+                       "the predicted scans along a path: one every this many metres [m]");
     detail::writeExact(c, s, "travel_cost_per_m", travel_cost_per_m,
                        "added to the expected entropy per metre [nats/m]");
     detail::writeExact(c, s, "min_free_share", min_free_share,
@@ -240,7 +243,7 @@ ActivePolicy::ActivePolicy(const TOptions& options, const CSemanticMap& map, con
         !o.distances_m.empty() && std::all_of(o.distances_m.begin(), o.distances_m.end(),
                                               [](double d) { return d > 0 && std::isfinite(d); }),
         "ActivePolicy: distances_m must be positive numbers");
-    ASSERTMSG_(o.representatives >= 1 && o.outcomes >= 1 && o.bin_xy_m > 0 &&
+    ASSERTMSG_(o.representatives >= 1 && o.outcomes >= 1 && o.scan_every_m > 0 && o.bin_xy_m > 0 &&
                    o.bin_heading_deg > 0 && o.travel_cost_per_m >= 0 && o.min_free_share >= 0 &&
                    o.min_free_share <= 1 && o.converged_var_xy_m2 >= 0,
                "ActivePolicy: an option is out of range");
@@ -275,6 +278,12 @@ std::vector<TActiveMotion> ActivePolicy::candidates() const
 std::vector<ActivePolicy::TRepresentative> ActivePolicy::representatives(
     const mrpt::poses::CPosePDFParticles& pdf) const
 {
+    return representatives(pdf, static_cast<size_t>(m_options.representatives));
+}
+
+std::vector<ActivePolicy::TRepresentative> ActivePolicy::representatives(
+    const mrpt::poses::CPosePDFParticles& pdf, size_t K) const
+{
     struct Bin
     {
         double w = 0, x = 0, y = 0, c = 0, s = 0;
@@ -301,17 +310,45 @@ std::vector<ActivePolicy::TRepresentative> ActivePolicy::representatives(
         b.c += w * std::cos(d.phi);
         b.s += w * std::sin(d.phi);
     }
-    std::vector<TRepresentative> reps;
+    std::vector<TRepresentative> all;
+    double total = 0;
     for (const auto& [key, b] : bins)
     {
         if (b.w > 0)
         {
-            reps.push_back({{b.x / b.w, b.y / b.w, std::atan2(b.s, b.c)}, b.w});
+            all.push_back({{b.x / b.w, b.y / b.w, std::atan2(b.s, b.c)}, b.w});
+            total += b.w;
+        }
+    }
+    // More bins than representatives: systematic sampling of the bins in their (spatial)
+    // order by weight, K pointers at (k + 1/2) / K of the total; a bin keeps the pointers'
+    // share. The set then spreads over every hypothesis in proportion, not over the heaviest.
+    std::vector<TRepresentative> reps;
+    if (all.size() <= K)
+    {
+        reps = std::move(all);
+    }
+    else
+    {
+        double cum = 0;
+        size_t k = 0;
+        for (const auto& b : all)
+        {
+            cum += b.weight;
+            size_t hits = 0;
+            while (k < K && (static_cast<double>(k) + 0.5) / static_cast<double>(K) * total < cum)
+            {
+                hits++;
+                k++;
+            }
+            if (hits > 0)
+            {
+                reps.push_back({b.pose, static_cast<double>(hits)});
+            }
         }
     }
     std::stable_sort(reps.begin(), reps.end(),
                      [](const auto& a, const auto& b) { return a.weight > b.weight; });
-    reps.resize(std::min(reps.size(), static_cast<size_t>(m_options.representatives)));
     double sum = 0;
     for (const auto& r : reps)
     {
@@ -355,28 +392,42 @@ void evaluate(const DecisionContext& x, ActivePolicy::TCandidate& c)
     {
         return;
     }
-    const mrpt::poses::CPose2D u = c.motion.increment();
-    std::vector<mrpt::math::TPose2D> moved(reps.size());
-    for (size_t i = 0; i < reps.size(); i++)
+    // The scans along the path: every scan_every_m and at its end (one after a turn alone).
+    const double d = c.motion.distance_m;
+    const size_t points =
+        d > 0 ? static_cast<size_t>(std::ceil(d / x.options.scan_every_m - 1e-9)) : 1;
+    const size_t K = reps.size();
+    std::vector<std::vector<mrpt::math::TPose2D>> moved(points,
+                                                        std::vector<mrpt::math::TPose2D>(K));
+    for (size_t p = 0; p < points; p++)
     {
-        moved[i] = (mrpt::poses::CPose2D(reps[i].pose) + u).asTPose();
+        const TActiveMotion part{c.motion.turn_rad,
+                                 std::min(d, static_cast<double>(p + 1) * x.options.scan_every_m)};
+        const mrpt::poses::CPose2D u = part.increment();
+        for (size_t i = 0; i < K; i++)
+        {
+            moved[p][i] = (mrpt::poses::CPose2D(reps[i].pose) + u).asTPose();
+        }
     }
     std::mt19937_64 g(x.streamSeed);  // common random numbers: every candidate the same draws
-    std::vector<double> logl(reps.size()), logw(reps.size());
+    std::vector<double> logl(K), logw(K);
     double expected = 0;
     const int outcomes = x.options.outcomes;
     for (size_t j = 0; j < reps.size(); j++)
     {
         for (int m = 0; m < outcomes; m++)
         {
-            const auto z = drawScan(x.map, x.labels, x.sensor, moved[j], g);
-            x.map.logLikelihoods(z, moved.data(), moved.size(), logl.data());
-            for (size_t i = 0; i < reps.size(); i++)
+            logw = x.logw0;
+            for (size_t p = 0; p < points; p++)
             {
-                // NaN and +inf count as impossible, as the filter counts them.
-                const bool usable = std::isfinite(logl[i]) || logl[i] < 0;
-                logw[i] =
-                    x.logw0[i] + (usable ? logl[i] : -std::numeric_limits<double>::infinity());
+                const auto z = drawScan(x.map, x.labels, x.sensor, moved[p][j], g);
+                x.map.logLikelihoods(z, moved[p].data(), K, logl.data());
+                for (size_t i = 0; i < K; i++)
+                {
+                    // NaN and +inf count as impossible, as the filter counts them.
+                    const bool usable = std::isfinite(logl[i]) || logl[i] < 0;
+                    logw[i] += usable ? logl[i] : -std::numeric_limits<double>::infinity();
+                }
             }
             expected += reps[j].weight * entropyOfLogWeights(logw) / outcomes;
         }

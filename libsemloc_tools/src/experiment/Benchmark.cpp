@@ -17,6 +17,7 @@
 #include "experiment/BenchmarkReport.h"
 #include "experiment/BenchmarkRunPool.h"
 #include "experiment/BenchmarkTables.h"
+#include "experiment/ClosedLoop.h"
 #include "io/TextFiles.h"
 
 namespace semloc
@@ -26,23 +27,30 @@ namespace
 using detail::writeFile;
 
 /** The results of runs 1..runs read back from their files, in run-major order, each with
- *  its scenario name and its metrics (variant k's convergence criterion, `kidnapStep`). */
+ *  its scenario name, its metrics (its variant's convergence criterion, `kidnapStep`) and
+ *  its distance to convergence; each run holds every variant with each of `controls`
+ *  controls. */
 std::vector<Benchmark::TRunResult> collectRuns(const detail::RunFiles& files, int runs,
                                                const std::vector<Benchmark::TVariant>& variants,
-                                               const std::string& scenario, long kidnapStep)
+                                               size_t controls, const std::string& scenario,
+                                               long kidnapStep)
 {
     std::vector<Benchmark::TRunResult> out;
     for (int run = 1; run <= runs; run++)
     {
         auto rs = detail::readRunFile(files.path(run, "txt"), run);
-        ASSERTMSG_(rs.size() == variants.size(),
+        ASSERTMSG_(rs.size() == variants.size() * controls,
                    "incomplete results of run " + std::to_string(run));
         for (size_t k = 0; k < rs.size(); k++)
         {
-            rs[k].scenario = scenario;
-            rs[k].metrics =
-                RunMetrics::compute(rs[k].records, variants[k].options.convergence, kidnapStep);
-            out.push_back(std::move(rs[k]));
+            auto& r = rs[k];
+            r.scenario = scenario;
+            r.metrics = RunMetrics::compute(r.records, variants[k / controls].options.convergence,
+                                            kidnapStep);
+            r.distance_to_convergence_m =
+                r.metrics.converged ? detail::distanceDriven(r.records, r.metrics.convergence_step)
+                                    : std::numeric_limits<double>::quiet_NaN();
+            out.push_back(std::move(r));
         }
     }
     return out;
@@ -61,67 +69,103 @@ bool detectionsOnly(const LocalizationMap& maps)
 }
 }  // namespace
 
+namespace
+{
+/** The filter's records over the rawlog of a simulated run. */
+std::vector<TStepRecord> localizeRoute(Localizer& loc, const SimulationResult& data,
+                                       double tolerance)
+{
+    const GroundTruth gt(data.groundTruth);
+    std::vector<TStepRecord> records;
+    mrpt::obs::CActionCollection::Ptr action;
+    for (size_t i = 0; i < data.rawlog.size(); i++)
+    {
+        if (data.rawlog.getType(i) == mrpt::obs::CRawlog::etActionCollection)
+        {
+            action = data.rawlog.getAsAction(i);
+            continue;
+        }
+        if (data.rawlog.getType(i) != mrpt::obs::CRawlog::etSensoryFrame || !action)
+        {
+            continue;
+        }
+        const auto sf = data.rawlog.getAsObservations(i);
+        loc.step(*action, *sf);
+        action.reset();
+        TStepRecord s = loc.lastStepRecord(*sf);
+        s.step = records.size();
+        if (const auto* row = gt.nearest(s.t, tolerance))
+        {
+            s.gt = row->pose();
+        }
+        records.push_back(s);
+    }
+    return records;
+}
+}  // namespace
+
 std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
 {
     auto simOptions = m_simulation;
     simOptions.simulation.seed = static_cast<uint32_t>(run);
     const Simulator simulator =
         m_changedWorld ? Simulator(*m_changedWorld, simOptions) : Simulator(simOptions);
-    const SimulationResult data = simulator.run();
+    const bool byRoute = std::find(m_options.controls.begin(), m_options.controls.end(), "route") !=
+                         m_options.controls.end();
+    const SimulationResult data = byRoute ? simulator.run() : SimulationResult();
     // The detector's bound, for the variants of the detections alone (if any).
     const bool anyDetectionsOnly = std::any_of(
         m_variants.begin(), m_variants.end(), [](const auto& v) { return detectionsOnly(v.maps); });
-    const auto bound = anyDetectionsOnly ? detectorCramerRaoBound(simulator, data)
-                                         : std::vector<TDetectorBoundStep>();
-    const GroundTruth gt(data.groundTruth);
+    const auto bound = anyDetectionsOnly && byRoute ? detectorCramerRaoBound(simulator, data)
+                                                    : std::vector<TDetectorBoundStep>();
     const double tolerance = 0.5 * simOptions.simulation.time_step_s;
 
     std::vector<TRunResult> out;
     for (const auto& v : m_variants)
     {
-        const auto wall0 = std::chrono::steady_clock::now();
-        auto filter = v.options.filter;
-        filter.seed = static_cast<uint32_t>(run);
-        Localizer loc(filter, v.maps.map, v.maps.world ? &*v.maps.world : nullptr);
-        TRunResult r;
-        r.scenario = m_scenario.name;
-        r.run = run;
-        r.seed = filter.seed;
-        r.variant = v.name();
-        r.particles = static_cast<size_t>(filter.particles_count);
-        r.threads = loc.threads();
-        mrpt::obs::CActionCollection::Ptr action;
-        for (size_t i = 0; i < data.rawlog.size(); i++)
+        for (const auto& control : m_options.controls)
         {
-            if (data.rawlog.getType(i) == mrpt::obs::CRawlog::etActionCollection)
+            const auto wall0 = std::chrono::steady_clock::now();
+            auto filter = v.options.filter;
+            filter.seed = static_cast<uint32_t>(run);
+            Localizer loc(filter, v.maps.map, v.maps.world ? &*v.maps.world : nullptr);
+            TRunResult r;
+            r.scenario = m_scenario.name;
+            r.run = run;
+            r.seed = filter.seed;
+            r.variant = v.name();
+            r.control = control;
+            r.particles = static_cast<size_t>(filter.particles_count);
+            r.threads = loc.threads();
+            if (control == "route")
             {
-                action = data.rawlog.getAsAction(i);
-                continue;
+                r.records = localizeRoute(loc, data, tolerance);
+                if (detectionsOnly(v.maps))
+                {
+                    r.detectorBound = bound;  // of the detections: not of the sonar's filters
+                }
             }
-            if (data.rawlog.getType(i) != mrpt::obs::CRawlog::etSensoryFrame || !action)
+            else
             {
-                continue;
+                auto policy = m_options.active;
+                policy.threads = m_options.filter_threads;
+                auto loop = detail::runClosedLoop(
+                    simulator, loc, *v.maps.map->mapByClass<CSemanticMap>(),
+                    detail::controlFromName(control), policy, static_cast<uint32_t>(run));
+                r.records = std::move(loop.records);
+                r.decisions = loop.decisions;
+                r.decisionWall_s = loop.decisionWall_s;
+                if (detectionsOnly(v.maps))
+                {
+                    r.detectorBound = detectorCramerRaoBound(simulator, loop.data);
+                }
             }
-            const auto sf = data.rawlog.getAsObservations(i);
-            loc.step(*action, *sf);
-            action.reset();
-            TStepRecord s = loc.lastStepRecord(*sf);
-            s.step = r.records.size();
-            if (const auto* row = gt.nearest(s.t, tolerance))
-            {
-                s.gt = row->pose();
-            }
-            r.records.push_back(s);
+            r.wallTime_s =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+            r.metrics = RunMetrics::compute(r.records, v.options.convergence, kidnapStep());
+            r.reinitializations = loc.recoveryStats().reinitializations;
+            out.push_back(std::move(r));
         }
-        r.wallTime_s =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-        r.metrics = RunMetrics::compute(r.records, v.options.convergence, kidnapStep());
-        r.reinitializations = loc.recoveryStats().reinitializations;
-        if (detectionsOnly(v.maps))
-        {
-            r.detectorBound = bound;  // a bound of the detections: not of the sonar's filters
-        }
-        out.push_back(std::move(r));
     }
     return out;
 }
@@ -146,14 +190,11 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
         files, o.runs, jobs, m_scenario.name, [this](int run) { return runOne(run); }, progress);
 
     TResult res;
-    res.runs = collectRuns(files, o.runs, m_variants, m_scenario.name, kidnapStep());
+    res.runs =
+        collectRuns(files, o.runs, m_variants, o.controls.size(), m_scenario.name, kidnapStep());
     std::filesystem::remove_all(files.dir());
 
-    std::vector<std::string> names;
-    for (const auto& v : m_variants)
-    {
-        names.push_back(v.name());
-    }
+    const auto names = seriesNames();
     writeFile(out.path("results.csv"), detail::resultsCsv(res.runs));
     writeFile(out.path("curves.csv"), detail::curvesCsv(res.runs, names));
     res.figureWarnings = detail::writeFigures(out, names, m_simulation, res.runs);

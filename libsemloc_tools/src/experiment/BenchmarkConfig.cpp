@@ -17,6 +17,7 @@
 #include <sstream>
 #include <thread>
 
+#include "experiment/ClosedLoop.h"
 #include "io/ExactConfigWrite.h"
 #include "io/Text.h"
 
@@ -27,8 +28,10 @@ namespace
 using detail::trim;
 const std::string kSection = "Benchmark";
 const std::vector<std::string> kKeys = {
-    "runs",           "variants",  "variants_dir", "simulate_ini", "output_dir", "jobs",
-    "filter_threads", "max_steps", "particles",    "same_filter",  "scenarios",  "map_from_world"};
+    "runs",      "variants",       "variants_dir", "simulate_ini", "output_dir",
+    "jobs",      "filter_threads", "max_steps",    "particles",    "same_filter",
+    "scenarios", "map_from_world", "controls"};
+const std::string kActiveSection = "ActiveLocalization";
 const std::string kScenarioSection = "Scenario";
 const std::vector<std::string> kScenarioKeys = {"name",
                                                 "description",
@@ -223,6 +226,32 @@ void Benchmark::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     readInt(c, s, "particles", particles, 0, 100000000);
     readBool(c, s, "same_filter", same_filter);
     readBool(c, s, "map_from_world", map_from_world);
+    if (c.keyExists(s, "controls"))
+    {
+        controls = readList(c, s, "controls");
+        if (controls.empty())
+        {
+            THROW_EXCEPTION("ini [" + s + "] controls: empty (route, active, random)");
+        }
+        const auto& known = detail::controlNames();
+        for (size_t i = 0; i < controls.size(); i++)
+        {
+            if (std::find(known.begin(), known.end(), controls[i]) == known.end())
+            {
+                THROW_EXCEPTION("ini [" + s + "] controls: '" + controls[i] +
+                                "' is not one of route, active, random");
+            }
+            if (std::find(controls.begin(), controls.begin() + static_cast<long>(i), controls[i]) !=
+                controls.begin() + static_cast<long>(i))
+            {
+                THROW_EXCEPTION("ini [" + s + "] controls: '" + controls[i] + "' appears twice");
+            }
+        }
+    }
+    if (c.sectionExists(kActiveSection))
+    {
+        active.loadFromConfigFile(c, kActiveSection);
+    }
     if (output_dir.empty())
     {
         THROW_EXCEPTION("ini [" + s + "] output_dir: empty");
@@ -248,6 +277,8 @@ void Benchmark::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     c.write(s, "same_filter", same_filter ? "true" : "false");
     c.write(s, "scenarios", joinList(scenarios));
     c.write(s, "map_from_world", map_from_world ? "true" : "false");
+    c.write(s, "controls", joinList(controls));
+    active.saveToConfigFile(c, kActiveSection);
 }
 
 void Benchmark::TScenario::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
@@ -411,6 +442,22 @@ Benchmark Benchmark::FromConfigFile(const std::string& iniPath, const std::strin
     return b;
 }
 
+std::vector<std::string> Benchmark::seriesNames() const
+{
+    std::vector<std::string> names;
+    for (const auto& v : m_variants)
+    {
+        for (const auto& c : m_options.controls)
+        {
+            TRunResult r;
+            r.variant = v.name();
+            r.control = c;
+            names.push_back(r.series());
+        }
+    }
+    return names;
+}
+
 std::vector<std::string> Benchmark::inputFiles() const
 {
     std::vector<std::string> files = {m_simulation.simulation.world_file};
@@ -448,6 +495,13 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
                 THROW_EXCEPTION("ini [" + kSection + "] variants: '" + v.name() +
                                 "' appears twice");
             }
+        }
+        const bool closedLoop = o.controls.size() > 1 || o.controls.front() != "route";
+        if (closedLoop && !v.maps.map->mapByClass<CSemanticMap>())
+        {
+            THROW_EXCEPTION("ini [" + kSection + "] controls: the variant '" + v.name() +
+                            "' has no semantic map for the active and random controls to "
+                            "plan in (keep them to variants with a semanticMap)");
         }
         m_variants.push_back(std::move(v));
     }

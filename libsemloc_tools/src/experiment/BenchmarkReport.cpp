@@ -136,7 +136,7 @@ std::vector<TFigureWarning> drawWorldPaths(const StagedDirectory& out,
         writeFile(out.path(data), trackData(r.records));
         const bool conv = r.metrics.converged;
         WorldPlot panel(
-            world, r.variant + ", run 1: " +
+            world, r.series() + ", run 1: " +
                        (conv ? "converged at step " + std::to_string(r.metrics.convergence_step)
                              : std::string("did not converge")));
         g << panel.settings() << errorPalette() << "plot "
@@ -195,15 +195,34 @@ std::string experimentSection(const Benchmark& b, const Benchmark::TResult& res,
     return md.str();
 }
 
+/** report.md's "Controls" (Benchmark::controlsTable()); empty when the route alone drove. */
+std::string controlsSection(const Benchmark::TOptions& o,
+                            const std::vector<Benchmark::TRunResult>& runs)
+{
+    if (o.controls.size() == 1 && o.controls.front() == "route")
+    {
+        return {};
+    }
+    const auto& a = o.active;
+    std::ostringstream md;
+    md << "\n## Controls\n\n"
+       << "Every run was driven by each control from the same start with the same seeds: "
+          "`route` (the world's trajectory), `active` (the active policy of "
+          "[ActiveLocalization] until the particles' x-y variance is at most "
+       << a.converged_var_xy_m2
+       << " m², then back to the route), `random` (a random walk over the same candidate "
+          "motions, free from the true pose, until the same stop rule). The distance is the "
+          "length of the true path up to the convergence step; `world_paths.png` shows run 1 "
+          "of each.\n\n"
+       << Benchmark::controlsTable(runs);
+    return md.str();
+}
+
 /** report.md's "Results": the success criterion and reportTable(). */
 std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
 {
     const auto& crit = b.variants().front().options.convergence;
-    std::vector<std::string> names;
-    for (const auto& v : b.variants())
-    {
-        names.push_back(v.name());
-    }
+    const std::vector<std::string> names = b.seriesNames();
     std::ostringstream md;
     md << "## Results\n\n"
        << "Success: converged (err_xy < " << crit.max_err_xy_m << " m and var_xy < "
@@ -231,6 +250,7 @@ std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
               "one of the two converged.\n\n"
            << paired;
     }
+    md << controlsSection(b.options(), res.runs);
     return md.str();
 }
 
@@ -272,7 +292,8 @@ std::string reportMarkdown(const Benchmark& b, const Benchmark::TResult& res, si
        << "- `fig_variance.png`, `fig_error.png`: mean particle variance and mean error "
           "over time per variant (the paper's Fig. 3; data in `curves.csv`, script "
           "`figures.gp`)\n"
-       << "- `world_paths.png`: the world, run 1's true path and each variant's estimate\n"
+       << "- `world_paths.png`: the world, run 1's true path and each variant's estimate (one "
+          "panel per variant and control)\n"
        << figureWarningsMarkdown(res.figureWarnings);
     return md.str();
 }
@@ -293,7 +314,7 @@ std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult
           "step on within the scenario's bound (recovery steps = first such step - kidnap "
           "step). "
        << kNeesText << "\n\n"
-       << res.table;
+       << res.table << controlsSection(b.options(), res.runs);
     if (!b.mapWarnings().empty())
     {
         md << "\n## Maps\n\n";

@@ -238,8 +238,9 @@ std::string runFileText(const std::vector<Benchmark::TRunResult>& rs)
     std::ostringstream o;
     for (const auto& r : rs)
     {
-        o << "V " << r.variant << ' ' << r.particles << ' ' << r.threads << ' '
-          << exact(r.wallTime_s) << ' ' << r.reinitializations << ' ' << r.records.size() << '\n';
+        o << "V " << r.variant << ' ' << r.control << ' ' << r.particles << ' ' << r.threads << ' '
+          << exact(r.wallTime_s) << ' ' << r.reinitializations << ' ' << r.decisions << ' '
+          << exact(r.decisionWall_s) << ' ' << r.records.size() << '\n';
         for (const auto& s : r.records)
         {
             o << s.step << ' ' << exact(s.t) << ' ' << (s.gt ? 1 : 0) << ' '
@@ -272,7 +273,8 @@ std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run)
         r.run = run;
         r.seed = static_cast<uint32_t>(run);
         size_t n = 0;
-        f >> r.variant >> r.particles >> r.threads >> r.wallTime_s >> r.reinitializations >> n;
+        f >> r.variant >> r.control >> r.particles >> r.threads >> r.wallTime_s >>
+            r.reinitializations >> r.decisions >> r.decisionWall_s >> n;
         r.records.resize(n);
         for (auto& s : r.records)
         {

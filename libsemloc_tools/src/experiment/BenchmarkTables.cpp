@@ -38,7 +38,8 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
     o << "run,seed,variant,particles,threads,steps,steps_with_ground_truth,converged,"
          "convergence_step,convergence_time_s,mean_err_after_conv_m,rmse_m,final_err_m,"
          "total_update_s,mean_update_us_per_particle,final_particles,reinitializations,"
-         "wall_time_s,kidnap_step,recovery_steps,nees_mean,nees_inside_share\n";
+         "wall_time_s,kidnap_step,recovery_steps,nees_mean,nees_inside_share,control,"
+         "distance_to_convergence_m\n";
     for (const auto& r : runs)
     {
         const auto& m = r.metrics;
@@ -53,7 +54,8 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
           << ',' << num(r.wallTime_s) << ','
           << (m.kidnap_step >= 0 ? std::to_string(m.kidnap_step) : "") << ','
           << (m.recovery_steps >= 0 ? std::to_string(m.recovery_steps) : "") << ','
-          << num(m.nees_mean) << ',' << num(m.nees_inside_share) << '\n';
+          << num(m.nees_mean) << ',' << num(m.nees_inside_share) << ',' << r.control << ','
+          << num(r.distance_to_convergence_m) << '\n';
     }
     return o.str();
 }
@@ -69,7 +71,7 @@ std::string curvesCsv(const std::vector<Benchmark::TRunResult>& runs,
         std::map<size_t, std::vector<double>> err, var, t;
         for (const auto& r : runs)
         {
-            if (r.variant != v || r.records.empty())
+            if (r.series() != v || r.records.empty())
             {
                 continue;
             }
@@ -105,7 +107,7 @@ std::map<std::string, VariantStatistics> variantStatistics(
     std::map<std::string, VariantStatistics> st;
     for (const auto& r : runs)
     {
-        auto& s = st[r.variant];
+        auto& s = st[r.series()];
         s.runs++;
         if (r.metrics.converged)
         {
@@ -194,18 +196,18 @@ std::vector<Benchmark::TScenarioSummary> Benchmark::summarize(
     const std::vector<TRunResult>& runs) const
 {
     std::vector<TScenarioSummary> out;
-    for (const auto& v : m_variants)
+    for (const auto& name : seriesNames())
     {
         TScenarioSummary s;
         s.scenario = m_scenario.name;
         s.description = m_scenario.description;
-        s.variant = v.name();
+        s.variant = name;
         s.kidnap_step = kidnapStep();
         s.recovery_max_steps = m_scenario.recovery_max_steps;
         std::vector<double> conv, err, rec, nees, inside;
         for (const auto& r : runs)
         {
-            if (r.variant != s.variant)
+            if (r.series() != s.variant)
             {
                 continue;
             }
@@ -306,7 +308,7 @@ std::string Benchmark::pairedTable(const std::vector<TRunResult>& runs,
     std::map<int, const RunMetrics*> reference;
     for (const auto& r : runs)
     {
-        if (r.variant == ref)
+        if (r.series() == ref)
         {
             reference[r.run] = &r.metrics;
         }
@@ -327,7 +329,7 @@ std::string Benchmark::pairedTable(const std::vector<TRunResult>& runs,
         for (const auto& r : runs)
         {
             const auto it = reference.find(r.run);
-            if (r.variant != v || it == reference.end())
+            if (r.series() != v || it == reference.end())
             {
                 continue;
             }
@@ -344,6 +346,56 @@ std::string Benchmark::pairedTable(const std::vector<TRunResult>& runs,
         o << "| " << v << " | " << ref << " | " << diff.size() << " | " << cell("%+.4f", mean(diff))
           << " | " << cell("%.4f", standardError(diff)) << " | " << lower << " | " << onlyVariant
           << " | " << onlyRef << " |\n";
+    }
+    return o.str();
+}
+
+std::string Benchmark::controlsTable(const std::vector<TRunResult>& runs)
+{
+    std::vector<std::pair<std::string, std::string>> keys;  // (scenario, series), first-run order
+    for (const auto& r : runs)
+    {
+        const std::pair<std::string, std::string> k{r.scenario, r.series()};
+        if (std::find(keys.begin(), keys.end(), k) == keys.end())
+        {
+            keys.push_back(k);
+        }
+    }
+    std::ostringstream o;
+    o << "| scenario | variant | control | runs | converged | median distance to conv. [m] | "
+         "90th percentile [m] | decisions per run | mean decision time [ms] |\n"
+         "|---|---|---|---:|---:|---:|---:|---:|---:|\n";
+    for (const auto& [scenario, series] : keys)
+    {
+        std::vector<double> dist;
+        double decisions = 0, decisionWall = 0;
+        const TRunResult* any = nullptr;
+        for (const auto& r : runs)
+        {
+            if (r.scenario != scenario || r.series() != series)
+            {
+                continue;
+            }
+            any = &r;
+            dist.push_back(r.metrics.converged ? r.distance_to_convergence_m
+                                               : std::numeric_limits<double>::infinity());
+            decisions += static_cast<double>(r.decisions);
+            decisionWall += r.decisionWall_s;
+        }
+        std::sort(dist.begin(), dist.end());
+        const auto quantile = [&](double p)
+        {
+            // The nearest rank: a rank that did not converge shows "-".
+            const auto k = static_cast<size_t>(std::ceil(p * static_cast<double>(dist.size())));
+            return cell("%.1f", dist[std::max<size_t>(k, 1) - 1]);
+        };
+        const auto converged = static_cast<size_t>(
+            std::count_if(dist.begin(), dist.end(), [](double d) { return std::isfinite(d); }));
+        o << "| " << (scenario.empty() ? "-" : scenario) << " | " << any->variant << " | "
+          << any->control << " | " << dist.size() << " | " << converged << " | " << quantile(0.5)
+          << " | " << quantile(0.9) << " | "
+          << mrpt::format("%.1f", decisions / static_cast<double>(dist.size())) << " | "
+          << cell("%.2f", decisions > 0 ? 1e3 * decisionWall / decisions : kNaN) << " |\n";
     }
     return o.str();
 }

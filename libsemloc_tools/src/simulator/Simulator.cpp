@@ -340,6 +340,17 @@ void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPos
     res.detectorSilent.push_back(silent ? 1 : 0);
 }
 
+/** The summary's means from the step counts. */
+void finishCounts(const StepCounts& counts, SimulationResult& res)
+{
+    res.meanDetections = static_cast<double>(counts.detections) / static_cast<double>(res.steps);
+    res.meanValidBeams = static_cast<double>(counts.validBeams) / static_cast<double>(res.steps);
+    res.pings = counts.pings;
+    res.meanBeaconRanges = counts.pings > 0 ? static_cast<double>(counts.beaconRanges) /
+                                                  static_cast<double>(counts.pings)
+                                            : 0.0;
+}
+
 /** Where the kidnapped vehicle is put: a random free pose, or the configured one. */
 mrpt::math::TPose2D kidnapPose(const TKidnappingOptions& kidnap, const World& world,
                                mrpt::random::CRandomGenerator& rng)
@@ -351,7 +362,109 @@ mrpt::math::TPose2D kidnapPose(const TKidnappingOptions& kidnap, const World& wo
 }
 }  // namespace
 
+/** How the vehicle moves in a simulation: the world's route, or a driver. */
+class detail::VehicleMotion
+{
+public:
+    virtual ~VehicleMotion() = default;
+    /** The pose after step k >= 1 from `pose` (the results so far in `sofar`). */
+    virtual mrpt::math::TPose2D next(size_t k, const mrpt::math::TPose2D& pose,
+                                     const SimulationResult& sofar) = 0;
+    /** The vehicle was teleported to `pose` (kidnapping). */
+    virtual void teleported(const mrpt::math::TPose2D& pose) = 0;
+    /** True once the motion has nothing more to do. */
+    virtual bool finished() const = 0;
+};
+
+namespace
+{
+using detail::VehicleMotion;
+
+/** The world's route (TrajectoryFollower). */
+class RouteMotion : public VehicleMotion
+{
+public:
+    explicit RouteMotion(TrajectoryFollower& f) : m_f(f) {}
+    mrpt::math::TPose2D next(size_t, const mrpt::math::TPose2D&, const SimulationResult&) override
+    {
+        m_f.step();
+        return m_f.pose();
+    }
+    void teleported(const mrpt::math::TPose2D& pose) override { m_f.teleport(pose); }
+    bool finished() const override { return m_f.finished(); }
+
+private:
+    TrajectoryFollower& m_f;
+};
+
+/** A driver's increments, the translation dropped where its path leaves the free space. */
+class DrivenMotion : public VehicleMotion
+{
+public:
+    DrivenMotion(const World& world, const Simulator::Driver& drive, size_t& blocked)
+        : m_world(world), m_drive(drive), m_blocked(blocked)
+    {
+    }
+    mrpt::math::TPose2D next(size_t k, const mrpt::math::TPose2D& pose,
+                             const SimulationResult& sofar) override
+    {
+        const auto to = (mrpt::poses::CPose2D(pose) + m_drive(k, pose, sofar)).asTPose();
+        const mrpt::math::TPoint2D a(pose.x, pose.y), b(to.x, to.y);
+        if ((a.x == b.x && a.y == b.y) ||
+            (m_world.isFree(b.x, b.y) && m_world.firstObjectOnSegment(a, b) < 0))
+        {
+            return {to.x, to.y, mrpt::math::wrapToPi(to.phi)};
+        }
+        m_blocked++;
+        return {pose.x, pose.y, mrpt::math::wrapToPi(to.phi)};  // stopped by the obstacle
+    }
+    void teleported(const mrpt::math::TPose2D&) override {}
+    bool finished() const override { return false; }
+
+private:
+    const World& m_world;
+    const Simulator::Driver& m_drive;
+    size_t& m_blocked;
+};
+}  // namespace
+
 SimulationResult Simulator::run() const
+{
+    TrajectoryFollower vehicle(m_world.trajectory->waypoints,
+                               speed() * m_options.simulation.time_step_s);
+    RouteMotion route(vehicle);
+    const size_t maxSteps = static_cast<size_t>(m_options.simulation.max_steps);
+    return simulate(route, vehicle.pose(), maxSteps);
+}
+
+SimulationResult Simulator::runDriven(const Driver& drive, size_t steps) const
+{
+    ASSERTMSG_(steps >= 1, "Simulator::runDriven: no step");
+    size_t blocked = 0;
+    DrivenMotion driven(m_world, drive, blocked);
+    auto res = simulate(driven, routeStart(), steps);
+    res.blockedSteps = blocked;
+    return res;
+}
+
+mrpt::math::TPose2D Simulator::routeStart() const
+{
+    return TrajectoryFollower(m_world.trajectory->waypoints,
+                              speed() * m_options.simulation.time_step_s)
+        .pose();
+}
+
+size_t Simulator::routeSteps() const
+{
+    const size_t all = TrajectoryFollower(m_world.trajectory->waypoints,
+                                          speed() * m_options.simulation.time_step_s)
+                           .stepsToEnd();
+    const auto maxSteps = static_cast<size_t>(m_options.simulation.max_steps);
+    return maxSteps > 0 ? std::min(all, maxSteps) : all;
+}
+
+SimulationResult Simulator::simulate(detail::VehicleMotion& vehicleMotion,
+                                     const mrpt::math::TPose2D& start, size_t maxSteps) const
 {
     const auto wallStart = std::chrono::steady_clock::now();
     const TSimulatorOptions& o = m_options;
@@ -360,8 +473,6 @@ SimulationResult Simulator::run() const
                           SemanticDetectorModel(m_world, o.detector),
                           BeaconRangingModel(m_world, o.beacons)};
     const double dt = o.simulation.time_step_s;
-    TrajectoryFollower vehicle(m_world.trajectory->waypoints, speed() * dt);
-    const size_t maxSteps = static_cast<size_t>(o.simulation.max_steps);
     const auto& kidnap = o.kidnapping;
 
     SimulationResult res;
@@ -370,7 +481,8 @@ SimulationResult Simulator::run() const
     bool kidnapped = false;
     Silences silences(o.detector, o.simulation.start_time_s, rng.gaps);
     detail::Distractors distractors(m_world, sensors.detector, rng.distractors);
-    mrpt::poses::CPose2D previous(vehicle.pose());
+    mrpt::math::TPose2D pose = start;
+    mrpt::poses::CPose2D previous(pose);
     for (size_t k = 0;; k++)
     {
         if (interruptRequested())
@@ -379,24 +491,24 @@ SimulationResult Simulator::run() const
         }
         if (k > 0)
         {
-            vehicle.step();
+            pose = vehicleMotion.next(k, pose, res);
             distractors.step(dt);
         }
-        const mrpt::poses::CPose2D increment = mrpt::poses::CPose2D(vehicle.pose()) - previous;
+        const mrpt::poses::CPose2D increment = mrpt::poses::CPose2D(pose) - previous;
         if (kidnap.enabled && k == static_cast<size_t>(kidnap.step))
         {
             // The odometry keeps reporting `increment`: it does not see the teleport.
-            vehicle.teleport(kidnapPose(kidnap, m_world, rng.kidnap));
+            pose = kidnapPose(kidnap, m_world, rng.kidnap);
+            vehicleMotion.teleported(pose);
             kidnapped = true;
         }
-        const mrpt::math::TPose2D pose = vehicle.pose();
         const auto stamp =
             mrpt::Clock::fromDouble(o.simulation.start_time_s + static_cast<double>(k) * dt);
         const double t = o.simulation.start_time_s + static_cast<double>(k) * dt;
         recordStep(sensors, rng, increment, pose, stamp, k > 0 ? dt : 0.0, silences.silent(t),
                    sensors.beacons.pingsAt(k), distractors, res, counts);
         previous = mrpt::poses::CPose2D(pose);
-        if (vehicle.finished() || (maxSteps > 0 && k + 1 >= maxSteps))
+        if (vehicleMotion.finished() || (maxSteps > 0 && k + 1 >= maxSteps))
         {
             break;
         }
@@ -409,12 +521,7 @@ SimulationResult Simulator::run() const
                          "simulation (%zu steps: 0..%zu)",
                          kKidnapping, kidnap.step, res.steps, res.steps - 1));
     }
-    res.meanDetections = static_cast<double>(counts.detections) / static_cast<double>(res.steps);
-    res.meanValidBeams = static_cast<double>(counts.validBeams) / static_cast<double>(res.steps);
-    res.pings = counts.pings;
-    res.meanBeaconRanges = counts.pings > 0 ? static_cast<double>(counts.beaconRanges) /
-                                                  static_cast<double>(counts.pings)
-                                            : 0.0;
+    finishCounts(counts, res);
     res.wallTime_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wallStart).count();
     return res;

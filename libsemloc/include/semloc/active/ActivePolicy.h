@@ -39,9 +39,11 @@ struct TActiveMotion
  *
  *  the expectation over the detections z the vehicle would report after the motion u,
  *  "nothing detected" included. Approximations (docs/design.md, "Active localization"):
- *  - the particles are summarised by at most `representatives` poses: the weighted mean of
- *    each occupied bin of `bin_xy_m` x `bin_xy_m` x `bin_heading_deg`, the heaviest bins
- *    kept, their weights renormalized; H is the entropy of those weights;
+ *  - the particles are summarised by at most `representatives` (K) poses: the weighted mean
+ *    of each occupied bin of `bin_xy_m` x `bin_xy_m` x `bin_heading_deg`; with more than K
+ *    bins, K of them by systematic sampling in proportion to their weight (each keeping
+ *    the share of the K draws that fell on it), so that they spread over every hypothesis;
+ *    H is the entropy of those weights;
  *  - each representative is moved by u without noise, and `outcomes` scans are drawn there
  *    from the semantic map's own detector model (P_D by range and bearing times the
  *    object's p_exist, confusion, Poisson clutter, the range bias; exact ranges and
@@ -71,9 +73,9 @@ public:
         /** Candidate turns, evenly over the circle, 1..kMaxHeadings. */
         int headings = 8;
         /** Candidate distances [m] (each > 0), 1..kMaxDistances of them. */
-        std::vector<double> distances_m{2.0, 4.0};
+        std::vector<double> distances_m{6.0, 12.0};
         /** Also the turns on the spot (distance 0). */
-        bool look_around = true;
+        bool look_around = false;
         /** Most representatives of the particles, 1..kMaxRepresentatives. */
         int representatives = 24;
         /** Bin size of the representatives in x and y [m]. */
@@ -82,6 +84,8 @@ public:
         double bin_heading_deg = 45.0;
         /** Scans drawn per representative and motion, 1..kMaxOutcomes. */
         int outcomes = 2;
+        /** One predicted scan every this many metres along a path and one at its end [m]. */
+        double scan_every_m = 2.0;
         /** Travel cost [nats per metre] added to the expected entropy. */
         double travel_cost_per_m = 0.02;
         /** Share of the weight for which a motion must stay in the free space, in [0, 1]. */
@@ -170,6 +174,9 @@ public:
     std::vector<TRepresentative> representatives(const mrpt::poses::CPosePDFParticles& pdf) const;
 
 private:
+    /** representatives() with at most `count` of them. */
+    std::vector<TRepresentative> representatives(const mrpt::poses::CPosePDFParticles& pdf,
+                                                 size_t count) const;
     TOptions m_options;
     const CSemanticMap& m_map;
     const World* m_world;

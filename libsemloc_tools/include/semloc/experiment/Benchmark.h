@@ -3,6 +3,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
+#include <semloc/active/ActivePolicy.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/experiment/RunMetrics.h>
 #include <semloc/maps/LocalizationMap.h>
@@ -13,6 +14,7 @@
 
 #include <array>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -81,6 +83,14 @@ public:
          *  cannot take the first one's start from the detections starts uniform, and one
          *  that is not semantic maps only runs without the evidence recovery trigger. */
         bool same_filter = true;
+        /** Who drives the simulated vehicle, each for every run and variant: `route` (the
+         *  world's trajectory), `active` (ActivePolicy, then back to the route), `random` (a
+         *  random walk over the policy's candidate motions, then back to the route); the
+         *  closed loops need a semantic map in every variant. */
+        std::vector<std::string> controls{"route"};
+        /** [ActiveLocalization] of benchmark.ini: the policy of `active` and the candidates
+         *  and stop rule of `random` (its seed replaced by each run's). */
+        ActivePolicy::TOptions active;
         /** Scenario files (overlays of simulate_ini with a [Scenario] section; resolved next
          *  to benchmark.ini); empty: the one scenario of simulate_ini. */
         std::vector<std::string> scenarios;
@@ -163,6 +173,21 @@ public:
         uint32_t seed = 0;
         /** Name of the variant. */
         std::string variant;
+        /** Who drove the vehicle ([Benchmark] controls). */
+        std::string control = "route";
+        /** Distance driven until the convergence step [m] (the true path's length); NaN when
+         *  not converged. */
+        double distance_to_convergence_m = std::numeric_limits<double>::quiet_NaN();
+        /** Decisions of the control (active, random; 0 for the route). */
+        size_t decisions = 0;
+        /** Wall time of those decisions [s]. */
+        double decisionWall_s = 0;
+        /** Where the tables list it: the variant, and with another control than the route
+         *  "variant/control". */
+        std::string series() const
+        {
+            return control == "route" ? variant : variant + "/" + control;
+        }
         /** Number of particles of the filter (the initial number with KLD). */
         size_t particles = 0;
         /** Threads of the filter's per-particle work. */
@@ -193,7 +218,7 @@ public:
         std::string scenario;
         /** TScenario::description. */
         std::string description;
-        /** Variant name. */
+        /** Variant name (TRunResult::series(): with its control unless the route). */
         std::string variant;
         /** Runs. */
         size_t runs = 0;
@@ -248,7 +273,8 @@ public:
      */
     TResult run(const std::function<void(size_t, size_t)>& progress = {}) const;
 
-    /** Runs one (run, seed) in this process: simulation and every variant. */
+    /** Runs one (run, seed) in this process: simulation and every variant, each with every
+     *  control (variant-major). */
     std::vector<TRunResult> runOne(int run) const;
 
     /** The markdown table of report.md: per variant success rate, convergence time, error,
@@ -270,8 +296,17 @@ public:
      *  success rate, convergence, consistency (NEES) and recovery. */
     static std::string scenariosTable(const std::vector<TScenarioSummary>& summaries);
 
+    /** report.md's table of the controls: per scenario and series (TRunResult::series(), in
+     *  the order of their first run) the runs, the converged ones, the median and 90th
+     *  percentile of the distance driven to convergence (a run that did not converge counts
+     *  as infinitely far: "-" when the percentile falls on one), the decisions per run and
+     *  the mean wall time of a decision. */
+    static std::string controlsTable(const std::vector<TRunResult>& runs);
     /** The benchmark options. */
     const TOptions& options() const { return m_options; }
+    /** The series of the tables (TRunResult::series()): every variant with every control,
+     *  variant-major. */
+    std::vector<std::string> seriesNames() const;
     /** The variants, in configuration order (empty with scenarios). */
     const std::vector<TVariant>& variants() const { return m_variants; }
     /** One benchmark per scenario file (empty without scenarios). */

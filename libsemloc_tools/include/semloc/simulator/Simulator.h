@@ -11,13 +11,20 @@
 #include <semloc/simulator/SonarModel.h>
 #include <semloc/world/World.h>
 
+#include <mrpt/poses/CPose2D.h>
+
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
 namespace semloc
 {
+namespace detail
+{
+class VehicleMotion;
+}
 /** Section [Simulation]: what to simulate and where to write it. */
 struct TSimulationOptions : public mrpt::config::CLoadableOptions
 {
@@ -104,6 +111,8 @@ struct SimulationResult
     std::vector<uint8_t> detectorSilent;
     /** Number of steps. */
     size_t steps = 0;
+    /** Steps of runDriven() whose translation was dropped: its path left the free space. */
+    size_t blockedSteps = 0;
     /** Mean detections per semantic scan (false positives included). */
     double meanDetections = 0;
     /** Mean valid sonar beams per scan. */
@@ -145,6 +154,24 @@ public:
 
     /** Runs the whole simulation in memory. */
     SimulationResult run() const;
+    /** What drives the vehicle in runDriven(): at step k >= 1, from the true pose `pose`,
+     *  with the data of steps 0..k-1 in `sofar` (its rawlog's last action and sensory frame
+     *  are step k-1's), the pose increment to make in the vehicle's frame. */
+    using Driver = std::function<mrpt::poses::CPose2D(size_t k, const mrpt::math::TPose2D& pose,
+                                                      const SimulationResult& sofar)>;
+    /** run() with the vehicle driven by `drive` instead of the route: step 0 at the
+     *  route's start (routeStart()), then `steps` - 1 increments of `drive`. An increment
+     *  whose straight path leaves the free space (World::isFree, firstObjectOnSegment)
+     *  loses its translation: the vehicle turns where it is, and the odometry reports that
+     *  (counted in SimulationResult::blockedSteps). Sensors, noise streams and kidnapping
+     *  as in run(): the same seed draws the same noise at the same steps. */
+    SimulationResult runDriven(const Driver& drive, size_t steps) const;
+    /** The route's first pose (run()'s step 0). */
+    mrpt::math::TPose2D routeStart() const;
+    /** Distance the vehicle covers per step [m]: the speed times [Simulation] time_step_s. */
+    double stepLength_m() const { return speed() * m_options.simulation.time_step_s; }
+    /** run()'s number of steps: the route's, at most [Simulation] max_steps. */
+    size_t routeSteps() const;
 
     /** Writes `rawlogPath` (gz-compressed rawlog, MRPT's usual format), its ground truth
      *  GroundTruthFile::PathFor() (`t x y phi` per line, the shortest fixed-point decimals that
@@ -183,6 +210,9 @@ public:
 
 private:
     double speed() const;
+    /** The simulation loop of run() and runDriven(). */
+    SimulationResult simulate(detail::VehicleMotion& motion, const mrpt::math::TPose2D& start,
+                              size_t maxSteps) const;
 
     World m_world;
     TSimulatorOptions m_options;

@@ -1,0 +1,161 @@
+/* A robot that chooses where to look: while its particles are spread, it asks semloc's active
+ * policy for the next motion (the one expected to tell its hypotheses apart best); once they
+ * have converged, it goes back to its mission (here: straight on).
+ *   active_loop <world.yaml>
+ * It links semloc::semloc alone. The "robot" is a stand-in written below: noisy odometry, a
+ * detector of 10 m and 90 degrees, and the world itself as its obstacle sonar (a motion whose
+ * path would hit something is not made); on a vehicle these come from its own sensors. */
+#include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CSensoryFrame.h>
+#include <mrpt/random/RandomGenerators.h>
+#include <semloc/active/ActivePolicy.h>
+#include <semloc/filter/Localizer.h>
+#include <semloc/maps/CSemanticMap.h>
+#include <semloc/observation/CObservationSemantic.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace
+{
+/** The odometry's stand-in: the true increment with Gaussian noise, and MRPT's Gaussian
+ *  odometry model around the reading. */
+mrpt::obs::CActionRobotMovement2D odometryReading(const mrpt::poses::CPose2D& u,
+                                                  mrpt::random::CRandomGenerator& rng)
+{
+    const mrpt::poses::CPose2D reading(u.x() + 0.02 * rng.drawGaussian1D_normalized(),
+                                       u.y() + 0.02 * rng.drawGaussian1D_normalized(),
+                                       u.phi() + 0.005 * rng.drawGaussian1D_normalized());
+    mrpt::obs::CActionRobotMovement2D action;
+    action.computeFromOdometry(reading, {});
+    return action;
+}
+
+/** The detector's stand-in: the world's objects within 10 m and a 90 degree view, 80 % of
+ *  them detected, range and bearing with noise, labels only. */
+semloc::CObservationSemantic::Ptr detectorScan(const semloc::World& world,
+                                               const mrpt::poses::CPose2D& vehicle,
+                                               mrpt::random::CRandomGenerator& rng)
+{
+    auto scan = semloc::CObservationSemantic::Create();
+    scan->maxRange_m = 10.0;
+    scan->fov_rad = 90.0 * M_PI / 180.0;
+    for (const auto& object : world.objects)
+    {
+        const double dx = object.center.x - vehicle.x(), dy = object.center.y - vehicle.y();
+        const double range = std::hypot(dx, dy);
+        const double bearing = mrpt::math::wrapToPi(std::atan2(dy, dx) - vehicle.phi());
+        if (range > scan->maxRange_m || std::abs(bearing) > scan->fov_rad / 2 ||
+            rng.drawUniform(0.0, 1.0) > 0.8)
+            continue;
+        semloc::TSemanticDetection d;
+        d.label = object.label;
+        d.range_m = std::clamp(range + 0.1 * rng.drawGaussian1D_normalized(), 0.0, 10.0);
+        d.bearing_rad = std::clamp(bearing + 0.01 * rng.drawGaussian1D_normalized(),
+                                   -scan->fov_rad / 2, scan->fov_rad / 2);
+        scan->detections.push_back(d);
+    }
+    return scan;
+}
+
+/** The obstacle sonar's stand-in: true when `m` from the true pose stays in free space. */
+bool clear(const semloc::World& world, const mrpt::poses::CPose2D& truth,
+           const semloc::TActiveMotion& m)
+{
+    const auto to = truth + m.increment();
+    return world.isFree(to.x(), to.y()) &&
+           world.firstObjectOnSegment({truth.x(), truth.y()}, {to.x(), to.y()}) < 0;
+}
+}  // namespace
+
+int main(int argc, char** argv)
+{
+    if (argc != 2)
+    {
+        std::fprintf(stderr, "usage: active_loop <world.yaml>\n");
+        return 1;
+    }
+    const auto world = semloc::World::FromFile(argv[1]);
+    auto map = mrpt::maps::CMultiMetricMap::Create();
+    auto semantic = semloc::CSemanticMap::Create();
+    semantic->likelihoodOptions.model = semloc::CSemanticMap::Model::Probabilistic;
+    semantic->likelihoodOptions.sigma_range_m = 0.2;
+    semantic->likelihoodOptions.sigma_bearing_deg = 2;
+    semantic->likelihoodOptions.p_detect_near = 0.8;
+    semantic->likelihoodOptions.p_detect_far = 0.8;
+    semantic->likelihoodOptions.clutter_per_scan = 0.05;
+    semantic->loadFromWorld(world);
+    map->maps.push_back(semantic);
+
+    semloc::Localizer::TOptions opts;  // global localization over the free space
+    opts.particles_count = 5000;
+    opts.seed = 7;
+    opts.free_space_prior = true;
+    semloc::Localizer localizer(opts, map, &world);
+
+    semloc::ActivePolicy::TOptions policyOptions;  // [ActiveLocalization]'s defaults
+    semloc::ActivePolicy policy(policyOptions, *semantic, &world);
+
+    mrpt::random::CRandomGenerator rng(42);
+    mrpt::poses::CPose2D truth(world.trajectory->waypoints[0].x, world.trajectory->waypoints[0].y,
+                               0);
+    auto scan = detectorScan(world, truth, rng);
+    const double step = 0.5;     // metres per step
+    double turn = 0, ahead = 0;  // the motion under way: a turn to make, metres to go
+    bool converged = false;
+    double err = 0;
+    for (int k = 0; k < 300; k++)
+    {
+        if (!converged && turn == 0 && ahead <= 0)
+        {
+            const auto d = policy.decide(localizer.pdf(), *scan);
+            converged = d.converged;
+            if (converged)
+            {
+                std::printf("step %3d  converged: back to the mission\n", k);
+            }
+            else
+            {
+                // The best candidate the obstacle sonar allows (else turn on the spot).
+                const semloc::ActivePolicy::TCandidate* best = nullptr;
+                for (const auto& c : d.candidates)
+                    if (c.admissible && clear(world, truth, c.motion) &&
+                        (!best || c.score < best->score))
+                        best = &c;
+                const semloc::TActiveMotion m =
+                    best ? best->motion : semloc::TActiveMotion{M_PI / 2, 0};
+                std::printf("step %3d  %zu hypotheses, entropy %.2f: turn %4.0f deg, go %4.1f m\n",
+                            k, d.representatives, d.entropy, m.turn_rad * 180 / M_PI, m.distance_m);
+                turn = m.turn_rad;
+                ahead = m.distance_m;
+            }
+        }
+        // The mission once converged: straight on, turning back at the map's edge.
+        semloc::TActiveMotion now{turn, std::min(step, ahead)};
+        if (converged)
+            now = clear(world, truth, {0, step}) ? semloc::TActiveMotion{0, step}
+                                                 : semloc::TActiveMotion{M_PI / 2, 0};
+        if (!clear(world, truth, now))
+            now = {now.turn_rad, 0}, ahead = 0;  // the sonar stops the vehicle
+        turn = 0;
+        ahead -= now.distance_m;
+        const auto u = now.increment();
+        truth = truth + u;
+        mrpt::obs::CActionCollection action;
+        action.insert(odometryReading(u, rng));
+        scan = detectorScan(world, truth, rng);
+        mrpt::obs::CSensoryFrame frame;
+        frame.insert(scan);
+        localizer.step(action, frame);
+        const auto est = localizer.mean();
+        err = std::hypot(est.x() - truth.x(), est.y() - truth.y());
+        if (converged && k % 20 == 0)
+            std::printf("step %3d  error %.2f m  var %.3f m^2\n", k, err, localizer.varianceXY());
+    }
+    std::printf("final error %.3f m\n", err);
+    return converged && err < 1.0 ? 0 : 2;
+}

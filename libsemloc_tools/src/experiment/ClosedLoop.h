@@ -1,0 +1,66 @@
+/* semloc — a simulated vehicle driven by its own filter: the active policy, a random walk
+ * (private; Benchmark's controls). */
+#pragma once
+
+#include <semloc/active/ActivePolicy.h>
+#include <semloc/filter/Localizer.h>
+#include <semloc/filter/StepRecord.h>
+#include <semloc/simulator/Simulator.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace semloc::detail
+{
+/** Who drives the simulated vehicle. */
+enum class Control
+{
+    /** The world's route (Simulator::run()). */
+    Route,
+    /** ActivePolicy until its stop rule holds, then back to the route. */
+    Active,
+    /** A random walk: each motion one of the policy's candidates drawn uniformly among those
+     *  whose path is free from the true pose, until the same stop rule holds. */
+    Random
+};
+
+/** "route", "active", "random". */
+const std::vector<std::string>& controlNames();
+/** The control named `name` (one of controlNames()). */
+Control controlFromName(const std::string& name);
+
+/** What a closed-loop run produced. */
+struct TClosedLoopRun
+{
+    /** The simulated data (rawlog, ground truth) as driven. */
+    SimulationResult data;
+    /** One record per filter step, ground truth attached. */
+    std::vector<TStepRecord> records;
+    /** Decisions of the policy (Active) or motions drawn (Random). */
+    size_t decisions = 0;
+    /** The step at which the stop rule handed the vehicle back to the route; -1: never. */
+    long handedBackAtStep = -1;
+    /** Total wall time of the decisions [s]. */
+    double decisionWall_s = 0;
+};
+
+/** Simulates `simulator`'s scenario for its route's number of steps (Simulator::routeSteps)
+ *  with the vehicle driven by `control` (Active or Random) while `loc` localizes it in
+ *  `map` (the policy's map), one
+ *  step at a time: a motion of the policy (turn, then straight ahead at the route's speed
+ *  over as many steps as it takes) runs to its end unless the stop rule holds first (checked
+ *  at every step: the particles' x-y variance at most policy.converged_var_xy_m2) or the
+ *  vehicle is stopped by an obstacle. The vehicle's own obstacle avoidance (the simulated
+ *  world, as a real vehicle's sonar) vetoes a motion whose path from the true pose hits
+ *  something: the policy's best admissible candidate that is free is taken instead. Once
+ *  handed back, the vehicle heads straight for the nearest point of the route it can reach
+ *  in a straight line and follows the route on from there (at the route's start: the route
+ *  itself). The policy (and the random walk's draws) is seeded with `seed`. */
+TClosedLoopRun runClosedLoop(const Simulator& simulator, Localizer& loc, const CSemanticMap& map,
+                             Control control, const ActivePolicy::TOptions& policy, uint32_t seed);
+
+/** Distance driven [m] along the records' ground truth up to and including step `step`
+ *  (NaN when step < 0 or a record before it lacks ground truth). */
+double distanceDriven(const std::vector<TStepRecord>& records, long step);
+}  // namespace semloc::detail
