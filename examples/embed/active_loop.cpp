@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 namespace
 {
@@ -51,7 +52,9 @@ semloc::CObservationSemantic::Ptr detectorScan(const semloc::World& world,
         const double bearing = mrpt::math::wrapToPi(std::atan2(dy, dx) - vehicle.phi());
         if (range > scan->maxRange_m || std::abs(bearing) > scan->fov_rad / 2 ||
             rng.drawUniform(0.0, 1.0) > 0.8)
+        {
             continue;
+        }
         semloc::TSemanticDetection d;
         d.label = object.label;
         d.range_m = std::clamp(range + 0.1 * rng.drawGaussian1D_normalized(), 0.0, 10.0);
@@ -70,6 +73,54 @@ bool clear(const semloc::World& world, const mrpt::poses::CPose2D& truth,
     return world.isFree(to.x(), to.y()) &&
            world.firstObjectOnSegment({truth.x(), truth.y()}, {to.x(), to.y()}) < 0;
 }
+
+/** The robot: its true pose (known to the stand-ins only), its localizer and its policy. */
+struct Robot
+{
+    const semloc::World& world;
+    semloc::Localizer& localizer;
+    semloc::ActivePolicy& policy;
+    mrpt::random::CRandomGenerator rng{42};
+    mrpt::poses::CPose2D truth;
+    semloc::CObservationSemantic::Ptr scan;
+
+    /** The policy's best candidate the obstacle sonar allows (else a turn on the spot); none
+     *  (and `converged`) once the particles have converged. */
+    std::optional<semloc::TActiveMotion> decide(int k, bool& converged)
+    {
+        const auto d = policy.decide(localizer.pdf(), *scan);
+        converged = d.converged;
+        if (converged)
+        {
+            std::printf("step %3d  converged: back to the mission\n", k);
+            return std::nullopt;
+        }
+        const semloc::ActivePolicy::TCandidate* best = nullptr;
+        for (const auto& c : d.candidates)
+        {
+            if (c.admissible && clear(world, truth, c.motion) && (!best || c.score < best->score))
+            {
+                best = &c;
+            }
+        }
+        const semloc::TActiveMotion m = best ? best->motion : semloc::TActiveMotion{M_PI / 2, 0};
+        std::printf("step %3d  %zu hypotheses, entropy %.2f: turn %4.0f deg, go %4.1f m\n", k,
+                    d.representatives, d.entropy, m.turn_rad * 180 / M_PI, m.distance_m);
+        return m;
+    }
+
+    /** Makes `u`, then feeds its odometry and the new scan to the localizer. */
+    void move(const mrpt::poses::CPose2D& u)
+    {
+        truth = truth + u;
+        mrpt::obs::CActionCollection action;
+        action.insert(odometryReading(u, rng));
+        scan = detectorScan(world, truth, rng);
+        mrpt::obs::CSensoryFrame frame;
+        frame.insert(scan);
+        localizer.step(action, frame);
+    }
+};
 }  // namespace
 
 int main(int argc, char** argv)
@@ -82,12 +133,12 @@ int main(int argc, char** argv)
     const auto world = semloc::World::FromFile(argv[1]);
     auto map = mrpt::maps::CMultiMetricMap::Create();
     auto semantic = semloc::CSemanticMap::Create();
-    semantic->likelihoodOptions.model = semloc::CSemanticMap::Model::Probabilistic;
-    semantic->likelihoodOptions.sigma_range_m = 0.2;
-    semantic->likelihoodOptions.sigma_bearing_deg = 2;
-    semantic->likelihoodOptions.p_detect_near = 0.8;
-    semantic->likelihoodOptions.p_detect_far = 0.8;
-    semantic->likelihoodOptions.clutter_per_scan = 0.05;
+    auto& lo = semantic->likelihoodOptions;  // the detector below, as the map models it
+    lo.model = semloc::CSemanticMap::Model::Probabilistic;
+    lo.sigma_range_m = 0.2;
+    lo.sigma_bearing_deg = 2;
+    lo.p_detect_near = lo.p_detect_far = 0.8;
+    lo.clutter_per_scan = 0.05;
     semantic->loadFromWorld(world);
     map->maps.push_back(semantic);
 
@@ -96,65 +147,42 @@ int main(int argc, char** argv)
     opts.seed = 7;
     opts.free_space_prior = true;
     semloc::Localizer localizer(opts, map, &world);
+    semloc::ActivePolicy policy(semloc::ActivePolicy::TOptions(), *semantic, &world);
 
-    semloc::ActivePolicy::TOptions policyOptions;  // [ActiveLocalization]'s defaults
-    semloc::ActivePolicy policy(policyOptions, *semantic, &world);
-
-    mrpt::random::CRandomGenerator rng(42);
-    mrpt::poses::CPose2D truth(world.trajectory->waypoints[0].x, world.trajectory->waypoints[0].y,
-                               0);
-    auto scan = detectorScan(world, truth, rng);
+    const auto& start = world.trajectory->waypoints[0];
+    Robot robot{world, localizer, policy};
+    robot.truth = mrpt::poses::CPose2D(start.x, start.y, 0);
+    robot.scan = detectorScan(world, robot.truth, robot.rng);
     const double step = 0.5;     // metres per step
-    double turn = 0, ahead = 0;  // the motion under way: a turn to make, metres to go
+    semloc::TActiveMotion plan;  // the motion under way: a turn to make, metres to go
     bool converged = false;
     double err = 0;
     for (int k = 0; k < 300; k++)
     {
-        if (!converged && turn == 0 && ahead <= 0)
+        if (!converged && plan.turn_rad == 0 && plan.distance_m <= 0)
         {
-            const auto d = policy.decide(localizer.pdf(), *scan);
-            converged = d.converged;
-            if (converged)
-            {
-                std::printf("step %3d  converged: back to the mission\n", k);
-            }
-            else
-            {
-                // The best candidate the obstacle sonar allows (else turn on the spot).
-                const semloc::ActivePolicy::TCandidate* best = nullptr;
-                for (const auto& c : d.candidates)
-                    if (c.admissible && clear(world, truth, c.motion) &&
-                        (!best || c.score < best->score))
-                        best = &c;
-                const semloc::TActiveMotion m =
-                    best ? best->motion : semloc::TActiveMotion{M_PI / 2, 0};
-                std::printf("step %3d  %zu hypotheses, entropy %.2f: turn %4.0f deg, go %4.1f m\n",
-                            k, d.representatives, d.entropy, m.turn_rad * 180 / M_PI, m.distance_m);
-                turn = m.turn_rad;
-                ahead = m.distance_m;
-            }
+            plan = robot.decide(k, converged).value_or(semloc::TActiveMotion{});
         }
-        // The mission once converged: straight on, turning back at the map's edge.
-        semloc::TActiveMotion now{turn, std::min(step, ahead)};
+        // Once converged, the mission: straight on, turning at the map's edge.
+        semloc::TActiveMotion now{plan.turn_rad, std::min(step, plan.distance_m)};
         if (converged)
-            now = clear(world, truth, {0, step}) ? semloc::TActiveMotion{0, step}
-                                                 : semloc::TActiveMotion{M_PI / 2, 0};
-        if (!clear(world, truth, now))
-            now = {now.turn_rad, 0}, ahead = 0;  // the sonar stops the vehicle
-        turn = 0;
-        ahead -= now.distance_m;
-        const auto u = now.increment();
-        truth = truth + u;
-        mrpt::obs::CActionCollection action;
-        action.insert(odometryReading(u, rng));
-        scan = detectorScan(world, truth, rng);
-        mrpt::obs::CSensoryFrame frame;
-        frame.insert(scan);
-        localizer.step(action, frame);
+        {
+            now = clear(world, robot.truth, {0, step}) ? semloc::TActiveMotion{0, step}
+                                                       : semloc::TActiveMotion{M_PI / 2, 0};
+        }
+        if (!clear(world, robot.truth, now))
+        {
+            now.distance_m = plan.distance_m = 0;  // the sonar stops the vehicle
+        }
+        plan.turn_rad = 0;
+        plan.distance_m -= now.distance_m;
+        robot.move(now.increment());
         const auto est = localizer.mean();
-        err = std::hypot(est.x() - truth.x(), est.y() - truth.y());
+        err = std::hypot(est.x() - robot.truth.x(), est.y() - robot.truth.y());
         if (converged && k % 20 == 0)
+        {
             std::printf("step %3d  error %.2f m  var %.3f m^2\n", k, err, localizer.varianceXY());
+        }
     }
     std::printf("final error %.3f m\n", err);
     return converged && err < 1.0 ? 0 : 2;

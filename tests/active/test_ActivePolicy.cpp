@@ -8,6 +8,7 @@
 #include <semloc/world/World.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 using semloc::ActivePolicy;
@@ -69,12 +70,22 @@ mrpt::poses::CPosePDFParticles cloud(const std::vector<mrpt::math::TPoint2D>& at
     for (size_t i = 0; i < pdf.m_particles.size(); i++)
     {
         const auto& c = at[i % at.size()];
-        const double u = static_cast<double>((i / at.size()) % 10) / 9 - 0.5,
-                     v = static_cast<double>((i / at.size()) / 10) / 9 - 0.5;
+        const size_t k = i / at.size();  // the particle's place in a 10 x 10 pattern
+        const size_t column = k % 10, row = k / 10;
+        const double u = static_cast<double>(column) / 9 - 0.5,
+                     v = static_cast<double>(row) / 9 - 0.5;
         pdf.m_particles[i].d = mrpt::math::TPose2D(c.x + spread * u, c.y + spread * v, 0.0);
         pdf.m_particles[i].log_w = 0;
     }
     return pdf;
+}
+
+/** The bits of `v` (the same bits, not merely equal values). */
+uint64_t bits(double v)
+{
+    uint64_t b = 0;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
 }
 
 ActivePolicy::TOptions options(int threads = 1)
@@ -127,8 +138,8 @@ TEST(ActivePolicy, SameChoiceForOneAndTwoThreadsAndForTheSameSeed)
         {
             const double sa = a.candidates[i].score, sb = b.candidates[i].score,
                          sc = c.candidates[i].score;
-            EXPECT_EQ(std::memcmp(&sa, &sb, sizeof sa), 0) << "candidate " << i;
-            EXPECT_EQ(std::memcmp(&sa, &sc, sizeof sa), 0) << "candidate " << i;
+            EXPECT_EQ(bits(sa), bits(sb)) << "candidate " << i;
+            EXPECT_EQ(bits(sa), bits(sc)) << "candidate " << i;
         }
     }
 }

@@ -29,7 +29,7 @@ std::string benchmarkIni(const std::string& name, const std::string& body,
 {
     std::ofstream(kOut + name + "_scenario.ini")
         << "[Scenario]\nmap_from_world = true\n[SemanticDetector]\nmax_range_m = 8\nfov_deg = 90\n";
-    const std::string path = kOut + name + ".ini";
+    std::string path = kOut + name + ".ini";
     std::ofstream(path) << "[Benchmark]\nsimulate_ini = " << kConfig
                         << "simulate/simulate.ini\nvariants = " << variantIni
                         << "\noutput_dir = " << kOut << name << "_out\nmax_steps = " << steps
@@ -83,7 +83,10 @@ TEST(ActiveControl, ARunThatStartsConvergedHandsBackAtOnceAndDrivesTheRoute)
         const size_t at = text.find("\n" + key + " ");
         ASSERT_NE(at, std::string::npos) << key;
         const size_t end = text.find('\n', at + 1);
-        text.replace(at + 1, end - at - 1, key + " = " + value);
+        std::string line = key;
+        line += " = ";
+        line += value;
+        text.replace(at + 1, end - at - 1, line);
     }
     ASSERT_NE(text.find("\ninit_PDF_mean_x         = 3\n"), std::string::npos);
     ASSERT_NE(text.find("\ninit_PDF_mean_y         = 4\n"), std::string::npos);

@@ -95,7 +95,10 @@ CObservationSemantic drawScan(const CSemanticMap& map, const std::vector<std::st
         v = uniform01(g);
     }
     const auto pick = [&](double v)
-    { return labels[std::min(labels.size() - 1, static_cast<size_t>(v * labels.size()))]; };
+    {
+        const auto n = static_cast<double>(labels.size());
+        return labels[std::min(labels.size() - 1, static_cast<size_t>(v * n))];
+    };
     for (const auto& seen :
          map.objectsInView(sensor, mrpt::poses::CPose3D(mrpt::poses::CPose2D(pose))))
     {
@@ -426,7 +429,8 @@ void evaluate(const DecisionContext& x, ActivePolicy::TCandidate& c)
                 {
                     // NaN and +inf count as impossible, as the filter counts them.
                     const bool usable = std::isfinite(logl[i]) || logl[i] < 0;
-                    logw[i] += usable ? logl[i] : -std::numeric_limits<double>::infinity();
+                    const double l = usable ? logl[i] : -std::numeric_limits<double>::infinity();
+                    logw[i] += l;
                 }
             }
             expected += reps[j].weight * entropyOfLogWeights(logw) / outcomes;
