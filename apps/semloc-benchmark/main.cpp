@@ -1,7 +1,9 @@
 /* semloc-benchmark: the paper's experiment, R seeds × variants (results.csv, curves.csv,
  * report.md, figures).
  *   semloc-benchmark config/benchmark/benchmark.ini [-o results/benchmark]
- *   semloc-benchmark config/benchmark/robustness.ini   (scenarios: sensor faults, kidnapping) */
+ *   semloc-benchmark config/benchmark/robustness.ini   (scenarios: sensor faults, kidnapping)
+ *   semloc-benchmark INI --runs A:B -o SHARD           (runs A..B only, a shard)
+ *   semloc-benchmark --merge SHARD... -o OUT            (the shards' outputs as one run's) */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/format.h>
 #include <semloc/experiment/Benchmark.h>
@@ -12,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <functional>
 #include <iostream>
 #include <set>
 
@@ -20,13 +23,63 @@
 namespace
 {
 TCLAP::CmdLine cmd("semloc-benchmark", ' ', "0.1");
-TCLAP::UnlabeledValueArg<std::string> argIni("config",
-                                             "Benchmark ini (see config/benchmark/benchmark.ini)",
-                                             true, "", "benchmark.ini", cmd);
+TCLAP::UnlabeledMultiArg<std::string> argInputs(
+    "config",
+    "Benchmark ini (see config/benchmark/benchmark.ini); with --merge, the shard directories", true,
+    "benchmark.ini | SHARD...", cmd);
 TCLAP::ValueArg<std::string> argOut("o", "output-dir", "Overrides output_dir", false, "", "DIR",
                                     cmd);
-TCLAP::ValueArg<int> argRuns("r", "runs", "Overrides [Benchmark] runs (seeds 1..N)", false, 0, "N",
-                             cmd);
+TCLAP::ValueArg<std::string> argRuns(
+    "r", "runs",
+    "N: overrides [Benchmark] runs (seeds 1..N); A:B: runs A..B of the benchmark only, written "
+    "as a shard to -o (semloc-benchmark --merge)",
+    false, "", "N | A:B", cmd);
+TCLAP::SwitchArg argMerge("", "merge",
+                          "Merges the shard directories given (semloc-benchmark INI --runs A:B) "
+                          "into -o: the outputs of the whole benchmark",
+                          cmd);
+
+/** --runs: N (first = 0) or A:B. */
+struct RunsArg
+{
+    int first = 0, last = 0;
+};
+
+int parseRunNumber(const std::string& text)
+{
+    constexpr int kMaxRuns = semloc::Benchmark::TOptions::kMaxRuns;  // as [Benchmark] runs
+    char* end = nullptr;
+    const long v = std::strtol(text.c_str(), &end, 10);
+    if (text.empty() || *end != '\0' || v < 1 || v > kMaxRuns)
+    {
+        THROW_EXCEPTION("--runs: '" + argRuns.getValue() + "' is not N or A:B with runs in [1, " +
+                        std::to_string(kMaxRuns) + "]");
+    }
+    return static_cast<int>(v);
+}
+
+RunsArg runsArg()
+{
+    RunsArg r;
+    if (!argRuns.isSet())
+    {
+        return r;
+    }
+    const std::string& v = argRuns.getValue();
+    const auto colon = v.find(':');
+    if (colon == std::string::npos)
+    {
+        r.last = parseRunNumber(v);
+        return r;
+    }
+    r.first = parseRunNumber(v.substr(0, colon));
+    r.last = parseRunNumber(v.substr(colon + 1));
+    if (r.first > r.last)
+    {
+        THROW_EXCEPTION("--runs " + v + ": the first run is after the last");
+    }
+    return r;
+}
 
 std::string clock(double s)
 {
@@ -54,22 +107,18 @@ int runsCap()
     return static_cast<int>(v);
 }
 
-semloc::Benchmark load()
+/** The benchmark of the command line; a shard's (A:B) is the whole benchmark's, uncapped. */
+semloc::Benchmark load(const std::string& ini, const RunsArg& runs)
 {
-    constexpr int kMaxRuns = semloc::Benchmark::TOptions::kMaxRuns;  // as [Benchmark] runs
-    if (argRuns.isSet() && (argRuns.getValue() < 1 || argRuns.getValue() > kMaxRuns))
-    {
-        THROW_EXCEPTION("--runs: must be in [1, " + std::to_string(kMaxRuns) + "]");
-    }
-    const int cap = runsCap();
-    auto bench =
-        semloc::Benchmark::FromConfigFile(argIni.getValue(), argOut.getValue(), argRuns.getValue());
+    const bool shard = runs.first > 0;
+    auto bench = semloc::Benchmark::FromConfigFile(ini, argOut.getValue(), shard ? 0 : runs.last);
+    const int cap = shard ? 0 : runsCap();  // a shard runs the runs it names
     if (cap > 0 && bench.options().runs > cap)
     {
         std::cerr << "semloc-benchmark: SEMLOC_BENCHMARK_RUNS=" << cap << ": " << cap
                   << " run(s) instead of " << bench.options().runs
                   << " (a reduced benchmark: its figures are not the documented ones)\n";
-        bench = semloc::Benchmark::FromConfigFile(argIni.getValue(), argOut.getValue(), cap);
+        bench = semloc::Benchmark::FromConfigFile(ini, argOut.getValue(), cap);
     }
     return bench;
 }
@@ -98,9 +147,79 @@ void warnAboutVariants(const semloc::Benchmark& bench)
     }
 }
 
+/** The progress bar on a terminal's stderr. */
+std::function<void(size_t, size_t)> progressBar()
+{
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    return [tty, t0](size_t done, size_t total)
+    {
+        if (!tty)
+        {
+            return;
+        }
+        const double el =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        const int width = 30;
+        const int fill = static_cast<int>(width * done / total);
+        std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, ' ') << "] "
+                  << done << "/" << total << " runs, elapsed " << clock(el) << ", left "
+                  << (done ? clock(el / static_cast<double>(done) *
+                                   static_cast<double>(total - done))
+                           : std::string("?"))
+                  << "  " << std::flush;
+        if (done == total)
+        {
+            std::cerr << "\n";
+        }
+    };
+}
+
+void printResult(const semloc::Benchmark::TResult& res, bool scenarios)
+{
+    for (const auto& w : res.figureWarnings)
+    {
+        std::cerr << "semloc-benchmark: warning: " << w.text() << "\n";
+    }
+    std::cout << "\n"
+              << res.table << "\nsemloc-benchmark: " << res.runs.size() << " results in "
+              << res.outputDir
+              << (scenarios ? " (report.md, scenarios.csv, one directory per scenario), "
+                            : " (report.md, results.csv, curves.csv, fig_*.png), ")
+              << mrpt::format("%.1f", res.wallTime_s) << " s\n";
+}
+
+/** --merge SHARD... -o OUT. */
+void merge()
+{
+    if (!argOut.isSet() || argRuns.isSet())
+    {
+        THROW_EXCEPTION(
+            "--merge SHARD... -o OUT: the output directory (-o) is required and "
+            "--runs is not taken (the shards say which runs they hold)");
+    }
+    semloc::installInterruptHandlers();
+    const auto res =
+        semloc::Benchmark::Merge(argInputs.getValue(), argOut.getValue(), progressBar());
+    std::cout << "semloc-benchmark: " << argInputs.getValue().size() << " shard(s) merged\n";
+    printResult(res, res.summaries.size() > 0 && !res.summaries.front().scenario.empty());
+}
+
 void run()
 {
-    const auto bench = load();
+    if (argMerge.getValue())
+    {
+        merge();
+        return;
+    }
+    if (argInputs.getValue().size() != 1)
+    {
+        THROW_EXCEPTION("one benchmark ini expected, got " +
+                        std::to_string(argInputs.getValue().size()) +
+                        " arguments (several shard directories go with --merge)");
+    }
+    const RunsArg runs = runsArg();
+    const auto bench = load(argInputs.getValue().front(), runs);
     warnAboutVariants(bench);
     for (const auto& w : bench.mapWarnings())
     {
@@ -110,7 +229,8 @@ void run()
     // Ctrl-C: the running runs end, nothing is written (the staging directory is removed).
     semloc::installInterruptHandlers();
     const auto& o = bench.options();
-    std::cout << "semloc-benchmark: " << o.runs << " runs x ";
+    const int n = runs.first > 0 ? runs.last - runs.first + 1 : o.runs;
+    std::cout << "semloc-benchmark: " << n << " runs x ";
     if (bench.scenarios().empty())
     {
         std::cout << bench.variants().size() << " variants";
@@ -121,41 +241,15 @@ void run()
     }
     std::cout << ", " << bench.effectiveJobs() << " parallel runs, " << o.filter_threads
               << " filter thread(s) each\n";
-    const bool tty = ::isatty(STDERR_FILENO) != 0;
-    const auto t0 = std::chrono::steady_clock::now();
-    const auto res = bench.run(
-        [&](size_t done, size_t total)
-        {
-            if (!tty)
-            {
-                return;
-            }
-            const double el =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-            const int width = 30;
-            const int fill = static_cast<int>(width * done / total);
-            std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, ' ') << "] "
-                      << done << "/" << total << " runs, elapsed " << clock(el) << ", left "
-                      << (done ? clock(el / static_cast<double>(done) *
-                                       static_cast<double>(total - done))
-                               : std::string("?"))
-                      << "  " << std::flush;
-            if (done == total)
-            {
-                std::cerr << "\n";
-            }
-        });
-    for (const auto& w : res.figureWarnings)
+    if (runs.first > 0)
     {
-        std::cerr << "semloc-benchmark: warning: " << w.text() << "\n";
+        const auto s = bench.runShard(runs.first, runs.last, progressBar());
+        std::cout << "semloc-benchmark: runs " << s.first << ".." << s.last << " of " << s.runs
+                  << " in the shard " << s.dir << " (digest " << s.digest
+                  << "; merge the shards with semloc-benchmark --merge SHARD... -o OUT)\n";
+        return;
     }
-    std::cout << "\n"
-              << res.table << "\nsemloc-benchmark: " << res.runs.size() << " results in "
-              << res.outputDir
-              << (bench.scenarios().empty() ? " (report.md, results.csv, curves.csv, fig_*.png), "
-                                            : " (report.md, scenarios.csv, one directory per "
-                                              "scenario), ")
-              << mrpt::format("%.1f", res.wallTime_s) << " s\n";
+    printResult(bench.run(progressBar()), !bench.scenarios().empty());
 }
 }  // namespace
 

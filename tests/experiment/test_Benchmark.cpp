@@ -32,6 +32,17 @@ std::string writeIni(const std::string& name, const std::string& body)
     return path;
 }
 
+/** A benchmark of semantic.ini alone with `sweep = <sweep>` (and what follows it). */
+std::string writeSweepIni(const std::string& name, const std::string& sweep)
+{
+    std::string path = std::string(SEMLOC_TEST_OUT) + "/" + name;
+    std::ofstream(path) << "[Benchmark]\nsimulate_ini = " << kConfig
+                        << "simulate/simulate.ini\nvariants = " << kConfig
+                        << "localize/semantic.ini\noutput_dir = " << SEMLOC_TEST_OUT
+                        << "/bench_unused\nsweep = " << sweep << "\n";
+    return path;
+}
+
 std::string errorOf(const std::string& path)
 {
     try
@@ -531,4 +542,43 @@ TEST(Benchmark, ResultsAndTablesShowTheConsistencyOfEveryRun)
         << sc;
     EXPECT_NE(sc.find("| 0.250 | 3.25 | 93 |"), std::string::npos) << sc;
     EXPECT_NE(semloc::detail::scenariosCsv({s}).find(",3.25,0.93\n"), std::string::npos);
+}
+
+TEST(Benchmark, ASweepMakesAVariantOfEachValue)
+{
+    const auto b = semloc::Benchmark::FromConfigFile(writeSweepIni(
+        "bench_sweep.ini", "MetricMap_semanticMap_00_likelihoodOpts.sigma_range_m: 0.25, 1.5"));
+    ASSERT_EQ(b.variants().size(), 2u);
+    EXPECT_EQ(b.variants()[0].name(), "semantic@sigma_range_m=0.25");
+    EXPECT_EQ(b.variants()[1].name(), "semantic@sigma_range_m=1.5");
+    const auto sigma = [&](size_t k)
+    {
+        return b.variants()[k]
+            .maps.map->mapByClass<semloc::CSemanticMap>()
+            ->likelihoodOptions.sigma_range_m;
+    };
+    EXPECT_EQ(sigma(0), 0.25);
+    EXPECT_EQ(sigma(1), 1.5);
+    // A swept filter key stays swept under same_filter (each value its own reference).
+    const auto f = semloc::Benchmark::FromConfigFile(
+        writeSweepIni("bench_sweep_pf.ini", "PF_options.powFactor: 0.5, 1\nsame_filter = true"));
+    ASSERT_EQ(f.variants().size(), 2u);
+    EXPECT_EQ(f.variants()[0].options.filter.pf.powFactor, 0.5);
+    EXPECT_EQ(f.variants()[1].options.filter.pf.powFactor, 1.0);
+}
+
+TEST(Benchmark, ABadSweepIsAnErrorNamingIt)
+{
+    EXPECT_NE(errorOf(writeSweepIni("bench_sweep_bad1.ini", "sigma_range_m: 0.25"))
+                  .find("[Benchmark] sweep"),
+              std::string::npos);
+    EXPECT_NE(errorOf(writeSweepIni("bench_sweep_bad2.ini", "PF_options.powFactor 0.5"))
+                  .find("not a section and key followed by values"),
+              std::string::npos);
+    EXPECT_NE(errorOf(writeSweepIni("bench_sweep_bad3.ini", "PF_options.powFactor: 0.5, 0.5"))
+                  .find("the value '0.5' appears twice"),
+              std::string::npos);
+    EXPECT_NE(
+        errorOf(writeSweepIni("bench_sweep_bad4.ini", "PF_options.powFactr: 0.5")).find("powFactr"),
+        std::string::npos);
 }

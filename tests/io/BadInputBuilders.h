@@ -135,6 +135,7 @@ using Cases = std::map<std::string, Builder>;
 Cases commandLineCases();
 Cases iniFileCases();
 Cases iniMapCases();
+Cases shardCases();
 Cases iniModelCases();
 Cases outputDirectoryCases();
 Cases outputFileCases();
@@ -157,13 +158,28 @@ Cases figureCases();
 
 inline std::vector<Cases> allCaseGroups()
 {
-    return {commandLineCases(),       iniFileCases(),         iniMapCases(),
-            iniModelCases(),          outputDirectoryCases(), outputFileCases(),
-            worldSyntaxCases(),       worldContentCases(),    rawlogFileCases(),
-            rawlogDamagedCases(),     rawlogOdometryCases(),  timeCases(),
-            observationCases(),       importCases(),          csvBytesCases(),
-            csvValueCases(),          csvRealLogCases(),      iniMessageCases(),
-            calibrateCases(),         runPlotCases(),         figureCases(),
-            outputOverUserFileCases()};
+    return {commandLineCases(),
+            iniFileCases(),
+            iniMapCases(),
+            iniModelCases(),
+            outputDirectoryCases(),
+            outputFileCases(),
+            worldSyntaxCases(),
+            worldContentCases(),
+            rawlogFileCases(),
+            rawlogDamagedCases(),
+            rawlogOdometryCases(),
+            timeCases(),
+            observationCases(),
+            importCases(),
+            csvBytesCases(),
+            csvValueCases(),
+            csvRealLogCases(),
+            iniMessageCases(),
+            calibrateCases(),
+            runPlotCases(),
+            figureCases(),
+            outputOverUserFileCases(),
+            shardCases()};
 }
 }  // namespace semloc::test::bad_input

@@ -291,6 +291,39 @@ Cases iniMapCases()
     };
 }
 
+/** semloc-benchmark's shards: a cut beyond the benchmark's runs, a merge of shards that
+ *  overlap. */
+Cases shardCases()
+{
+    return {
+        {"benchmark-shard-beyond-the-runs",
+         [](const fs::path& d)
+         {
+             writeText(d / "bench.ini", "[Benchmark]\nruns = 2\nvariants = " + kSrc +
+                                            "/config/localize/semantic.ini\nsimulate_ini = " +
+                                            kSrc + "/config/simulate/simulate.ini\n");
+             return std::vector<std::string>{
+                 "semloc-benchmark",    (d / "bench.ini").string(), "--runs", "2:3", "-o",
+                 (d / "shard").string()};
+         }},
+        {"benchmark-merge-overlapping-shards",
+         [](const fs::path& d)
+         {
+             for (const auto& [dir, first] : {std::pair<const char*, int>{"a", 1}, {"b", 2}})
+             {
+                 fs::create_directories(d / dir);
+                 writeText(d / dir / "shard.txt", "benchmark " + (d / "bench.ini").string() +
+                                                      "\ndigest 0123456789abcdef\nruns 4\nfirst " +
+                                                      std::to_string(first) + "\nlast " +
+                                                      std::to_string(first + 2) + "\n");
+             }
+             return std::vector<std::string>{
+                 "semloc-benchmark", "--merge", (d / "a").string(),
+                 (d / "b").string(), "-o",      (d / "merged").string()};
+         }},
+    };
+}
+
 /** semloc-localize's output directory: nothing but a previous output is ever
  *  replaced. */
 Cases outputDirectoryCases()

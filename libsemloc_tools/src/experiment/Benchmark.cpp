@@ -174,20 +174,38 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
 
 Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& progress) const
 {
-    if (!m_scenarios.empty())
-    {
-        return runScenarios(progress);
-    }
+    return m_scenarios.empty() ? runAll(progress) : runScenarios(progress);
+}
+
+Benchmark::TResult Benchmark::runAll(const std::function<void(size_t, size_t)>& progress,
+                                     const std::vector<std::string>& shardDirs) const
+{
     const auto wall0 = std::chrono::steady_clock::now();
     const auto& o = m_options;
-    StagedDirectory out(o.output_dir, inputFiles());
+    auto inputs = inputFiles();
+    inputs.insert(inputs.end(), shardDirs.begin(), shardDirs.end());
+    StagedDirectory out(o.output_dir, inputs);
     const detail::RunFiles files(out.path("runs"));
     std::filesystem::create_directories(files.dir());
 
-    // One child process per run (see the class documentation: MRPT's global generator).
     const size_t jobs = effectiveJobs();
-    detail::runInChildProcesses(
-        files, o.runs, jobs, m_scenario.name, [this](int run) { return runOne(run); }, progress);
+    if (shardDirs.empty())
+    {
+        // One child process per run (see the class documentation: MRPT's global generator).
+        detail::runInChildProcesses(
+            files, 1, o.runs, jobs, m_scenario.name, [this](int run) { return runOne(run); },
+            progress);
+    }
+    else
+    {
+        std::vector<std::string> dirs;
+        dirs.reserve(shardDirs.size());
+        for (const auto& d : shardDirs)
+        {
+            dirs.push_back(shardRunsDir(d));
+        }
+        detail::gatherRunFiles(dirs, o.runs, files);
+    }
 
     TResult res;
     res.runs =
@@ -209,11 +227,13 @@ Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& pro
     return res;
 }
 
-Benchmark::TResult Benchmark::runScenarios(
-    const std::function<void(size_t, size_t)>& progress) const
+Benchmark::TResult Benchmark::runScenarios(const std::function<void(size_t, size_t)>& progress,
+                                           const std::vector<std::string>& shardDirs) const
 {
     const auto wall0 = std::chrono::steady_clock::now();
-    StagedDirectory out(m_options.output_dir, inputFiles());
+    auto inputs = inputFiles();
+    inputs.insert(inputs.end(), shardDirs.begin(), shardDirs.end());
+    StagedDirectory out(m_options.output_dir, inputs);
     const size_t total = m_scenarios.size() * static_cast<size_t>(m_options.runs);
     TResult res;
     for (size_t i = 0; i < m_scenarios.size(); i++)
@@ -221,14 +241,15 @@ Benchmark::TResult Benchmark::runScenarios(
         Benchmark sc = m_scenarios[i];
         sc.m_options.output_dir = out.path(sc.m_scenario.name);
         const size_t offset = i * static_cast<size_t>(m_options.runs);
-        const auto r = sc.run(
+        const auto r = sc.runAll(
             [&](size_t done, size_t)
             {
                 if (progress && (done > 0 || i == 0))
                 {
                     progress(offset + done, total);
                 }
-            });
+            },
+            shardDirs);
         res.runs.insert(res.runs.end(), r.runs.begin(), r.runs.end());
         res.summaries.insert(res.summaries.end(), r.summaries.begin(), r.summaries.end());
         for (auto w : r.figureWarnings)

@@ -30,7 +30,7 @@ const std::string kSection = "Benchmark";
 const std::vector<std::string> kKeys = {
     "runs",      "variants",       "variants_dir", "simulate_ini", "output_dir",
     "jobs",      "filter_threads", "max_steps",    "particles",    "same_filter",
-    "scenarios", "map_from_world", "controls"};
+    "scenarios", "map_from_world", "controls",     "sweep"};
 const std::string kActiveSection = "ActiveLocalization";
 const std::string kScenarioSection = "Scenario";
 const std::vector<std::string> kScenarioKeys = {"name",
@@ -76,6 +76,47 @@ std::vector<std::string> readList(const mrpt::config::CConfigFileBase& c, const 
         }
     }
     return out;
+}
+
+/** [Benchmark] sweep: "SECTION.KEY: v1, v2, ..." (values without blanks, none twice). */
+Benchmark::TOptions::TSweep readSweep(const mrpt::config::CConfigFileBase& c, const std::string& s)
+{
+    const std::string text = trim(c.read_string(s, "sweep", ""));
+    Benchmark::TOptions::TSweep w;
+    if (text.empty())
+    {
+        return w;
+    }
+    const auto colon = text.find(':');
+    const std::string target = trim(text.substr(0, colon));
+    const auto dot = target.rfind('.');
+    const auto bad = [&](const std::string& why)
+    {
+        THROW_EXCEPTION("ini [" + s + "] sweep: '" + text + "': " + why +
+                        " (SECTION.KEY: value, value, ...)");
+    };
+    if (colon == std::string::npos || dot == std::string::npos || dot == 0 ||
+        dot + 1 == target.size() || target.find_first_of(" \t[]") != std::string::npos)
+    {
+        bad("not a section and key followed by values");
+    }
+    w.section = target.substr(0, dot);
+    w.key = target.substr(dot + 1);
+    w.values = splitList(text.substr(colon + 1));
+    for (size_t i = 0; i < w.values.size(); i++)
+    {
+        const auto& v = w.values[i];
+        if (v.empty() || v.find_first_of(" \t") != std::string::npos)
+        {
+            bad("a value is empty or holds a blank");
+        }
+        if (std::find(w.values.begin(), w.values.begin() + static_cast<long>(i), v) !=
+            w.values.begin() + static_cast<long>(i))
+        {
+            bad("the value '" + v + "' appears twice");
+        }
+    }
+    return w;
 }
 
 /** `file` resolved next to `ini` (config::resolveNextToIni), absolute; throws naming `key`. */
@@ -248,6 +289,7 @@ void Benchmark::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
             }
         }
     }
+    sweep = readSweep(c, s);
     if (c.sectionExists(kActiveSection))
     {
         active.loadFromConfigFile(c, kActiveSection);
@@ -278,6 +320,9 @@ void Benchmark::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
     c.write(s, "scenarios", joinList(scenarios));
     c.write(s, "map_from_world", map_from_world ? "true" : "false");
     c.write(s, "controls", joinList(controls));
+    c.write(s, "sweep",
+            sweep.key.empty() ? std::string()
+                              : sweep.section + "." + sweep.key + ": " + joinList(sweep.values));
     active.saveToConfigFile(c, kActiveSection);
 }
 
@@ -480,14 +525,38 @@ std::vector<std::string> Benchmark::inputFiles() const
     return files;
 }
 
-void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
+std::vector<size_t> Benchmark::readVariants(const mrpt::config::CConfigFileBase& ini)
 {
     const auto& o = m_options;
+    // A sweep: each variant once per value, the value overlaid on its ini.
+    std::vector<std::pair<std::string, std::string>> runsOf;  // (variant, sweep value)
     for (const auto& name : o.variants)
     {
+        if (o.sweep.key.empty())
+        {
+            runsOf.emplace_back(name, std::string());
+        }
+        for (const auto& value : o.sweep.values)
+        {
+            runsOf.emplace_back(name, value);
+        }
+    }
+    std::vector<size_t> reference;  // per variant: the first one of its sweep value
+    const bool closedLoop = o.controls.size() > 1 || o.controls.front() != "route";
+    for (const auto& [name, value] : runsOf)
+    {
+        auto overlay = m_variantOverlay;
+        if (!o.sweep.key.empty())
+        {
+            overlay.push_back({o.sweep.section, o.sweep.key, value});
+        }
         TVariant v = readVariant(
             ini, m_iniPath, o.variants_dir, name,
-            mapFromWorld() ? m_simulation.simulation.world_file : std::string(), m_variantOverlay);
+            mapFromWorld() ? m_simulation.simulation.world_file : std::string(), overlay);
+        if (!o.sweep.key.empty())
+        {
+            v.options.variant += "@" + o.sweep.key + "=" + value;
+        }
         for (const auto& w : m_variants)
         {
             if (w.name() == v.name())
@@ -496,28 +565,45 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
                                 "' appears twice");
             }
         }
-        const bool closedLoop = o.controls.size() > 1 || o.controls.front() != "route";
         if (closedLoop && !v.maps.map->mapByClass<CSemanticMap>())
         {
             THROW_EXCEPTION("ini [" + kSection + "] controls: the variant '" + v.name() +
                             "' has no semantic map for the active and random controls to "
                             "plan in (keep them to variants with a semanticMap)");
         }
+        const std::string& swept = value;  // a structured binding cannot be captured in C++17
+        const auto first = std::find_if(runsOf.begin(), runsOf.end(),
+                                        [&](const auto& r) { return r.second == swept; });
+        reference.push_back(static_cast<size_t>(first - runsOf.begin()));
         m_variants.push_back(std::move(v));
     }
     if (m_variants.empty())
     {
         THROW_EXCEPTION("ini [" + kSection + "] variants: empty");
     }
+    return reference;
+}
+
+void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
+{
+    const auto& o = m_options;
+    const auto referenceOf = readVariants(ini);
     checkMaps();
 
-    // Only the likelihood differs between variants: the first one's filter for all.
-    const auto reference = m_variants.front().options;
-    for (auto& v : m_variants)
+    // Only the likelihood differs between variants: the first one's filter for all (with a
+    // sweep, the first one's of the same value: a swept filter key stays swept).
+    std::vector<LocalizationExperiment::TOptions> references;
+    references.reserve(referenceOf.size());
+    for (const size_t r : referenceOf)
     {
+        references.push_back(m_variants[r].options);
+    }
+    for (size_t k = 0; k < m_variants.size(); k++)
+    {
+        auto& v = m_variants[k];
         if (o.same_filter)
         {
-            takeFilterOf(reference, v);
+            takeFilterOf(references[k], v);
         }
         if (o.particles > 0)
         {

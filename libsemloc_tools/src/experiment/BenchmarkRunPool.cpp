@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -61,11 +62,13 @@ std::string runFailure(const std::string& scenario, int run, int status, const s
 class RunPool
 {
 public:
-    RunPool(const RunFiles& files, int runs, size_t jobs, const std::string& scenario,
+    RunPool(const RunFiles& files, int first, int last, size_t jobs, const std::string& scenario,
             const std::function<std::vector<Benchmark::TRunResult>(int)>& runOne,
             const std::function<void(size_t, size_t)>& progress)
         : m_files(files),
-          m_runs(runs),
+          m_runs(last - first + 1),
+          m_last(last),
+          m_next(first),
           m_jobs(jobs),
           m_scenario(scenario),
           m_runOne(runOne),
@@ -78,7 +81,7 @@ public:
 
 private:
     /** A new run may start (none failed, no Ctrl-C, runs left). */
-    bool moreRuns() const { return m_next <= m_runs && m_failure.empty() && !m_interrupted; }
+    bool moreRuns() const { return m_next <= m_last && m_failure.empty() && !m_interrupted; }
     /** Starts `run` in a child process. */
     void start(int run);
     /** The child process of `run`: runs it, writes its file, exits. */
@@ -87,14 +90,15 @@ private:
     void reap();
 
     const RunFiles& m_files;
-    const int m_runs;
+    const int m_runs;  // how many: first..last
+    const int m_last;
+    int m_next;
     const size_t m_jobs;
     const std::string& m_scenario;
     const std::function<std::vector<Benchmark::TRunResult>(int)>& m_runOne;
     const std::function<void(size_t, size_t)>& m_progress;
     std::map<pid_t, int> m_children;
     std::string m_failure;
-    int m_next = 1;
     size_t m_done = 0;
     bool m_interrupted = false;
 };
@@ -301,11 +305,38 @@ std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run)
     return rs;
 }
 
-void runInChildProcesses(const RunFiles& files, int runs, size_t jobs, const std::string& scenario,
+void runInChildProcesses(const RunFiles& files, int first, int last, size_t jobs,
+                         const std::string& scenario,
                          const std::function<std::vector<Benchmark::TRunResult>(int)>& runOne,
                          const std::function<void(size_t, size_t)>& progress)
 {
-    RunPool(files, runs, jobs, scenario, runOne, progress).runAll();
+    ASSERTMSG_(first >= 1 && first <= last, "runInChildProcesses: no run");
+    RunPool(files, first, last, jobs, scenario, runOne, progress).runAll();
+}
+
+void gatherRunFiles(const std::vector<std::string>& dirs, int runs, const RunFiles& files)
+{
+    for (int run = 1; run <= runs; run++)
+    {
+        bool found = false;
+        for (const auto& d : dirs)
+        {
+            const std::string from = RunFiles(d).path(run, "txt");
+            if (std::filesystem::exists(from))
+            {
+                std::filesystem::copy_file(from, files.path(run, "txt"));
+                found = true;
+                break;
+            }
+        }
+        if (!found)
+        {
+            THROW_EXCEPTION(
+                mrpt::format("run %d: no shard holds its results (%s in none of the "
+                             "shards' run directories)",
+                             run, RunFiles("").path(run, "txt").substr(1).c_str()));
+        }
+    }
 }
 
 }  // namespace semloc::detail

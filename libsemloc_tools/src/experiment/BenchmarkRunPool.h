@@ -30,22 +30,29 @@ private:
     std::string m_dir;
 };
 
-/** A run's results as its run file holds them: per variant "V <variant> <particles> <threads>
- *  <wall_s> <reinitializations> <n>" then n step lines; doubles printed with 17 digits read
+/** A run's results as its run file holds them: per variant and control "V <variant> <control>
+ *  <particles> <threads> <wall_s> <reinitializations> <decisions> <decision_wall_s> <n>" then n
+ *  step lines and the detector's bound "B <n> ..."; doubles printed with 17 digits read
  *  back bit-exactly, so the parent's metrics equal the child's. */
 std::string runFileText(const std::vector<Benchmark::TRunResult>& results);
 
 /** The results of run `run` read back from its run file (metrics and scenario not set). */
 std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run);
 
-/** Runs `runOne(run)` for run = 1..runs, each in a child process (fork(), no exec), at most
- *  `jobs` at once, writing its run file (or its error) in `files`; `progress(done, runs)` at
- *  the start and after each run. The first failure stops new runs and is thrown once the
- *  running ones ended, naming `scenario` (if not empty), the run and its error or how its
+/** Runs `runOne(run)` for run = first..last, each in a child process (fork(), no exec), at
+ *  most `jobs` at once, writing its run file (or its error) in `files`; `progress(done, n)`
+ *  (n runs) at the start and after each run. The first failure stops new runs and is thrown once
+ * the running ones ended, naming `scenario` (if not empty), the run and its error or how its
  *  process ended; Ctrl-C (installInterruptHandlers) ends the running ones and throws
  *  Interrupted. */
-void runInChildProcesses(const RunFiles& files, int runs, size_t jobs, const std::string& scenario,
+void runInChildProcesses(const RunFiles& files, int first, int last, size_t jobs,
+                         const std::string& scenario,
                          const std::function<std::vector<Benchmark::TRunResult>(int)>& runOne,
                          const std::function<void(size_t, size_t)>& progress);
+
+/** Copies the run files of runs 1..runs into `files` from `dirs` (each a shard's run
+ *  directory, RunFiles' names; Benchmark::Merge() has checked that each run is in exactly
+ *  one). Throws naming the run whose file is in none. */
+void gatherRunFiles(const std::vector<std::string>& dirs, int runs, const RunFiles& files);
 
 }  // namespace semloc::detail

@@ -88,6 +88,14 @@ public:
          *  random walk over the policy's candidate motions, then back to the route); the
          *  closed loops need a semantic map in every variant. */
         std::vector<std::string> controls{"route"};
+        /** A parameter sweep (`sweep = SECTION.KEY: v1, v2, ...`): every variant runs once
+         *  per value, with SECTION's KEY set to it, as the variant `<name>@KEY=<value>`;
+         *  empty `key`: none. */
+        struct TSweep
+        {
+            std::string section, key;
+            std::vector<std::string> values;
+        } sweep;
         /** [ActiveLocalization] of benchmark.ini: the policy of `active` and the candidates
          *  and stop rule of `random` (its seed replaced by each run's). */
         ActivePolicy::TOptions active;
@@ -273,6 +281,37 @@ public:
      */
     TResult run(const std::function<void(size_t, size_t)>& progress = {}) const;
 
+    /** A shard: runs first..last of a benchmark, as its `shard.txt` describes them. */
+    struct TShard
+    {
+        /** The shard's directory. */
+        std::string dir;
+        /** The benchmark's ini (absolute path). */
+        std::string ini;
+        /** digest() of the benchmark. */
+        std::string digest;
+        /** The benchmark's runs, and the shard's first and last. */
+        int runs = 0, first = 0, last = 0;
+    };
+    /** Runs first..last (1 <= first <= last <= runs; each with its seed, as in the whole
+     *  benchmark) and writes them to output_dir as a shard: `shard.txt` (the benchmark's ini,
+     *  digest(), runs, first, last) and the runs' results (`runs/`, with scenarios
+     *  `<scenario>/runs/`), staged and renamed at the end. `progress` as run()'s. */
+    TShard runShard(int first, int last,
+                    const std::function<void(size_t, size_t)>& progress = {}) const;
+    /** Reads the `shard.txt` of `dir`; throws naming the file and line of anything wrong. */
+    static TShard ReadShard(const std::string& dir);
+    /** Merges shards into `outputDir`: they must be of one benchmark (the same digest and
+     *  runs; its ini, read again, must still have that digest) and cover its runs 1..runs
+     *  exactly once, else the merge is refused naming the shards and the runs that overlap or
+     *  are missing. The outputs are those run() writes (the same bytes but for the timings). */
+    static TResult Merge(const std::vector<std::string>& shardDirs, const std::string& outputDir,
+                         const std::function<void(size_t, size_t)>& progress = {});
+    /** What identifies the benchmark across machines: 16 hex digits of a 64-bit FNV-1a hash
+     *  of `runs` and the contents of every file it reads (its ini and bases, the simulation's,
+     *  the variants' inis and maps, the scenarios', the worlds), in order. */
+    std::string digest() const;
+
     /** Runs one (run, seed) in this process: simulation and every variant, each with every
      *  control (variant-major). */
     std::vector<TRunResult> runOne(int run) const;
@@ -327,6 +366,10 @@ public:
 
 private:
     Benchmark() = default;
+    /** Reads the variants of m_options (names resolved next to `ini`; with a sweep, each
+     *  once per value) into m_variants; per variant, the index of the first one of its sweep
+     *  value (the reference of same_filter). */
+    std::vector<size_t> readVariants(const mrpt::config::CConfigFileBase& ini);
     /** Reads the variants of m_options (names resolved next to `ini`) and applies the
      *  benchmark's and the scenario's filter overrides. */
     void loadVariants(const mrpt::config::CConfigFileBase& ini);
@@ -334,8 +377,14 @@ private:
     long kidnapStep() const;
     /** Summaries of `runs` (this benchmark's) per variant. */
     std::vector<TScenarioSummary> summarize(const std::vector<TRunResult>& runs) const;
-    /** run() with scenarios. */
-    TResult runScenarios(const std::function<void(size_t, size_t)>& progress) const;
+    /** run() with scenarios; with `shardDirs`, the runs are those shards' (Merge()). */
+    TResult runScenarios(const std::function<void(size_t, size_t)>& progress,
+                         const std::vector<std::string>& shardDirs = {}) const;
+    /** run() without scenarios; with `shardDirs`, the runs are those shards' (Merge()). */
+    TResult runAll(const std::function<void(size_t, size_t)>& progress,
+                   const std::vector<std::string>& shardDirs = {}) const;
+    /** Where the run files of this benchmark are in a shard directory. */
+    std::string shardRunsDir(const std::string& shardDir) const;
     /** Fills m_mapWarnings: the variants' maps compared with the simulated world. */
     void checkMaps();
     /** The files the benchmark reads (its ini, the simulation's ini and world, the

@@ -1,0 +1,253 @@
+/* semloc — Benchmark's shards: runs first..last written apart (a cluster's task, a machine of
+ * GNU parallel) and merged into the outputs of the whole benchmark. */
+#include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
+#include <semloc/experiment/Benchmark.h>
+#include <semloc/io/StagedDirectory.h>
+
+#include <algorithm>
+#include <charconv>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "experiment/BenchmarkRunPool.h"
+#include "io/Text.h"
+#include "io/TextFiles.h"
+
+namespace semloc
+{
+namespace
+{
+constexpr const char* kShardFile = "shard.txt";
+constexpr const char* kShardHeader =
+    "# semloc-benchmark shard: runs first..last of the benchmark below (semloc-benchmark "
+    "--merge)";
+
+/** 64-bit FNV-1a over `bytes`, continuing from `h`. */
+uint64_t fnv1a(const std::string& bytes, uint64_t h)
+{
+    for (const unsigned char c : bytes)
+    {
+        h ^= c;
+        h *= 1099511628211ULL;
+    }
+    return h;
+}
+
+std::string fileBytes(const std::string& path)
+{
+    std::ifstream f(path, std::ios::binary);
+    if (!f)
+    {
+        THROW_EXCEPTION("cannot read '" + path + "'");
+    }
+    std::ostringstream s;
+    s << f.rdbuf();
+    return s.str();
+}
+
+/** A shard's runs as "'dir' (runs a..b)". */
+std::string shardText(const Benchmark::TShard& s)
+{
+    return mrpt::format("'%s' (runs %d..%d)", s.dir.c_str(), s.first, s.last);
+}
+
+std::string runsText(int a, int b)
+{
+    return a == b ? mrpt::format("run %d", a) : mrpt::format("runs %d..%d", a, b);
+}
+
+/** Throws unless the shards are of one benchmark and cover its runs once each. */
+void checkShards(std::vector<Benchmark::TShard>& shards)
+{
+    const auto& a = shards.front();
+    for (const auto& s : shards)
+    {
+        if (s.digest != a.digest || s.runs != a.runs)
+        {
+            THROW_EXCEPTION(mrpt::format(
+                "the shards %s and %s are not of one benchmark: digest %s of %d runs of '%s' "
+                "against digest %s of %d runs of '%s'",
+                shardText(a).c_str(), shardText(s).c_str(), a.digest.c_str(), a.runs, a.ini.c_str(),
+                s.digest.c_str(), s.runs, s.ini.c_str()));
+        }
+    }
+    std::stable_sort(shards.begin(), shards.end(),
+                     [](const auto& x, const auto& y) { return x.first < y.first; });
+    int next = 1;  // the first run not covered yet
+    for (size_t i = 0; i < shards.size(); i++)
+    {
+        const auto& s = shards[i];
+        if (i > 0 && s.first <= shards[i - 1].last)
+        {
+            const auto& p = shards[i - 1];
+            THROW_EXCEPTION("the shards " + shardText(p) + " and " + shardText(s) + " overlap on " +
+                            runsText(s.first, std::min(p.last, s.last)));
+        }
+        if (s.first > next)
+        {
+            THROW_EXCEPTION(runsText(next, s.first - 1) + " of the " + std::to_string(a.runs) +
+                            " are in no shard (the next shard is " + shardText(s) + ")");
+        }
+        next = s.last + 1;
+    }
+    if (next <= a.runs)
+    {
+        THROW_EXCEPTION(runsText(next, a.runs) + " of the " + std::to_string(a.runs) +
+                        " are in no shard (the last shard is " + shardText(shards.back()) + ")");
+    }
+}
+}  // namespace
+
+std::string Benchmark::digest() const
+{
+    uint64_t h = 14695981039346656037ULL;
+    h = fnv1a("runs " + std::to_string(m_options.runs) + "\n", h);
+    for (const auto& f : inputFiles())
+    {
+        if (!f.empty() && std::filesystem::is_regular_file(f))
+        {
+            const std::string bytes = fileBytes(f);
+            h = fnv1a(std::to_string(bytes.size()) + "\n", h);
+            h = fnv1a(bytes, h);
+        }
+    }
+    return mrpt::format("%016llx", static_cast<unsigned long long>(h));
+}
+
+std::string Benchmark::shardRunsDir(const std::string& shardDir) const
+{
+    return shardDir + "/" + (m_scenario.name.empty() ? std::string() : m_scenario.name + "/") +
+           "runs";
+}
+
+Benchmark::TShard Benchmark::runShard(int first, int last,
+                                      const std::function<void(size_t, size_t)>& progress) const
+{
+    const int runs = m_options.runs;
+    if (!(first >= 1 && first <= last && last <= runs))
+    {
+        THROW_EXCEPTION(
+            mrpt::format("--runs %d:%d: a shard is runs A:B with 1 <= A <= B <= %d "
+                         "(the benchmark's runs)",
+                         first, last, runs));
+    }
+    StagedDirectory out(m_options.output_dir, inputFiles());
+    const std::vector<const Benchmark*> parts = [&]
+    {
+        std::vector<const Benchmark*> p;
+        for (const auto& sc : m_scenarios)
+        {
+            p.push_back(&sc);
+        }
+        return p.empty() ? std::vector<const Benchmark*>{this} : p;
+    }();
+    const size_t n = static_cast<size_t>(last - first) + 1, total = n * parts.size();
+    for (size_t i = 0; i < parts.size(); i++)
+    {
+        const Benchmark& b = *parts[i];
+        const detail::RunFiles files(b.shardRunsDir(out.path("")));
+        std::filesystem::create_directories(files.dir());
+        detail::runInChildProcesses(
+            files, first, last, effectiveJobs(), b.m_scenario.name,
+            [&b](int run) { return b.runOne(run); },
+            [&](size_t done, size_t)
+            {
+                if (progress && (done > 0 || i == 0))
+                {
+                    progress(i * n + done, total);
+                }
+            });
+    }
+    TShard s{out.target(), std::filesystem::absolute(m_iniPath).lexically_normal().string(),
+             digest(),     runs,
+             first,        last};
+    detail::writeFile(out.path(kShardFile),
+                      std::string(kShardHeader) + "\nbenchmark " + s.ini + "\ndigest " + s.digest +
+                          "\nruns " + std::to_string(runs) + "\nfirst " + std::to_string(first) +
+                          "\nlast " + std::to_string(last) + "\n");
+    out.commit();
+    return s;
+}
+
+Benchmark::TShard Benchmark::ReadShard(const std::string& dir)
+{
+    const std::string path = dir + "/" + kShardFile;
+    if (!std::filesystem::is_regular_file(path))
+    {
+        THROW_EXCEPTION("'" + dir + "' is not a shard of semloc-benchmark (no " + kShardFile +
+                        "; semloc-benchmark INI --runs A:B -o DIR writes one)");
+    }
+    std::istringstream in(fileBytes(path));
+    TShard s;
+    s.dir = dir;
+    std::string line;
+    for (int no = 1; std::getline(in, line); no++)
+    {
+        if (line.empty() || line[0] == '#')
+        {
+            continue;
+        }
+        const auto sp = line.find(' ');
+        const std::string key = line.substr(0, sp),
+                          value = sp == std::string::npos ? "" : line.substr(sp + 1);
+        const auto bad = [&](const std::string& why)
+        { THROW_EXCEPTION(mrpt::format("%s line %d: %s", path.c_str(), no, why.c_str())); };
+        if (key == "benchmark")
+        {
+            s.ini = value;
+        }
+        else if (key == "digest")
+        {
+            s.digest = value;
+        }
+        else if (key == "runs" || key == "first" || key == "last")
+        {
+            int v = 0;
+            const auto r = std::from_chars(value.data(), value.data() + value.size(), v);
+            if (r.ec != std::errc() || r.ptr != value.data() + value.size() || v < 1)
+            {
+                bad("'" + value + "' is not a run number");
+            }
+            (key == "runs" ? s.runs : key == "first" ? s.first : s.last) = v;
+        }
+        else
+        {
+            bad("unknown key '" + key + "'");
+        }
+    }
+    if (s.ini.empty() || s.digest.size() != 16 || s.runs < 1 || s.first < 1 || s.last < s.first ||
+        s.last > s.runs)
+    {
+        THROW_EXCEPTION(path + ": incomplete (benchmark, digest, runs, first <= last <= runs)");
+    }
+    return s;
+}
+
+Benchmark::TResult Benchmark::Merge(const std::vector<std::string>& shardDirs,
+                                    const std::string& outputDir,
+                                    const std::function<void(size_t, size_t)>& progress)
+{
+    ASSERTMSG_(!shardDirs.empty(), "--merge: no shard");
+    std::vector<TShard> shards;
+    shards.reserve(shardDirs.size());
+    for (const auto& d : shardDirs)
+    {
+        shards.push_back(ReadShard(d));
+    }
+    checkShards(shards);
+    const auto& a = shards.front();
+    const Benchmark b = FromConfigFile(a.ini, outputDir, a.runs);
+    if (b.digest() != a.digest)
+    {
+        THROW_EXCEPTION("the benchmark '" + a.ini + "' is not the one of the shards any more: " +
+                        "its files changed since they were run (digest " + b.digest() +
+                        ", the shards' " + a.digest + ")");
+    }
+    return b.m_scenarios.empty() ? b.runAll(progress, shardDirs)
+                                 : b.runScenarios(progress, shardDirs);
+}
+
+}  // namespace semloc
