@@ -47,6 +47,23 @@ check_cut two 1:2 3:5
 check_cut each 1:1 2:2 3:3 4:4 5:5
 check_cut uneven 1:1 2:5
 
+# With scenarios: each scenario's runs in the shard, each scenario's outputs merged.
+cat > scenario.ini <<INI
+[Scenario]
+description = a detector of 8 m
+[SemanticDetector]
+max_range_m = 8
+INI
+sed -e 's/^output_dir = whole/output_dir = whole_sc/' -e '/^sweep/d' bench.ini > sc.ini
+echo "scenarios = scenario.ini" >> sc.ini
+"$app" sc.ini > whole_sc.log
+parallel "$app" sc.ini --runs {} -o "shards_sc/{#}" ::: 1:3 4:5 > shards_sc.log
+"$app" --merge shards_sc/* -o merged_sc > merge_sc.log
+diff <(strip whole_sc/scenario/results.csv) <(strip merged_sc/scenario/results.csv) > /dev/null ||
+  { echo "FAIL: scenarios: the merged results.csv differs"; exit 1; }
+cmp whole_sc/scenarios.csv merged_sc/scenarios.csv || { echo "FAIL: scenarios.csv differs"; exit 1; }
+echo "scenarios (1:3 4:5): the unsharded results"
+
 refused() {  # expected message, then the arguments
   local expect=$1; shift
   if "$app" "$@" > refused.log 2>&1; then
