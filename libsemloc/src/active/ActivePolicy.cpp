@@ -440,8 +440,8 @@ void evaluate(const DecisionContext& x, ActivePolicy::TCandidate& c)
     c.score = expected + x.options.travel_cost_per_m * c.motion.distance_m;
 }
 
-/** The first candidate of the lowest score; a look-around (the first turn on the spot, else
- *  the first candidate) when none is admissible. */
+/** The first candidate of the lowest score; when none is admissible, the first turn on the
+ *  spot, else the first candidate (straight ahead, the shortest distance). */
 int chooseCandidate(const std::vector<ActivePolicy::TCandidate>& cs)
 {
     int best = -1;

@@ -44,22 +44,25 @@ struct TActiveMotion
  *    bins, K of them by systematic sampling in proportion to their weight (each keeping
  *    the share of the K draws that fell on it), so that they spread over every hypothesis;
  *    H is the entropy of those weights;
- *  - each representative is moved by u without noise, and `outcomes` scans are drawn there
- *    from the semantic map's own detector model (P_D by range and bearing times the
+ *  - each representative is moved by u without noise to the points of its path (one every
+ *    `scan_every_m` and the end; a turn alone: one), and `outcomes` paths of scans are
+ *    drawn there from the semantic map's own detector model (P_D by range and bearing times the
  *    object's p_exist, confusion, Poisson clutter, the range bias; exact ranges and
  *    bearings), with the same random numbers for every motion (common random numbers: the
  *    motions are compared on the same draws);
- *  - every representative is re-weighted by each drawn scan with the map's likelihood (the
- *    filter's own), H taken, and the expectation is the representatives' weighted mean.
- *  Cost per decision: candidates x representatives^2 x outcomes likelihood evaluations.
+ *  - every representative is re-weighted by each drawn path of scans with the map's
+ *    likelihood (the filter's own), H taken, and the expectation is the representatives'
+ *    weighted mean.
+ *  Cost per decision: candidates x representatives^2 x outcomes x path points likelihood
+ *  evaluations.
  *
  *  Candidates: `headings` turns evenly spaced over the circle (0 first) times each of
  *  `distances_m`, and with `look_around` each non-zero turn alone. A motion is a candidate
  *  only if, with a world, its straight path stays in the world's free space for
  *  representatives holding at least `min_free_share` of the weight (the look-arounds always
- *  do). Stop rule: when the trace of the particles' x-y covariance is at most
- *  `converged_var_xy_m2`, decide() says so and evaluates nothing: the mission's route takes
- *  over.
+ *  do); with none admissible, see TDecision::motion. Stop rule: when the trace of the
+ *  particles' x-y covariance is at most `converged_var_xy_m2`, decide() says so and
+ *  evaluates nothing: the mission's route takes over.
  *
  *  Deterministic: decision k draws from a generator seeded by (seed, k), the candidates are
  *  evaluated independently (on `threads` threads) and ties go to the first one, so the
@@ -129,8 +132,9 @@ public:
     {
         /** The stop rule holds: hand back to the route (no motion chosen). */
         bool converged = false;
-        /** The chosen motion (a look-around when nothing was admissible; zero when
-         *  converged). */
+        /** The chosen motion; when nothing was admissible, the first turn on the spot (with
+         *  look_around), else the first candidate (straight ahead, the shortest distance:
+         *  the vehicle's own obstacle avoidance has the last word); zero when converged. */
         TActiveMotion motion;
         /** Trace of the particles' x-y covariance [m^2]. */
         double var_xy_m2 = 0;
