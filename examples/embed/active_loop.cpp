@@ -3,7 +3,7 @@
  * have converged, it goes back to its mission (here: straight on).
  *   active_loop <world.yaml>
  * It links semloc::semloc alone. The "robot" is a stand-in written below: noisy odometry, a
- * detector of 10 m and 90 degrees, and the world itself as its obstacle sonar (a motion whose
+ * detector of 12 m and 120 degrees, and the world itself as its obstacle sonar (a motion whose
  * path would hit something is not made); on a vehicle these come from its own sensors. */
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/math/wrap2pi.h>
@@ -36,28 +36,28 @@ mrpt::obs::CActionRobotMovement2D odometryReading(const mrpt::poses::CPose2D& u,
     return action;
 }
 
-/** The detector's stand-in: the world's objects within 10 m and a 90 degree view, 80 % of
+/** The detector's stand-in: the world's objects within 12 m and a 120 degree view, 90 % of
  *  them detected, range and bearing with noise, labels only. */
 semloc::CObservationSemantic::Ptr detectorScan(const semloc::World& world,
                                                const mrpt::poses::CPose2D& vehicle,
                                                mrpt::random::CRandomGenerator& rng)
 {
     auto scan = semloc::CObservationSemantic::Create();
-    scan->maxRange_m = 10.0;
-    scan->fov_rad = 90.0 * M_PI / 180.0;
+    scan->maxRange_m = 12.0;
+    scan->fov_rad = 120.0 * M_PI / 180.0;
     for (const auto& object : world.objects)
     {
         const double dx = object.center.x - vehicle.x(), dy = object.center.y - vehicle.y();
         const double range = std::hypot(dx, dy);
         const double bearing = mrpt::math::wrapToPi(std::atan2(dy, dx) - vehicle.phi());
         if (range > scan->maxRange_m || std::abs(bearing) > scan->fov_rad / 2 ||
-            rng.drawUniform(0.0, 1.0) > 0.8)
+            rng.drawUniform(0.0, 1.0) > 0.9)
         {
             continue;
         }
         semloc::TSemanticDetection d;
         d.label = object.label;
-        d.range_m = std::clamp(range + 0.1 * rng.drawGaussian1D_normalized(), 0.0, 10.0);
+        d.range_m = std::clamp(range + 0.1 * rng.drawGaussian1D_normalized(), 0.0, 12.0);
         d.bearing_rad = std::clamp(bearing + 0.01 * rng.drawGaussian1D_normalized(),
                                    -scan->fov_rad / 2, scan->fov_rad / 2);
         scan->detections.push_back(d);
@@ -137,15 +137,18 @@ int main(int argc, char** argv)
     lo.model = semloc::CSemanticMap::Model::Probabilistic;
     lo.sigma_range_m = 0.2;
     lo.sigma_bearing_deg = 2;
-    lo.p_detect_near = lo.p_detect_far = 0.8;
+    lo.p_detect_near = lo.p_detect_far = 0.9;
     lo.clutter_per_scan = 0.05;
     semantic->loadFromWorld(world);
     map->maps.push_back(semantic);
 
     semloc::Localizer::TOptions opts;  // global localization over the free space
-    opts.particles_count = 5000;
+    opts.particles_count = 20000;
     opts.seed = 7;
     opts.free_space_prior = true;
+    // Look-alike places can fool the filter: recovery injects particles drawn from the
+    // detections while they are explained worse than by no object at all ([Recovery]).
+    opts.recovery.trigger = semloc::RecoveryTrigger::Evidence;
     semloc::Localizer localizer(opts, map, &world);
     semloc::ActivePolicy policy(semloc::ActivePolicy::TOptions(), *semantic, &world);
 
