@@ -69,9 +69,7 @@ semloc::CObservationSemantic::Ptr detectorScan(const semloc::World& world,
 bool clear(const semloc::World& world, const mrpt::poses::CPose2D& truth,
            const semloc::TActiveMotion& m)
 {
-    const auto to = truth + m.increment();
-    return world.isFree(to.x(), to.y()) &&
-           world.firstObjectOnSegment({truth.x(), truth.y()}, {to.x(), to.y()}) < 0;
+    return semloc::pathIsFree(world, truth.asTPose(), m);
 }
 
 /** The robot: its true pose (known to the stand-ins only), its localizer and its policy. */

@@ -129,19 +129,19 @@ CObservationSemantic drawScan(const CSemanticMap& map, const std::vector<std::st
     return z;
 }
 
-/** True when the straight path of `m` from `p` stays in the free space of `world`. */
-bool pathFree(const World& world, const mrpt::math::TPose2D& p, const TActiveMotion& m)
+}  // namespace
+
+bool pathIsFree(const World& world, const mrpt::math::TPose2D& from, const TActiveMotion& m)
 {
     if (m.distance_m <= 0)
     {
         return true;
     }
-    const double h = p.phi + m.turn_rad;
-    const mrpt::math::TPoint2D a(p.x, p.y),
-        b(p.x + m.distance_m * std::cos(h), p.y + m.distance_m * std::sin(h));
+    const double h = from.phi + m.turn_rad;
+    const mrpt::math::TPoint2D a(from.x, from.y),
+        b(from.x + m.distance_m * std::cos(h), from.y + m.distance_m * std::sin(h));
     return world.isFree(b.x, b.y) && world.firstObjectOnSegment(a, b) < 0;
 }
-}  // namespace
 
 mrpt::poses::CPose2D TActiveMotion::increment() const
 {
@@ -281,12 +281,7 @@ std::vector<TActiveMotion> ActivePolicy::candidates() const
 std::vector<ActivePolicy::TRepresentative> ActivePolicy::representatives(
     const mrpt::poses::CPosePDFParticles& pdf) const
 {
-    return representatives(pdf, static_cast<size_t>(m_options.representatives));
-}
-
-std::vector<ActivePolicy::TRepresentative> ActivePolicy::representatives(
-    const mrpt::poses::CPosePDFParticles& pdf, size_t K) const
-{
+    const auto K = static_cast<size_t>(m_options.representatives);
     struct Bin
     {
         double w = 0, x = 0, y = 0, c = 0, s = 0;
@@ -386,7 +381,7 @@ void evaluate(const DecisionContext& x, ActivePolicy::TCandidate& c)
     c.free_share = 0;
     for (const auto& r : reps)
     {
-        c.free_share += (!x.world || pathFree(*x.world, r.pose, c.motion)) ? r.weight : 0;
+        c.free_share += (!x.world || pathIsFree(*x.world, r.pose, c.motion)) ? r.weight : 0;
     }
     c.admissible = c.motion.distance_m <= 0 || c.free_share >= x.options.min_free_share;
     c.expected_entropy = std::numeric_limits<double>::quiet_NaN();

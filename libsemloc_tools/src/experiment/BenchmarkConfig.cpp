@@ -330,10 +330,7 @@ std::vector<std::string> Benchmark::seriesNames() const
     {
         for (const auto& c : m_options.controls)
         {
-            TRunResult r;
-            r.variant = v.name();
-            r.control = c;
-            names.push_back(r.series());
+            names.push_back(seriesName(v.name(), c));
         }
     }
     return names;

@@ -99,7 +99,7 @@ public:
         }
         if (!m_plan.active())
         {
-            decide(k - 1, pose, sofar);
+            decide(k - 1, pose);
             if (m_out.handedBackAtStep >= 0)
             {
                 return followRoute(pose);
@@ -129,7 +129,7 @@ private:
         return o;
     }
 
-    void decide(size_t step, const mrpt::math::TPose2D& pose, const SimulationResult&)
+    void decide(size_t step, const mrpt::math::TPose2D& pose)
     {
         const auto t0 = std::chrono::steady_clock::now();
         TActiveMotion m;
@@ -159,11 +159,7 @@ private:
      *  own obstacle avoidance (a real vehicle's sonar), which vetoes the others. */
     bool freeFromHere(const TActiveMotion& m, const mrpt::math::TPose2D& pose) const
     {
-        const double h = pose.phi + m.turn_rad;
-        const mrpt::math::TPoint2D a(pose.x, pose.y),
-            b(a.x + m.distance_m * std::cos(h), a.y + m.distance_m * std::sin(h));
-        const auto& w = m_sim.world();
-        return m.distance_m <= 0 || (w.isFree(b.x, b.y) && w.firstObjectOnSegment(a, b) < 0);
+        return pathIsFree(m_sim.world(), pose, m);
     }
 
     /** The policy's best admissible candidate the vehicle can make from where it is (the

@@ -32,6 +32,11 @@ struct TActiveMotion
     mrpt::poses::CPose2D increment() const;
 };
 
+/** True when the straight path of `m` from `from` (a turn alone always is) stays in the free
+ *  space of `world`: its end is free (World::isFree) and no object touches it
+ *  (World::firstObjectOnSegment). */
+bool pathIsFree(const World& world, const mrpt::math::TPose2D& from, const TActiveMotion& m);
+
 /** Active localization over a semantic map: the greedy one-step choice of the next motion
  *  that minimizes the expected entropy of the pose after it plus a travel cost,
  *
@@ -178,9 +183,6 @@ public:
     std::vector<TRepresentative> representatives(const mrpt::poses::CPosePDFParticles& pdf) const;
 
 private:
-    /** representatives() with at most `count` of them. */
-    std::vector<TRepresentative> representatives(const mrpt::poses::CPosePDFParticles& pdf,
-                                                 size_t count) const;
     TOptions m_options;
     const CSemanticMap& m_map;
     const World* m_world;

@@ -192,10 +192,7 @@ public:
         double decisionWall_s = 0;
         /** Where the tables list it: the variant, and with another control than the route
          *  "variant/control". */
-        std::string series() const
-        {
-            return control == "route" ? variant : variant + "/" + control;
-        }
+        std::string series() const { return seriesName(variant, control); }
         /** Number of particles of the filter (the initial number with KLD). */
         size_t particles = 0;
         /** Threads of the filter's per-particle work. */
@@ -343,6 +340,12 @@ public:
     static std::string controlsTable(const std::vector<TRunResult>& runs);
     /** The benchmark options. */
     const TOptions& options() const { return m_options; }
+    /** A series' name: `variant`, and with another control than the route
+     *  "variant/control". */
+    static std::string seriesName(const std::string& variant, const std::string& control)
+    {
+        return control == "route" ? variant : variant + "/" + control;
+    }
     /** The series of the tables (TRunResult::series()): every variant with every control,
      *  variant-major. */
     std::vector<std::string> seriesNames() const;
