@@ -14,11 +14,14 @@
 #   are the ones that made this build: they are checked for syntax and the rest of the
 #   chain runs;
 # - docs/your-own-data.md is run by walkthrough_your_own_data (check_walkthrough.sh), with
-#   its outputs checked, so not again here.
+#   its outputs checked, so not again here;
+# - a block whose first line is a comment starting `# long` reproduces a figure of real data
+#   over many minutes: checked for syntax only, unless DOC_COMMANDS_LONG=1 (then it runs).
 # A command of the tools (a line starting `build/bin/`, `bash `, `cmake `, `ctest `) in a
 # fenced block that is not a shell block fails too: it would escape this test.
 # Usage: check_doc_commands.sh <source dir> <build dir> <scratch dir>
-#   DOC_COMMANDS_PAGES="docs/tools.md" (paths in the source dir) runs those pages only.
+#   DOC_COMMANDS_PAGES="docs/tools.md" (paths in the source dir) runs those pages only;
+#   DOC_COMMANDS_LONG=1 runs the long blocks too.
 set -euo pipefail
 src=$(cd "$1" && pwd) build=$(cd "$2" && pwd) scratch=$3
 pages=${DOC_COMMANDS_PAGES:-$(cd "$src" && ls README.md docs/*.md | grep -v '^docs/your-own-data\.md$')}
@@ -62,7 +65,7 @@ awk -v dir="$scratch/cmd" -v srcdir="$src/" '
   FNR == 1 { page = FILENAME; sub("^" srcdir, "", page); fence = 0; heredoc = "" }
   /^```/ && !fence {
     fence = 1; lang = substr($0, 4); shell = (lang == "sh" || lang == "bash" || lang == "shell")
-    if (shell) { block++ }
+    if (shell) { block++; first = 1 }
     cont = 0; next
   }
   /^```$/ && fence && heredoc == "" { fence = 0; next }
@@ -74,6 +77,8 @@ awk -v dir="$scratch/cmd" -v srcdir="$src/" '
     if (heredoc != "") { print >> cur; if ($0 == heredoc) { heredoc = "" }; next }
     if (!cont) {
       if ($0 ~ /^[ \t]*$/) next
+      if (first && $0 ~ /^# long/) { print block > (dir "/long") }
+      first = 0
       n++; cur = sprintf("%s/%04d.sh", dir, n); printf "" > cur
       print n "\t" block "\t" page ":" FNR > (dir "/list")
     }
@@ -99,6 +104,10 @@ for b in $(cut -f2 "$scratch/cmd/list" | sort -un); do
   runner="$scratch/cmd/block_$b.sh"
   printf 'set -eo pipefail\ncd %q\n' "$repo" > "$runner"
   printf "trap 'rc=\$?; [ \$rc -eq 0 ] || echo \"FAIL: \$where: exit status \$rc: \$what\"' EXIT\n" >> "$runner"
+  long=""
+  if [ "${DOC_COMMANDS_LONG:-0}" != 1 ] && grep -qx "$b" "$scratch/cmd/long" 2>/dev/null; then
+    long="a long reproduction on real data (DOC_COMMANDS_LONG=1 runs it)"
+  fi
   while IFS=$'\t' read -r n blk where; do
     [ "$blk" = "$b" ] || continue
     printf -v f '%s/%04d.sh' "$scratch/cmd" "$n"
@@ -115,6 +124,7 @@ for b in $(cut -f2 "$scratch/cmd/list" | sort -un); do
     done
     [ -n "$rest" ] || continue
     reason=$(syntaxOnlyReason "$rest")
+    [ -n "$reason" ] || reason=$long
     if [ -n "$reason" ]; then
       echo "syntax only ($where): $rest  -- $reason"; checked=$((checked + 1)); continue
     fi
