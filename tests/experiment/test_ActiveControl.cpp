@@ -72,6 +72,30 @@ TEST(ActiveControl, ADrivenVehicleStopsAtTheEdgeOfTheFreeSpace)
     EXPECT_EQ(sim.routeSteps(), sim.run().steps);
 }
 
+TEST(ActiveControl, AHandedBackVehicleDrivesTheWholeRouteNotJustItsRest)
+{
+    auto o = semloc::TSimulatorOptions::FromConfigFile(kConfig + "simulate/simulate.ini");
+    const semloc::Simulator sim(o);
+    const auto& wps = sim.world().trajectory->waypoints;
+    ASSERT_GE(wps.size(), 3u);
+    // Handed back at the route's end: back along the route to its start, every waypoint.
+    const auto back = semloc::detail::routeFrom(sim.world(), wps.back());
+    ASSERT_EQ(back.size(), wps.size());
+    for (size_t i = 0; i < wps.size(); i++)
+    {
+        EXPECT_EQ(back[i].x, wps[wps.size() - 1 - i].x) << i;
+        EXPECT_EQ(back[i].y, wps[wps.size() - 1 - i].y) << i;
+    }
+    // At its start: the route, then back to the start.
+    const auto whole = semloc::detail::routeFrom(sim.world(), wps.front());
+    ASSERT_EQ(whole.size(), 2 * wps.size() - 1);
+    for (size_t i = 0; i < wps.size(); i++)
+    {
+        EXPECT_EQ(whole[i].x, wps[i].x) << i;
+        EXPECT_EQ(whole[whole.size() - 1 - i].x, wps[i].x) << i;
+    }
+}
+
 TEST(ActiveControl, ARunThatStartsConvergedHandsBackAtOnceAndDrivesTheRoute)
 {
     // The filter starts at the true pose (3, 4, 0), 0.1 m and 2 degrees wide.

@@ -50,6 +50,54 @@ double distanceDriven(const std::vector<TStepRecord>& records, long step)
     return d;
 }
 
+std::vector<mrpt::math::TPoint2D> routeFrom(const World& world, const mrpt::math::TPoint2D& here)
+{
+    const auto& wps = world.trajectory->waypoints;
+    size_t leg = wps.size();
+    mrpt::math::TPoint2D join;
+    double best = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i + 1 < wps.size(); i++)
+    {
+        const auto &a = wps[i], &b = wps[i + 1];
+        const double len2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
+        const double u =
+            len2 > 0
+                ? std::clamp(((here.x - a.x) * (b.x - a.x) + (here.y - a.y) * (b.y - a.y)) / len2,
+                             0.0, 1.0)
+                : 0.0;
+        const mrpt::math::TPoint2D q(a.x + u * (b.x - a.x), a.y + u * (b.y - a.y));
+        const double d = std::hypot(q.x - here.x, q.y - here.y);
+        if (d < best && world.firstObjectOnSegment(here, q) < 0)
+        {
+            best = d;
+            leg = i;
+            join = q;
+        }
+    }
+    if (leg == wps.size())
+    {
+        return {};  // no part of the route in a straight line
+    }
+    std::vector<mrpt::math::TPoint2D> path{here};
+    const auto add = [&](const mrpt::math::TPoint2D& p)
+    {
+        if (std::hypot(p.x - path.back().x, p.y - path.back().y) > 1e-9)
+        {
+            path.push_back(p);
+        }
+    };
+    add(join);
+    for (size_t i = leg + 1; i < wps.size(); i++)
+    {
+        add(wps[i]);
+    }
+    for (size_t i = wps.size() - 1; i-- > 0;)
+    {
+        add(wps[i]);  // then back along the route to its start, the legs skipped included
+    }
+    return path;
+}
+
 namespace
 {
 /** The motion under way: a turn still to make and a distance still to go. */
@@ -207,51 +255,11 @@ private:
         return TActiveMotion{turn, go}.increment();
     }
 
-    /** From now on, the route: straight to its nearest point that can be reached in a straight
-     *  line (the first such leg on a tie), then on along the route from there. */
+    /** From now on, the route (routeFrom); the vehicle holds its place without one. */
     void handBack(size_t step, const mrpt::math::TPose2D& pose)
     {
         m_out.handedBackAtStep = static_cast<long>(step);
-        const auto& wps = m_sim.world().trajectory->waypoints;
-        const mrpt::math::TPoint2D here(pose.x, pose.y);
-        size_t leg = wps.size();
-        mrpt::math::TPoint2D join;
-        double best = std::numeric_limits<double>::infinity();
-        for (size_t i = 0; i + 1 < wps.size(); i++)
-        {
-            const auto &a = wps[i], &b = wps[i + 1];
-            const double len2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
-            const double u =
-                len2 > 0 ? std::clamp(
-                               ((here.x - a.x) * (b.x - a.x) + (here.y - a.y) * (b.y - a.y)) / len2,
-                               0.0, 1.0)
-                         : 0.0;
-            const mrpt::math::TPoint2D q(a.x + u * (b.x - a.x), a.y + u * (b.y - a.y));
-            const double d = std::hypot(q.x - here.x, q.y - here.y);
-            if (d < best && m_sim.world().firstObjectOnSegment(here, q) < 0)
-            {
-                best = d;
-                leg = i;
-                join = q;
-            }
-        }
-        if (leg == wps.size())
-        {
-            return;  // no part of the route in a straight line: the vehicle holds its place
-        }
-        std::vector<mrpt::math::TPoint2D> path{here};
-        const auto add = [&](const mrpt::math::TPoint2D& p)
-        {
-            if (std::hypot(p.x - path.back().x, p.y - path.back().y) > 1e-9)
-            {
-                path.push_back(p);
-            }
-        };
-        add(join);
-        for (size_t i = leg + 1; i < wps.size(); i++)
-        {
-            add(wps[i]);
-        }
+        const auto path = routeFrom(m_sim.world(), mrpt::math::TPoint2D(pose.x, pose.y));
         if (path.size() >= 2)
         {
             m_route = std::make_unique<TrajectoryFollower>(path, m_step);

@@ -55,10 +55,17 @@ struct TClosedLoopRun
  *  world, as a real vehicle's sonar) vetoes a motion whose path from the true pose hits
  *  something: the policy's best admissible candidate that is free is taken instead. Once
  *  handed back, the vehicle heads straight for the nearest point of the route it can reach
- *  in a straight line and follows the route on from there (at the route's start: the route
- *  itself). The policy (and the random walk's draws) is seeded with `seed`. */
+ *  in a straight line, follows the route to its end and then back along it to its start
+ *  (at the route's start: the route itself). The policy (and the random walk's draws) is seeded
+ * with `seed`. */
 TClosedLoopRun runClosedLoop(const Simulator& simulator, Localizer& loc, const CSemanticMap& map,
                              Control control, const ActivePolicy::TOptions& policy, uint32_t seed);
+
+/** The path of a vehicle handed back at `here`: straight to the nearest point of `world`'s
+ *  route it can reach in a straight line (the first such leg on a tie), along the route to its
+ *  end, then back along it to its start (the legs skipped by joining it are driven too). Empty
+ *  when no point of the route can be reached in a straight line. */
+std::vector<mrpt::math::TPoint2D> routeFrom(const World& world, const mrpt::math::TPoint2D& here);
 
 /** Distance driven [m] along the records' ground truth up to and including step `step`
  *  (NaN when step < 0 or a record before it lacks ground truth). */
