@@ -996,6 +996,8 @@ TEST(TSimulatorOptions, SaveWritesEveryKeyAndReadsBackIdentically)
     o.kidnapping.enabled = true;
     o.beacons.enabled = true;
     o.beacons.range_std_m = 0.1 + 0.7;  // not a short decimal
+    // A path with "//": MRPT takes no inline comment after such a value, so none is written.
+    o.simulation.output_rawlog = "runs//dataset.rawlog";
     mrpt::config::CConfigFileMemory c;
     o.saveToConfigFile(c);
     for (const auto& [section, opts] :
@@ -1020,6 +1022,7 @@ TEST(TSimulatorOptions, SaveWritesEveryKeyAndReadsBackIdentically)
     EXPECT_EQ(back.odometry.xy_std_per_m, 1.0 / 3);
     EXPECT_EQ(back.beacons.range_std_m, 0.1 + 0.7);
     EXPECT_EQ(back.simulation.seed, 123456789u);
+    EXPECT_EQ(back.simulation.output_rawlog, "runs//dataset.rawlog");
 }
 
 TEST(TSimulatorOptions, ExampleIniLoadsWithTheDocumentedDefaults)

@@ -31,12 +31,14 @@ inline void writeExactList(mrpt::config::CConfigFileBase& c, const std::string& 
     c.write(section, key, text.empty() ? std::string("0") : text, 24, 24, comment);
 }
 
-/** Writes a text value with its comment, or without the comment when the value is empty: MRPT
- *  reads `key = // comment` back as "// comment" (found by tests/fuzz/fuzz_ini). */
+/** Writes a text value with its comment, or without the comment when the value is empty or
+ *  holds "//": MRPT reads `key = // comment` back as "// comment", and takes no inline comment
+ *  from a value whose first "//" follows no blank (`/data//run.rawlog // the dataset` reads back
+ *  whole) (both found by tests/fuzz/fuzz_ini). */
 inline void writeText(mrpt::config::CConfigFileBase& c, const std::string& section,
                       const std::string& key, const std::string& value, const std::string& comment)
 {
-    if (value.empty())
+    if (value.empty() || value.find("//") != std::string::npos)
     {
         c.write(section, key, value);
     }
