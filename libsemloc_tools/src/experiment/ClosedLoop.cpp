@@ -1,5 +1,6 @@
 /* semloc — the closed loop of Benchmark's controls: simulate a step, localize it, decide. */
 #include <mrpt/core/exceptions.h>
+#include <mrpt/math/geometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
@@ -58,14 +59,7 @@ std::vector<mrpt::math::TPoint2D> routeFrom(const World& world, const mrpt::math
     double best = std::numeric_limits<double>::infinity();
     for (size_t i = 0; i + 1 < wps.size(); i++)
     {
-        const auto &a = wps[i], &b = wps[i + 1];
-        const double len2 = (b.x - a.x) * (b.x - a.x) + (b.y - a.y) * (b.y - a.y);
-        const double u =
-            len2 > 0
-                ? std::clamp(((here.x - a.x) * (b.x - a.x) + (here.y - a.y) * (b.y - a.y)) / len2,
-                             0.0, 1.0)
-                : 0.0;
-        const mrpt::math::TPoint2D q(a.x + u * (b.x - a.x), a.y + u * (b.y - a.y));
+        const auto q = mrpt::math::closestFromPointToSegment(here, wps[i], wps[i + 1]);
         const double d = std::hypot(q.x - here.x, q.y - here.y);
         if (d < best && world.firstObjectOnSegment(here, q) < 0)
         {
