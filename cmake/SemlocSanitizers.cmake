@@ -2,9 +2,8 @@
 #   SEMLOC_SANITIZE=ON       everything (library, tools, tests, benchmarks) built with
 #                            AddressSanitizer + UndefinedBehaviorSanitizer; any UB aborts.
 #   SEMLOC_BUILD_FUZZERS=ON  also the libFuzzer targets of tests/fuzz (clang only); the
-#                            library gets libFuzzer's coverage instrumentation.
-# tests/sanitize.sh and tests/fuzz/run.sh use one build directory each (build-asan,
-# build-fuzz): libFuzzer's instrumentation of the library would double the suite's run time.
+#                            library's parsing units get libFuzzer's coverage instrumentation.
+# tests/sanitize.sh and tests/fuzz/run.sh share one build directory (build-asan) with both on.
 option(SEMLOC_SANITIZE "Build with AddressSanitizer + UndefinedBehaviorSanitizer" OFF)
 option(SEMLOC_BUILD_FUZZERS "Build the libFuzzer targets of tests/fuzz (clang; sanitized)" OFF)
 

@@ -54,7 +54,7 @@ syntaxOnlyReason() {
     "ctest "*) echo "runs the suite this test is part of" ;;
     *"sbatch "*) echo "submits jobs to a Slurm cluster (none here)" ;;
     "bash tests/sanitize.sh"* | "bash tests/fuzz/run.sh"*) echo "builds and runs the suite in another tree (ASan + UBSan, libFuzzer): tens of minutes; CI runs it after the suite (.ci/run)" ;;
-    *"build-fuzz/"*) echo "runs a libFuzzer target of build-fuzz/, which tests/fuzz/run.sh builds in another tree (CI runs it after the suite)" ;;
+    *"build-asan/fuzz/"*) echo "runs a libFuzzer target of build-asan/fuzz/, which tests/fuzz/run.sh builds in another tree (CI runs it after the suite)" ;;
     *) echo "" ;;
   esac
 }

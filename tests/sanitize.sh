@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # The whole test suite built with clang's AddressSanitizer + UndefinedBehaviorSanitizer
-# (docs/testing.md, "Sanitizers"): configures and builds build-asan/ (SEMLOC_SANITIZE=ON;
-# the benchmarks are not part of the suite), then runs the ctest entries there. Any
+# (docs/testing.md, "Sanitizers"): configures and builds build-asan/ (tests/sanitizer_env.sh;
+# the fuzz targets of tests/fuzz/run.sh too), then runs the ctest entries there. Any
 # sanitizer report fails the test that triggered it.   Usage: bash tests/sanitize.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source tests/sanitizer_env.sh
-semloc_configure "$SEMLOC_ASAN_DIR" -DSEMLOC_SANITIZE=ON -DSEMLOC_BUILD_BENCHMARKS=OFF
+semloc_configure
 cmake --build "$SEMLOC_ASAN_DIR" -j2
 # unit_size reads the sources, not the build: the plain build runs it. The walkthrough of
 # docs/your-own-data.md (5 to 8 minutes here, its calibration's filter runs) runs in the plain

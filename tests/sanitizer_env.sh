@@ -1,19 +1,19 @@
 # Sourced by tests/sanitize.sh and tests/fuzz/run.sh (from the repository root): the clang
-# build directories and the sanitizers' run-time options.
-#   build-asan  everything with AddressSanitizer + UndefinedBehaviorSanitizer (SEMLOC_SANITIZE)
-#   build-fuzz  the library with libFuzzer's coverage and the fuzz targets (SEMLOC_BUILD_FUZZERS)
+# build directory they share and the sanitizers' run-time options.
+#   build-asan  everything with AddressSanitizer + UndefinedBehaviorSanitizer (SEMLOC_SANITIZE),
+#               and the fuzz targets (SEMLOC_BUILD_FUZZERS; the library's parsing units with
+#               libFuzzer's coverage)
 # Optimized, with line tables for the reports' stack traces.
 SEMLOC_ASAN_DIR=${SEMLOC_ASAN_DIR:-build-asan}
-SEMLOC_FUZZ_DIR=${SEMLOC_FUZZ_DIR:-build-fuzz}
 semloc_clang_flags=(-DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo
-                    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG")
+                    "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG"
+                    -DSEMLOC_SANITIZE=ON -DSEMLOC_BUILD_FUZZERS=ON -DSEMLOC_BUILD_BENCHMARKS=OFF)
 
-# semloc_configure <dir> <cmake options...>: configures <dir> once.
+# semloc_configure: configures $SEMLOC_ASAN_DIR once (the benchmarks are not part of the suite).
 semloc_configure()
 {
-    local dir=$1
-    shift
-    [ -f "$dir/CMakeCache.txt" ] || cmake -S . -B "$dir" "${semloc_clang_flags[@]}" "$@"
+    [ -f "$SEMLOC_ASAN_DIR/CMakeCache.txt" ] ||
+        cmake -S . -B "$SEMLOC_ASAN_DIR" "${semloc_clang_flags[@]}"
 }
 
 # Any finding aborts with a stack trace; leaks inside third-party libraries that semloc

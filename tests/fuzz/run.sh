@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # A short run of every libFuzzer target (docs/testing.md, "Fuzzing"):
 #   bash tests/fuzz/run.sh [seconds per target, default 60]
-# Builds the targets in build-fuzz/ (clang, ASan + UBSan; see tests/sanitizer_env.sh), runs
-# each from its seed corpus tests/fuzz/corpus/<target>/ plus a working corpus kept in
-# build-fuzz/fuzz/corpus/<target>/, prints libFuzzer's figures (runs, cov, ft, corpus) and
-# fails if any target crashed, leaked, hung or ran out of memory (the input is saved as
-# build-fuzz/fuzz/<target>-crash-*, -leak-*, -timeout-*, -oom-*).
+# Builds the targets in build-asan/ (clang, ASan + UBSan; the directory tests/sanitize.sh
+# builds, see tests/sanitizer_env.sh), runs each from its seed corpus
+# tests/fuzz/corpus/<target>/ plus a working corpus kept in build-asan/fuzz/corpus/<target>/,
+# prints libFuzzer's figures (runs, cov, ft, corpus) and fails if any target crashed, leaked,
+# hung or ran out of memory (the input is saved as build-asan/fuzz/<target>-crash-*, -leak-*,
+# -timeout-*, -oom-*).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 root=$PWD
@@ -13,11 +14,10 @@ seconds=${1:-60}
 source tests/sanitizer_env.sh
 targets=(world ini deserialize import_odometry import_detections import_ground_truth
          import_landmarks)
-semloc_configure "$SEMLOC_FUZZ_DIR" -DSEMLOC_BUILD_FUZZERS=ON -DSEMLOC_BUILD_APPS=OFF \
-    -DSEMLOC_BUILD_TESTS=OFF -DSEMLOC_BUILD_BENCHMARKS=OFF
-cmake --build "$SEMLOC_FUZZ_DIR" -j2 --target "${targets[@]/#/fuzz_}"
+semloc_configure
+cmake --build "$SEMLOC_ASAN_DIR" -j2 --target "${targets[@]/#/fuzz_}"
 
-out=$root/$SEMLOC_FUZZ_DIR/fuzz
+out=$root/$SEMLOC_ASAN_DIR/fuzz
 failed=()
 summary=()
 for t in "${targets[@]}"; do
