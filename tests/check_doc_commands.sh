@@ -8,6 +8,8 @@
 #   nothing shared with a run beside it); the message shows the command as written;
 # - SEMLOC_BENCHMARK_RUNS=1: semloc-benchmark runs each documented benchmark with 1 run
 #   (it says so on stderr) instead of its ini's 20 to 100 (minutes to an hour each);
+# - BENCHMARK_MIN_TIME=0.01: Google Benchmark's programs (build/bench/) time each case for
+#   0.01 s instead of 0.5 s, unless the command sets --benchmark_min_time itself;
 # - commands that cannot run here are checked for syntax only (bash -n), each kind with its
 #   reason below (syntaxOnlyReason); none is skipped silently: the log lists each one;
 # - the build steps at the head of an `&&` chain (bash .ci/setup, cmake -S, cmake --build)
@@ -98,7 +100,7 @@ fi
 [ -s "$scratch/cmd/list" ] || { echo "FAIL: no shell block found"; exit 1; }
 
 # One runner per block: its commands in order in one shell (a `cd` holds for the block).
-export SEMLOC_BENCHMARK_RUNS=1 PATH="$build/bin:$PATH"
+export SEMLOC_BENCHMARK_RUNS=1 BENCHMARK_MIN_TIME=0.01 PATH="$build/bin:$PATH"
 ran=0 checked=0 t0=$(date +%s)
 for b in $(cut -f2 "$scratch/cmd/list" | sort -un); do
   runner="$scratch/cmd/block_$b.sh"
