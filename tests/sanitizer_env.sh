@@ -9,10 +9,11 @@ semloc_clang_flags=(-DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebIn
                     "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O2 -gline-tables-only -DNDEBUG"
                     -DSEMLOC_SANITIZE=ON -DSEMLOC_BUILD_FUZZERS=ON -DSEMLOC_BUILD_BENCHMARKS=OFF)
 
-# semloc_configure: configures $SEMLOC_ASAN_DIR once (the benchmarks are not part of the suite).
+# semloc_configure: configures $SEMLOC_ASAN_DIR once (the benchmarks are not part of the
+# suite), and again if an earlier configuration left the fuzz targets out.
 semloc_configure()
 {
-    [ -f "$SEMLOC_ASAN_DIR/CMakeCache.txt" ] ||
+    grep -qx 'SEMLOC_BUILD_FUZZERS:BOOL=ON' "$SEMLOC_ASAN_DIR/CMakeCache.txt" 2>/dev/null ||
         cmake -S . -B "$SEMLOC_ASAN_DIR" "${semloc_clang_flags[@]}"
 }
 
