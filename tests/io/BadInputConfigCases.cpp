@@ -211,6 +211,18 @@ Cases iniModelCases()
          [](const fs::path& d) {
              return localizeGood(d, "", {{"injected_weight", "0"}});
          }},
+        {"ini-recovery-challengers-with-mrpt-kld",
+         [](const fs::path& d)
+         {
+             return localizeGood(d, "",
+                                 {{"challenger_frames", "20"},
+                                  {"adaptiveSampleSize", "1"},
+                                  {"resamplingMethod", "0"}});
+         }},
+        {"ini-recovery-challenger-frames-negative",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"challenger_frames", "-1"}});
+         }},
         {"ini-kld-at-resampling-without-kld",
          [](const fs::path& d) {
              return localizeGood(d, "", {{"kld_at_resampling", "1"}});

@@ -243,12 +243,19 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
         m_deadReckoning = composeIncrement(m_deadReckoning, *actions);
     }
     const bool move = actions && !mrptKld(PF_options);
+    const size_t cloud = m_store->particles.size();
+    auto& challengers = m_recovery->challengers();
+    if (challengers.alive() && (move || sf) && !mrptKld(PF_options))
+    {
+        // Moved and weighed with the cloud, after it: the challengers' particle indices.
+        challengers.attach(*m_store, *m_executor);
+    }
     if (move)
     {
         m_motion->prepare({*actions, sf, m_store->particles.size(), m_store->states()}, rng);
     }
     WeightRange range;
-    const bool rangeKnown = (move || sf) && predictAndUpdate(move, sf, PF_options, range);
+    const bool rangeKnown = (move || sf) && predictAndUpdate(move, sf, PF_options, cloud, range);
     // CParticleFilter::executeOn's resampling test, done here where the weights are at hand:
     // executeOn then finds equal weights (its normalizeWeights() and ESS() are a max/min
     // pass) and does not resample again.
@@ -323,21 +330,29 @@ void CParallelMonteCarloLocalization2D::substituteStore(const std::vector<size_t
 
 bool CParallelMonteCarloLocalization2D::predictAndUpdate(
     bool move, const mrpt::obs::CSensoryFrame* sf,
-    const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options, WeightRange& range)
+    const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options, size_t cloud,
+    WeightRange& range)
 {
     auto& particles = m_store->particles;
-    const size_t M = particles.size();
+    const size_t M = particles.size();  // the cloud, then the challengers if any
+    auto& challengers = m_recovery->challengers();
     m_poses.resize(M);
     if (!sf)
     {
         updateParticles(move, false, false, PF_options.powFactor);  // prediction only
+        if (M > cloud)
+        {
+            challengers.detach(*m_store);
+        }
         return false;
     }
     ASSERTMSG_(M > 0, "the particle set is empty");
     prepareLikelihood();
     const bool chunkwise = m_likelihood->plan(*sf, *m_executor);
     const bool recovery = m_recovery->watches(*m_likelihood);
-    const double lsePrior = recovery ? detail::logSumExpWeights(particles, *m_executor) : 0;
+    const bool challenging = M > cloud;
+    const double lsePrior =
+        recovery || challenging ? detail::logSumExpWeights(particles, *m_executor, cloud) : 0;
     m_logLik.resize(M);
     m_likelihood->beginUpdate(M, &m_deadReckoning);
     range = updateParticles(move, true, chunkwise, PF_options.powFactor);
@@ -348,7 +363,12 @@ bool CParallelMonteCarloLocalization2D::predictAndUpdate(
             m_logLik[i] = particles[i].log_w;
         }
     }
-    m_likelihood->endUpdate(m_logLik.data(), M);
+    m_likelihood->endUpdate(m_logLik.data(), cloud);  // the cloud's: the filter's estimate
+    if (challenging)
+    {
+        challengers.detach(*m_store);
+        range = detail::minMaxLogWeights(particles, *m_executor);
+    }
     if (!std::isfinite(range.max))
     {
         // Every weight vanished: nothing left to normalize. Start over from the free space.
@@ -356,24 +376,76 @@ bool CParallelMonteCarloLocalization2D::predictAndUpdate(
         range = WeightRange{0, 0};
         return true;
     }
-    if (!recovery)
+    // w_avg = sum_i w_prior_i p(z | x_i) / sum_i w_prior_i (§8.3.5, with weights).
+    const double logWAvg =
+        recovery || challenging ? detail::logSumExpWeights(particles, *m_executor) - lsePrior : 0;
+    return recoverAfterUpdate(*sf, PF_options, recovery, challenging, logWAvg);
+}
+
+bool CParallelMonteCarloLocalization2D::recoverAfterUpdate(
+    const mrpt::obs::CSensoryFrame& sf,
+    const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options, bool watched,
+    bool challenged, double logWAvg)
+{
+    auto& particles = m_store->particles;
+    auto& challengers = m_recovery->challengers();
+    if (challenged && m_likelihood->measures() &&
+        m_recovery->judgeChallengers(logWAvg, PF_options.BETA, *m_executor) ==
+            detail::ChallengerSet::Verdict::Merge)
+    {
+        mergeChallengers();
+        return false;
+    }
+    if (!watched)
     {
         m_recovery->noTrigger();
         return true;
     }
-    // w_avg = sum_i w_prior_i p(z | x_i) / sum_i w_prior_i (§8.3.5, with weights).
-    const double logWAvg = detail::logSumExpWeights(particles, *m_executor) - lsePrior;
     const double pInject = m_recovery->trigger(logWAvg, *m_likelihood, PF_options.powFactor);
+    // MRPT's own KLD moves the cloud itself, not the challengers: injection into the cloud.
+    if (pInject > 0 && m_recovery->challenges() && !mrptKld(PF_options))
+    {
+        if (!challengers.alive())
+        {
+            m_recovery->startChallengers(*m_store, pInject, sf, options.metricMap.get());
+        }
+        return true;
+    }
     if (pInject > 0)
     {
         // Table 8.3: the set resampled, then each particle replaced with probability p_inject.
         detail::shiftLogWeights(particles, *m_executor,
                                 detail::minMaxLogWeights(particles, *m_executor).max);
         resampleStore(PF_options);
-        m_recovery->inject(*m_store, pInject, *sf, options.metricMap.get());
+        m_recovery->inject(*m_store, pInject, sf, options.metricMap.get());
         return false;  // resampled and partly replaced: scan the weights again
     }
     return true;
+}
+
+void CParallelMonteCarloLocalization2D::mergeChallengers()
+{
+    // The union resampled into the cloud's size with the parts' posterior probabilities
+    // (odds o: the cloud 1 / (1 + o), the challengers o / (1 + o)), each part's weights
+    // normalized within it.
+    auto& particles = m_store->particles;
+    const size_t cloud = particles.size();
+    const auto& set = m_recovery->challengers();
+    const double logOdds = set.logOdds();
+    const double log1pOdds =
+        logOdds > 0 ? logOdds + std::log1p(std::exp(-logOdds)) : std::log1p(std::exp(logOdds));
+    const double shiftCloud = -detail::logSumExpWeights(particles, *m_executor) - log1pOdds;
+    const double shiftSet =
+        -detail::logSumExpWeights(set.particles().particles, *m_executor) + logOdds - log1pOdds;
+    m_store->append(set.particles());
+    std::vector<double> w(particles.size());
+    for (size_t i = 0; i < w.size(); i++)
+    {
+        w[i] = std::exp(particles[i].log_w + (i < cloud ? shiftCloud : shiftSet));
+    }
+    const double u = mrpt::random::getRandomGenerator().drawUniform(0.0, 1.0);
+    substituteStore(detail::systematicResamplingIndices(w, u, cloud));
+    m_recovery->merged();
 }
 
 void CParallelMonteCarloLocalization2D::reinitialize(const mrpt::obs::CSensoryFrame& sf)

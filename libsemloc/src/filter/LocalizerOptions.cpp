@@ -29,8 +29,8 @@ const char* const kRec = "Recovery";
 
 /** The [Recovery] keys; each was [PF_options] recovery_<key> before. */
 const std::vector<std::string> kRecoveryKeys = {
-    "trigger",      "alpha_slow",      "alpha_fast",     "evidence_margin", "evidence_threshold",
-    "inject_share", "from_detections", "injected_weight"};
+    "trigger",      "alpha_slow",      "alpha_fast",      "evidence_margin",  "evidence_threshold",
+    "inject_share", "from_detections", "injected_weight", "challenger_frames"};
 
 /** Where a [Recovery] key is read: its section and name there. */
 struct KeyPlace
@@ -243,6 +243,10 @@ void loadRecovery(const mrpt::config::CConfigFileBase& c, const std::map<std::st
     num("inject_share", r.inject_share, 1e-6, 1);
     num("from_detections", r.from_detections, 0, 1);
     num("injected_weight", r.injected_weight, 1e-12, 1);
+    int frames = static_cast<int>(r.challenger_frames);
+    readInt(c, at.at("challenger_frames").section, at.at("challenger_frames").key, frames, 0,
+            1000000);
+    r.challenger_frames = static_cast<size_t>(frames);
 }
 
 /** The [PF_options] and [Recovery] combinations MRPT or semloc do not implement (a recovery
@@ -293,6 +297,13 @@ void checkParticleFilter(const Localizer::TOptions& o, const std::map<std::strin
     {
         badRec(o.recovery.trigger == RecoveryTrigger::Amcl ? "alpha_slow" : "trigger",
                "recovery needs [PF_options] PF_algorithm = 0 (pfStandardProposal)");
+    }
+    if (!recoveryOff && o.recovery.challenger_frames > 0 && o.pf.adaptiveSampleSize &&
+        !o.kld_at_resampling)
+    {
+        badRec("challenger_frames",
+               "challengers move with the filter's own prediction: with [PF_options] "
+               "adaptiveSampleSize = 1 set kld_at_resampling = 1");
     }
 }
 
@@ -466,6 +477,8 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
         "fraction of injected particles drawn from the detections");
     put(c, kRec, "injected_weight", recovery.injected_weight,
         "weight of an injected particle relative to a resampled one, (0, 1]");
+    put(c, kRec, "challenger_frames", std::to_string(recovery.challenger_frames),
+        "0: injected into the cloud; n: a challenger set, at most n frames");
     motion_model.saveToConfigFile(c, MotionModel::kSection);
 }
 

@@ -1,8 +1,10 @@
 /* semloc — the filter's particles during a step, each with its motion state. */
 #include "filter/ParticleStore.h"
 
+#include <mrpt/core/exceptions.h>
 #include <semloc/filter/ParticleMotionModel.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
@@ -93,6 +95,35 @@ void ParticleStore::syncTo(MrptParticleList& to) const
 {
     to.resize(particles.size());
     std::copy(particles.begin(), particles.end(), to.begin());
+}
+
+void ParticleStore::append(const ParticleStore& tail)
+{
+    ASSERT_EQUAL_(tail.m_dim, m_dim);
+    particles.insert(particles.end(), tail.particles.begin(), tail.particles.end());
+    m_state.insert(m_state.end(), tail.m_state.begin(), tail.m_state.end());
+}
+
+void ParticleStore::splitTail(size_t first, ParticleStore& tail)
+{
+    ASSERT_LE_(first, particles.size());
+    const auto cut = particles.begin() + static_cast<std::ptrdiff_t>(first);
+    tail.particles.assign(cut, particles.end());
+    particles.erase(cut, particles.end());
+    tail.m_dim = m_dim;
+    const auto stateCut = m_state.begin() + static_cast<std::ptrdiff_t>(first * m_dim);
+    tail.m_state.assign(stateCut, m_state.end());
+    m_state.erase(stateCut, m_state.end());
+}
+
+void ParticleStore::copyState(size_t from, ParticleStore& dest, size_t to) const
+{
+    dest.m_dim = m_dim;
+    dest.m_state.resize(dest.particles.size() * m_dim);
+    for (size_t d = 0; d < m_dim; d++)
+    {
+        dest.m_state[to * m_dim + d] = m_state[from * m_dim + d];
+    }
 }
 
 const CarriedValues* ParticleStore::carried(size_t count)

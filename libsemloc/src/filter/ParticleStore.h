@@ -95,6 +95,21 @@ public:
     /** `to` becomes the store's particles. */
     void syncTo(MrptParticleList& to) const;
 
+    /** Appends `tail`'s particles and states (a store of the same model's states). */
+    void append(const ParticleStore& tail);
+    /** The particles from `first` on, with their states, move to `tail` (replacing what it
+     *  held); the store keeps the first `first`. */
+    void splitTail(size_t first, ParticleStore& tail);
+    /** Particle `from`'s state (dim() values) copied to particle `to` of `dest`, a store of
+     *  the same model's states. */
+    void copyState(size_t from, ParticleStore& dest, size_t to) const;
+    /** No particle. */
+    void clear()
+    {
+        particles.clear();
+        m_state.clear();
+    }
+
     /** What a resampling into `count` particles writes the states to (carried values of the
      *  particles' states), or nullptr without states; swapResampled() makes it the set. */
     const CarriedValues* carried(size_t count);

@@ -10,6 +10,7 @@
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace semloc::detail
@@ -57,6 +58,48 @@ double RecoveryPolicy::trigger(double logWAvg, const SensoryFrameLikelihood& lik
     return m_sampler ? pInject : 0;
 }
 
+void RecoveryPolicy::startChallengers(const ParticleStore& cloud, double share,
+                                      const mrpt::obs::CSensoryFrame& sf,
+                                      const mrpt::maps::CMetricMap* map)
+{
+    const size_t M = cloud.particles.size();
+    const auto K =
+        std::max<size_t>(1, static_cast<size_t>(std::lround(share * static_cast<double>(M))));
+    const auto detections = detectionSampler(sf, map);
+    ParticleStore& set = m_challengers.start();
+    set.particles.resize(K);
+    size_t fromDet = 0;
+    for (size_t k = 0; k < K; k++)
+    {
+        fromDet += drawRecoveryPose(detections, set.particles[k].d) ? 1 : 0;
+        set.particles[k].log_w = 0;
+        cloud.copyState(k * M / K, set, k);
+    }
+    m_stats.injection_steps++;
+    m_stats.injected_particles += K;
+    m_stats.injected_from_detections += fromDet;
+}
+
+ChallengerSet::Verdict RecoveryPolicy::judgeChallengers(double cloudLogWAvg, double beta,
+                                                        ParallelExecutor& ex)
+{
+    const auto& o = m_augmented.options();
+    const auto verdict = m_challengers.weigh(cloudLogWAvg, std::log(o.injected_weight),
+                                             o.challenger_frames, beta, ex);
+    if (verdict == ChallengerSet::Verdict::Drop)
+    {
+        m_challengers.clear();
+    }
+    return verdict;
+}
+
+void RecoveryPolicy::merged()
+{
+    m_stats.challenger_merges++;
+    m_challengers.clear();
+    m_augmented.reset();
+}
+
 void RecoveryPolicy::reinitialize(ParticleStore& store, const mrpt::obs::CSensoryFrame& sf,
                                   const mrpt::maps::CMetricMap* map)
 {
@@ -80,6 +123,7 @@ void RecoveryPolicy::reinitialize(ParticleStore& store, const mrpt::obs::CSensor
         }
     }
     m_augmented.reset();
+    m_challengers.clear();
     m_lastPInject = 0;
 }
 

@@ -10,6 +10,7 @@
 #include <memory>
 #include <optional>
 
+#include "filter/ChallengerSet.h"
 #include "filter/ParticleStore.h"
 
 namespace mrpt::maps
@@ -24,6 +25,7 @@ class CSensoryFrame;
 namespace semloc
 {
 class FreeSpaceSampler;
+class ParallelExecutor;
 class SensoryFrameLikelihood;
 }  // namespace semloc
 
@@ -66,6 +68,19 @@ public:
      *  recovery pose of log-weight log(injected_weight). */
     void inject(ParticleStore& store, double pInject, const mrpt::obs::CSensoryFrame& sf,
                 const mrpt::maps::CMetricMap* map);
+    /** True when injected particles form a challenger set (challenger_frames > 0) instead of
+     *  replacing particles of the cloud. */
+    bool challenges() const { return m_augmented.options().challenger_frames > 0; }
+    /** The challenger set (empty when none lives). */
+    ChallengerSet& challengers() { return m_challengers; }
+    /** Draws a challenger set of share `share` of `cloud`'s particles (at least one) from
+     *  the recovery poses, each with the motion state of a cloud particle (evenly spaced). */
+    void startChallengers(const ParticleStore& cloud, double share,
+                          const mrpt::obs::CSensoryFrame& sf, const mrpt::maps::CMetricMap* map);
+    /** After a weighted frame (the set detached): the set's verdict (ChallengerSet::weigh). */
+    ChallengerSet::Verdict judgeChallengers(double cloudLogWAvg, double beta, ParallelExecutor& ex);
+    /** The challengers joined the cloud: counted, the set forgotten, the trigger restarted. */
+    void merged();
     /** Every weight vanished: every particle re-drawn (with a sampler; else the poses
      *  stay), log-weights 0; the trigger forgets its averages. */
     void reinitialize(ParticleStore& store, const mrpt::obs::CSensoryFrame& sf,
@@ -91,5 +106,6 @@ private:
     std::shared_ptr<const FreeSpaceSampler> m_sampler;
     TStats m_stats;
     double m_lastPInject = 0;
+    ChallengerSet m_challengers;
 };
 }  // namespace semloc::detail

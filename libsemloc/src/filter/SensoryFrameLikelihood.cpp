@@ -475,7 +475,7 @@ void SensoryFrameLikelihood::endUpdate(const double* logWeights, size_t n)
 {
     if (m_outageMixed)
     {
-        ASSERT_EQUAL_(n, m_outageLik.size());
+        ASSERT_LE_(n, m_outageLik.size());
         m_detectorOutage->update(logWeights, m_outageLik.data(), n);
     }
     m_outageMixed = false;

@@ -62,11 +62,11 @@ void weightSums(const ParticleList& particles, size_t b, size_t e, double maxW, 
 }
 }  // namespace
 
-WeightRange minMaxLogWeights(const ParticleList& particles, ParallelExecutor& ex)
+WeightRange minMaxLogWeights(const ParticleList& particles, ParallelExecutor& ex, size_t count)
 {
     std::vector<WeightRange> partial(ex.threads());
     ex.forEachRange(
-        particles.size(),
+        std::min(count, particles.size()),
         [&](size_t b, size_t e, size_t thread)
         {
             // Even and odd particles apart: two dependency chains, the same extremes.
@@ -104,19 +104,20 @@ void shiftLogWeights(ParticleList& particles, ParallelExecutor& ex, double maxW)
         kCheapLoopGrain);
 }
 
-double logSumExpWeights(const ParticleList& particles, ParallelExecutor& ex)
+double logSumExpWeights(const ParticleList& particles, ParallelExecutor& ex, size_t count)
 {
+    const size_t n = std::min(count, particles.size());
     double maxW = kNegInf;
-    for (const auto& p : particles)
+    for (size_t i = 0; i < n; i++)
     {
-        maxW = std::max(maxW, p.log_w);
+        maxW = std::max(maxW, particles[i].log_w);
     }
     if (!(maxW > kNegInf))
     {
         return maxW;
     }
     const double sum = ex.reduceBlocks(
-        particles.size(),
+        n,
         [&](size_t b, size_t e)
         {
             double s = 0;

@@ -51,15 +51,17 @@ inline void addExtremes(size_t n, Range& even, Range& odd, LogW&& logW)
     }
 }
 
-/** Extremes of the log-weights. */
-WeightRange minMaxLogWeights(const ParticleList& particles, ParallelExecutor& ex);
+/** Extremes of the log-weights (of the first `count` particles only, if fewer). */
+WeightRange minMaxLogWeights(const ParticleList& particles, ParallelExecutor& ex,
+                             size_t count = std::numeric_limits<size_t>::max());
 
 /** Subtracts `maxW` from every log-weight. */
 void shiftLogWeights(ParticleList& particles, ParallelExecutor& ex, double maxW);
 
-/** log(sum_i exp(log_w_i)), relative to the largest log-weight (-inf when every weight is
- *  zero). */
-double logSumExpWeights(const ParticleList& particles, ParallelExecutor& ex);
+/** log(sum_i exp(log_w_i)), computed relative to the largest log-weight (-inf when every
+ *  weight is zero); over the first `count` particles only, if fewer. */
+double logSumExpWeights(const ParticleList& particles, ParallelExecutor& ex,
+                        size_t count = std::numeric_limits<size_t>::max());
 
 /** The effective sample size fraction (sum w)^2 / (M sum w^2) from the log-weights'
  *  extremes `range` (0 when every weight is zero or one is infinite); with `linW`, also each

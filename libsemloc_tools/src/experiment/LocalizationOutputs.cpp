@@ -183,6 +183,8 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "injection_steps: " << res.recovery.injection_steps << "\n"
       << "injected_particles: " << res.recovery.injected_particles << "\n"
       << "injected_from_detections: " << res.recovery.injected_from_detections << "\n"
+      << "# challenger sets ([Recovery] challenger_frames) that joined the cloud\n"
+      << "challenger_merges: " << res.recovery.challenger_merges << "\n"
       << "# free_space_prior: particle updates found outside the free space (weight 0)\n"
       << "outside_free_space: " << res.recovery.outside_free_space << "\n"
       << "# range-scan beams with a NaN, infinite, negative or beyond-max range (skipped)\n"

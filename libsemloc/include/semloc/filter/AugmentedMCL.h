@@ -1,6 +1,7 @@
 /* semloc — recovery from localization failures: augmented MCL's random particle injection. */
 #pragma once
 
+#include <cstddef>
 #include <limits>
 
 namespace semloc
@@ -81,6 +82,15 @@ public:
         /** Evidence trigger: share in (0, 1] of the particles replaced at each frame while
          *  the shortfall is at or above the threshold. */
         double inject_share = 0.1;
+        /** Where injected particles go. 0: into the cloud, replacing resampled particles
+         *  (Thrun's). n > 0: into a challenger set apart from the cloud (one at a time,
+         *  inject_share of the particles, or p_inject of them with the amcl trigger), moved and
+         *  weighed as the cloud and resampled among themselves; the evidence of each weighted
+         *  frame is summed for the cloud (L_M) and for the challengers (L_C), and the
+         *  challengers join the cloud when their posterior odds injected_weight e^(L_C - L_M)
+         *  reach 1, are dropped when they fall to injected_weight^2 or after n weighted
+         *  frames. */
+        std::size_t challenger_frames = 0;
 
         /** True when recovery is on. */
         bool enabled() const

@@ -129,6 +129,10 @@ public:
         size_t injected_from_detections = 0;
         /** Updates in which augmented MCL injected particles. */
         size_t injection_steps = 0;
+        /** Challenger sets that joined the cloud (AugmentedMCL::TOptions::challenger_frames;
+         *  each set drawn counts once in injection_steps, its particles in
+         *  injected_particles). */
+        size_t challenger_merges = 0;
         /** Particle updates that found the particle outside the free space (prior on). */
         size_t outside_free_space = 0;
     };
@@ -257,12 +261,23 @@ public:
 
 private:
     /** The per-particle pass (prediction if `move`; with a frame likelihood, free-space prior
-     *  and weight update; then the handling of vanished weights and the recovery). True,
-     *  with the log-weights' extremes in `range`, when they are known at the end (a frame,
-     *  no injection). */
+     *  and weight update; then the handling of vanished weights and the recovery) over the
+     *  store: its first `cloud` particles, then the challengers if any (taken back after the
+     *  pass). True, with the cloud's log-weights' extremes in `range`, when they are known at
+     *  the end (a frame, no injection). */
     bool predictAndUpdate(bool move, const mrpt::obs::CSensoryFrame* sf,
                           const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options,
-                          detail::WeightRange& range);
+                          size_t cloud, detail::WeightRange& range);
+    /** After a frame's update, the recovery: the challengers judged (`challenged`: they were
+     *  weighed with the cloud) and merged or dropped; the trigger fed with the cloud's log
+     *  w_avg when it `watched` the frame; particles injected into the cloud or a challenger
+     *  set drawn. True when the log-weights' extremes of the update still hold. */
+    bool recoverAfterUpdate(const mrpt::obs::CSensoryFrame& sf,
+                            const mrpt::bayes::CParticleFilter::TParticleFilterOptions& PF_options,
+                            bool watched, bool challenged, double logWAvg);
+    /** The challengers join the cloud (their odds reached 1): the union resampled into the
+     *  cloud's size with each part's posterior probability. */
+    void mergeChallengers();
     /** Moves the particles (`move`) and, with `weigh`, weights them by the frame planned in
      *  m_likelihood (`chunkwise`: the likelihood per range of particles); the log-weights'
      *  extremes (with `weigh`). */

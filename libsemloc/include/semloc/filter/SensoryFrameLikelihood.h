@@ -159,8 +159,9 @@ public:
     /** True when endUpdate() needs the weights (the frame was scored with the outage
      *  mixture). */
     bool updatesState() const { return m_outageMixed; }
-    /** Ends the weighing: the outage probability's posterior from the n particles' updated
-     *  log-weights (only read when updatesState()). */
+    /** Ends the weighing: the outage probability's posterior from the first n particles'
+     *  updated log-weights (only read when updatesState(); particles weighed beyond them, a
+     *  filter's challengers, do not inform it). */
     void endUpdate(const double* logWeights, size_t n);
     /** The probability that the detector is out after the last frame (0 before any frame
      *  with outage terms). */
