@@ -6,6 +6,9 @@
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/math/wrap2pi.h>
+#include <mrpt/obs/CActionCollection.h>
+#include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/poses/CPose2D.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/io/ErrorMessage.h>
@@ -25,6 +28,18 @@
 
 namespace semloc::test
 {
+/** One step's odometry: the increment `u` with MRPT's default Gaussian motion model. */
+inline mrpt::obs::CActionCollection gaussianOdometry(const mrpt::poses::CPose2D& u)
+{
+    mrpt::obs::CActionRobotMovement2D act;
+    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions mo;
+    mo.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
+    act.computeFromOdometry(u, mo);
+    mrpt::obs::CActionCollection acts;
+    acts.insert(act);
+    return acts;
+}
+
 /** An ini file in memory holding `text`. */
 inline mrpt::config::CConfigFileMemory iniText(const std::string& text)
 {

@@ -238,7 +238,7 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
               b.scenarios()[1].simulation().detector.p_detect_near);
     // The filter without defences for real data, the shipped one without recovery, with
     // augmented MCL's trigger, the shipped one, and that with a heading drift state.
-    ASSERT_EQ(all.variants().size(), 5u);
+    ASSERT_EQ(all.variants().size(), 6u);
     EXPECT_EQ(all.variants()[0].name(), "semantic_basic");
     EXPECT_EQ(all.variants()[1].name(), "semantic_norecovery");
     EXPECT_EQ(all.variants()[2].name(), "semantic_amcl");
@@ -254,6 +254,10 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.variants()[3].options.filter.motion_model.heading_drift_walk_deg_per_min, 5.0);
     EXPECT_FALSE(all.variants()[4].options.filter.motion_model.headingDrift());
     EXPECT_FALSE(all.variants()[0].options.filter.motion_model.headingDrift());
+    // The shipped filter with its injected particles in a challenger set.
+    EXPECT_EQ(all.variants()[5].name(), "semantic_challengers");
+    EXPECT_EQ(all.variants()[3].options.filter.recovery.challenger_frames, 0u);
+    EXPECT_EQ(all.variants()[5].options.filter.recovery.challenger_frames, 20u);
 }
 
 TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
@@ -266,12 +270,15 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
     EXPECT_TRUE(b.scenarios()[1].simulation().kidnapping.enabled);
     for (const auto& sc : b.scenarios())
     {
-        ASSERT_EQ(sc.variants().size(), 4u);
+        ASSERT_EQ(sc.variants().size(), 5u);
         // No scenario turns recovery on: semantic_norecovery runs without, semantic_amcl with
         // augmented MCL's trigger, semantic (shipped) with the evidence trigger, both with
         // injected particles at 3e-6 of a resampled one's weight; semantic_nodrift is semantic
-        // without the heading drift state.
+        // without the heading drift state, semantic_challengers semantic with a challenger set.
         EXPECT_EQ(sc.variants()[1].name(), "semantic_amcl");
+        EXPECT_EQ(sc.variants()[4].name(), "semantic_challengers");
+        EXPECT_EQ(sc.variants()[4].options.filter.recovery.challenger_frames, 20u);
+        EXPECT_EQ(sc.variants()[2].options.filter.recovery.challenger_frames, 0u);
         EXPECT_EQ(sc.variants()[2].name(), "semantic");
         EXPECT_EQ(sc.variants()[3].name(), "semantic_nodrift");
         EXPECT_FALSE(sc.variants()[3].options.filter.motion_model.headingDrift());

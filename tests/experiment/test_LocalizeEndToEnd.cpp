@@ -615,6 +615,7 @@ TEST(ShippedConfigs, SemanticVariantsNameTheirBaseAndSetTheirKeysOnly)
         {"semantic_classes", "semantic", {{"map_file", "../../maps/paper_50x50_classes.yaml"}}},
         {"semantic_norecovery", "semantic", {{"trigger", "off"}}},
         {"semantic_nodrift", "semantic", {{"heading_drift_walk_deg_per_min", "0"}}},
+        {"semantic_challengers", "semantic", {{"challenger_frames", "20"}}},
         {"semantic_amcl",
          "semantic",
          {{"trigger", "amcl"}, {"alpha_slow", "0.001"}, {"alpha_fast", "0.1"}}},

@@ -72,13 +72,7 @@ struct Maps
 
 mrpt::obs::CActionCollection odometry(const mrpt::poses::CPose2D& u)
 {
-    mrpt::obs::CActionRobotMovement2D act;
-    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions mo;
-    mo.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
-    act.computeFromOdometry(u, mo);
-    mrpt::obs::CActionCollection acts;
-    acts.insert(act);
-    return acts;
+    return semloc::test::gaussianOdometry(u);
 }
 
 /** Runs `steps` filter steps along a straight leg of the paper trajectory (y = 4). */

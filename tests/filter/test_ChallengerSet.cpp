@@ -3,8 +3,6 @@
 #include <gtest/gtest.h>
 #include <mrpt/bayes/CParticleFilter.h>
 #include <mrpt/maps/CMultiMetricMap.h>
-#include <mrpt/obs/CActionCollection.h>
-#include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
@@ -122,17 +120,6 @@ namespace
 {
 const std::string kPaperWorld = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
 
-mrpt::obs::CActionCollection forward(double dx)
-{
-    mrpt::obs::CActionRobotMovement2D act;
-    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions mo;
-    mo.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
-    act.computeFromOdometry(mrpt::poses::CPose2D(dx, 0, 0), mo);
-    mrpt::obs::CActionCollection acts;
-    acts.insert(act);
-    return acts;
-}
-
 struct KidnapResult
 {
     std::unique_ptr<CParallelMonteCarloLocalization2D> pdf;
@@ -172,7 +159,7 @@ KidnapResult kidnapped(size_t threads, size_t frames)
     auto step = [&](double dx)
     {
         truth.x += dx;
-        const auto acts = forward(0.5);
+        const auto acts = semloc::test::gaussianOdometry(mrpt::poses::CPose2D(0.5, 0, 0));
         mrpt::obs::CSensoryFrame sf;
         sf.insert(
             std::make_shared<semloc::CObservationSemantic>(semloc::test::observe(world, truth)));

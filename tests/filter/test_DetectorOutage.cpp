@@ -66,13 +66,7 @@ std::shared_ptr<semloc::CObservationSemantic> frameObs(const semloc::World& w, c
 
 mrpt::obs::CActionCollection odometry(double dx)
 {
-    mrpt::obs::CActionRobotMovement2D act;
-    mrpt::obs::CActionRobotMovement2D::TMotionModelOptions mo;
-    mo.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
-    act.computeFromOdometry(mrpt::poses::CPose2D(dx, 0, 0), mo);
-    mrpt::obs::CActionCollection acts;
-    acts.insert(act);
-    return acts;
+    return semloc::test::gaussianOdometry(mrpt::poses::CPose2D(dx, 0, 0));
 }
 
 struct SilenceRun

@@ -90,6 +90,13 @@ struct WeightRange;
  *  An injected particle's log-weight is log(`injected_weight`), a resampled one's 0. A
  *  re-initialized or injected particle keeps its motion state (e.g. its heading drift rate:
  *  the odometry's, not the lost pose's).
+ *  With AugmentedMCL::TOptions::challenger_frames > 0 the injected poses do not replace
+ *  particles of the cloud: they form a challenger set beside it (detail::ChallengerSet),
+ *  moved and weighed in the same pass after the cloud's particles, which joins the cloud
+ *  (the union resampled into the cloud's size) once the frames since it was drawn favour it
+ *  by 1 / injected_weight, and is dropped when the cloud is favoured by as much or after
+ *  challenger_frames weighted frames; the cloud, and the estimate, are untouched meanwhile
+ *  (TRecoveryStats::challenger_merges).
  *  All draws come from MRPT's global generator on the calling thread: deterministic, the
  *  same for any thread count.
  *
