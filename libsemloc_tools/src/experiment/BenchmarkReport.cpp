@@ -6,7 +6,9 @@
 #include <semloc/plot/WorldPlot.h>
 
 #include <algorithm>
+#include <filesystem>
 #include <sstream>
+#include <system_error>
 
 #include "experiment/BenchmarkTables.h"
 #include "experiment/RunFigures.h"
@@ -21,6 +23,22 @@ namespace
 // The paper's Table I: average execution time of one run [ns].
 constexpr double kPaperSemanticNs = 1171934146.0;
 constexpr double kPaperGeometricNs = 6977878010.0;
+
+/** `path` as report.md shows it: from the working directory when it lies under it (a report
+ *  made in a clone names config/simulate/simulate.ini, not the machine's layout), else as
+ *  given. */
+std::string shownPath(const std::string& path)
+{
+    std::error_code ec;
+    const std::filesystem::path cwd = std::filesystem::current_path(ec);
+    const std::filesystem::path p(path);
+    if (ec || !p.is_absolute())
+    {
+        return path;
+    }
+    const auto rel = p.lexically_proximate(cwd);
+    return rel.empty() || rel.is_absolute() || *rel.begin() == ".." ? path : rel.string();
+}
 
 /** What the NEES columns of the tables are (docs/design.md, "Consistency"). */
 constexpr const char* kNeesText =
@@ -157,9 +175,10 @@ std::string mapLines(const Benchmark& b)
 {
     std::ostringstream md;
     md << "- map: "
-       << (b.mapFromWorld() ? "the simulated world `" + b.simulation().simulation.world_file +
-                                  "` for every variant (map_from_world = true)"
-                            : std::string("each variant's own map_file (map_from_world = false)"))
+       << (b.mapFromWorld()
+               ? "the simulated world `" + shownPath(b.simulation().simulation.world_file) +
+                     "` for every variant (map_from_world = true)"
+               : std::string("each variant's own map_file (map_from_world = false)"))
        << "\n";
     for (const auto& w : b.mapWarnings())
     {
@@ -181,7 +200,7 @@ std::string experimentSection(const Benchmark& b, const Benchmark::TResult& res,
         md << "Scenario **" << sc.name << "**: " << sc.description << "\n\n";
     }
     md << "The experiment of the paper (§IV): " << o.runs
-       << " runs; run i simulates the scenario of `" << o.simulate_ini
+       << " runs; run i simulates the scenario of `" << shownPath(o.simulate_ini)
        << "` with seed i and localizes it with every variant (filter seeded with i).\n\n"
        << "- steps per run: " << res.runs.front().metrics.steps
        << "\n- particles: " << first.particles_count
@@ -329,7 +348,7 @@ std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult
         const auto& sc = scenarios[i];
         const std::string& name = sc.scenario().name;
         md << "- [" << name << "](" << name << "/report.md): " << sc.scenario().description << " (`"
-           << sc.options().simulate_ini << "` + `" << b.options().scenarios[i] << "`)\n";
+           << shownPath(sc.options().simulate_ini) << "` + `" << b.options().scenarios[i] << "`)\n";
     }
     md << figureWarningsMarkdown(res.figureWarnings);
     return md.str();
