@@ -10,6 +10,7 @@
 #include <semloc/maps/CSemanticMap.h>
 
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <string>
@@ -130,8 +131,10 @@ struct KidnapResult
 
 /** Tracks 60 steps along the paper world's first leg, is kidnapped to its third leg (the
  *  odometry unaware) and drives 60 more steps, with the evidence trigger and challenger
- *  sets of `frames` frames, on `threads` threads. */
-KidnapResult kidnapped(size_t threads, size_t frames)
+ *  sets of `frames` frames, on `threads` threads; `afterStep` is called after every step. */
+KidnapResult kidnapped(
+    size_t threads, size_t frames,
+    const std::function<void(CParallelMonteCarloLocalization2D&)>& afterStep = {})
 {
     const auto world = semloc::World::FromFile(kPaperWorld);
     auto sem = semloc::CSemanticMap::Create();
@@ -165,6 +168,10 @@ KidnapResult kidnapped(size_t threads, size_t frames)
             std::make_shared<semloc::CObservationSemantic>(semloc::test::observe(world, truth)));
         pf.executeOn(pdf, &acts, &sf);
         r.cloudSizeKept = r.cloudSizeKept && pdf.size() == 2000;
+        if (afterStep)
+        {
+            afterStep(pdf);
+        }
     };
     for (int k = 0; k < 60; k++)
     {
@@ -206,4 +213,25 @@ TEST(ChallengerSet, SameBitsOnOneAndTwoThreads)
     }
     EXPECT_EQ(a.pdf->recoveryStats().challenger_merges, b.pdf->recoveryStats().challenger_merges);
     EXPECT_GT(a.pdf->recoveryStats().challenger_merges, 0u);
+}
+
+TEST(ChallengerSet, ANewMotionModelDropsALiveSet)
+{
+    // Right after the first set is drawn, the heading drift turns on: every particle gets a
+    // state of the new model, and the set (with the old model's states) is dropped instead of
+    // entering the next step's pass with states of the wrong size.
+    bool switched = false;
+    const auto r = kidnapped(1, 20,
+                             [&](CParallelMonteCarloLocalization2D& pdf)
+                             {
+                                 if (!switched && pdf.recoveryStats().injection_steps == 1)
+                                 {
+                                     pdf.setHeadingDrift(1e-4, 1e-4);
+                                     switched = true;
+                                 }
+                             });
+    EXPECT_TRUE(switched);
+    EXPECT_EQ(r.pdf->motionStates().size(), r.pdf->size());
+    EXPECT_GT(r.pdf->recoveryStats().injection_steps, 1u) << "the trigger drew again";
+    EXPECT_LT(r.error, 1.0);
 }

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "filter/ParticleStore.h"
+#include "filter/RecoveryPolicy.h"
 #include "filter/Weights.h"
 
 namespace semloc
@@ -28,6 +29,7 @@ void CParallelMonteCarloLocalization2D::setHeadingDrift(double priorStd, double 
 
 void CParallelMonteCarloLocalization2D::resetMotionState()
 {
+    m_recovery->challengers().clear();  // another run's hypothesis, or another model's states
     m_motion->reset();
     m_store->assign(m_particles, *m_motion, mrpt::random::getRandomGenerator());
 }

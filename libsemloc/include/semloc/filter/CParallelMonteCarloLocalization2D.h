@@ -180,7 +180,8 @@ public:
     /** @} */
 
     /** Every particle's motion state from the model's prior again, and the model's memory
-     *  forgotten (a new run; e.g. the heading drift's clock). */
+     *  forgotten (a new run; e.g. the heading drift's clock); a live challenger set is
+     *  dropped. */
     void resetMotionState();
     /** The particles as m_particles holds them now keep their motion states: poses a program
      *  moved itself between steps that should not get new states from the prior (as a
