@@ -23,6 +23,7 @@
 #include <set>
 #include <tuple>
 
+#include "KidnapRun.h"
 #include "ScanSimulation.h"
 #include "TestHelpers.h"
 #include "filter/KldResampling.h"
@@ -792,51 +793,24 @@ TEST(CParallelMonteCarloLocalization2D, EvidenceTriggerInjectsOnlyAfterTheKidnap
     // Tracking: the detections are explained far better than by clutter, nothing is
     // injected. Kidnapped: the shortfall builds up within a few frames, particles are injected
     // until the cloud explains the detections again, where the vehicle is.
-    const Maps maps(false);
-    auto sem = semloc::CSemanticMap::Create();
-    sem->likelihoodOptions.model = semloc::CSemanticMap::Model::Probabilistic;
-    sem->loadFromWorld(maps.world);
-    auto semanticOnly = mrpt::maps::CMultiMetricMap::Create();
-    semanticOnly->maps.push_back(sem);
-    mrpt::bayes::CParticleFilter pf;
-    pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
-    CParallelMonteCarloLocalization2D pdf;
-    pdf.options.metricMap = semanticOnly;
-    pdf.setFreeSpaceSampler(std::make_shared<semloc::FreeSpaceSampler>(
-        semloc::FreeSpaceSampler::FromWorld(maps.world)));
     semloc::AugmentedMCL::TOptions ro;
     ro.trigger = semloc::RecoveryTrigger::Evidence;
     ro.injected_weight = 3e-6;
-    pdf.setRecoveryOptions(ro);
-    mrpt::random::getRandomGenerator().randomize(3);
-    pdf.resetUniform(4.5, 5.5, 3.5, 4.5, -0.05, 0.05, 2000);
-    TPose2D truth(5, 4, 0);
-    auto step = [&](double dx)
-    {
-        truth.x += dx;
-        const auto acts = odometry(mrpt::poses::CPose2D(0.5, 0, 0));
-        const auto sf = maps.frame(truth);
-        pf.executeOn(pdf, &acts, &sf);
-    };
-    for (int k = 0; k < 60; k++)
-    {
-        step(0.5);
-    }
-    EXPECT_EQ(pdf.recoveryStats().injection_steps, 0u);
-    EXPECT_LT(std::hypot(pdf.getMeanVal().x() - truth.x, pdf.getMeanVal().y() - truth.y), 1.0);
-    truth = TPose2D(45, 30, M_PI);  // kidnapped to the third leg, the odometry unaware
-    size_t firstInjection = 0;
-    for (int k = 1; k <= 60; k++)
-    {
-        step(-0.5);
-        if (firstInjection == 0 && pdf.recoveryStats().injection_steps > 0)
+    size_t firstInjection = 0;  // steps after the kidnapping
+    const auto r = semloc::test::kidnapOnPaperWorld(
+        1, ro,
+        [&](CParallelMonteCarloLocalization2D& pdf, int k)
         {
-            firstInjection = static_cast<size_t>(k);
-        }
-    }
+            if (k >= 60 && firstInjection == 0 && pdf.recoveryStats().injection_steps > 0)
+            {
+                firstInjection = static_cast<size_t>(k - 59);
+            }
+        });
+    EXPECT_EQ(r.injectionsTracking, 0u);
+    EXPECT_LT(r.errorTracking, 1.0);
     EXPECT_GE(firstInjection, 2u);  // one frame alone cannot trigger
     EXPECT_LE(firstInjection, 30u);
-    EXPECT_LT(std::hypot(pdf.getMeanVal().x() - truth.x, pdf.getMeanVal().y() - truth.y), 1.0);
+    EXPECT_LT(r.error, 1.0);
 }
 
 TEST(CParallelMonteCarloLocalization2D, SensorResettingInjectsTheSameOnOneAndTwoThreads)

@@ -1,23 +1,15 @@
 /* semloc tests — the challenger set of augmented MCL: the odds of "elsewhere" against the
  * cloud, merged or dropped on the evidence, and a kidnapping recovered through it. */
 #include <gtest/gtest.h>
-#include <mrpt/bayes/CParticleFilter.h>
-#include <mrpt/maps/CMultiMetricMap.h>
-#include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/ParallelExecutor.h>
-#include <semloc/maps/CSemanticMap.h>
 
 #include <cmath>
 #include <functional>
 #include <limits>
-#include <memory>
-#include <string>
 
-#include "TestHelpers.h"
+#include "KidnapRun.h"
 #include "filter/ChallengerSet.h"
-#include "filter/Weights.h"
 
 using mrpt::math::TPose2D;
 using semloc::CParallelMonteCarloLocalization2D;
@@ -119,72 +111,17 @@ TEST(ChallengerSet, DroppedWhenTheOddsFallToThePriorSquaredOrAfterItsFrames)
 
 namespace
 {
-const std::string kPaperWorld = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
-
-struct KidnapResult
-{
-    std::unique_ptr<CParallelMonteCarloLocalization2D> pdf;
-    double error = 0;             ///< of the estimate at the end [m]
-    size_t injectionsBefore = 0;  ///< challenger sets drawn before the kidnapping
-    bool cloudSizeKept = true;    ///< the cloud kept its 2000 particles at every step
-};
-
-/** Tracks 60 steps along the paper world's first leg, is kidnapped to its third leg (the
- *  odometry unaware) and drives 60 more steps, with the evidence trigger and challenger
- *  sets of `frames` frames, on `threads` threads; `afterStep` is called after every step. */
-KidnapResult kidnapped(
+/** The paper world's kidnapping (KidnapRun.h) with the evidence trigger and challenger sets
+ *  of `frames` frames, on `threads` threads. */
+semloc::test::KidnapRun kidnapped(
     size_t threads, size_t frames,
-    const std::function<void(CParallelMonteCarloLocalization2D&)>& afterStep = {})
+    const std::function<void(CParallelMonteCarloLocalization2D&, int)>& afterStep = {})
 {
-    const auto world = semloc::World::FromFile(kPaperWorld);
-    auto sem = semloc::CSemanticMap::Create();
-    sem->likelihoodOptions.model = semloc::CSemanticMap::Model::Probabilistic;
-    sem->loadFromWorld(world);
-    auto map = mrpt::maps::CMultiMetricMap::Create();
-    map->maps.push_back(sem);
-    mrpt::bayes::CParticleFilter pf;
-    pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
-    KidnapResult r;
-    r.pdf = std::make_unique<CParallelMonteCarloLocalization2D>();
-    auto& pdf = *r.pdf;
-    pdf.options.metricMap = map;
-    pdf.setExecutor(std::make_shared<ParallelExecutor>(threads));
-    pdf.setFreeSpaceSampler(
-        std::make_shared<semloc::FreeSpaceSampler>(semloc::FreeSpaceSampler::FromWorld(world)));
     semloc::AugmentedMCL::TOptions ro;
     ro.trigger = semloc::RecoveryTrigger::Evidence;
     ro.injected_weight = 3e-6;
     ro.challenger_frames = frames;
-    pdf.setRecoveryOptions(ro);
-    mrpt::random::getRandomGenerator().randomize(3);
-    pdf.resetUniform(4.5, 5.5, 3.5, 4.5, -0.05, 0.05, 2000);
-    TPose2D truth(5, 4, 0);
-    auto step = [&](double dx)
-    {
-        truth.x += dx;
-        const auto acts = semloc::test::gaussianOdometry(mrpt::poses::CPose2D(0.5, 0, 0));
-        mrpt::obs::CSensoryFrame sf;
-        sf.insert(
-            std::make_shared<semloc::CObservationSemantic>(semloc::test::observe(world, truth)));
-        pf.executeOn(pdf, &acts, &sf);
-        r.cloudSizeKept = r.cloudSizeKept && pdf.size() == 2000;
-        if (afterStep)
-        {
-            afterStep(pdf);
-        }
-    };
-    for (int k = 0; k < 60; k++)
-    {
-        step(0.5);
-    }
-    r.injectionsBefore = pdf.recoveryStats().injection_steps;
-    truth = TPose2D(45, 30, M_PI);
-    for (int k = 0; k < 60; k++)
-    {
-        step(-0.5);
-    }
-    r.error = std::hypot(pdf.getMeanVal().x() - truth.x, pdf.getMeanVal().y() - truth.y);
-    return r;
+    return semloc::test::kidnapOnPaperWorld(threads, ro, afterStep);
 }
 }  // namespace
 
@@ -192,7 +129,7 @@ TEST(ChallengerSet, KidnappedFilterRecoversThroughAChallengerSet)
 {
     const auto r = kidnapped(2, 20);
     const auto& st = r.pdf->recoveryStats();
-    EXPECT_EQ(r.injectionsBefore, 0u) << "tracking: the trigger never fired";
+    EXPECT_EQ(r.injectionsTracking, 0u) << "tracking: the trigger never fired";
     EXPECT_GT(st.injection_steps, 0u);
     EXPECT_GE(st.challenger_merges, 1u);
     EXPECT_EQ(st.reinitializations, 0u);
@@ -222,7 +159,7 @@ TEST(ChallengerSet, ANewMotionModelDropsALiveSet)
     // entering the next step's pass with states of the wrong size.
     bool switched = false;
     const auto r = kidnapped(1, 20,
-                             [&](CParallelMonteCarloLocalization2D& pdf)
+                             [&](CParallelMonteCarloLocalization2D& pdf, int)
                              {
                                  if (!switched && pdf.recoveryStats().injection_steps == 1)
                                  {
