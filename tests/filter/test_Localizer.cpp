@@ -1,5 +1,6 @@
 /* semloc tests — Localizer: its options, the step API in both rawlog formats, the initial
- * clouds, very uncertain odometry, observations that cannot be scored. */
+ * clouds, a new run's recovery trigger, very uncertain odometry, observations that cannot
+ * be scored. */
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
@@ -343,6 +344,39 @@ TEST(Localizer, VeryUncertainOdometryStillMovesTheParticles)
     const auto before = loc.mean();
     loc.step(mrpt::obs::CSensoryFrame());
     EXPECT_NEAR(loc.mean().x() - before.x(), 10, 1);
+}
+
+TEST(Localizer, ResetStartsTheRecoveryTriggerAfresh)
+{
+    // A filter sure of a wrong place accumulates the evidence trigger's shortfall until it
+    // injects; reset() (a new run) starts the trigger from zero.
+    const auto world = semloc::World::FromFile(kPaperWorld);
+    const auto sim = simulate(80);
+    Localizer::TOptions o = gaussianStart(500);
+    o.init_PDF_mean_x = 40;
+    o.init_PDF_mean_y = 40;
+    o.init_PDF_std_xy = 0.3;
+    o.threads = 1;
+    o.recovery.trigger = semloc::RecoveryTrigger::Evidence;
+    Localizer loc(o, semanticMap(world), &world);
+    const auto step = [&](size_t i)
+    { loc.step(*sim.rawlog.getAsAction(i), *sim.rawlog.getAsObservations(i + 1)); };
+    size_t i = 0;
+    for (; i + 1 < sim.rawlog.size() && loc.pdf().lastInjectionProbability() == 0; i += 2)
+    {
+        step(i);
+    }
+    ASSERT_GT(loc.pdf().lastInjectionProbability(), 0) << "the wrong start never triggered";
+    ASSERT_GE(loc.pdf().recoveryShortfall(), o.recovery.evidence_threshold);
+    const size_t injected = loc.recoveryStats().injection_steps;
+
+    loc.reset();
+    EXPECT_EQ(loc.pdf().recoveryShortfall(), 0);
+    EXPECT_EQ(loc.recoveryStats().injection_steps, injected) << "the counters keep counting";
+    ASSERT_LT(i + 1, sim.rawlog.size());
+    step(i);  // one frame alone cannot reach a fresh trigger's threshold
+    EXPECT_LE(loc.pdf().recoveryShortfall(), o.recovery.evidence_threshold / 2);
+    EXPECT_EQ(loc.pdf().lastInjectionProbability(), 0);
 }
 
 TEST(Localizer, ObservationsThatCannotBeScoredAreLeftOutAndCounted)

@@ -170,6 +170,11 @@ double CParallelMonteCarloLocalization2D::lastInjectionProbability() const
     return m_recovery->lastInjectionProbability();
 }
 
+double CParallelMonteCarloLocalization2D::recoveryShortfall() const
+{
+    return m_recovery->shortfall();
+}
+
 double CParallelMonteCarloLocalization2D::detectorOutageProbability() const
 {
     return m_likelihood ? m_likelihood->detectorOutageProbability() : 0;
@@ -182,6 +187,11 @@ void CParallelMonteCarloLocalization2D::resetDetectorOutage()
         m_likelihood->resetState();
     }
     m_deadReckoning = TPose2D(0, 0, 0);
+}
+
+void CParallelMonteCarloLocalization2D::resetRecoveryTrigger()
+{
+    m_recovery->restart();
 }
 
 SensoryFrameLikelihood::TStats CParallelMonteCarloLocalization2D::likelihoodStats() const

@@ -371,6 +371,7 @@ void Localizer::reset()
     m_seededFromDetections = false;
     m_initializedFromDetections = 0;
     m_pdf->resetDetectorOutage();
+    m_pdf->resetRecoveryTrigger();
     // The maps count for every user: this filter's share is what it adds from here.
     m_approximatedBefore = associationsApproximatedNow();
     switch (o.init_PDF_mode)

@@ -100,6 +100,13 @@ void RecoveryPolicy::merged()
     m_augmented.reset();
 }
 
+void RecoveryPolicy::restart()
+{
+    m_challengers.clear();
+    m_augmented.reset();
+    m_lastPInject = 0;
+}
+
 void RecoveryPolicy::reinitialize(ParticleStore& store, const mrpt::obs::CSensoryFrame& sf,
                                   const mrpt::maps::CMetricMap* map)
 {

@@ -81,6 +81,9 @@ public:
     ChallengerSet::Verdict judgeChallengers(double cloudLogWAvg, double beta, ParallelExecutor& ex);
     /** The challengers joined the cloud: counted, the set forgotten, the trigger restarted. */
     void merged();
+    /** A new run: the trigger forgets its averages and shortfall, a live challenger set is
+     *  dropped; the counters keep counting. */
+    void restart();
     /** Every weight vanished: every particle re-drawn (with a sampler; else the poses
      *  stay), log-weights 0; the trigger forgets its averages. */
     void reinitialize(ParticleStore& store, const mrpt::obs::CSensoryFrame& sf,
@@ -88,6 +91,8 @@ public:
 
     /** The share injected at the last trigger() (0 when off or after a re-initialization). */
     double lastInjectionProbability() const { return m_lastPInject; }
+    /** The evidence trigger's shortfall (AugmentedMCL::shortfall()). */
+    double shortfall() const { return m_augmented.shortfall(); }
     const TStats& stats() const { return m_stats; }
     /** Counts particles the free-space prior found outside the free space. */
     void countOutside(size_t n) { m_stats.outside_free_space += n; }

@@ -209,6 +209,9 @@ public:
     const TRecoveryStats& recoveryStats() const;
     /** Augmented MCL's p_inject at the last update (0 when off). */
     double lastInjectionProbability() const;
+    /** The evidence trigger's shortfall S [nats] after the last frame (AugmentedMCL; 0 with
+     *  another trigger and after resetRecoveryTrigger()). */
+    double recoveryShortfall() const;
     /** The probability that the semantic detector is out after the last frame (the outage
      *  model, CSemanticMap's outage_every_s > 0; 0 while it has seen no frame). */
     double detectorOutageProbability() const;
@@ -216,6 +219,9 @@ public:
      *  outage probability and the look-alikes' memory (CSemanticMap's
      *  lookalike_persistence). */
     void resetDetectorOutage();
+    /** Forgets the recovery trigger's state (a new run): its averages or evidence shortfall,
+     *  and a live challenger set; recoveryStats() keeps counting. */
+    void resetRecoveryTrigger();
     /** ESS() at the end of the last step, before its resampling (see "Resampling"). */
     double essBeforeResampling() const { return m_essBeforeResampling; }
     /** @} */

@@ -233,7 +233,10 @@ public:
     void setOdometry(const mrpt::obs::CObservationOdometry& odo);
     /** One step, observations-only format (see setOdometry()). */
     void step(const mrpt::obs::CSensoryFrame& sf);
-    /** Draws the initial particles again (init_PDF_mode); the generator is not re-seeded. */
+    /** A new run: draws the initial particles again (init_PDF_mode) and forgets what the
+     *  filter kept from frame to frame (the detector outage, the look-alikes' memory, the
+     *  recovery trigger's averages or shortfall and its challenger set, the odometry
+     *  delay); the generator is not re-seeded and the counters keep counting. */
     void reset();
     /** @} */
 
