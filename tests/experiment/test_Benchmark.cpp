@@ -238,7 +238,7 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
               b.scenarios()[1].simulation().detector.p_detect_near);
     // The filter without defences for real data, the shipped one without recovery, with
     // augmented MCL's trigger, the shipped one, and that with a heading drift state.
-    ASSERT_EQ(all.variants().size(), 6u);
+    ASSERT_EQ(all.variants().size(), 7u);
     EXPECT_EQ(all.variants()[0].name(), "semantic_basic");
     EXPECT_EQ(all.variants()[1].name(), "semantic_norecovery");
     EXPECT_EQ(all.variants()[2].name(), "semantic_amcl");
@@ -258,6 +258,10 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.variants()[5].name(), "semantic_challengers");
     EXPECT_EQ(all.variants()[3].options.filter.recovery.challenger_frames, 0u);
     EXPECT_EQ(all.variants()[5].options.filter.recovery.challenger_frames, 20u);
+    // And re-seeding its particles while they are spread.
+    EXPECT_EQ(all.variants()[6].name(), "semantic_lost");
+    EXPECT_EQ(all.variants()[3].options.filter.recovery.lost_var_xy_m2, 0.0);
+    EXPECT_EQ(all.variants()[6].options.filter.recovery.lost_var_xy_m2, 10.0);
 }
 
 TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
@@ -270,15 +274,19 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
     EXPECT_TRUE(b.scenarios()[1].simulation().kidnapping.enabled);
     for (const auto& sc : b.scenarios())
     {
-        ASSERT_EQ(sc.variants().size(), 5u);
+        ASSERT_EQ(sc.variants().size(), 6u);
         // No scenario turns recovery on: semantic_norecovery runs without, semantic_amcl with
         // augmented MCL's trigger, semantic (shipped) with the evidence trigger, both with
         // injected particles at 3e-6 of a resampled one's weight; semantic_nodrift is semantic
-        // without the heading drift state, semantic_challengers semantic with a challenger set.
+        // without the heading drift state, semantic_challengers semantic with a challenger set,
+        // semantic_lost semantic re-seeding while its particles are spread.
         EXPECT_EQ(sc.variants()[1].name(), "semantic_amcl");
         EXPECT_EQ(sc.variants()[4].name(), "semantic_challengers");
         EXPECT_EQ(sc.variants()[4].options.filter.recovery.challenger_frames, 20u);
         EXPECT_EQ(sc.variants()[2].options.filter.recovery.challenger_frames, 0u);
+        EXPECT_EQ(sc.variants()[5].name(), "semantic_lost");
+        EXPECT_EQ(sc.variants()[5].options.filter.recovery.lost_var_xy_m2, 10.0);
+        EXPECT_EQ(sc.variants()[2].options.filter.recovery.lost_var_xy_m2, 0.0);
         EXPECT_EQ(sc.variants()[2].name(), "semantic");
         EXPECT_EQ(sc.variants()[3].name(), "semantic_nodrift");
         EXPECT_FALSE(sc.variants()[3].options.filter.motion_model.headingDrift());
@@ -369,10 +377,10 @@ TEST(Benchmark, ShippedChangedWorldIniSimulatesInAChangedWorld)
     EXPECT_EQ(all.world_changes.added, 5);
     EXPECT_EQ(b.scenarios()[1].scenario().world_changes.removed_share, 0.0);
     const semloc::World paper = semloc::World::FromFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
-    // The variants carry their map file's map, all of it: the exact one, and for the last the
-    // surveyed one, whose objects carry how sure the map is of them.
+    // The variants carry their map file's map, all of it: the exact one, and for
+    // semantic_surveyed the surveyed one, whose objects carry how sure the map is of them.
     const auto& variants = b.scenarios()[4].variants();
-    ASSERT_EQ(variants.size(), 5u);
+    ASSERT_EQ(variants.size(), 6u);
     for (const auto& v : variants)
     {
         ASSERT_TRUE(v.maps.world.has_value());
@@ -380,7 +388,7 @@ TEST(Benchmark, ShippedChangedWorldIniSimulatesInAChangedWorld)
         const auto sem = v.maps.map->mapByClass<semloc::CSemanticMap>();
         ASSERT_TRUE(sem);
         const bool surveyed = v.name() == "semantic_surveyed";
-        EXPECT_EQ(surveyed, &v == &variants.back());
+        EXPECT_EQ(surveyed, &v == &variants[4]);
         for (const auto& o : sem->objects())
         {
             EXPECT_EQ(o.sigma_m, surveyed ? 0.5 : 0.0) << v.name();

@@ -616,6 +616,7 @@ TEST(ShippedConfigs, SemanticVariantsNameTheirBaseAndSetTheirKeysOnly)
         {"semantic_norecovery", "semantic", {{"trigger", "off"}}},
         {"semantic_nodrift", "semantic", {{"heading_drift_walk_deg_per_min", "0"}}},
         {"semantic_challengers", "semantic", {{"challenger_frames", "20"}}},
+        {"semantic_lost", "semantic", {{"lost_var_xy_m2", "10"}}},
         {"semantic_amcl",
          "semantic",
          {{"trigger", "amcl"}, {"alpha_slow", "0.001"}, {"alpha_fast", "0.1"}}},

@@ -223,6 +223,14 @@ Cases iniModelCases()
          [](const fs::path& d) {
              return localizeGood(d, "", {{"challenger_frames", "-1"}});
          }},
+        {"ini-recovery-lost-without-recovery",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"trigger", "off"}, {"lost_var_xy_m2", "10"}});
+         }},
+        {"ini-recovery-lost-var-negative",
+         [](const fs::path& d) {
+             return localizeGood(d, "", {{"lost_var_xy_m2", "-1"}});
+         }},
         {"ini-kld-at-resampling-without-kld",
          [](const fs::path& d) {
              return localizeGood(d, "", {{"kld_at_resampling", "1"}});

@@ -421,13 +421,16 @@ bool CParallelMonteCarloLocalization2D::recoverAfterUpdate(
         }
         return true;
     }
-    if (pInject > 0)
+    const bool lost =
+        pInject == 0 && m_recovery->lost(*m_store, sf, options.metricMap.get(), *m_executor);
+    if (pInject > 0 || lost)
     {
         // Table 8.3: the set resampled, then each particle replaced with probability p_inject.
         detail::shiftLogWeights(particles, *m_executor,
                                 detail::minMaxLogWeights(particles, *m_executor).max);
         resampleStore(PF_options);
-        m_recovery->inject(*m_store, pInject, sf, options.metricMap.get());
+        m_recovery->inject(*m_store, lost ? m_recovery->options().inject_share : pInject, sf,
+                           options.metricMap.get(), lost);
         return false;  // resampled and partly replaced: scan the weights again
     }
     return true;

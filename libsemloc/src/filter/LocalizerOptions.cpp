@@ -29,8 +29,8 @@ const char* const kRec = "Recovery";
 
 /** The [Recovery] keys; each was [PF_options] recovery_<key> before. */
 const std::vector<std::string> kRecoveryKeys = {
-    "trigger",      "alpha_slow",      "alpha_fast",      "evidence_margin",  "evidence_threshold",
-    "inject_share", "from_detections", "injected_weight", "challenger_frames"};
+    "trigger",      "alpha_slow",      "alpha_fast",      "evidence_margin",   "evidence_threshold",
+    "inject_share", "from_detections", "injected_weight", "challenger_frames", "lost_var_xy_m2"};
 
 /** Where a [Recovery] key is read: its section and name there. */
 struct KeyPlace
@@ -247,6 +247,7 @@ void loadRecovery(const mrpt::config::CConfigFileBase& c, const std::map<std::st
     readInt(c, at.at("challenger_frames").section, at.at("challenger_frames").key, frames, 0,
             1000000);
     r.challenger_frames = static_cast<size_t>(frames);
+    num("lost_var_xy_m2", r.lost_var_xy_m2, 0, 1e12);
 }
 
 /** The [PF_options] and [Recovery] combinations MRPT or semloc do not implement (a recovery
@@ -297,6 +298,11 @@ void checkParticleFilter(const Localizer::TOptions& o, const std::map<std::strin
     {
         badRec(o.recovery.trigger == RecoveryTrigger::Amcl ? "alpha_slow" : "trigger",
                "recovery needs [PF_options] PF_algorithm = 0 (pfStandardProposal)");
+    }
+    if (recoveryOff && o.recovery.lost_var_xy_m2 > 0)
+    {
+        badRec("lost_var_xy_m2", "the sensor resetting while lost is part of the recovery: set " +
+                                     name("trigger") + " (amcl or evidence) or 0 here");
     }
     if (!recoveryOff && o.recovery.challenger_frames > 0 && o.pf.adaptiveSampleSize &&
         !o.kld_at_resampling)
@@ -479,6 +485,8 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
         "weight of an injected particle relative to a resampled one, (0, 1]");
     put(c, kRec, "challenger_frames", std::to_string(recovery.challenger_frames),
         "0: injected into the cloud; n: a challenger set, at most n frames");
+    put(c, kRec, "lost_var_xy_m2", recovery.lost_var_xy_m2,
+        "lost above this x-y variance [m^2]: detections re-seed the cloud; 0: off");
     motion_model.saveToConfigFile(c, MotionModel::kSection);
 }
 

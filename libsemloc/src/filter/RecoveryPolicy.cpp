@@ -12,6 +12,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
+
+#include "filter/Estimate.h"
+#include "filter/Weights.h"
 
 namespace semloc::detail
 {
@@ -174,15 +178,32 @@ bool RecoveryPolicy::drawRecoveryPose(const std::optional<DetectionPoseSampler>&
     return false;
 }
 
+bool RecoveryPolicy::lost(ParticleStore& store, const mrpt::obs::CSensoryFrame& sf,
+                          const mrpt::maps::CMetricMap* map, ParallelExecutor& ex) const
+{
+    const double limit = m_augmented.options().lost_var_xy_m2;
+    if (limit <= 0 || !m_sampler || !detectionSampler(sf, map))
+    {
+        return false;
+    }
+    auto& particles = store.particles;
+    shiftLogWeights(particles, ex, minMaxLogWeights(particles, ex).max);
+    std::vector<double> w;
+    const auto [cov, mean] = covarianceAndMean(particles, ex, w);
+    (void)mean;
+    return cov(0, 0) + cov(1, 1) > limit;
+}
+
 void RecoveryPolicy::inject(ParticleStore& store, double pInject,
-                            const mrpt::obs::CSensoryFrame& sf, const mrpt::maps::CMetricMap* map)
+                            const mrpt::obs::CSensoryFrame& sf, const mrpt::maps::CMetricMap* map,
+                            bool lost)
 {
     // Table 8.3: each particle of the resampled set is, with probability p_inject, a
     // random pose instead.
     auto& rng = mrpt::random::getRandomGenerator();
     const auto detections = detectionSampler(sf, map);
     size_t injected = 0, fromDet = 0;
-    const double logW = std::log(m_augmented.options().injected_weight);
+    const double logW = lost ? 0.0 : std::log(m_augmented.options().injected_weight);
     for (auto& p : store.particles)
     {
         if (rng.drawUniform(0.0, 1.0) < pInject)
@@ -197,6 +218,7 @@ void RecoveryPolicy::inject(ParticleStore& store, double pInject,
         m_stats.injection_steps++;
         m_stats.injected_particles += injected;
         m_stats.injected_from_detections += fromDet;
+        m_stats.lost_injection_steps += lost ? 1 : 0;
     }
 }
 }  // namespace semloc::detail

@@ -65,9 +65,15 @@ public:
     /** A weighted frame that does not feed the trigger (lastInjectionProbability() 0). */
     void noTrigger() { m_lastPInject = 0; }
     /** Replaces each particle of `store` (just resampled) with probability `pInject` by a
-     *  recovery pose of log-weight log(injected_weight). */
+     *  recovery pose of log-weight log(injected_weight), or 0 (a resampled particle's) when
+     *  `lost` (the sensor resetting while lost, counted as such). */
     void inject(ParticleStore& store, double pInject, const mrpt::obs::CSensoryFrame& sf,
-                const mrpt::maps::CMetricMap* map);
+                const mrpt::maps::CMetricMap* map, bool lost = false);
+    /** The sensor resetting while lost is due (lost_var_xy_m2 > 0, a sampler): `sf` holds a
+     *  detection the map can place and the weighted x-y variance of `store` (its log-weights
+     *  first shifted to a maximum of 0) is above lost_var_xy_m2. */
+    bool lost(ParticleStore& store, const mrpt::obs::CSensoryFrame& sf,
+              const mrpt::maps::CMetricMap* map, ParallelExecutor& ex) const;
     /** True when injected particles form a challenger set (challenger_frames > 0) instead of
      *  replacing particles of the cloud. */
     bool challenges() const { return m_augmented.options().challenger_frames > 0; }

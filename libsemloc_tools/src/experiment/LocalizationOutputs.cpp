@@ -185,6 +185,8 @@ std::string summaryYaml(const LocalizationExperiment::TResult& res,
       << "injected_from_detections: " << res.recovery.injected_from_detections << "\n"
       << "# challenger sets ([Recovery] challenger_frames) that joined the cloud\n"
       << "challenger_merges: " << res.recovery.challenger_merges << "\n"
+      << "# of injection_steps, the sensor resetting while lost ([Recovery] lost_var_xy_m2)\n"
+      << "lost_injection_steps: " << res.recovery.lost_injection_steps << "\n"
       << "# free_space_prior: particle updates found outside the free space (weight 0)\n"
       << "outside_free_space: " << res.recovery.outside_free_space << "\n"
       << "# range-scan beams with a NaN, infinite, negative or beyond-max range (skipped)\n"

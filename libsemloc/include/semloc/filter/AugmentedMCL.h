@@ -91,6 +91,16 @@ public:
          *  reach 1, are dropped when they fall to injected_weight^2 or after n weighted
          *  frames. */
         std::size_t challenger_frames = 0;
+        /** Sensor resetting while lost [m^2]: while the weighted particles' x-y variance
+         *  (the trace of their x-y covariance) is above this, every weighed frame with a
+         *  detection the map can place replaces inject_share of the resampled particles by
+         *  recovery poses (from_detections of them from its detections) of a resampled
+         *  particle's weight, when the trigger does not fire: the particles of a cloud spread
+         *  this wide stand for a belief no denser where they are than where a detection
+         *  puts a pose (a global start whose first detections were clutter, a look-alike
+         *  place taken for the true one before the cloud closes in). Into the cloud, also
+         *  with challenger_frames. 0: off. */
+        double lost_var_xy_m2 = 0;
 
         /** True when recovery is on. */
         bool enabled() const

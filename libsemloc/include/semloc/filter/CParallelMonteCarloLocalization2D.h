@@ -130,16 +130,19 @@ public:
         size_t reinitializations = 0;
         /** Particles of re-initializations drawn from a semantic detection (recovery on). */
         size_t reinitialized_from_detections = 0;
-        /** Particles replaced by random poses by augmented MCL. */
+        /** Particles replaced by random poses by the recovery (its trigger, or while lost). */
         size_t injected_particles = 0;
         /** Of injected_particles, those drawn from a semantic detection. */
         size_t injected_from_detections = 0;
-        /** Updates in which augmented MCL injected particles. */
+        /** Updates in which the recovery injected particles. */
         size_t injection_steps = 0;
         /** Challenger sets that joined the cloud (AugmentedMCL::TOptions::challenger_frames;
          *  each set drawn counts once in injection_steps, its particles in
          *  injected_particles). */
         size_t challenger_merges = 0;
+        /** Of injection_steps, those of the sensor resetting while lost
+         *  (AugmentedMCL::TOptions::lost_var_xy_m2). */
+        size_t lost_injection_steps = 0;
         /** Particle updates that found the particle outside the free space (prior on). */
         size_t outside_free_space = 0;
     };
