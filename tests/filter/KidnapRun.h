@@ -1,5 +1,6 @@
-/* semloc tests — a kidnapping on the paper world: the semantic-only filter with recovery
- * tracks the first leg, is moved to the third, the odometry unaware. */
+/* semloc tests — the semantic-only filter over a world's objects, and a kidnapping on the
+ * paper world: the filter with recovery tracks the first leg, is moved to the third, the
+ * odometry unaware. */
 #pragma once
 
 #include <mrpt/bayes/CParticleFilter.h>
@@ -20,6 +21,25 @@
 
 namespace semloc::test
 {
+/** A semantic-only filter (the probabilistic model) over the objects of `world`, on `threads`
+ *  threads, with recovery `recovery` drawing from `world`'s free space. */
+inline std::unique_ptr<CParallelMonteCarloLocalization2D> semanticOnlyFilter(
+    const World& world, size_t threads, const AugmentedMCL::TOptions& recovery)
+{
+    auto sem = CSemanticMap::Create();
+    sem->likelihoodOptions.model = CSemanticMap::Model::Probabilistic;
+    sem->loadFromWorld(world);
+    auto map = mrpt::maps::CMultiMetricMap::Create();
+    map->maps.push_back(sem);
+    auto pdf = std::make_unique<CParallelMonteCarloLocalization2D>();
+    pdf->options.metricMap = map;
+    pdf->setExecutor(std::make_shared<ParallelExecutor>(threads));
+    pdf->setFreeSpaceSampler(
+        std::make_shared<FreeSpaceSampler>(FreeSpaceSampler::FromWorld(world)));
+    pdf->setRecoveryOptions(recovery);
+    return pdf;
+}
+
 /** What kidnapOnPaperWorld() saw. */
 struct KidnapRun
 {
@@ -40,20 +60,11 @@ inline KidnapRun kidnapOnPaperWorld(
     const std::function<void(CParallelMonteCarloLocalization2D&, int)>& afterStep = {})
 {
     const auto world = World::FromFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
-    auto sem = CSemanticMap::Create();
-    sem->likelihoodOptions.model = CSemanticMap::Model::Probabilistic;
-    sem->loadFromWorld(world);
-    auto map = mrpt::maps::CMultiMetricMap::Create();
-    map->maps.push_back(sem);
     mrpt::bayes::CParticleFilter pf;
     pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
     KidnapRun r;
-    r.pdf = std::make_unique<CParallelMonteCarloLocalization2D>();
+    r.pdf = semanticOnlyFilter(world, threads, recovery);
     auto& pdf = *r.pdf;
-    pdf.options.metricMap = map;
-    pdf.setExecutor(std::make_shared<ParallelExecutor>(threads));
-    pdf.setFreeSpaceSampler(std::make_shared<FreeSpaceSampler>(FreeSpaceSampler::FromWorld(world)));
-    pdf.setRecoveryOptions(recovery);
     mrpt::random::getRandomGenerator().randomize(3);
     pdf.resetUniform(4.5, 5.5, 3.5, 4.5, -0.05, 0.05, 2000);
     mrpt::math::TPose2D truth(5, 4, 0);

@@ -3,14 +3,10 @@
  * tracking or without a detection, the same bits on any thread count. */
 #include <gtest/gtest.h>
 #include <mrpt/bayes/CParticleFilter.h>
-#include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/AugmentedMCL.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
-#include <semloc/filter/FreeSpaceSampler.h>
-#include <semloc/filter/ParallelExecutor.h>
-#include <semloc/maps/CSemanticMap.h>
 
 #include <algorithm>
 #include <cmath>
@@ -61,21 +57,11 @@ LostRun globalStart(size_t threads, const semloc::AugmentedMCL::TOptions& ro, in
                     bool blind = false)
 {
     const auto world = semloc::World::FromFile(SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml");
-    auto sem = semloc::CSemanticMap::Create();
-    sem->likelihoodOptions.model = semloc::CSemanticMap::Model::Probabilistic;
-    sem->loadFromWorld(world);
-    auto map = mrpt::maps::CMultiMetricMap::Create();
-    map->maps.push_back(sem);
     mrpt::bayes::CParticleFilter pf;
     pf.m_options.resamplingMethod = mrpt::bayes::CParticleFilter::prSystematic;
     LostRun r;
-    r.pdf = std::make_unique<CParallelMonteCarloLocalization2D>();
+    r.pdf = semloc::test::semanticOnlyFilter(world, threads, ro);
     auto& pdf = *r.pdf;
-    pdf.options.metricMap = map;
-    pdf.setExecutor(std::make_shared<semloc::ParallelExecutor>(threads));
-    pdf.setFreeSpaceSampler(
-        std::make_shared<semloc::FreeSpaceSampler>(semloc::FreeSpaceSampler::FromWorld(world)));
-    pdf.setRecoveryOptions(ro);
     mrpt::random::getRandomGenerator().randomize(5);
     pdf.resetUniform(0, 50, 0, 50, -M_PI, M_PI, 2000);
     const semloc::test::DetectorSim detector;
