@@ -421,19 +421,23 @@ bool CParallelMonteCarloLocalization2D::recoverAfterUpdate(
         }
         return true;
     }
-    const bool lost =
-        pInject == 0 && m_recovery->lost(*m_store, sf, options.metricMap.get(), *m_executor);
-    if (pInject > 0 || lost)
+    const bool mayReseed = pInject == 0 && m_recovery->reseedable(sf, options.metricMap.get());
+    if (pInject == 0 && !mayReseed)
     {
-        // Table 8.3: the set resampled, then each particle replaced with probability p_inject.
-        detail::shiftLogWeights(particles, *m_executor,
-                                detail::minMaxLogWeights(particles, *m_executor).max);
-        resampleStore(PF_options);
-        m_recovery->inject(*m_store, lost ? m_recovery->options().inject_share : pInject, sf,
-                           options.metricMap.get(), lost);
-        return false;  // resampled and partly replaced: scan the weights again
+        return true;
     }
-    return true;
+    // Table 8.3: the set resampled, then each particle replaced with probability p_inject.
+    detail::shiftLogWeights(particles, *m_executor,
+                            detail::minMaxLogWeights(particles, *m_executor).max);
+    const bool lost = mayReseed && m_recovery->spread(particles, *m_executor);
+    if (!lost && pInject == 0)
+    {
+        return true;
+    }
+    resampleStore(PF_options);
+    m_recovery->inject(*m_store, lost ? m_recovery->options().inject_share : pInject, sf,
+                       options.metricMap.get(), lost);
+    return false;  // resampled and partly replaced: scan the weights again
 }
 
 void CParallelMonteCarloLocalization2D::mergeChallengers()

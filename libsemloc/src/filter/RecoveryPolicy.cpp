@@ -15,7 +15,6 @@
 #include <vector>
 
 #include "filter/Estimate.h"
-#include "filter/Weights.h"
 
 namespace semloc::detail
 {
@@ -178,20 +177,18 @@ bool RecoveryPolicy::drawRecoveryPose(const std::optional<DetectionPoseSampler>&
     return false;
 }
 
-bool RecoveryPolicy::lost(ParticleStore& store, const mrpt::obs::CSensoryFrame& sf,
-                          const mrpt::maps::CMetricMap* map, ParallelExecutor& ex) const
+bool RecoveryPolicy::reseedable(const mrpt::obs::CSensoryFrame& sf,
+                                const mrpt::maps::CMetricMap* map) const
 {
-    const double limit = m_augmented.options().lost_var_xy_m2;
-    if (limit <= 0 || !m_sampler || !detectionSampler(sf, map))
-    {
-        return false;
-    }
-    auto& particles = store.particles;
-    shiftLogWeights(particles, ex, minMaxLogWeights(particles, ex).max);
+    return m_augmented.options().lost_var_xy_m2 > 0 && m_sampler && detectionSampler(sf, map);
+}
+
+bool RecoveryPolicy::spread(const ParticleList& particles, ParallelExecutor& ex) const
+{
     std::vector<double> w;
     const auto [cov, mean] = covarianceAndMean(particles, ex, w);
     (void)mean;
-    return cov(0, 0) + cov(1, 1) > limit;
+    return cov(0, 0) + cov(1, 1) > m_augmented.options().lost_var_xy_m2;
 }
 
 void RecoveryPolicy::inject(ParticleStore& store, double pInject,

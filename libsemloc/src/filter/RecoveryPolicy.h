@@ -69,11 +69,12 @@ public:
      *  `lost` (the sensor resetting while lost, counted as such). */
     void inject(ParticleStore& store, double pInject, const mrpt::obs::CSensoryFrame& sf,
                 const mrpt::maps::CMetricMap* map, bool lost = false);
-    /** The sensor resetting while lost is due (lost_var_xy_m2 > 0, a sampler): `sf` holds a
-     *  detection the map can place and the weighted x-y variance of `store` (its log-weights
-     *  first shifted to a maximum of 0) is above lost_var_xy_m2. */
-    bool lost(ParticleStore& store, const mrpt::obs::CSensoryFrame& sf,
-              const mrpt::maps::CMetricMap* map, ParallelExecutor& ex) const;
+    /** The sensor resetting while lost could act on `sf` (lost_var_xy_m2 > 0, a sampler, a
+     *  detection the map can place); whether it does is spread()'s. */
+    bool reseedable(const mrpt::obs::CSensoryFrame& sf, const mrpt::maps::CMetricMap* map) const;
+    /** The weighted x-y variance of `particles` (log-weights of maximum 0) is above
+     *  lost_var_xy_m2: the cloud is lost. */
+    bool spread(const ParticleList& particles, ParallelExecutor& ex) const;
     /** True when injected particles form a challenger set (challenger_frames > 0) instead of
      *  replacing particles of the cloud. */
     bool challenges() const { return m_augmented.options().challenger_frames > 0; }
