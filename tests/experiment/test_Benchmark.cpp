@@ -55,6 +55,20 @@ std::string errorOf(const std::string& path)
     }
     return {};
 }
+
+/** `variants[shipped]` is semantic.ini's recovery, `variants[challengers]` it with a challenger
+ *  set of 20 frames, `variants[lost]` it re-seeded while the particles are spread (10 m²). */
+template <typename Variants>
+void expectRecoveryVariants(const Variants& variants, size_t shipped, size_t challengers,
+                            size_t lost)
+{
+    EXPECT_EQ(variants[challengers].name(), "semantic_challengers");
+    EXPECT_EQ(variants[shipped].options.filter.recovery.challenger_frames, 0u);
+    EXPECT_EQ(variants[challengers].options.filter.recovery.challenger_frames, 20u);
+    EXPECT_EQ(variants[lost].name(), "semantic_lost");
+    EXPECT_EQ(variants[shipped].options.filter.recovery.lost_var_xy_m2, 0.0);
+    EXPECT_EQ(variants[lost].options.filter.recovery.lost_var_xy_m2, 10.0);
+}
 }  // namespace
 
 TEST(Benchmark, ShippedIniIsThePapersExperimentWithOneParticleBudgetForAllVariants)
@@ -254,14 +268,9 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.variants()[3].options.filter.motion_model.heading_drift_walk_deg_per_min, 5.0);
     EXPECT_FALSE(all.variants()[4].options.filter.motion_model.headingDrift());
     EXPECT_FALSE(all.variants()[0].options.filter.motion_model.headingDrift());
-    // The shipped filter with its injected particles in a challenger set.
-    EXPECT_EQ(all.variants()[5].name(), "semantic_challengers");
-    EXPECT_EQ(all.variants()[3].options.filter.recovery.challenger_frames, 0u);
-    EXPECT_EQ(all.variants()[5].options.filter.recovery.challenger_frames, 20u);
-    // And re-seeding its particles while they are spread.
-    EXPECT_EQ(all.variants()[6].name(), "semantic_lost");
-    EXPECT_EQ(all.variants()[3].options.filter.recovery.lost_var_xy_m2, 0.0);
-    EXPECT_EQ(all.variants()[6].options.filter.recovery.lost_var_xy_m2, 10.0);
+    // The shipped filter with its injected particles in a challenger set, and re-seeding its
+    // particles while they are spread.
+    expectRecoveryVariants(all.variants(), 3, 5, 6);
 }
 
 TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
@@ -281,12 +290,7 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
         // without the heading drift state, semantic_challengers semantic with a challenger set,
         // semantic_lost semantic re-seeding while its particles are spread.
         EXPECT_EQ(sc.variants()[1].name(), "semantic_amcl");
-        EXPECT_EQ(sc.variants()[4].name(), "semantic_challengers");
-        EXPECT_EQ(sc.variants()[4].options.filter.recovery.challenger_frames, 20u);
-        EXPECT_EQ(sc.variants()[2].options.filter.recovery.challenger_frames, 0u);
-        EXPECT_EQ(sc.variants()[5].name(), "semantic_lost");
-        EXPECT_EQ(sc.variants()[5].options.filter.recovery.lost_var_xy_m2, 10.0);
-        EXPECT_EQ(sc.variants()[2].options.filter.recovery.lost_var_xy_m2, 0.0);
+        expectRecoveryVariants(sc.variants(), 2, 4, 5);
         EXPECT_EQ(sc.variants()[2].name(), "semantic");
         EXPECT_EQ(sc.variants()[3].name(), "semantic_nodrift");
         EXPECT_FALSE(sc.variants()[3].options.filter.motion_model.headingDrift());
