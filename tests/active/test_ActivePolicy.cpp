@@ -121,6 +121,49 @@ TEST(ActivePolicy, TurnsToWhereOnlyOnePlaceHasSomethingToSee)
     }
 }
 
+TEST(ActivePolicy, PerMetreALookAroundThatTellsThePlacesApartBeatsAJourney)
+{
+    const World w = twoPlaces(false);
+    const CSemanticMap map = mapOf(w);
+    auto o = options();
+    o.look_around = true;
+    o.objective = ActivePolicy::TObjective::GainPerMetre;
+    ActivePolicy policy(o, map, &w);
+    const auto d = policy.decide(cloud({{10.5, 10.5}, {30.5, 10.5}}, 0.4), sensor());
+    ASSERT_GE(d.chosen, 0);
+    // Turning left on the spot shows the wreck (4 m away) from the first place only: as much
+    // learnt as by driving there, for no distance.
+    EXPECT_EQ(d.motion.distance_m, 0);
+    EXPECT_GT(d.motion.turn_rad, 0.1);
+    EXPECT_LT(d.motion.turn_rad, M_PI - 0.1);
+    size_t scored = 0;
+    for (const auto& c : d.candidates)
+    {
+        if (c.admissible)
+        {
+            EXPECT_DOUBLE_EQ(
+                c.score, -(d.entropy - c.expected_entropy) / (c.motion.distance_m + o.overhead_m));
+            scored++;
+        }
+    }
+    EXPECT_GT(scored, o.distances_m.size());
+    // Summed with a travel cost instead, the scores are E[H] + c d; free travel buys the
+    // journey's extra scans.
+    o.objective = ActivePolicy::TObjective::EntropyPlusCost;
+    o.travel_cost_per_m = 0;
+    ActivePolicy summed(o, map, &w);
+    const auto e = summed.decide(cloud({{10.5, 10.5}, {30.5, 10.5}}, 0.4), sensor());
+    EXPECT_GT(e.motion.distance_m, 0);
+    for (const auto& c : e.candidates)
+    {
+        if (c.admissible)
+        {
+            EXPECT_DOUBLE_EQ(c.score,
+                             c.expected_entropy + o.travel_cost_per_m * c.motion.distance_m);
+        }
+    }
+}
+
 TEST(ActivePolicy, SameChoiceForOneAndTwoThreadsAndForTheSameSeed)
 {
     const World w = twoPlaces(false);
@@ -214,4 +257,41 @@ TEST(ActivePolicy, OptionsReadStrictlyAndWrittenBack)
     mrpt::config::CConfigFileMemory bad;
     bad.write("ActiveLocalization", "distances_m", "2, -1");
     EXPECT_THROW(o.loadFromConfigFile(bad, "ActiveLocalization"), std::exception);
+}
+
+TEST(ActivePolicy, TheObjectiveIsReadByNameAndWrittenBack)
+{
+    mrpt::config::CConfigFileMemory ini;
+    ini.write("ActiveLocalization", "objective", "gain_per_metre");
+    ini.write("ActiveLocalization", "overhead_m", "4");
+    ActivePolicy::TOptions o;
+    o.loadFromConfigFile(ini, "ActiveLocalization");
+    EXPECT_EQ(o.objective, ActivePolicy::TObjective::GainPerMetre);
+    EXPECT_EQ(o.overhead_m, 4.0);
+    mrpt::config::CConfigFileMemory out;
+    o.saveToConfigFile(out, "ActiveLocalization");
+    EXPECT_NE(out.getContent().find("gain_per_metre"), std::string::npos);
+    ActivePolicy::TOptions back;
+    back.loadFromConfigFile(mrpt::config::CConfigFileMemory(out.getContent()),
+                            "ActiveLocalization");
+    EXPECT_EQ(back.objective, ActivePolicy::TObjective::GainPerMetre);
+    EXPECT_EQ(back.overhead_m, 4.0);
+    const auto errorOf = [](const char* key, const char* value)
+    {
+        mrpt::config::CConfigFileMemory bad;
+        bad.write("ActiveLocalization", key, value);
+        ActivePolicy::TOptions p;
+        try
+        {
+            p.loadFromConfigFile(bad, "ActiveLocalization");
+        }
+        catch (const std::exception& e)
+        {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(errorOf("objective", "rate").find("objective"), std::string::npos);
+    EXPECT_NE(errorOf("overhead_m", "0").find("overhead_m"), std::string::npos);
+    EXPECT_EQ(errorOf("objective", "entropy_plus_cost"), "");
 }

@@ -150,6 +150,11 @@ mrpt::poses::CPose2D TActiveMotion::increment() const
 
 // ------------------------------------------------------------------ options
 
+std::string ActivePolicy::objectiveName(TObjective o)
+{
+    return o == TObjective::GainPerMetre ? "gain_per_metre" : "entropy_plus_cost";
+}
+
 config::TValueRange ActivePolicy::TOptions::range(const std::string& key)
 {
     if (key == "bin_xy_m")
@@ -163,6 +168,10 @@ config::TValueRange ActivePolicy::TOptions::range(const std::string& key)
     if (key == "travel_cost_per_m")
     {
         return {0, 1e3};
+    }
+    if (key == "overhead_m")
+    {
+        return {1e-3, 1e3};
     }
     if (key == "min_free_share")
     {
@@ -183,10 +192,11 @@ void ActivePolicy::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
                                                 const std::string& s)
 {
     using namespace semloc::config;
-    rejectUnknownKeys(c, s,
-                      {"headings", "distances_m", "look_around", "representatives", "bin_xy_m",
-                       "bin_heading_deg", "outcomes", "scan_every_m", "travel_cost_per_m",
-                       "min_free_share", "converged_var_xy_m2", "seed", "threads"});
+    rejectUnknownKeys(
+        c, s,
+        {"headings", "distances_m", "look_around", "representatives", "bin_xy_m", "bin_heading_deg",
+         "outcomes", "scan_every_m", "objective", "travel_cost_per_m", "overhead_m",
+         "min_free_share", "converged_var_xy_m2", "seed", "threads"});
     readInt(c, s, "headings", headings, 1, kMaxHeadings);
     const auto d = range("distances_m");
     readDoubles(c, s, "distances_m", distances_m, kMaxDistances, d.lo, d.hi);
@@ -196,7 +206,14 @@ void ActivePolicy::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileB
     readDouble(c, s, "bin_heading_deg", bin_heading_deg, range("bin_heading_deg"));
     readInt(c, s, "outcomes", outcomes, 1, kMaxOutcomes);
     readDouble(c, s, "scan_every_m", scan_every_m, range("scan_every_m"));
+    std::string name = objectiveName(objective);
+    readChoice(
+        c, s, "objective", name,
+        {objectiveName(TObjective::EntropyPlusCost), objectiveName(TObjective::GainPerMetre)});
+    objective = name == objectiveName(TObjective::GainPerMetre) ? TObjective::GainPerMetre
+                                                                : TObjective::EntropyPlusCost;
     readDouble(c, s, "travel_cost_per_m", travel_cost_per_m, range("travel_cost_per_m"));
+    readDouble(c, s, "overhead_m", overhead_m, range("overhead_m"));
     readDouble(c, s, "min_free_share", min_free_share, range("min_free_share"));
     readDouble(c, s, "converged_var_xy_m2", converged_var_xy_m2, range("converged_var_xy_m2"));
     int seedValue = static_cast<int>(seed);
@@ -223,8 +240,13 @@ void ActivePolicy::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                       "scans drawn per representative and motion");
     detail::writeExact(c, s, "scan_every_m", scan_every_m,
                        "the predicted scans along a path: one every this many metres [m]");
+    detail::writeText(c, s, "objective", objectiveName(objective),
+                      "entropy_plus_cost: E[H] + cost x d; gain_per_metre: (H - E[H]) / (d + "
+                      "overhead_m)");
     detail::writeExact(c, s, "travel_cost_per_m", travel_cost_per_m,
-                       "added to the expected entropy per metre [nats/m]");
+                       "entropy_plus_cost: added to the expected entropy per metre [nats/m]");
+    detail::writeExact(c, s, "overhead_m", overhead_m,
+                       "gain_per_metre: metres added to every motion's distance [m]");
     detail::writeExact(c, s, "min_free_share", min_free_share,
                        "share of the weight whose path must stay in the free space");
     detail::writeExact(c, s, "converged_var_xy_m2", converged_var_xy_m2,
@@ -247,8 +269,8 @@ ActivePolicy::ActivePolicy(const TOptions& options, const CSemanticMap& map, con
                                               [](double d) { return d > 0 && std::isfinite(d); }),
         "ActivePolicy: distances_m must be positive numbers");
     ASSERTMSG_(o.representatives >= 1 && o.outcomes >= 1 && o.scan_every_m > 0 && o.bin_xy_m > 0 &&
-                   o.bin_heading_deg > 0 && o.travel_cost_per_m >= 0 && o.min_free_share >= 0 &&
-                   o.min_free_share <= 1 && o.converged_var_xy_m2 >= 0,
+                   o.bin_heading_deg > 0 && o.travel_cost_per_m >= 0 && o.overhead_m > 0 &&
+                   o.min_free_share >= 0 && o.min_free_share <= 1 && o.converged_var_xy_m2 >= 0,
                "ActivePolicy: an option is out of range");
     ASSERTMSG_(o.threads >= 0, "ActivePolicy: threads < 0");
     m_executor = std::make_unique<ParallelExecutor>(static_cast<size_t>(o.threads));
@@ -369,6 +391,7 @@ struct DecisionContext
     const ActivePolicy::TOptions& options;
     const std::vector<ActivePolicy::TRepresentative>& reps;
     const std::vector<double>& logw0;
+    double entropy;
     const std::vector<std::string>& labels;
     const CObservationSemantic& sensor;
     uint64_t streamSeed;
@@ -432,7 +455,9 @@ void evaluate(const DecisionContext& x, ActivePolicy::TCandidate& c)
         }
     }
     c.expected_entropy = expected;
-    c.score = expected + x.options.travel_cost_per_m * c.motion.distance_m;
+    c.score = x.options.objective == ActivePolicy::TObjective::GainPerMetre
+                  ? -(x.entropy - expected) / (c.motion.distance_m + x.options.overhead_m)
+                  : expected + x.options.travel_cost_per_m * c.motion.distance_m;
 }
 
 /** The first candidate of the lowest score; when none is admissible, the first turn on the
@@ -491,8 +516,9 @@ ActivePolicy::TDecision ActivePolicy::decide(const mrpt::poses::CPosePDFParticle
     }
     const auto labels = mapLabels(m_map);
     const DecisionContext x{
-        m_map, m_world, m_options, reps,
-        logw0, labels,  sensor,    (static_cast<uint64_t>(m_options.seed) << 32) ^ decision};
+        m_map,  m_world, m_options,
+        reps,   logw0,   out.entropy,
+        labels, sensor,  (static_cast<uint64_t>(m_options.seed) << 32) ^ decision};
     m_executor->forEachRange(
         motions.size(),
         [&](size_t begin, size_t end, size_t /*thread*/)

@@ -43,7 +43,9 @@ bool pathIsFree(const World& world, const mrpt::math::TPose2D& from, const TActi
  *      u* = argmin_u  E_{z ~ p(z | x (+) u)} [ H(x | z, u) ] + c d(u),
  *
  *  the expectation over the detections z the vehicle would report after the motion u,
- *  "nothing detected" included. Approximations (docs/design.md, "Active localization"):
+ *  "nothing detected" included; or (objective gain_per_metre) that removes the most entropy
+ *  per metre of effort, u* = argmax_u (H(x) - E_z[H(x | z, u)]) / (d(u) + d0), d0 =
+ *  `overhead_m`. Approximations (docs/design.md, "Active localization"):
  *  - the particles are summarised by at most `representatives` (K) poses: the weighted mean
  *    of each occupied bin of `bin_xy_m` x `bin_xy_m` x `bin_heading_deg`; with more than K
  *    bins, K of them by systematic sampling in proportion to their weight (each keeping
@@ -75,6 +77,15 @@ bool pathIsFree(const World& world, const mrpt::math::TPose2D& from, const TActi
 class ActivePolicy
 {
 public:
+    /** What the choice minimizes: E[H] + travel_cost_per_m d ("entropy_plus_cost"), or
+     *  minus the expected entropy drop per metre of effort, -(H - E[H]) / (d + overhead_m)
+     *  ("gain_per_metre"). */
+    enum class TObjective
+    {
+        EntropyPlusCost,
+        GainPerMetre
+    };
+
     /** Section [ActiveLocalization]. */
     struct TOptions : public mrpt::config::CLoadableOptions
     {
@@ -94,8 +105,13 @@ public:
         int outcomes = 2;
         /** One predicted scan every this many metres along a path and one at its end [m]. */
         double scan_every_m = 2.0;
-        /** Travel cost [nats per metre] added to the expected entropy. */
+        /** What the choice minimizes (see the class documentation). */
+        TObjective objective = TObjective::EntropyPlusCost;
+        /** Travel cost [nats per metre] added to the expected entropy (entropy_plus_cost). */
         double travel_cost_per_m = 0.02;
+        /** gain_per_metre: every motion counts this many metres more than its distance (a
+         *  turn on the spot: this alone) [m]. */
+        double overhead_m = 2.5;
         /** Share of the weight for which a motion must stay in the free space, in [0, 1]. */
         double min_free_share = 0.9;
         /** Stop rule: converged when the particles' x-y covariance trace is at most this
@@ -128,7 +144,8 @@ public:
         bool admissible = true;
         /** E[H] after it [nats] (NaN when not admissible). */
         double expected_entropy = 0;
-        /** expected_entropy + travel_cost_per_m x distance. */
+        /** What the objective minimizes: expected_entropy + travel_cost_per_m x distance, or
+         *  -(entropy - expected_entropy) / (distance + overhead_m). */
         double score = 0;
     };
 
@@ -171,6 +188,8 @@ public:
     uint64_t decisions() const { return m_decisions; }
     /** The options. */
     const TOptions& options() const { return m_options; }
+    /** The ini name of an objective: "entropy_plus_cost" or "gain_per_metre". */
+    static std::string objectiveName(TObjective o);
 
     /** A weighted pose standing for the particles of one bin. */
     struct TRepresentative
