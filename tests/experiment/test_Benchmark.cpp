@@ -56,18 +56,20 @@ std::string errorOf(const std::string& path)
     return {};
 }
 
-/** `variants[shipped]` is semantic.ini's recovery, `variants[challengers]` it with a challenger
- *  set of 20 frames, `variants[lost]` it re-seeded while the particles are spread (10 m²). */
+/** `variants[shipped]` is semantic.ini's recovery (re-seeding while the particles are spread,
+ *  10 m²), `variants[challengers]` it with a challenger set of 20 frames, `variants[noReseed]`
+ *  it without the re-seeding. */
 template <typename Variants>
 void expectRecoveryVariants(const Variants& variants, size_t shipped, size_t challengers,
-                            size_t lost)
+                            size_t noReseed)
 {
     EXPECT_EQ(variants[challengers].name(), "semantic_challengers");
     EXPECT_EQ(variants[shipped].options.filter.recovery.challenger_frames, 0u);
     EXPECT_EQ(variants[challengers].options.filter.recovery.challenger_frames, 20u);
-    EXPECT_EQ(variants[lost].name(), "semantic_lost");
-    EXPECT_EQ(variants[shipped].options.filter.recovery.lost_var_xy_m2, 0.0);
-    EXPECT_EQ(variants[lost].options.filter.recovery.lost_var_xy_m2, 10.0);
+    EXPECT_EQ(variants[noReseed].name(), "semantic_no_reseed");
+    EXPECT_EQ(variants[shipped].options.filter.recovery.lost_var_xy_m2, 10.0);
+    EXPECT_EQ(variants[challengers].options.filter.recovery.lost_var_xy_m2, 10.0);
+    EXPECT_EQ(variants[noReseed].options.filter.recovery.lost_var_xy_m2, 0.0);
 }
 }  // namespace
 
@@ -288,7 +290,7 @@ TEST(Benchmark, ShippedRecoveryIniKidnapsWithEachVariantsOwnRecovery)
         // augmented MCL's trigger, semantic (shipped) with the evidence trigger, both with
         // injected particles at 3e-6 of a resampled one's weight; semantic_nodrift is semantic
         // without the heading drift state, semantic_challengers semantic with a challenger set,
-        // semantic_lost semantic re-seeding while its particles are spread.
+        // semantic_no_reseed semantic not re-seeding while its particles are spread.
         EXPECT_EQ(sc.variants()[1].name(), "semantic_amcl");
         expectRecoveryVariants(sc.variants(), 2, 4, 5);
         EXPECT_EQ(sc.variants()[2].name(), "semantic");

@@ -103,8 +103,8 @@ TEST(LocalizeBeacons, TheBeaconVariantLocalizesFromAUniformStartWhateverTheThrea
 
 TEST(ShippedConfigs, TheLblFilesAddTheBeaconsToTheirBaseAndNothingElse)
 {
-    // semantic_lbl.ini: semantic.ini with the lbl world, no recovery and a beacon map whose
-    // rangeStd is the simulated ranges' standard deviation.
+    // semantic_lbl.ini: semantic.ini with the lbl world, no recovery (nor re-seeding) and a beacon
+    // map whose rangeStd is the simulated ranges' standard deviation.
     auto expected = keysOf(kConfig + "localize/semantic.ini");
     EXPECT_NE(readText(kConfig + "localize/semantic_lbl.ini").find("\nbase = semantic.ini\n"),
               std::string::npos);
@@ -112,6 +112,7 @@ TEST(ShippedConfigs, TheLblFilesAddTheBeaconsToTheirBaseAndNothingElse)
     expected["[LocalizationExperiment] logOutput_dir"] = "results/semantic_lbl";
     expected["[LocalizationExperiment] variant"] = "semantic_lbl";
     expected["[Recovery] trigger"] = "off";
+    expected["[Recovery] lost_var_xy_m2"] = "0";  // re-seeding is part of the recovery
     expected["[MetricMap] beaconMap_count"] = "1";
     expected["[MetricMap_beaconMap_00_likelihoodOpts] rangeStd"] = "0.5";
     EXPECT_EQ(keysOf(kConfig + "localize/semantic_lbl.ini"), expected);

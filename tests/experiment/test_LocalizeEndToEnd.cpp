@@ -189,9 +189,11 @@ TEST_F(LocalizeEndToEnd, SemanticConvergesFromUniformStartAndWritesTheContract)
 
 TEST_F(LocalizeEndToEnd, StartSeededByTheFirstDetectionsConvergesAtOnceWhateverTheThreads)
 {
-    // semantic.ini as shipped (init_PDF_mode = 3): 80 % of 2000 particles drawn from the first
-    // detections; the uniform start of the same filter converges tens of steps later.
-    const std::string ini = patchedConfig("semantic.ini", {}, "semantic_seeded");
+    // semantic.ini's start (init_PDF_mode = 3): 80 % of 2000 particles drawn from the first
+    // detections; the uniform start of the same filter converges tens of steps later. Neither
+    // re-seeded while spread (lost_var_xy_m2 = 0): the start alone.
+    const std::string ini =
+        patchedConfig("semantic.ini", {{"lost_var_xy_m2", "0"}}, "semantic_seeded");
     const auto one = localize(ini, rawlog, "seeded_1", 2000, 1);
     const auto two = localize(ini, rawlog, "seeded_2", 2000, 2);
     EXPECT_NEAR(static_cast<double>(one.initialized_from_detections), 1600.0, 60.0);
@@ -201,7 +203,8 @@ TEST_F(LocalizeEndToEnd, StartSeededByTheFirstDetectionsConvergesAtOnceWhateverT
     EXPECT_EQ(stepsWithoutTiming(kOut / "seeded_1"), stepsWithoutTiming(kOut / "seeded_2"));
     EXPECT_EQ(two.initialized_from_detections, one.initialized_from_detections);
     const auto uniform =
-        localize(patchedConfig("semantic.ini", {{"init_PDF_mode", "0"}}, "semantic_uniform"),
+        localize(patchedConfig("semantic.ini", {{"init_PDF_mode", "0"}, {"lost_var_xy_m2", "0"}},
+                               "semantic_uniform"),
                  rawlog, "uniform_2000", 2000, 1);
     EXPECT_EQ(uniform.initialized_from_detections, 0u);
     EXPECT_GT(uniform.metrics.convergence_step, one.metrics.convergence_step + 20);
@@ -213,12 +216,15 @@ TEST_F(LocalizeEndToEnd, TemperedLikelihoodsLeaveTheEvidenceTriggerAsItWas)
 {
     // A tempered likelihood (powFactor 0.05) carries a twentieth of each frame's evidence; the
     // evidence trigger weighs it on the untempered scale, so a tracked vehicle does not look
-    // lost (on the tempered scale every frame fell short of the 2-nat margin).
+    // lost (on the tempered scale every frame fell short of the 2-nat margin). The trigger
+    // alone: no re-seeding while spread (a cloud tempered this much stays above 10 m^2).
     const auto full =
-        localize(patchedConfig("semantic.ini", {}, "semantic_pow1"), rawlog, "tempered_1", 2000, 1);
+        localize(patchedConfig("semantic.ini", {{"lost_var_xy_m2", "0"}}, "semantic_pow1"), rawlog,
+                 "tempered_1", 2000, 1);
     const auto tempered =
-        localize(patchedConfig("semantic.ini", {{"powFactor", "0.05"}}, "semantic_pow005"), rawlog,
-                 "tempered_005", 2000, 1);
+        localize(patchedConfig("semantic.ini", {{"powFactor", "0.05"}, {"lost_var_xy_m2", "0"}},
+                               "semantic_pow005"),
+                 rawlog, "tempered_005", 2000, 1);
     ASSERT_TRUE(full.metrics.converged);
     ASSERT_TRUE(tempered.metrics.converged);
     EXPECT_LT(tempered.metrics.mean_err_after_conv_m, 0.3);
@@ -613,10 +619,10 @@ TEST(ShippedConfigs, SemanticVariantsNameTheirBaseAndSetTheirKeysOnly)
         {"semantic_positions", "semantic", {{"map_file", "../../maps/paper_50x50_positions.yaml"}}},
         {"semantic_existence", "semantic", {{"map_file", "../../maps/paper_50x50_existence.yaml"}}},
         {"semantic_classes", "semantic", {{"map_file", "../../maps/paper_50x50_classes.yaml"}}},
-        {"semantic_norecovery", "semantic", {{"trigger", "off"}}},
+        {"semantic_norecovery", "semantic", {{"trigger", "off"}, {"lost_var_xy_m2", "0"}}},
         {"semantic_nodrift", "semantic", {{"heading_drift_walk_deg_per_min", "0"}}},
         {"semantic_challengers", "semantic", {{"challenger_frames", "20"}}},
-        {"semantic_lost", "semantic", {{"lost_var_xy_m2", "10"}}},
+        {"semantic_no_reseed", "semantic", {{"lost_var_xy_m2", "0"}}},
         {"semantic_amcl",
          "semantic",
          {{"trigger", "amcl"}, {"alpha_slow", "0.001"}, {"alpha_fast", "0.1"}}},
@@ -625,6 +631,7 @@ TEST(ShippedConfigs, SemanticVariantsNameTheirBaseAndSetTheirKeysOnly)
          {{"init_PDF_mode", "0"},
           {"heading_drift_walk_deg_per_min", "0"},
           {"trigger", "off"},
+          {"lost_var_xy_m2", "0"},
           {"injected_weight", "1"},
           {"outage_every_s", "0"}}},
         {"semantic_kld",

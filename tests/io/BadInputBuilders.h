@@ -137,6 +137,7 @@ Cases iniFileCases();
 Cases iniMapCases();
 Cases shardCases();
 Cases iniModelCases();
+Cases iniRecoveryCases();
 Cases outputDirectoryCases();
 Cases outputFileCases();
 Cases outputOverUserFileCases();
@@ -162,6 +163,7 @@ inline std::vector<Cases> allCaseGroups()
             iniFileCases(),
             iniMapCases(),
             iniModelCases(),
+            iniRecoveryCases(),
             outputDirectoryCases(),
             outputFileCases(),
             worldSyntaxCases(),

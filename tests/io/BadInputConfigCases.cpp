@@ -158,6 +158,7 @@ Cases iniModelCases()
                                   {"PF_algorithm", "1"},
                                   {"free_space_prior", "0"},
                                   {"trigger", "off"},
+                                  {"lost_var_xy_m2", "0"},
                                   {"outage_every_s", "0"}});
          }},
         {"ini-association-needs-probabilistic",
@@ -188,8 +189,17 @@ Cases iniModelCases()
                                   {"PF_algorithm", "1"},
                                   {"free_space_prior", "0"},
                                   {"heading_drift_walk_deg_per_min", "0"},
-                                  {"trigger", "off"}});
+                                  {"trigger", "off"},
+                                  {"lost_var_xy_m2", "0"}});
          }},
+    };
+}
+
+/** The recovery's options, KLD at the resampling steps and the paper model's penalty, each
+ *  out of its range or together with an option it cannot go with. */
+Cases iniRecoveryCases()
+{
+    return {
         {"ini-recovery-trigger-unknown",
          [](const fs::path& d) {
              return localizeGood(d, "", {{"trigger", "cusum"}});

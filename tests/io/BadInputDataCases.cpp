@@ -315,11 +315,12 @@ std::vector<std::string> beaconRangesInvalid(const fs::path& d)
         }
     }
     saveGz(sim.rawlog, d / "data.rawlog");
-    return localize(
-        d,
-        writeIni(d, "[MetricMap]\nbeaconMap_count = 1\n",
-                 {{"map_file", kSrc + "/maps/paper_50x50_lbl.yaml"}, {"trigger", "off"}}),
-        d / "data.rawlog");
+    return localize(d,
+                    writeIni(d, "[MetricMap]\nbeaconMap_count = 1\n",
+                             {{"map_file", kSrc + "/maps/paper_50x50_lbl.yaml"},
+                              {"trigger", "off"},
+                              {"lost_var_xy_m2", "0"}}),
+                    d / "data.rawlog");
 }
 }  // namespace
 
