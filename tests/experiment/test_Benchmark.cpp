@@ -270,8 +270,8 @@ TEST(Benchmark, ShippedRealDataIniOverlaysTheConditionsOnThePaperScenario)
     EXPECT_EQ(all.variants()[3].options.filter.motion_model.heading_drift_walk_deg_per_min, 5.0);
     EXPECT_FALSE(all.variants()[4].options.filter.motion_model.headingDrift());
     EXPECT_FALSE(all.variants()[0].options.filter.motion_model.headingDrift());
-    // The shipped filter with its injected particles in a challenger set, and re-seeding its
-    // particles while they are spread.
+    // The shipped filter with its injected particles in a challenger set, and without
+    // re-seeding its particles while they are spread.
     expectRecoveryVariants(all.variants(), 3, 5, 6);
 }
 
