@@ -156,6 +156,12 @@ Cases iniMessageCases();
 Cases calibrateCases();
 Cases runPlotCases();
 Cases figureCases();
+// The hostile user's cases (BadInputSafetyCases.cpp): special files, shards and merges,
+// calibration, large maps.
+Cases specialFileCases();
+Cases benchmarkSafetyCases();
+Cases calibrateSafetyCases();
+Cases largeMapCases();
 
 inline std::vector<Cases> allCaseGroups()
 {
@@ -182,6 +188,10 @@ inline std::vector<Cases> allCaseGroups()
             runPlotCases(),
             figureCases(),
             outputOverUserFileCases(),
-            shardCases()};
+            shardCases(),
+            specialFileCases(),
+            benchmarkSafetyCases(),
+            calibrateSafetyCases(),
+            largeMapCases()};
 }
 }  // namespace semloc::test::bad_input
