@@ -95,8 +95,12 @@ void run()
 {
     const std::string rawlogPath = argRawlog.getValue(), out = argOut.getValue(),
                       report = argReport.getValue(), base = argBase.getValue();
-    const std::vector<std::string> inputs = {rawlogPath, argWorld.getValue(),
-                                             argGroundTruth.getValue(), base};
+    // Every base of the base ini's chain is an input too.
+    std::vector<std::string> inputs = {rawlogPath, argWorld.getValue(), argGroundTruth.getValue()};
+    for (const auto& f : semloc::config::iniFileAndBases(base))
+    {
+        inputs.push_back(f);
+    }
     semloc::checkOutputFile(
         out, inputs,
         [](const std::string& p)

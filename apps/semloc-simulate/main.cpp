@@ -1,6 +1,7 @@
 /* semloc-simulate: a dataset for the paper's experiment (rawlog + ground truth + effective ini).
  *   semloc-simulate config/simulate/simulate.ini -o dataset.rawlog --seed 7 [--csv dataset_csv] */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
@@ -38,7 +39,9 @@ void run()
         options.simulation.output_rawlog = argOut.getValue();
     }
     // Before any work: the outputs replace neither an input nor a file of the user's.
-    const std::vector<std::string> inputs = {argIni.getValue(), options.simulation.world_file};
+    // Every base of the ini's chain is an input too.
+    std::vector<std::string> inputs = semloc::config::iniFileAndBases(argIni.getValue());
+    inputs.push_back(options.simulation.world_file);
     semloc::Simulator::checkDatasetPaths(options.simulation.output_rawlog, inputs);
     if (argCsv.isSet())
     {

@@ -4,6 +4,7 @@
 #include <mrpt/core/format.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
+#include <semloc/io/InputFile.h>
 
 #include <algorithm>
 #include <cctype>
@@ -28,28 +29,6 @@ std::string lower(std::string s)
     std::transform(s.begin(), s.end(), s.begin(),
                    [](unsigned char ch) { return static_cast<char>(std::tolower(ch)); });
     return s;
-}
-
-/** The text of `path`; throws naming `file` if it does not exist, is a directory or cannot be
- *  read. */
-std::string readText(const std::string& path, const std::string& file)
-{
-    if (!std::filesystem::exists(path))
-    {
-        THROW_EXCEPTION(file + " does not exist");
-    }
-    if (std::filesystem::is_directory(path))
-    {
-        THROW_EXCEPTION(file + " is a directory, not a file");
-    }
-    std::ifstream f(path, std::ios::binary);
-    std::stringstream text;
-    text << f.rdbuf();
-    if (!f || f.bad())
-    {
-        THROW_EXCEPTION("cannot read " + file);
-    }
-    return text.str();
 }
 
 /** One line of an ini text as the overlay sees it. */
@@ -323,34 +302,47 @@ std::string resolveBase(const std::string& from, const std::string& written, siz
         THROW_EXCEPTION(mrpt::format("%s:%zu: base: empty (name the ini this file changes)",
                                      file.c_str(), lineNo));
     }
-    // Regular files only: a device or a pipe would be read forever.
+    // The first name that exists is the base, and must be a regular file (checkInputFile):
+    // a directory is named as one, a device or a pipe would be read forever.
     const std::filesystem::path w(written);
     const std::filesystem::path next = std::filesystem::path(from).parent_path() / w;
-    if (!w.is_absolute() && std::filesystem::is_regular_file(next))
+    const std::string at = mrpt::format("%s:%zu: base '%s'", file.c_str(), lineNo, written.c_str());
+    std::vector<std::filesystem::path> candidates = {w};
+    if (!w.is_absolute())
     {
-        return next.lexically_normal().string();
+        candidates.insert(candidates.begin(), next.lexically_normal());
     }
-    if (std::filesystem::is_regular_file(w))
+    for (const auto& c : candidates)
     {
-        return written;
+        std::error_code ec;
+        if (std::filesystem::symlink_status(c, ec).type() == std::filesystem::file_type::not_found)
+        {
+            continue;
+        }
+        try
+        {
+            (void)checkInputFile(c.string(), "config file", InputKind::Config);
+        }
+        catch (const std::exception& e)
+        {
+            THROW_EXCEPTION(at + ": " + errorMessage(e));
+        }
+        return c.string();
     }
     if (w.is_absolute())
     {
-        THROW_EXCEPTION(
-            mrpt::format("%s:%zu: base '%s' is not a file", file.c_str(), lineNo, written.c_str()));
+        THROW_EXCEPTION(at + " does not exist");
     }
-    THROW_EXCEPTION(
-        mrpt::format("%s:%zu: base '%s' does not exist (tried '%s' next to it and "
-                     "'%s' from the working directory)",
-                     file.c_str(), lineNo, written.c_str(),
-                     next.lexically_normal().string().c_str(), written.c_str()));
+    THROW_EXCEPTION(at + mrpt::format(" does not exist (tried '%s' next to it and '%s' from the "
+                                      "working directory)",
+                                      next.lexically_normal().string().c_str(), written.c_str()));
 }
 
 std::string resolvedText(const std::string& path, const std::string& kind,
                          std::vector<std::string>& chain, std::vector<std::string>* warnings)
 {
     const std::string file = kind + " '" + path + "'";
-    std::string text = readText(path, file);
+    std::string text = readInputFile(path, kind, InputKind::Config);
     checkIniText(text, file);
     text = moveOldKeys(classify(text), file, warnings);
     const auto lines = classify(text);

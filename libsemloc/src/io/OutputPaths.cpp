@@ -110,6 +110,7 @@ void checkOutputDirectory(const std::string& dir, const std::vector<std::string>
                         " file); semloc replaces an output directory as a whole, and only its "
                         "own: name a new directory or remove this one yourself");
     }
+    lockOutput(dir);
 }
 
 void checkOutputFile(const std::string& file, const std::vector<std::string>& inputs,
@@ -152,6 +153,7 @@ void checkOutputFile(const std::string& file, const std::vector<std::string>& in
                         "semloc does not replace it: choose another output name or remove it "
                         "yourself");
     }
+    lockOutput(file);
 }
 
 std::string resolvedOutputPath(const std::string& path)

@@ -7,6 +7,7 @@
 #include <mrpt/obs/CObservationComment.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/serialization/CArchive.h>
+#include <semloc/io/InputFile.h>
 #include <semloc/io/RawlogReader.h>
 #include <semloc/io/RawlogWriter.h>
 
@@ -58,15 +59,7 @@ struct RawlogReader::TStream
 
 RawlogReader::RawlogReader(const std::string& path) : m_path(path), m_stream(new TStream)
 {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec))
-    {
-        THROW_EXCEPTION("rawlog '" + path + "' does not exist");
-    }
-    if (std::filesystem::is_directory(path, ec))
-    {
-        THROW_EXCEPTION("rawlog '" + path + "' is a directory, not a file");
-    }
+    (void)checkInputFile(path, "rawlog", InputKind::Rawlog);
     std::string why;
     if (!m_stream->in.open(path, why))
     {

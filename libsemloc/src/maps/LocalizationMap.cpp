@@ -12,6 +12,7 @@
 #include <mrpt/system/string_utils.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
+#include <semloc/io/InputFile.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/maps/CStructureMap.h>
 #include <semloc/maps/LocalizationMap.h>
@@ -288,9 +289,9 @@ bool loadMapFile(LocalizationMap& lm, const std::string& mapFile, const std::str
         mapFile.empty()
             ? ""
             : mrpt::system::lowerCase(mrpt::system::extractFileExtension(mapFile, true));
-    if (!mapFile.empty() && !mrpt::system::fileExists(mapFile))
+    if (!mapFile.empty())
     {
-        THROW_EXCEPTION("map_file '" + mapFile + "' does not exist");
+        (void)checkInputFile(mapFile, "map_file", InputKind::World);
     }
     const bool fromWorld = ext == "yaml" || ext == "yml";
     if (fromWorld)

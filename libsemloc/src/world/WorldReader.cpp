@@ -2,6 +2,7 @@
  * "World file"). */
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
+#include <semloc/io/InputFile.h>
 #include <semloc/observation/Labels.h>
 #include <semloc/world/World.h>
 
@@ -506,18 +507,7 @@ World World::FromText(const std::string& yamlText, const std::string& sourceName
 
 World World::FromFile(const std::string& path)
 {
-    std::ifstream f(path);
-    if (!f)
-    {
-        THROW_EXCEPTION("world file '" + path + "': cannot open for reading");
-    }
-    std::stringstream ss;
-    ss << f.rdbuf();
-    if (f.bad())
-    {
-        THROW_EXCEPTION("world file '" + path + "': read error");
-    }
-    return FromText(ss.str(), path);
+    return FromText(readInputFile(path, "world file", InputKind::World), path);
 }
 
 }  // namespace semloc

@@ -126,11 +126,8 @@ void checkHeader(const std::vector<std::string>& header, const std::string& at,
 CsvTable CsvTable::FromFile(const std::string& path, const std::vector<std::string>& required,
                             const std::vector<std::string>& optional)
 {
-    if (std::filesystem::is_directory(path))
-    {
-        THROW_EXCEPTION("'" + path + "' is a directory, not a file");
-    }
-    // Plain or gz-compressed: zlib reads a file without the gzip header as it is.
+    // A regular file (GzReadBuffer checks it), plain or gz-compressed: zlib reads a file without
+    // the gzip header as it is.
     GzReadBuffer buf(path);
     std::istream in(&buf);
     return FromStream(in, path, required, optional);

@@ -2,6 +2,7 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <semloc/dataset/GroundTruthFile.h>
+#include <semloc/io/InputFile.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -46,10 +47,7 @@ bool GroundTruthFile::IsGroundTruthFile(const std::string& path)
 
 std::vector<GroundTruthRow> GroundTruthFile::Read(const std::string& path)
 {
-    if (std::filesystem::is_directory(path))
-    {
-        THROW_EXCEPTION("ground truth '" + path + "' is a directory, not a file");
-    }
+    (void)checkInputFile(path, "ground truth", InputKind::Text);
     std::ifstream f(path);
     if (!f)
     {

@@ -2,6 +2,7 @@
 #include "dataset/GzReadBuffer.h"
 
 #include <mrpt/core/exceptions.h>
+#include <semloc/io/InputFile.h>
 #include <zlib.h>
 
 #include <cerrno>
@@ -19,6 +20,7 @@ gzFile gz(void* f)
 
 GzReadBuffer::GzReadBuffer(const std::string& path) : m_path(path)
 {
+    (void)checkInputFile(path, "CSV file", InputKind::Text);
     errno = 0;
     m_file = gzopen(path.c_str(), "rb");
     if (m_file == nullptr)

@@ -6,6 +6,7 @@
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/dataset/LandmarkImport.h>
 #include <semloc/io/ErrorMessage.h>
+#include <semloc/io/InputFile.h>
 #include <semloc/observation/Labels.h>
 
 #include <algorithm>
@@ -29,6 +30,7 @@ constexpr auto num = detail::shortestText;
 std::vector<std::pair<size_t, std::vector<double>>> readRows(const std::string& path,
                                                              size_t minCols)
 {
+    (void)checkInputFile(path, "landmark file", InputKind::Text);
     std::ifstream f(path);
     if (!f)
     {

@@ -1,10 +1,11 @@
 /* semloc — RunPlot: a semloc-localize output directory read back (steps.csv, summary.yaml,
  * config.ini, particles.csv). */
-#include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/io/vector_loadsave.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/experiment/RunPlot.h>
+#include <semloc/io/InputFile.h>
 
 #include <algorithm>
 #include <cerrno>
@@ -142,6 +143,7 @@ ParticleRow parseParticleRow(const std::string& line, const std::string& path, s
 std::vector<RunPlot::Cloud> readClouds(const std::string& path,
                                        const std::vector<TStepRecord>& records)
 {
+    (void)checkInputFile(path, "particles file", InputKind::Text);
     std::ifstream in(path, std::ios::binary);
     if (!in)
     {
@@ -238,7 +240,8 @@ RunPlot RunPlot::FromDirectory(const std::string& runDir, const std::string& wor
         }
     }
     p.m_records = readSteps(file("steps.csv"));
-    const std::string summary = mrpt::io::file_get_contents(file("summary.yaml"));
+    const std::string summary =
+        readInputFile(file("summary.yaml"), "run summary", InputKind::Config);
     p.m_variant = summaryValue(summary, "variant");
     const std::string conv = summaryValue(summary, "convergence_step");
     if (!conv.empty() && conv != "null")
@@ -259,7 +262,8 @@ RunPlot RunPlot::FromDirectory(const std::string& runDir, const std::string& wor
     p.m_worldFile = worldFile;
     if (p.m_worldFile.empty())
     {
-        const mrpt::config::CConfigFile ini(file("config.ini"));
+        const mrpt::config::CConfigFileMemory ini(
+            readInputFile(file("config.ini"), "config file", InputKind::Config));
         const std::string map =
             detail::trimValue(ini.read_string("LocalizationExperiment", "map_file", "", false));
         if (isWorldFile(map))

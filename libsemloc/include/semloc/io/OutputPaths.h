@@ -29,6 +29,15 @@ void checkOutputDirectory(const std::string& dir, const std::vector<std::string>
 void checkOutputFile(const std::string& file, const std::vector<std::string>& inputs,
                      const std::function<bool(const std::string&)>& isPreviousOutput);
 
+/** Holds, until the process ends, the lock of the output `output` (a file or a directory,
+ *  through its symbolic links): a second process asking for the same output fails at once
+ *  with an error naming the holder's process id. checkOutputDirectory() and checkOutputFile()
+ *  call it, so every tool holds each of its outputs from its first check, before any work.
+ *  The locks are files `semloc-locks-<uid>/<hash of the path>.lock` in the temporary
+ *  directory, locked with flock (freed by the kernel when the process ends, however it ends)
+ *  and removed at a normal exit. Calling it again for an output it holds does nothing. */
+void lockOutput(const std::string& output);
+
 /** Where an output named `path` is written: absolute and normal, through its symbolic links
  *  (a link to nothing is refused, naming it). */
 std::string resolvedOutputPath(const std::string& path);
