@@ -3,10 +3,14 @@
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/StagedDirectory.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 
 namespace fs = std::filesystem;
@@ -265,4 +269,86 @@ TEST_F(OutputPaths, AnErrorLeavesTheOutputsAsTheyWere)
     EXPECT_EQ(readAll("a.txt"), "old a");
     EXPECT_FALSE(fs::exists("b.txt"));
     EXPECT_EQ(countStartingWith(".", ".a.txt.tmp-") + countStartingWith(".", ".b.txt.tmp-"), 0u);
+}
+
+namespace
+{
+/** Runs `child` in a forked process that then waits until the parent closes `release`'s write
+ *  end; returns the child's pid once it has run `child` (it writes one byte on `ready`). */
+pid_t holdInChild(const std::function<void()>& child, int release[2])
+{
+    int ready[2];
+    EXPECT_EQ(::pipe(ready), 0);
+    EXPECT_EQ(::pipe(release), 0);
+    const pid_t pid = ::fork();
+    if (pid == 0)
+    {
+        ::close(ready[0]);
+        ::close(release[1]);
+        try
+        {
+            child();
+        }
+        catch (...)
+        {
+            std::_Exit(2);
+        }
+        const char ok = 1;
+        (void)!::write(ready[1], &ok, 1);
+        char c = 0;
+        (void)!::read(release[0], &c, 1);  // until the parent closes its end
+        std::exit(0);                      // a normal exit: the lock files go
+    }
+    ::close(ready[1]);
+    ::close(release[0]);
+    char c = 0;
+    EXPECT_EQ(::read(ready[0], &c, 1), 1) << "the child could not take the lock";
+    ::close(ready[0]);
+    return pid;
+}
+}  // namespace
+
+TEST_F(OutputPaths, ASecondWriterOfAnOutputFailsNamingTheFirstUntilItEnds)
+{
+    int release[2];
+    const pid_t holder = holdInChild([] { semloc::checkOutputDirectory("out"); }, release);
+    // Any name of the same output: relative, absolute, with a trailing separator.
+    for (const std::string& name :
+         {std::string("out"), (fs::current_path() / "out").string(), std::string("out/")})
+    {
+        try
+        {
+            semloc::checkOutputDirectory(name);
+            ADD_FAILURE() << name << ": a second writer was let in";
+        }
+        catch (const std::exception& e)
+        {
+            EXPECT_NE(std::string(e.what()).find("is in use by process " + std::to_string(holder)),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+    // Another output is free; the same file output too is refused while held.
+    EXPECT_NO_THROW(semloc::checkOutputDirectory("other"));
+    ::close(release[1]);
+    int status = 0;
+    ASSERT_EQ(::waitpid(holder, &status, 0), holder);
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+    // The holder ended: the output is free, and this process may take it (twice: no-op).
+    EXPECT_NO_THROW(semloc::checkOutputDirectory("out"));
+    EXPECT_NO_THROW(semloc::lockOutput("out"));
+}
+
+TEST_F(OutputPaths, AFileOutputIsLockedAndAKilledHoldersLockIsFree)
+{
+    int release[2];
+    const pid_t holder = holdInChild(
+        [] { semloc::checkOutputFile("a.txt", {}, [](const std::string&) { return true; }); },
+        release);
+    EXPECT_THROW(semloc::lockOutput("a.txt"), std::exception);
+    ::kill(holder, SIGKILL);  // no exit handler runs: the kernel frees the lock
+    int status = 0;
+    ASSERT_EQ(::waitpid(holder, &status, 0), holder);
+    ::close(release[1]);
+    EXPECT_NO_THROW(semloc::lockOutput("a.txt"));
 }
