@@ -2,7 +2,9 @@
  * skip, keys set twice, the UTF-8 byte-order mark. */
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFile.h>
+#include <mrpt/io/CFileGZInputStream.h>
 #include <semloc/io/ConfigHelpers.h>
+#include <semloc/io/ErrorMessage.h>
 
 #include <filesystem>
 #include <fstream>
@@ -150,4 +152,26 @@ TEST(ConfigHelpers, LinesEndWithLfCrLfOrACrAloneAsMrptReadsThem)
     EXPECT_NE(
         problem("[A]\r\nx = 1\r\nx = 2\r\n").find("x.ini':3: [A] x: set twice (also on line 2"),
         std::string::npos);
+}
+
+TEST(ConfigHelpers, AnErrorMrptWrappedShowsItsTextWithoutTheBacktrace)
+{
+    // MRPT's gz stream wraps std::filesystem's error on a device: "Message:" empty, the text
+    // after "Location:", then the call stack.
+    std::string shown;
+    try
+    {
+        mrpt::io::CFileGZInputStream in;
+        std::string why;
+        (void)in.open("/dev/null", why);
+        ADD_FAILURE() << "MRPT opened /dev/null";
+    }
+    catch (const std::exception& e)
+    {
+        ASSERT_NE(std::string(e.what()).find("Call stack"), std::string::npos) << e.what();
+        shown = semloc::errorMessage(e);
+    }
+    EXPECT_EQ(shown.find("Call stack"), std::string::npos) << shown;
+    EXPECT_EQ(shown.find("===="), std::string::npos) << shown;
+    EXPECT_NE(shown.find("/dev/null"), std::string::npos) << shown;
 }

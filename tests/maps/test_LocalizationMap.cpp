@@ -93,6 +93,14 @@ likelihoodMethod = 1
     EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemanticMap_count = 1\n", ""); })
                   .find("the semantic map is empty"),
               std::string::npos);
+    // A map filled from a world of no object: the world file is named, not the ini's key.
+    const std::string emptyWorld = std::string(SEMLOC_TEST_OUT) + "/localization_map_empty.yaml";
+    std::ofstream(emptyWorld) << "name: empty\nbounds: {x_min: 0, x_max: 10, y_min: 0, y_max: "
+                                 "10}\nobjects: []\n";
+    EXPECT_NE(
+        errorOf([&] { fromText("[MetricMap]\nsemanticMap_count = 1\n", emptyWorld); })
+            .find("map_file '" + emptyWorld + "': the world holds no object for the semantic map"),
+        std::string::npos);
     EXPECT_NE(errorOf([&] { fromText("[MetricMap]\nsemanticMap_count = 1\n", "/no/such.yaml"); })
                   .find("/no/such.yaml"),
               std::string::npos);

@@ -37,6 +37,35 @@ size_t printableUtf8(std::string_view s)
     const bool valid = cp >= minimum[n] && cp <= 0x10FFFF && !(cp >= 0xD800 && cp <= 0xDFFF);
     return valid && !invisible ? n : 0;
 }
+/** `full` without MRPT's frame lines ("==== ... ===="), labels ("Message:", "Location:") and
+ *  call-stack backtrace: for an exception whose text MRPT put after "Location:" (a
+ *  std::exception it wrapped), which leaves "Message:" empty. */
+std::string withoutBacktrace(const std::string& full)
+{
+    std::istringstream in(full);
+    std::string out;
+    for (std::string line; std::getline(in, line);)
+    {
+        if (line.rfind("Call stack", 0) == 0)
+        {
+            break;
+        }
+        for (const char* label : {"Message:", "Location:"})
+        {
+            if (line.rfind(label, 0) == 0)
+            {
+                line.erase(0, std::string(label).size());
+            }
+        }
+        const auto b = line.find_first_not_of(' ');
+        if (b == std::string::npos || line.rfind("====", b) == b)
+        {
+            continue;
+        }
+        out += (out.empty() ? "" : "\n") + line.substr(b);
+    }
+    return out.empty() ? full : out;
+}
 }  // namespace
 
 std::string shownValue(std::string_view value)
@@ -103,7 +132,7 @@ std::string errorMessage(const std::exception& e)
             out += "\n" + line;  // multi-line messages
         }
     }
-    return out.empty() ? std::string(e.what()) : out;
+    return out.empty() ? withoutBacktrace(full) : out;
 }
 
 }  // namespace semloc

@@ -361,6 +361,11 @@ std::vector<std::string> fillMaps(LocalizationMap& lm,
             {
                 lm.world = World::FromFile(worldFile);
             }
+            if (m->isEmpty() && worldFile.empty() && !mapFile.empty())
+            {
+                THROW_EXCEPTION("map_file '" + mapFile + "': the world holds no object for the " +
+                                kind + " map of [" + creationSection(prefix) + "]");
+            }
             if (m->isEmpty())
             {
                 THROW_EXCEPTION("ini [" + creationSection(prefix) + "] world_file: the " + kind +
