@@ -91,16 +91,19 @@ semloc::TCalibrationResult consistency(const semloc::TCalibrationResult& fitted,
         });
 }
 
+/** The rawlog, the world, the ground truth and every base of the base ini's chain. */
+std::vector<std::string> inputFiles()
+{
+    std::vector<std::string> in = semloc::config::iniFileAndBases(argBase.getValue());
+    in.insert(in.end(), {argRawlog.getValue(), argWorld.getValue(), argGroundTruth.getValue()});
+    return in;
+}
+
 void run()
 {
     const std::string rawlogPath = argRawlog.getValue(), out = argOut.getValue(),
                       report = argReport.getValue(), base = argBase.getValue();
-    // Every base of the base ini's chain is an input too.
-    std::vector<std::string> inputs = {rawlogPath, argWorld.getValue(), argGroundTruth.getValue()};
-    for (const auto& f : semloc::config::iniFileAndBases(base))
-    {
-        inputs.push_back(f);
-    }
+    const std::vector<std::string> inputs = inputFiles();
     semloc::checkOutputFile(
         out, inputs,
         [](const std::string& p)

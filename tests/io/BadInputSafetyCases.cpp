@@ -41,11 +41,8 @@ std::vector<std::string> with(std::vector<std::string> argv, const std::string& 
     *(at + 1) = value;
     return argv;
 }
-}  // namespace
-
-/** Special files (devices, FIFOs), oversized files, link loops and directories where a tool
- *  reads a file; an output that would replace a base of the ini chain. */
-Cases specialFileCases()
+/** Special files (devices, FIFOs), oversized files, link loops and directories as an ini. */
+Cases iniSpecialFileCases()
 {
     return {
         {"ini-device",
@@ -74,6 +71,13 @@ Cases specialFileCases()
              writeText(d / "loc.ini", "base = adir\n");
              return localize(d, d / "loc.ini", d / "data.rawlog");
          }},
+    };
+}
+
+/** The same for rawlogs, ground truth, worlds and the other tools; outputs over a base. */
+Cases dataSpecialFileCases()
+{
+    return {
         {"rawlog-device", [](const fs::path& d) { return localize(d, writeIni(d), "/dev/zero"); }},
         {"rawlog-null", [](const fs::path& d) { return localize(d, writeIni(d), "/dev/null"); }},
         {"rawlog-fifo",
@@ -130,6 +134,17 @@ Cases specialFileCases()
              return with(a, "--base", (d / "base2.ini").string());
          }},
     };
+}
+
+}  // namespace
+
+/** Special files, oversized files, link loops, directories; outputs over a base. */
+Cases specialFileCases()
+{
+    Cases all = iniSpecialFileCases();
+    const Cases more = dataSpecialFileCases();
+    all.insert(more.begin(), more.end());
+    return all;
 }
 
 /** Benchmark sweeps, shards and merges. */

@@ -103,13 +103,13 @@ uint64_t maxInputBytes(InputKind kind)
     {
         case InputKind::Config:
         case InputKind::ShardRunFile:
-            return 16 * kMiB;
+            return kMiB * 16;
         case InputKind::World:
-            return 1024 * kMiB;
+            return kMiB * 1024;
         case InputKind::Text:
-            return 16 * 1024 * kMiB;
+            return kMiB * 16 * 1024;
         case InputKind::Rawlog:
-            return 1024 * 1024 * kMiB;
+            return kMiB * 1024 * 1024;
     }
     return 0;
 }
@@ -159,8 +159,8 @@ std::string readInputFile(const std::string& path, const std::string& what, Inpu
         }
         if (bytes.size() + static_cast<size_t>(n) > cap)
         {
-            THROW_EXCEPTION(what + " '" + path + "' grew beyond " + sizeText(cap) +
-                            " while it was read");
+            THROW_EXCEPTION(mrpt::format("%s '%s' grew beyond %s while it was read", what.c_str(),
+                                         path.c_str(), sizeText(cap).c_str()));
         }
         bytes.append(buffer, static_cast<size_t>(n));
     }

@@ -74,7 +74,7 @@ fs::path lockDirectory()
     {
         tmp = "/tmp";
     }
-    const fs::path dir = tmp / mrpt::format("semloc-locks-%u", static_cast<unsigned>(::getuid()));
+    fs::path dir = tmp / mrpt::format("semloc-locks-%u", static_cast<unsigned>(::getuid()));
     if (::mkdir(dir.c_str(), 0700) != 0 && errno != EEXIST)
     {
         THROW_EXCEPTION("cannot create the directory of output locks '" + dir.string() +
@@ -131,8 +131,8 @@ void lockOutput(const std::string& output)
         const int fd = ::open(lock.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0600);
         if (fd < 0)
         {
-            THROW_EXCEPTION("cannot lock the output '" + output + "' ('" + lock +
-                            "'): " + std::strerror(errno));
+            THROW_EXCEPTION(mrpt::format("cannot lock the output '%s' ('%s'): %s", output.c_str(),
+                                         lock.c_str(), std::strerror(errno)));
         }
         if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
         {
@@ -153,8 +153,8 @@ void lockOutput(const std::string& output)
             ::pwrite(fd, text.data(), text.size(), 0) != static_cast<ssize_t>(text.size()))
         {
             ::close(fd);
-            THROW_EXCEPTION("cannot lock the output '" + output + "' ('" + lock +
-                            "'): " + std::strerror(errno));
+            THROW_EXCEPTION(mrpt::format("cannot lock the output '%s' ('%s'): %s", output.c_str(),
+                                         lock.c_str(), std::strerror(errno)));
         }
         h.fds[lock] = fd;
         return;
