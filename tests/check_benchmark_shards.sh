@@ -80,6 +80,9 @@ sed 's/^runs = 5/runs = 6/' bench.ini > other.ini
 "$app" other.ini --runs 3:6 -o other > /dev/null
 refused "are not of one benchmark" --merge shards_two/1 other -o bad
 refused "a shard is runs A:B with 1 <= A <= B <= 5" bench.ini --runs 4:6 -o bad
+# Refused before anything is printed (no "N runs x M variants" line first).
+refused "a shard is runs A:B with 1 <= A <= B <= 5" bench.ini --runs 1:99999 -o bad
+[ "$(wc -l < refused.log)" = 1 ] || { echo "FAIL: --runs 1:99999 printed before refusing:"; cat refused.log; exit 1; }
 refused "is not a shard of semloc-benchmark" --merge shards_two/1 whole -o bad
 [ ! -e bad ] || { echo "FAIL: a refused merge wrote 'bad'"; exit 1; }
 echo "benchmark shards OK"

@@ -17,10 +17,43 @@ Cases specialFileCases()
     return {};
 }
 
+namespace
+{
+/** dir/bench.ini: 2 runs of 5 steps of config/localize/semantic.ini (the variant `semantic`,
+ *  100 particles, into `out`), then the [Benchmark] lines of `extra`. */
+fs::path writeBenchIni(const fs::path& dir, const std::string& extra)
+{
+    writeText(dir / "bench.ini", "[Benchmark]\nruns = 2\nvariants = semantic\nvariants_dir = " +
+                                     kSrc + "/config/localize\nsimulate_ini = " + kSrc +
+                                     "/config/simulate/simulate.ini\nmax_steps = 5\n"
+                                     "particles = 100\njobs = 1\noutput_dir = out\n" +
+                                     extra);
+    return dir / "bench.ini";
+}
+
+/** semloc-benchmark on writeBenchIni(`extra`) with `args`. */
+std::vector<std::string> benchmark(const fs::path& dir, const std::string& extra,
+                                   const std::vector<std::string>& args = {})
+{
+    std::vector<std::string> a{"semloc-benchmark", writeBenchIni(dir, extra).string()};
+    a.insert(a.end(), args.begin(), args.end());
+    return a;
+}
+
+/** `--runs <runs>` of the benchmark of writeBenchIni(), a shard into `shard`. */
+Builder shardRuns(const std::string& runs)
+{
+    return [runs](const fs::path& d) { return benchmark(d, "", {"--runs", runs, "-o", "shard"}); };
+}
+}  // namespace
+
 /** Benchmark sweeps, shards and merges. */
 Cases benchmarkSafetyCases()
 {
-    return {};
+    return {
+        {"benchmark-runs-blank", shardRuns(" 1:2")},
+        {"benchmark-runs-sign", shardRuns("+1:+2")},
+    };
 }
 
 /** semloc-calibrate. */

@@ -123,17 +123,22 @@ std::string Benchmark::shardRunsDir(const std::string& shardDir) const
            "runs";
 }
 
-Benchmark::TShard Benchmark::runShard(int first, int last,
-                                      const std::function<void(size_t, size_t)>& progress) const
+void Benchmark::checkShardRuns(int first, int last) const
 {
-    const int runs = m_options.runs;
-    if (!(first >= 1 && first <= last && last <= runs))
+    if (!(first >= 1 && first <= last && last <= m_options.runs))
     {
         THROW_EXCEPTION(
             mrpt::format("--runs %d:%d: a shard is runs A:B with 1 <= A <= B <= %d "
                          "(the benchmark's runs)",
-                         first, last, runs));
+                         first, last, m_options.runs));
     }
+}
+
+Benchmark::TShard Benchmark::runShard(int first, int last,
+                                      const std::function<void(size_t, size_t)>& progress) const
+{
+    const int runs = m_options.runs;
+    checkShardRuns(first, last);
     StagedDirectory out(m_options.output_dir, inputFiles());
     const std::vector<const Benchmark*> parts = [&]
     {

@@ -296,6 +296,9 @@ public:
      *  `<scenario>/runs/`), staged and renamed at the end. `progress` as run()'s. */
     TShard runShard(int first, int last,
                     const std::function<void(size_t, size_t)>& progress = {}) const;
+    /** Throws unless 1 <= first <= last <= runs (the runs of a shard), naming them: what
+     *  runShard() checks first, for a caller to check before it prints anything. */
+    void checkShardRuns(int first, int last) const;
     /** Reads the `shard.txt` of `dir`; throws naming the file and line of anything wrong. */
     static TShard ReadShard(const std::string& dir);
     /** Merges shards into `outputDir`: they must be of one benchmark (the same digest and
