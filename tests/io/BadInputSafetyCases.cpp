@@ -40,6 +40,12 @@ std::vector<std::string> benchmark(const fs::path& dir, const std::string& extra
     return a;
 }
 
+/** The benchmark of writeBenchIni() with `sweep = <line>`. */
+Builder sweep(const std::string& line)
+{
+    return [line](const fs::path& d) { return benchmark(d, "sweep = " + line + "\n"); };
+}
+
 /** `--runs <runs>` of the benchmark of writeBenchIni(), a shard into `shard`. */
 Builder shardRuns(const std::string& runs)
 {
@@ -51,6 +57,17 @@ Builder shardRuns(const std::string& runs)
 Cases benchmarkSafetyCases()
 {
     return {
+        {"benchmark-sweep-unknown-section", sweep("NoSuchSection.foo: 1, 2")},
+        {"benchmark-sweep-benchmark-key", sweep("Benchmark.particles: 100, 300")},
+        {"benchmark-sweep-particles-set-by-benchmark",
+         sweep("LocalizationExperiment.particles_count: 100, 300")},
+        {"benchmark-sweep-threads", sweep("PF_options.threads: 1, 2")},
+        {"benchmark-sweep-seed", sweep("LocalizationExperiment.seed: 1, 2")},
+        {"benchmark-sweep-map-from-world",
+         sweep("LocalizationExperiment.map_file: paper_50x50.yaml, paper_50x50_surveyed.yaml")},
+        {"benchmark-sweep-one-number", sweep("PF_options.powFactor: 0.5, 0.50, 5e-1")},
+        {"benchmark-sweep-changes-nothing", sweep("LocalizationExperiment.rawlog_offset: 1, 2")},
+        {"benchmark-sweep-bad-value", sweep("PF_options.powFactor: 0.5, abc")},
         {"benchmark-runs-blank", shardRuns(" 1:2")},
         {"benchmark-runs-sign", shardRuns("+1:+2")},
     };

@@ -90,11 +90,16 @@ public:
         std::vector<std::string> controls{"route"};
         /** A parameter sweep (`sweep = SECTION.KEY: v1, v2, ...`): every variant runs once
          *  per value, with SECTION's KEY set to it, as the variant `<name>@KEY=<value>`;
-         *  empty `key`: none. */
+         *  empty `key`: none. No value twice (values that read as numbers are compared as
+         *  numbers), and the key must change the runs: see Benchmark::FromConfigFile(). */
         struct TSweep
         {
             std::string section, key;
             std::vector<std::string> values;
+            /** "SECTION.KEY: v1, v2, ..." (the [Benchmark] sweep line as read). */
+            std::string text() const;
+            /** An error of the sweep line: "ini [Benchmark] sweep: 'text()': `why`". */
+            std::string error(const std::string& why) const;
         } sweep;
         /** [ActiveLocalization] of benchmark.ini: the policy of `active` and the candidates
          *  and stop rule of `random` (its seed replaced by each run's). */
@@ -166,6 +171,9 @@ public:
         LocalizationExperiment::TOptions options;
         /** The maps the variant localizes in. */
         LocalizationMap maps;
+        /** The maps' effective configuration (LocalizationMap::effectiveConfig() of the
+         *  variant's ini as read, the scenario's and the sweep's keys on it). */
+        std::string mapsConfig;
         /** The variant's name (options.variant). */
         const std::string& name() const { return options.variant; }
     };
@@ -269,7 +277,14 @@ public:
 
     /** Reads [Benchmark], the simulation ini and every variant ini (strictly) before any
      *  output is written. Throws naming the file, [section] and key of any error.
-     *  A non-empty `outputDir` replaces [Benchmark] output_dir, `runs` > 0 its runs. */
+     *  A non-empty `outputDir` replaces [Benchmark] output_dir, `runs` > 0 its runs.
+     *
+     *  A sweep is refused, naming the [Benchmark] sweep line and why, when its key is not one
+     *  the variants' runs read and that changes them: a key of [Benchmark] (the benchmark's
+     *  own), of a section semloc-localize does not read, or one the benchmark sets itself
+     *  (keySetByBenchmark()); a bad value, or a key a variant does not have, is an error of
+     *  the sweep line, not of the variant's file; and two values of which a variant runs the
+     *  same (runConfiguration()) are refused. */
     static Benchmark FromConfigFile(const std::string& iniPath, const std::string& outputDir = {},
                                     int runs = 0);
 
@@ -379,6 +394,21 @@ private:
     /** Reads the variants of m_options (names resolved next to `ini`) and applies the
      *  benchmark's and the scenario's filter overrides. */
     void loadVariants(const mrpt::config::CConfigFileBase& ini);
+    /** Why the runs do not take the variants' [section] key (empty: they do): the keys the
+     *  benchmark sets itself, in loadVariants() and runOne(): the filter's seed (each run's),
+     *  its threads ([Benchmark] filter_threads: results do not depend on them), the variant's
+     *  name, and, when this benchmark or its scenario sets them, particles_count, map_file
+     *  (map_from_world), init_PDF_mode and the [Recovery] trigger and rates. */
+    std::string keySetByBenchmark(const std::string& section, const std::string& key) const;
+    /** Throws, naming the sweep line, unless the variants' runs read the sweep's key and the
+     *  benchmark does not set it itself (keySetByBenchmark()). */
+    void checkSweepKey() const;
+    /** Throws, naming the sweep line, when two values of the sweep give one variant the same
+     *  runConfiguration(). */
+    void checkSweepValuesDiffer() const;
+    /** What the runs of `v` depend on, as ini text: its filter (but the seed, each run's, and
+     *  the threads), its convergence criterion, its map_file and mapsConfig. */
+    static std::string runConfiguration(const TVariant& v);
     /** The kidnap step of the simulation, -1 if none. */
     long kidnapStep() const;
     /** Summaries of `runs` (this benchmark's) per variant. */
