@@ -1,5 +1,6 @@
 /* semloc — Benchmark's shards: runs first..last written apart (a cluster's task, a machine of
  * GNU parallel) and merged into the outputs of the whole benchmark. */
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <semloc/experiment/Benchmark.h>
@@ -13,6 +14,7 @@
 #include <sstream>
 
 #include "experiment/BenchmarkRunPool.h"
+#include "experiment/Digest.h"
 #include "io/Text.h"
 #include "io/TextFiles.h"
 
@@ -25,28 +27,8 @@ constexpr const char* kShardHeader =
     "# semloc-benchmark shard: runs first..last of the benchmark below (semloc-benchmark "
     "--merge)";
 
-/** 64-bit FNV-1a over `bytes`, continuing from `h`. */
-uint64_t fnv1a(const std::string& bytes, uint64_t h)
-{
-    for (const unsigned char c : bytes)
-    {
-        h ^= c;
-        h *= 1099511628211ULL;
-    }
-    return h;
-}
-
-std::string fileBytes(const std::string& path)
-{
-    std::ifstream f(path, std::ios::binary);
-    if (!f)
-    {
-        THROW_EXCEPTION("cannot read '" + path + "'");
-    }
-    std::ostringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
+/** The largest shard.txt read [bytes]. */
+constexpr uint64_t kMaxShardFileBytes = 1 << 16;
 
 /** A shard's runs as "'dir' (runs a..b)". */
 std::string shardText(const Benchmark::TShard& s)
@@ -101,20 +83,55 @@ void checkShards(std::vector<Benchmark::TShard>& shards)
 }
 }  // namespace
 
+std::string Benchmark::effectiveConfiguration() const
+{
+    TOptions o = m_options;
+    o.output_dir.clear();  // where the outputs go, not what they are
+    mrpt::config::CConfigFileMemory c;
+    o.saveToConfigFile(c, "Benchmark");
+    m_simulation.saveToConfigFile(c);
+    if (!m_scenario.name.empty())
+    {
+        m_scenario.saveToConfigFile(c, "Scenario");
+    }
+    std::string text = c.getContent();
+    for (const auto& [section, key, value] : m_variantOverlay)
+    {
+        text += "overlay [" + section + "] " + key + " = " + value + "\n";
+    }
+    for (const auto& v : m_variants)
+    {
+        text += "variant " + v.name() + " (" + v.iniPath + ")\n" + runConfiguration(v);
+    }
+    for (const auto& sc : m_scenarios)
+    {
+        text += "scenario " + sc.m_scenario.name + "\n" + sc.effectiveConfiguration();
+    }
+    return text;
+}
+
 std::string Benchmark::digest() const
 {
-    uint64_t h = 14695981039346656037ULL;
-    h = fnv1a("runs " + std::to_string(m_options.runs) + "\n", h);
+    uint64_t h = detail::fnv1a("semloc-benchmark inputs\n");
+    const std::string config = effectiveConfiguration();
+    h = detail::fnv1a(std::to_string(config.size()) + "\n", h);
+    h = detail::fnv1a(config, h);
     for (const auto& f : inputFiles())
     {
         if (!f.empty() && std::filesystem::is_regular_file(f))
         {
-            const std::string bytes = fileBytes(f);
-            h = fnv1a(std::to_string(bytes.size()) + "\n", h);
-            h = fnv1a(bytes, h);
+            std::ifstream in(f, std::ios::binary);
+            std::ostringstream bytes;
+            bytes << in.rdbuf();
+            if (!in)
+            {
+                THROW_EXCEPTION("cannot read '" + f + "'");
+            }
+            h = detail::fnv1a(std::to_string(bytes.str().size()) + "\n", h);
+            h = detail::fnv1a(bytes.str(), h);
         }
     }
-    return mrpt::format("%016llx", static_cast<unsigned long long>(h));
+    return detail::digestText(h);
 }
 
 std::string Benchmark::shardRunsDir(const std::string& shardDir) const
@@ -139,6 +156,7 @@ Benchmark::TShard Benchmark::runShard(int first, int last,
 {
     const int runs = m_options.runs;
     checkShardRuns(first, last);
+    const std::string inputs = digest();
     StagedDirectory out(m_options.output_dir, inputFiles());
     const std::vector<const Benchmark*> parts = [&]
     {
@@ -153,7 +171,7 @@ Benchmark::TShard Benchmark::runShard(int first, int last,
     for (size_t i = 0; i < parts.size(); i++)
     {
         const Benchmark& b = *parts[i];
-        const detail::RunFiles files(b.shardRunsDir(out.path("")));
+        const detail::RunFiles files(b.shardRunsDir(out.path("")), inputs);
         std::filesystem::create_directories(files.dir());
         detail::runInChildProcesses(
             files, first, last, effectiveJobs(), b.m_scenario.name,
@@ -167,7 +185,7 @@ Benchmark::TShard Benchmark::runShard(int first, int last,
             });
     }
     TShard s{out.target(), std::filesystem::absolute(m_iniPath).lexically_normal().string(),
-             digest(),     runs,
+             inputs,       runs,
              first,        last};
     detail::writeFile(out.path(kShardFile),
                       std::string(kShardHeader) + "\nbenchmark " + s.ini + "\ndigest " + s.digest +
@@ -185,7 +203,7 @@ Benchmark::TShard Benchmark::ReadShard(const std::string& dir)
         THROW_EXCEPTION("'" + dir + "' is not a shard of semloc-benchmark (no " + kShardFile +
                         "; semloc-benchmark INI --runs A:B -o DIR writes one)");
     }
-    std::istringstream in(fileBytes(path));
+    std::istringstream in(detail::readBoundedFile(path, kMaxShardFileBytes, "shard file"));
     TShard s;
     s.dir = dir;
     std::string line;
@@ -248,11 +266,10 @@ Benchmark::TResult Benchmark::Merge(const std::vector<std::string>& shardDirs,
     if (b.digest() != a.digest)
     {
         THROW_EXCEPTION("the benchmark '" + a.ini + "' is not the one of the shards any more: " +
-                        "its files changed since they were run (digest " + b.digest() +
-                        ", the shards' " + a.digest + ")");
+                        "its files (or semloc's defaults) changed since they were run (digest " +
+                        b.digest() + ", the shards' " + a.digest + ")");
     }
-    return b.m_scenarios.empty() ? b.runAll(progress, shardDirs)
-                                 : b.runScenarios(progress, shardDirs);
+    return b.m_scenarios.empty() ? b.runAll(progress, shards) : b.runScenarios(progress, shards);
 }
 
 }  // namespace semloc

@@ -319,12 +319,17 @@ public:
     /** Merges shards into `outputDir`: they must be of one benchmark (the same digest and
      *  runs; its ini, read again, must still have that digest) and cover its runs 1..runs
      *  exactly once, else the merge is refused naming the shards and the runs that overlap or
-     *  are missing. The outputs are those run() writes (the same bytes but for the timings). */
+     *  are missing. Each run file is read where its shard is (detail::readRunFile: refused,
+     *  naming it and its line, unless it is a regular file of that run and of this benchmark's
+     *  digest whose content matches its own digest). The outputs are those run() writes (the
+     *  same bytes but for the timings). */
     static TResult Merge(const std::vector<std::string>& shardDirs, const std::string& outputDir,
                          const std::function<void(size_t, size_t)>& progress = {});
     /** What identifies the benchmark across machines: 16 hex digits of a 64-bit FNV-1a hash
-     *  of `runs` and the contents of every file it reads (its ini and bases, the simulation's,
-     *  the variants' inis and maps, the scenarios', the worlds), in order. */
+     *  of its effective configuration (runs, every variant's filter and maps as they run, the
+     *  simulation, the scenarios: effectiveConfiguration()) and the contents of every file it
+     *  reads (its ini and bases, the simulation's, the variants' inis and maps, the
+     *  scenarios', the worlds), in order. Every run file carries it. */
     std::string digest() const;
 
     /** Runs one (run, seed) in this process: simulation and every variant, each with every
@@ -413,12 +418,17 @@ private:
     long kidnapStep() const;
     /** Summaries of `runs` (this benchmark's) per variant. */
     std::vector<TScenarioSummary> summarize(const std::vector<TRunResult>& runs) const;
-    /** run() with scenarios; with `shardDirs`, the runs are those shards' (Merge()). */
+    /** run() with scenarios; with `shards`, the runs are those shards' (Merge()). */
     TResult runScenarios(const std::function<void(size_t, size_t)>& progress,
-                         const std::vector<std::string>& shardDirs = {}) const;
-    /** run() without scenarios; with `shardDirs`, the runs are those shards' (Merge()). */
+                         const std::vector<TShard>& shards = {}) const;
+    /** run() without scenarios; with `shards`, the runs are those shards' (Merge(): each run
+     *  in one). The run files carry `inputs` (empty: digest()), the whole benchmark's digest. */
     TResult runAll(const std::function<void(size_t, size_t)>& progress,
-                   const std::vector<std::string>& shardDirs = {}) const;
+                   const std::vector<TShard>& shards = {}, const std::string& inputs = {}) const;
+    /** What digest() hashes besides the input files' bytes: the effective configuration of the
+     *  whole benchmark as ini text ([Benchmark] but output_dir, the simulation, each scenario
+     *  and its overlay, each variant's name, ini and runConfiguration()). */
+    std::string effectiveConfiguration() const;
     /** Where the run files of this benchmark are in a shard directory. */
     std::string shardRunsDir(const std::string& shardDir) const;
     /** Fills m_mapWarnings: the variants' maps compared with the simulated world. */
