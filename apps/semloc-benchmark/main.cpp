@@ -229,6 +229,7 @@ void run()
     {
         bench.checkShardRuns(runs.first, runs.last);  // before anything is printed
     }
+    bench.checkOutputKind(runs.first, runs.last);
     warnAboutVariants(bench);
     for (const auto& w : bench.mapWarnings())
     {

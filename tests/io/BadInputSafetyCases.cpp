@@ -120,6 +120,30 @@ Cases benchmarkSafetyCases()
                                                  })},
         {"benchmark-merge-run-file-missing",
          mergeDamaged([](const fs::path&, const fs::path& runFile) { fs::remove(runFile); })},
+        {"benchmark-shard-over-whole-benchmark",
+         [](const fs::path& d)
+         {
+             writeBenchIni(d, "");
+             runBenchmark(d, "bench.ini");  // into output_dir = out
+             return std::vector<std::string>{"semloc-benchmark", "bench.ini", "--runs", "1:1"};
+         }},
+        {"benchmark-whole-over-shard",
+         [](const fs::path& d)
+         {
+             writeBenchIni(d, "");
+             runBenchmark(d, "bench.ini --runs 1:1 -o out");
+             return std::vector<std::string>{"semloc-benchmark", "bench.ini"};
+         }},
+        {"benchmark-merge-over-shard",
+         [](const fs::path& d)
+         {
+             writeBenchIni(d, "");
+             for (const char* runs : {"1:1 -o a", "2:2 -o b", "1:1 -o c"})
+             {
+                 runBenchmark(d, std::string("bench.ini --runs ") + runs);
+             }
+             return std::vector<std::string>{"semloc-benchmark", "--merge", "a", "b", "-o", "c"};
+         }},
         {"benchmark-runs-blank", shardRuns(" 1:2")},
         {"benchmark-runs-sign", shardRuns("+1:+2")},
     };

@@ -181,6 +181,7 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
 
 Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& progress) const
 {
+    checkOutputKind();
     return m_scenarios.empty() ? runAll(progress) : runScenarios(progress);
 }
 

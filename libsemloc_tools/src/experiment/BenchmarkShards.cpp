@@ -41,6 +41,92 @@ std::string runsText(int a, int b)
     return a == b ? mrpt::format("run %d", a) : mrpt::format("runs %d..%d", a, b);
 }
 
+/** The last line of the text file `path` (its last 4 KiB read); empty if none. */
+std::string lastLine(const std::string& path)
+{
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    std::ifstream f(path, std::ios::binary);
+    if (ec || !f)
+    {
+        return {};
+    }
+    constexpr uintmax_t kTail = 4096;
+    f.seekg(static_cast<std::streamoff>(size > kTail ? size - kTail : 0));
+    std::ostringstream tail;
+    tail << f.rdbuf();
+    std::string t = tail.str();
+    while (!t.empty() && t.back() == '\n')
+    {
+        t.pop_back();
+    }
+    return t.substr(t.rfind('\n') == std::string::npos ? 0 : t.rfind('\n') + 1);
+}
+
+/** Field `k` (from 0) of a CSV line; empty if it has fewer. */
+std::string csvField(const std::string& line, size_t k)
+{
+    std::istringstream in(line);
+    std::string f;
+    for (size_t i = 0; i <= k; i++)
+    {
+        if (!std::getline(in, f, ','))
+        {
+            return {};
+        }
+    }
+    return f;
+}
+
+/** The runs of a whole benchmark's outputs: the run of results.csv's last row, or the `runs`
+ *  of scenarios.csv's first row; empty if unreadable. */
+std::string runsOf(const std::filesystem::path& csv, bool scenarios)
+{
+    if (!scenarios)
+    {
+        return csvField(lastLine(csv.string()), 0);
+    }
+    std::ifstream f(csv);
+    std::string header, row;
+    std::getline(f, header);
+    std::getline(f, row);
+    return csvField(row, 2);
+}
+
+/** What the directory `dir` holds of semloc-benchmark's outputs: "a shard of runs A:B" (its
+ *  shard.txt; `shard` set), "a whole benchmark of N runs" (results.csv, or scenarios.csv with
+ *  scenarios), or nothing (empty). */
+std::string heldOutputs(const std::string& dir, bool& shard)
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    shard = fs::exists(fs::path(dir) / kShardFile, ec);
+    if (shard)
+    {
+        try
+        {
+            const auto s = Benchmark::ReadShard(dir);
+            return mrpt::format("a shard of runs %d:%d of a benchmark of %d (%s)", s.first, s.last,
+                                s.runs, kShardFile);
+        }
+        catch (const std::exception&)
+        {
+            return std::string("a shard (") + kShardFile + ")";
+        }
+    }
+    for (const char* file : {"results.csv", "scenarios.csv"})
+    {
+        const fs::path p = fs::path(dir) / file;
+        if (fs::is_regular_file(p, ec))
+        {
+            const std::string n = runsOf(p, file == std::string("scenarios.csv"));
+            return "a whole benchmark" + (n.empty() ? std::string() : " of " + n + " runs") + " (" +
+                   file + ")";
+        }
+    }
+    return {};
+}
+
 /** Throws unless the shards are of one benchmark and cover its runs once each. */
 void checkShards(std::vector<Benchmark::TShard>& shards)
 {
@@ -151,11 +237,29 @@ void Benchmark::checkShardRuns(int first, int last) const
     }
 }
 
+void Benchmark::checkOutputKind(int first, int last) const
+{
+    const std::string& dir = m_options.output_dir;
+    bool shard = false;
+    const std::string held = heldOutputs(dir, shard);
+    if (held.empty() || shard == (first > 0))
+    {
+        return;  // nothing of ours, or of the same kind: replaced as any previous output
+    }
+    const std::string what =
+        first > 0 ? mrpt::format("a shard (--runs %d:%d) does not", first, last)
+                  : std::string("the outputs of a whole benchmark (a run or a merge) do not");
+    THROW_EXCEPTION("output directory '" + dir + "' holds " + held + ": " + what +
+                    " replace it; remove it first (rm -r '" + dir +
+                    "') or name another directory (-o)");
+}
+
 Benchmark::TShard Benchmark::runShard(int first, int last,
                                       const std::function<void(size_t, size_t)>& progress) const
 {
     const int runs = m_options.runs;
     checkShardRuns(first, last);
+    checkOutputKind(first, last);
     const std::string inputs = digest();
     StagedDirectory out(m_options.output_dir, inputFiles());
     const std::vector<const Benchmark*> parts = [&]
@@ -263,6 +367,7 @@ Benchmark::TResult Benchmark::Merge(const std::vector<std::string>& shardDirs,
     checkShards(shards);
     const auto& a = shards.front();
     const Benchmark b = FromConfigFile(a.ini, outputDir, a.runs);
+    b.checkOutputKind();
     if (b.digest() != a.digest)
     {
         THROW_EXCEPTION("the benchmark '" + a.ini + "' is not the one of the shards any more: " +

@@ -314,6 +314,13 @@ public:
     /** Throws unless 1 <= first <= last <= runs (the runs of a shard), naming them: what
      *  runShard() checks first, for a caller to check before it prints anything. */
     void checkShardRuns(int first, int last) const;
+    /** Throws, before any work, when output_dir holds the other kind of outputs than those to
+     *  be written (first = 0: the whole benchmark's, of run() or Merge(); else the shard of runs
+     *  first..last): a shard never replaces a whole benchmark's outputs, nor a whole benchmark
+     *  a shard. The error names the directory and what it holds ("a whole benchmark of N
+     *  runs", "a shard of runs A:B"); the user removes it to replace it. run(), runShard() and
+     *  Merge() check it first, a caller may before it prints anything. */
+    void checkOutputKind(int first = 0, int last = 0) const;
     /** Reads the `shard.txt` of `dir`; throws naming the file and line of anything wrong. */
     static TShard ReadShard(const std::string& dir);
     /** Merges shards into `outputDir`: they must be of one benchmark (the same digest and
