@@ -183,7 +183,8 @@ std::string Benchmark::effectiveConfiguration() const
     std::string text = c.getContent();
     for (const auto& [section, key, value] : m_variantOverlay)
     {
-        text += "overlay [" + section + "] " + key + " = " + value + "\n";
+        text.append("overlay [").append(section).append("] ").append(key).append(" = ");
+        text.append(value).append("\n");
     }
     for (const auto& v : m_variants)
     {
