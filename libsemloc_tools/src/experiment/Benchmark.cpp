@@ -134,7 +134,7 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
         {
             const auto wall0 = std::chrono::steady_clock::now();
             auto filter = v.options.filter;
-            filter.seed = static_cast<uint32_t>(run);
+            filter.seed = static_cast<uint32_t>(run);  // keySetByBenchmark(): never swept
             Localizer loc(filter, v.maps.map, v.maps.world ? &*v.maps.world : nullptr);
             TRunResult r;
             r.scenario = m_scenario.name;

@@ -463,6 +463,7 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
     {
         references.push_back(m_variants[r].options);
     }
+    // The keys set below for every variant are keySetByBenchmark()'s: a sweep of one is refused.
     for (size_t k = 0; k < m_variants.size(); k++)
     {
         auto& v = m_variants[k];
