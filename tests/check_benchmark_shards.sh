@@ -63,6 +63,11 @@ diff <(strip whole_sc/scenario/results.csv) <(strip merged_sc/scenario/results.c
   { echo "FAIL: scenarios: the merged results.csv differs"; exit 1; }
 cmp whole_sc/scenarios.csv merged_sc/scenarios.csv || { echo "FAIL: scenarios.csv differs"; exit 1; }
 echo "scenarios (1:3 4:5): the unsharded results"
+# A shard never replaces a whole benchmark's outputs (here its output_dir, no -o), nor the reverse.
+if "$app" sc.ini --runs 1:2 > refused.log 2>&1; then echo "FAIL: a shard replaced whole_sc"; exit 1; fi
+grep -qF "output directory 'whole_sc' holds a whole benchmark of 5 runs (scenarios.csv)" refused.log ||
+  { echo "FAIL: the refusal did not name what whole_sc holds"; cat refused.log; exit 1; }
+cmp whole_sc/scenarios.csv merged_sc/scenarios.csv || { echo "FAIL: whole_sc changed"; exit 1; }
 
 refused() {  # expected message, then the arguments
   local expect=$1; shift
@@ -80,6 +85,9 @@ sed 's/^runs = 5/runs = 6/' bench.ini > other.ini
 "$app" other.ini --runs 3:6 -o other > /dev/null
 refused "are not of one benchmark" --merge shards_two/1 other -o bad
 refused "a shard is runs A:B with 1 <= A <= B <= 5" bench.ini --runs 4:6 -o bad
+# Refused before anything is printed (no "N runs x M variants" line first).
+refused "a shard is runs A:B with 1 <= A <= B <= 5" bench.ini --runs 1:99999 -o bad
+[ "$(wc -l < refused.log)" = 1 ] || { echo "FAIL: --runs 1:99999 printed before refusing:"; cat refused.log; exit 1; }
 refused "is not a shard of semloc-benchmark" --merge shards_two/1 whole -o bad
 [ ! -e bad ] || { echo "FAIL: a refused merge wrote 'bad'"; exit 1; }
 echo "benchmark shards OK"

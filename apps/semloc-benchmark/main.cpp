@@ -10,6 +10,7 @@
 #include <semloc/io/Interrupt.h>
 #include <unistd.h>
 
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -45,19 +46,23 @@ struct RunsArg
     int first = 0, last = 0;
 };
 
+/** One run number of --runs: decimal digits only (no blank, no sign), 1..kMaxRuns. */
 int parseRunNumber(const std::string& text)
 {
     constexpr int kMaxRuns = semloc::Benchmark::TOptions::kMaxRuns;  // as [Benchmark] runs
-    char* end = nullptr;
-    const long v = std::strtol(text.c_str(), &end, 10);
-    if (text.empty() || *end != '\0' || v < 1 || v > kMaxRuns)
+    unsigned long v = 0;  // from_chars takes no blank and no sign for an unsigned type
+    const auto r = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (text.empty() || r.ec != std::errc() || r.ptr != text.data() + text.size() || v < 1 ||
+        v > static_cast<unsigned long>(kMaxRuns))
     {
-        THROW_EXCEPTION("--runs: '" + argRuns.getValue() + "' is not N or A:B with runs in [1, " +
+        THROW_EXCEPTION("--runs: '" + argRuns.getValue() +
+                        "' is not N or A:B (decimal digits, no blank or sign) with runs in [1, " +
                         std::to_string(kMaxRuns) + "]");
     }
     return static_cast<int>(v);
 }
 
+/** --runs: N, or A:B (one colon); nothing else. */
 RunsArg runsArg()
 {
     RunsArg r;
@@ -73,7 +78,7 @@ RunsArg runsArg()
         return r;
     }
     r.first = parseRunNumber(v.substr(0, colon));
-    r.last = parseRunNumber(v.substr(colon + 1));
+    r.last = parseRunNumber(v.substr(colon + 1));  // a second colon is not a digit
     if (r.first > r.last)
     {
         THROW_EXCEPTION("--runs " + v + ": the first run is after the last");
@@ -220,6 +225,11 @@ void run()
     }
     const RunsArg runs = runsArg();
     const auto bench = load(argInputs.getValue().front(), runs);
+    if (runs.first > 0)
+    {
+        bench.checkShardRuns(runs.first, runs.last);  // before anything is printed
+    }
+    bench.checkOutputKind(runs.first, runs.last);
     warnAboutVariants(bench);
     for (const auto& w : bench.mapWarnings())
     {

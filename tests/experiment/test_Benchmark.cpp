@@ -602,4 +602,28 @@ TEST(Benchmark, ABadSweepIsAnErrorNamingIt)
     EXPECT_NE(
         errorOf(writeSweepIni("bench_sweep_bad4.ini", "PF_options.powFactr: 0.5")).find("powFactr"),
         std::string::npos);
+    // A key the variant does not have is the sweep line's error, not its file's.
+    const std::string notRead = errorOf(writeSweepIni(
+        "bench_sweep_bad5.ini", "MetricMap_semanticMap_01_likelihoodOpts.sigma_range_m: 1, 2"));
+    EXPECT_EQ(notRead.rfind("ini [Benchmark] sweep: 'MetricMap_semanticMap_01_likelihoodOpts."
+                            "sigma_range_m: 1, 2': the value '1' (variant '",
+                            0),
+              0u)
+        << notRead;
+    EXPECT_NE(notRead.find("semanticMap_count = 1"), std::string::npos) << notRead;
+}
+
+TEST(Benchmark, ASweepOfMapsIsOneWithoutMapFromWorld)
+{
+    const std::string maps = kConfig + "../maps/";
+    const std::string line = "LocalizationExperiment.map_file: " + maps + "paper_50x50.yaml, " +
+                             maps + "paper_50x50_surveyed.yaml";
+    EXPECT_NE(errorOf(writeSweepIni("bench_sweep_maps_world.ini", line))
+                  .find("map_from_world = true: every variant localizes against the simulated"),
+              std::string::npos);
+    const auto b = semloc::Benchmark::FromConfigFile(
+        writeSweepIni("bench_sweep_maps.ini", line + "\nmap_from_world = false"));
+    ASSERT_EQ(b.variants().size(), 2u);
+    EXPECT_EQ(b.variants()[0].options.map_file, maps + "paper_50x50.yaml");
+    EXPECT_EQ(b.variants()[1].options.map_file, maps + "paper_50x50_surveyed.yaml");
 }

@@ -1,13 +1,19 @@
-/* semloc tests — Benchmark's run files: what a child process hands back to the parent. */
+/* semloc tests — Benchmark's run files: what a child process hands back to the parent, sealed
+ * by the digests of its benchmark and of its content. */
 #include <gtest/gtest.h>
+#include <semloc/io/ErrorMessage.h>
+#include <sys/stat.h>
 
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "experiment/BenchmarkRunPool.h"
+#include "experiment/Digest.h"
 
 namespace
 {
@@ -21,11 +27,50 @@ uint64_t bits(double v)
     return b;
 }
 
+const std::string kInputs = "00cba9e3f5b16f80";
+
 std::string writeTemp(const std::string& name, const std::string& text)
 {
     std::string path = std::string(SEMLOC_TEST_OUT) + "/" + name;
     std::ofstream(path) << text;
     return path;
+}
+
+/** The error of reading `text` as the run file of `run` with `series`. */
+std::string errorOf(const std::string& text, int run = 1,
+                    const semloc::detail::RunSeries& series = {{"semantic", "route"}})
+{
+    try
+    {
+        (void)semloc::detail::readRunFile(writeTemp("run_corrupt.txt", text), run, kInputs, series);
+    }
+    catch (const std::exception& e)
+    {
+        return semloc::errorMessage(e);
+    }
+    return {};
+}
+
+std::vector<std::string> splitLines(const std::string& text)
+{
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);)
+    {
+        lines.push_back(l);
+    }
+    return lines;
+}
+
+/** The lines but the last (the content digest) with a content digest of their own. */
+std::string sealed(const std::vector<std::string>& lines)
+{
+    std::string body;
+    for (size_t i = 0; i + 1 < lines.size(); i++)
+    {
+        body += lines[i] + "\n";
+    }
+    return body + "content " + semloc::detail::digestText(semloc::detail::fnv1a(body)) + "\n";
 }
 }  // namespace
 
@@ -61,9 +106,11 @@ TEST(BenchmarkRunPool, RunFileGivesBackEveryValueBitForBit)
     }
     in[0].detectorBound = {{1.0 / 3.0, 0.1 + 0.2}, {1e-300, 2.0 / 7.0}};
     in[1].variant = "grid_lf";  // no step at all
-    const std::string path = writeTemp("run_roundtrip.txt", semloc::detail::runFileText(in));
+    const std::string path =
+        writeTemp("run_roundtrip.txt", semloc::detail::runFileText(in, 7, kInputs));
 
-    const auto out = semloc::detail::readRunFile(path, 7);
+    const auto out = semloc::detail::readRunFile(path, 7, kInputs,
+                                                 {{"semantic", "route"}, {"grid_lf", "route"}});
     ASSERT_EQ(out.size(), 2u);
     EXPECT_EQ(out[0].run, 7);
     EXPECT_EQ(out[0].seed, 7u);
@@ -112,23 +159,99 @@ TEST(BenchmarkRunPool, RunFileGivesBackEveryValueBitForBit)
     EXPECT_TRUE(out[1].detectorBound.empty());
 }
 
-TEST(BenchmarkRunPool, CorruptRunFileIsAnError)
+TEST(BenchmarkRunPool, CorruptRunFileIsAnErrorNamingItsLine)
 {
-    const std::string text = semloc::detail::runFileText({Benchmark::TRunResult()});
-    EXPECT_THROW(semloc::detail::readRunFile(writeTemp("run_bad_tag.txt", "X" + text), 1),
-                 std::exception);
-    // A run file cut in the middle of its steps.
     Benchmark::TRunResult r;
     r.variant = "semantic";
     r.records.resize(2);
-    const std::string full = semloc::detail::runFileText({r});
-    EXPECT_THROW(
-        semloc::detail::readRunFile(writeTemp("run_cut.txt", full.substr(0, full.size() - 12)), 1),
-        std::exception);
-    // Cut in the middle of its detector bound.
     r.detectorBound.resize(3, {0.25, 0.125});
-    const std::string withBound = semloc::detail::runFileText({r});
-    EXPECT_THROW(semloc::detail::readRunFile(
-                     writeTemp("run_cut_bound.txt", withBound.substr(0, withBound.size() - 8)), 1),
-                 std::exception);
+    const std::string text = semloc::detail::runFileText({r}, 1, kInputs);
+    EXPECT_NE(
+        errorOf("X" + text).find("run_corrupt.txt' line 1: not a run file of semloc-benchmark"),
+        std::string::npos);
+    // Cut in the middle of its steps, of its detector bound.
+    for (const size_t cut : {size_t(60), size_t(8)})
+    {
+        EXPECT_NE(errorOf(text.substr(0, text.size() - cut)).find("the file was cut short"),
+                  std::string::npos);
+    }
+    // Lines that do not read, sealed again as a forger would: named by their line.
+    const auto lines = splitLines(text);
+    auto bad = lines;
+    bad[4] = "0 x" + bad[4].substr(bad[4].find(' ', 2));  // the first step's time
+    EXPECT_NE(errorOf(sealed(bad)).find("run_corrupt.txt' line 5: 'x' is not a number"),
+              std::string::npos)
+        << errorOf(sealed(bad));
+    bad = lines;
+    bad[3] = "V semantic route 0 1 0 0 0 0 1000";  // more steps than lines
+    EXPECT_NE(errorOf(sealed(bad)).find("line 4: 1000 steps, but the file ends before them"),
+              std::string::npos);
+    bad = lines;
+    bad[6] += " 1";
+    EXPECT_NE(errorOf(sealed(bad)).find("line 7: 9 fields where this B line has 8"),
+              std::string::npos)
+        << errorOf(sealed(bad));
+}
+
+TEST(BenchmarkRunPool, RunFileOfAnotherRunBenchmarkOrSeriesOrEditedIsRefused)
+{
+    Benchmark::TRunResult r;
+    r.variant = "semantic";
+    r.records.resize(2);
+    const std::string text = semloc::detail::runFileText({r}, 2, kInputs);
+    EXPECT_NO_THROW(semloc::detail::readRunFile(writeTemp("run_ok.txt", text), 2, kInputs,
+                                                {{"semantic", "route"}}));
+    // A figure edited by hand: the content digest of the last line (line 8) no longer matches.
+    std::string edited = text;
+    edited[edited.find("\n0 0 0") + 3] = '1';
+    EXPECT_NE(errorOf(edited, 2).find("line 8: the file was changed after its run wrote it"),
+              std::string::npos)
+        << errorOf(edited, 2);
+    EXPECT_NE(errorOf(text, 1).find("line 2: the results of another run than run 1 ('run 2'"),
+              std::string::npos);
+    EXPECT_NE(errorOf(semloc::detail::runFileText({r}, 2, "0123456789abcdef"), 2)
+                  .find("line 3: the results of another benchmark ('inputs 0123456789abcdef', "
+                        "this one's inputs digest is " +
+                        kInputs),
+              std::string::npos);
+    EXPECT_NE(errorOf(text, 2, {{"geometric", "route"}})
+                  .find("line 4: the results of variant 'semantic' (control route), not a series"),
+              std::string::npos);
+    EXPECT_NE(errorOf(text, 2, {{"semantic", "route"}, {"semantic", "active"}})
+                  .find("line 8: the file ends after 1 of the 2 results of a run"),
+              std::string::npos);
+}
+
+TEST(BenchmarkRunPool, RunFileThatIsNotARegularFileIsRefusedInOneLine)
+{
+    const std::string dir = std::string(SEMLOC_TEST_OUT) + "/run_special";
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    const auto error = [](const std::string& path, uint64_t max = semloc::detail::kMaxRunFileBytes)
+    {
+        try
+        {
+            (void)semloc::detail::readBoundedFile(path, max, "run file");
+        }
+        catch (const std::exception& e)
+        {
+            return semloc::errorMessage(e);
+        }
+        return std::string();
+    };
+    std::filesystem::create_symlink("/dev/zero", dir + "/zero.txt");
+    EXPECT_EQ(error(dir + "/zero.txt"), "run file '" + dir +
+                                            "/zero.txt' is a symbolic link, not a regular file: "
+                                            "semloc-benchmark reads only the files it wrote");
+    ASSERT_EQ(::mkfifo((dir + "/fifo.txt").c_str(), 0600), 0);
+    EXPECT_NE(error(dir + "/fifo.txt").find("fifo.txt' is a FIFO (a pipe), not a regular file"),
+              std::string::npos);
+    EXPECT_NE(error(dir).find("run_special' is a directory, not a file"),
+              std::string::npos);
+    EXPECT_EQ(error(dir + "/none.txt"), "run file '" + dir + "/none.txt' does not exist");
+    std::ofstream(dir + "/big.txt") << "0123456789a";
+    EXPECT_NE(error(dir + "/big.txt", 10)
+                  .find("big.txt' holds 11 bytes, more than the 10 bytes a run file may hold"),
+              std::string::npos);
+    EXPECT_EQ(error(dir + "/big.txt", 11), "");
 }

@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -147,10 +149,134 @@ Cases specialFileCases()
     return all;
 }
 
+namespace
+{
+/** dir/bench.ini: 2 runs of 5 steps of config/localize/semantic.ini (the variant `semantic`,
+ *  100 particles, into `out`), then the [Benchmark] lines of `extra`. */
+fs::path writeBenchIni(const fs::path& dir, const std::string& extra,
+                       const std::string& name = "bench.ini", int particles = 100)
+{
+    writeText(dir / name, "[Benchmark]\nruns = 2\nvariants = semantic\nvariants_dir = " + kSrc +
+                              "/config/localize\nsimulate_ini = " + kSrc +
+                              "/config/simulate/simulate.ini\nmax_steps = 5\nparticles = " +
+                              std::to_string(particles) + "\njobs = 1\noutput_dir = out\n" + extra);
+    return dir / name;
+}
+
+/** semloc-benchmark on writeBenchIni(`extra`) with `args`. */
+std::vector<std::string> benchmark(const fs::path& dir, const std::string& extra,
+                                   const std::vector<std::string>& args = {})
+{
+    std::vector<std::string> a{"semloc-benchmark", writeBenchIni(dir, extra).string()};
+    a.insert(a.end(), args.begin(), args.end());
+    return a;
+}
+
+/** The benchmark of writeBenchIni() with `sweep = <line>`. */
+Builder sweep(const std::string& line)
+{
+    return [line](const fs::path& d) { return benchmark(d, "sweep = " + line + "\n"); };
+}
+
+/** Runs semloc-benchmark with `args` in `dir` (the making of a case's input), quietly. */
+void runBenchmark(const fs::path& dir, const std::string& args)
+{
+    const std::string cmd = "cd '" + dir.string() + "' && '" + kBin + "/semloc-benchmark' " + args +
+                            " > /dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+}
+
+/** The shards a (run 1) and b (run 2) of writeBenchIni() in `dir`, `damage` done to a's run
+ *  file, then their merge into `merged`. */
+Builder mergeDamaged(
+    const std::function<void(const fs::path& dir, const fs::path& runFile)>& damage)
+{
+    return [damage](const fs::path& d)
+    {
+        writeBenchIni(d, "");
+        runBenchmark(d, "bench.ini --runs 1:1 -o a");
+        runBenchmark(d, "bench.ini --runs 2:2 -o b");
+        damage(d, d / "a" / "runs" / "run_000001.txt");
+        return std::vector<std::string>{"semloc-benchmark", "--merge", (d / "a").string(),
+                                        (d / "b").string(), "-o",      (d / "merged").string()};
+    };
+}
+
+/** `--runs <runs>` of the benchmark of writeBenchIni(), a shard into `shard`. */
+Builder shardRuns(const std::string& runs)
+{
+    return [runs](const fs::path& d) { return benchmark(d, "", {"--runs", runs, "-o", "shard"}); };
+}
+}  // namespace
+
 /** Benchmark sweeps, shards and merges. */
 Cases benchmarkSafetyCases()
 {
-    return {};
+    return {
+        {"benchmark-sweep-unknown-section", sweep("NoSuchSection.foo: 1, 2")},
+        {"benchmark-sweep-benchmark-key", sweep("Benchmark.particles: 100, 300")},
+        {"benchmark-sweep-particles-set-by-benchmark",
+         sweep("LocalizationExperiment.particles_count: 100, 300")},
+        {"benchmark-sweep-threads", sweep("PF_options.threads: 1, 2")},
+        {"benchmark-sweep-seed", sweep("LocalizationExperiment.seed: 1, 2")},
+        {"benchmark-sweep-map-from-world",
+         sweep("LocalizationExperiment.map_file: paper_50x50.yaml, paper_50x50_surveyed.yaml")},
+        {"benchmark-sweep-one-number", sweep("PF_options.powFactor: 0.5, 0.50, 5e-1")},
+        {"benchmark-sweep-changes-nothing", sweep("LocalizationExperiment.rawlog_offset: 1, 2")},
+        {"benchmark-sweep-bad-value", sweep("PF_options.powFactor: 0.5, abc")},
+        {"benchmark-merge-run-file-of-another-benchmark",
+         mergeDamaged(
+             [](const fs::path& d, const fs::path& runFile)
+             {
+                 writeBenchIni(d, "", "other.ini", 300);
+                 runBenchmark(d, "other.ini --runs 1:1 -o other");
+                 fs::copy_file(d / "other" / "runs" / "run_000001.txt", runFile,
+                               fs::copy_options::overwrite_existing);
+             })},
+        {"benchmark-merge-run-file-edited", mergeDamaged(
+                                                [](const fs::path&, const fs::path& runFile)
+                                                {
+                                                    std::string text = readText(runFile);
+                                                    const auto step = text.find(
+                                                        "\n0 ");  // the first step: its time edited
+                                                    text.insert(step + 3, "1");
+                                                    writeText(runFile, text);
+                                                })},
+        {"benchmark-merge-run-file-symlink", mergeDamaged(
+                                                 [](const fs::path&, const fs::path& runFile)
+                                                 {
+                                                     fs::remove(runFile);
+                                                     fs::create_symlink("/dev/zero", runFile);
+                                                 })},
+        {"benchmark-merge-run-file-missing",
+         mergeDamaged([](const fs::path&, const fs::path& runFile) { fs::remove(runFile); })},
+        {"benchmark-shard-over-whole-benchmark",
+         [](const fs::path& d)
+         {
+             writeBenchIni(d, "");
+             runBenchmark(d, "bench.ini");  // into output_dir = out
+             return std::vector<std::string>{"semloc-benchmark", "bench.ini", "--runs", "1:1"};
+         }},
+        {"benchmark-whole-over-shard",
+         [](const fs::path& d)
+         {
+             writeBenchIni(d, "");
+             runBenchmark(d, "bench.ini --runs 1:1 -o out");
+             return std::vector<std::string>{"semloc-benchmark", "bench.ini"};
+         }},
+        {"benchmark-merge-over-shard",
+         [](const fs::path& d)
+         {
+             writeBenchIni(d, "");
+             for (const char* runs : {"1:1 -o a", "2:2 -o b", "1:1 -o c"})
+             {
+                 runBenchmark(d, std::string("bench.ini --runs ") + runs);
+             }
+             return std::vector<std::string>{"semloc-benchmark", "--merge", "a", "b", "-o", "c"};
+         }},
+        {"benchmark-runs-blank", shardRuns(" 1:2")},
+        {"benchmark-runs-sign", shardRuns("+1:+2")},
+    };
 }
 
 /** semloc-calibrate. */

@@ -51,9 +51,9 @@ std::string sizeText(uint64_t bytes)
                          : mrpt::format("%llu bytes", static_cast<unsigned long long>(bytes));
 }
 
-/** Throws unless `st` is a regular file within the cap of `kind`. */
+/** Throws unless `st` is a regular file of at most `cap` bytes. */
 uint64_t checkStat(const struct stat& st, const std::string& path, const std::string& what,
-                   InputKind kind)
+                   uint64_t cap)
 {
     const std::string name = what + " '" + path + "' ";
     if (const char* why = notRegular(st.st_mode))
@@ -61,10 +61,10 @@ uint64_t checkStat(const struct stat& st, const std::string& path, const std::st
         THROW_EXCEPTION(name + why);
     }
     const auto size = static_cast<uint64_t>(st.st_size);
-    if (size > maxInputBytes(kind))
+    if (size > cap)
     {
-        THROW_EXCEPTION(name + "holds " + sizeText(size) + ", more than the " +
-                        sizeText(maxInputBytes(kind)) + " a " + what + " may hold");
+        THROW_EXCEPTION(name + "holds " + sizeText(size) + ", more than the " + sizeText(cap) +
+                        " a " + what + " may hold");
     }
     return size;
 }
@@ -102,7 +102,6 @@ uint64_t maxInputBytes(InputKind kind)
     switch (kind)
     {
         case InputKind::Config:
-        case InputKind::ShardRunFile:
             return kMiB * 16;
         case InputKind::World:
             return kMiB * 1024;
@@ -121,10 +120,15 @@ uint64_t checkInputFile(const std::string& path, const std::string& what, InputK
     {
         throwErrno(errno, path, what);
     }
-    return checkStat(st, path, what, kind);
+    return checkStat(st, path, what, maxInputBytes(kind));
 }
 
 std::string readInputFile(const std::string& path, const std::string& what, InputKind kind)
+{
+    return readInputFile(path, what, maxInputBytes(kind));
+}
+
+std::string readInputFile(const std::string& path, const std::string& what, uint64_t cap)
 {
     // O_NONBLOCK: opening a FIFO must not wait for a writer; fstat then refuses it.
     const TFd f{::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC)};
@@ -137,8 +141,7 @@ std::string readInputFile(const std::string& path, const std::string& what, Inpu
     {
         throwErrno(errno, path, what);
     }
-    const uint64_t size = checkStat(st, path, what, kind);
-    const uint64_t cap = maxInputBytes(kind);
+    const uint64_t size = checkStat(st, path, what, cap);
     std::string bytes;
     bytes.reserve(static_cast<size_t>(size));
     char buffer[1 << 16];

@@ -26,27 +26,34 @@ namespace
 {
 using detail::writeFile;
 
-/** The results of runs 1..runs read back from their files, in run-major order, each with
- *  its scenario name, its metrics (its variant's convergence criterion, `kidnapStep`) and
- *  its distance to convergence; each run holds every variant with each of `controls`
- *  controls. */
-std::vector<Benchmark::TRunResult> collectRuns(const detail::RunFiles& files, int runs,
+/** The results of runs 1..runs read back from their run files (`pathOf(run)`; detail::
+ *  readRunFile(), `inputs` the benchmark's digest), in run-major order, each with its scenario
+ *  name, its metrics (its variant's convergence criterion, `kidnapStep`) and its distance to
+ *  convergence; each run holds every variant with each of `controls`. */
+std::vector<Benchmark::TRunResult> collectRuns(const std::function<std::string(int)>& pathOf,
+                                               int runs, const std::string& inputs,
                                                const std::vector<Benchmark::TVariant>& variants,
-                                               size_t controls, const std::string& scenario,
-                                               long kidnapStep)
+                                               const std::vector<std::string>& controls,
+                                               const std::string& scenario, long kidnapStep)
 {
+    detail::RunSeries series;
+    for (const auto& v : variants)
+    {
+        for (const auto& c : controls)
+        {
+            series.emplace_back(v.name(), c);
+        }
+    }
     std::vector<Benchmark::TRunResult> out;
     for (int run = 1; run <= runs; run++)
     {
-        auto rs = detail::readRunFile(files.path(run, "txt"), run);
-        ASSERTMSG_(rs.size() == variants.size() * controls,
-                   "incomplete results of run " + std::to_string(run));
+        auto rs = detail::readRunFile(pathOf(run), run, inputs, series);
         for (size_t k = 0; k < rs.size(); k++)
         {
             auto& r = rs[k];
             r.scenario = scenario;
-            r.metrics = RunMetrics::compute(r.records, variants[k / controls].options.convergence,
-                                            kidnapStep);
+            r.metrics = RunMetrics::compute(
+                r.records, variants[k / controls.size()].options.convergence, kidnapStep);
             r.distance_to_convergence_m =
                 r.metrics.converged ? detail::distanceDriven(r.records, r.metrics.convergence_step)
                                     : std::numeric_limits<double>::quiet_NaN();
@@ -127,7 +134,7 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
         {
             const auto wall0 = std::chrono::steady_clock::now();
             auto filter = v.options.filter;
-            filter.seed = static_cast<uint32_t>(run);
+            filter.seed = static_cast<uint32_t>(run);  // keySetByBenchmark(): never swept
             Localizer loc(filter, v.maps.map, v.maps.world ? &*v.maps.world : nullptr);
             TRunResult r;
             r.scenario = m_scenario.name;
@@ -174,43 +181,53 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
 
 Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& progress) const
 {
+    checkOutputKind();
     return m_scenarios.empty() ? runAll(progress) : runScenarios(progress);
 }
 
 Benchmark::TResult Benchmark::runAll(const std::function<void(size_t, size_t)>& progress,
-                                     const std::vector<std::string>& shardDirs) const
+                                     const std::vector<TShard>& shards,
+                                     const std::string& inputsDigest) const
 {
     const auto wall0 = std::chrono::steady_clock::now();
     const auto& o = m_options;
-    auto inputs = inputFiles();
-    inputs.insert(inputs.end(), shardDirs.begin(), shardDirs.end());
-    StagedDirectory out(o.output_dir, inputs);
-    const detail::RunFiles files(out.path("runs"));
-    std::filesystem::create_directories(files.dir());
-
+    const std::string inputs = inputsDigest.empty() ? digest() : inputsDigest;
+    auto inputPaths = inputFiles();
+    for (const auto& s : shards)
+    {
+        inputPaths.push_back(s.dir);
+    }
+    StagedDirectory out(o.output_dir, inputPaths);
     const size_t jobs = effectiveJobs();
-    if (shardDirs.empty())
+    TResult res;
+    const auto collect = [&](const std::function<std::string(int)>& pathOf)
+    {
+        return collectRuns(pathOf, o.runs, inputs, m_variants, o.controls, m_scenario.name,
+                           kidnapStep());
+    };
+    if (shards.empty())
     {
         // One child process per run (see the class documentation: MRPT's global generator).
+        const detail::RunFiles files(out.path("runs"), inputs);
+        std::filesystem::create_directories(files.dir());
         detail::runInChildProcesses(
             files, 1, o.runs, jobs, m_scenario.name, [this](int run) { return runOne(run); },
             progress);
+        res.runs = collect([&](int run) { return files.path(run, "txt"); });
+        std::filesystem::remove_all(files.dir());
     }
     else
     {
-        std::vector<std::string> dirs;
-        dirs.reserve(shardDirs.size());
-        for (const auto& d : shardDirs)
-        {
-            dirs.push_back(shardRunsDir(d));
-        }
-        detail::gatherRunFiles(dirs, o.runs, files);
+        // Each run's file as the user named its shard (Merge() checked that one holds it).
+        res.runs = collect(
+            [&](int run)
+            {
+                const auto s =
+                    std::find_if(shards.begin(), shards.end(),
+                                 [run](const auto& x) { return x.first <= run && run <= x.last; });
+                return detail::RunFiles(shardRunsDir(s->dir), inputs).path(run, "txt");
+            });
     }
-
-    TResult res;
-    res.runs =
-        collectRuns(files, o.runs, m_variants, o.controls.size(), m_scenario.name, kidnapStep());
-    std::filesystem::remove_all(files.dir());
 
     const auto names = seriesNames();
     writeFile(out.path("results.csv"), detail::resultsCsv(res.runs));
@@ -228,12 +245,16 @@ Benchmark::TResult Benchmark::runAll(const std::function<void(size_t, size_t)>& 
 }
 
 Benchmark::TResult Benchmark::runScenarios(const std::function<void(size_t, size_t)>& progress,
-                                           const std::vector<std::string>& shardDirs) const
+                                           const std::vector<TShard>& shards) const
 {
     const auto wall0 = std::chrono::steady_clock::now();
-    auto inputs = inputFiles();
-    inputs.insert(inputs.end(), shardDirs.begin(), shardDirs.end());
-    StagedDirectory out(m_options.output_dir, inputs);
+    const std::string inputs = digest();  // the whole benchmark's, in every scenario's run files
+    auto inputPaths = inputFiles();
+    for (const auto& s : shards)
+    {
+        inputPaths.push_back(s.dir);
+    }
+    StagedDirectory out(m_options.output_dir, inputPaths);
     const size_t total = m_scenarios.size() * static_cast<size_t>(m_options.runs);
     TResult res;
     for (size_t i = 0; i < m_scenarios.size(); i++)
@@ -249,7 +270,7 @@ Benchmark::TResult Benchmark::runScenarios(const std::function<void(size_t, size
                     progress(offset + done, total);
                 }
             },
-            shardDirs);
+            shards, inputs);
         res.runs.insert(res.runs.end(), r.runs.begin(), r.runs.end());
         res.summaries.insert(res.summaries.end(), r.summaries.begin(), r.summaries.end());
         for (auto w : r.figureWarnings)

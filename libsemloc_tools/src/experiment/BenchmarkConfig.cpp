@@ -117,44 +117,88 @@ void readScenarioFile(const std::string& path, int maxSteps, Benchmark::TScenari
     }
 }
 
-/** The variant `name` of [Benchmark] variants: its ini (`<name>.ini` in `dir`, or a path
- *  ending in .ini, resolved next to `ini`) and its maps (of `mapFile` instead of its map_file
- *  when given); throws naming the variant. */
-Benchmark::TVariant readVariant(const mrpt::config::CConfigFileBase& ini,
-                                const std::string& iniPath, const std::string& dir,
-                                const std::string& name, const std::string& mapFile,
-                                const std::vector<std::array<std::string, 3>>& overlay)
+/** The ini of the variant `name` of [Benchmark] variants: `<name>.ini` in `dir`, or a path
+ *  ending in .ini, resolved next to `ini`; throws naming [Benchmark] variants. */
+std::string variantIniPath(const mrpt::config::CConfigFileBase& ini, const std::string& iniPath,
+                           const std::string& dir, const std::string& name)
 {
     const bool isFile = name.size() > 4 && name.substr(name.size() - 4) == ".ini";
     const std::string file = isFile || dir.empty() ? name : dir + "/" + name;
+    return resolveFile(ini, iniPath, kSection, "variants", isFile ? file : file + ".ini");
+}
+
+/** The variant of ini file `path` with the (section, key, value) of `overlay` replacing its
+ *  own, and its maps (of `mapFile` instead of its map_file when given); throws the readers'
+ *  errors. */
+Benchmark::TVariant loadVariant(const std::string& path, const std::string& mapFile,
+                                const std::vector<std::array<std::string, 3>>& overlay)
+{
     Benchmark::TVariant v;
-    v.iniPath = resolveFile(ini, iniPath, kSection, "variants", isFile ? file : file + ".ini");
-    try
+    v.iniPath = path;
+    config::checkIniFile(v.iniPath);
+    // The scenario's keys replace the variant's (in memory: the file stays as it is).
+    config::IniFileInMemory vini(v.iniPath);
+    for (const auto& [section, key, value] : overlay)
     {
-        config::checkIniFile(v.iniPath);
-        // The scenario's keys replace the variant's (in memory: the file stays as it is).
-        config::IniFileInMemory vini(v.iniPath);
-        for (const auto& [section, key, value] : overlay)
-        {
-            vini.write(section, key, value);
-        }
-        v.options.loadFromConfigFile(vini, "LocalizationExperiment");
-        auto& warnings = v.options.filter.warnings;
-        warnings.insert(warnings.begin(), vini.warnings().begin(), vini.warnings().end());
-        if (!mapFile.empty())
-        {
-            v.options.map_file = mapFile;  // the simulated world (map_from_world)
-        }
-        v.maps = LocalizationMap::FromConfig(vini, v.options.map_file);
+        vini.write(section, key, value);
     }
-    catch (const std::exception& e)
+    v.options.loadFromConfigFile(vini, "LocalizationExperiment");
+    auto& warnings = v.options.filter.warnings;
+    warnings.insert(warnings.begin(), vini.warnings().begin(), vini.warnings().end());
+    if (!mapFile.empty())
     {
-        THROW_EXCEPTION("variant '" + name + "' (" + v.iniPath + "): " + errorMessage(e));
+        v.options.map_file = mapFile;  // the simulated world (map_from_world)
     }
+    v.maps = LocalizationMap::FromConfig(vini, v.options.map_file);
+    v.mapsConfig = v.maps.effectiveConfig(vini);
     if (v.options.variant.empty())
     {
         v.options.variant = v.maps.variant();
     }
+    return v;
+}
+
+/** loadVariant() of the variant `name` (its ini `path`); throws naming the variant. */
+Benchmark::TVariant readVariant(const std::string& name, const std::string& path,
+                                const std::string& mapFile,
+                                const std::vector<std::array<std::string, 3>>& overlay)
+{
+    try
+    {
+        return loadVariant(path, mapFile, overlay);
+    }
+    catch (const std::exception& e)
+    {
+        THROW_EXCEPTION("variant '" + name + "' (" + path + "): " + errorMessage(e));
+    }
+}
+
+/** readVariant() with the sweep's `value` on the overlay, as the variant
+ *  `<name>@KEY=<value>`; an error (the variant's file read without the sweep is fine) is
+ *  the sweep line's, naming the value. */
+Benchmark::TVariant readSweptVariant(const std::string& name, const std::string& path,
+                                     const std::string& mapFile,
+                                     std::vector<std::array<std::string, 3>> overlay,
+                                     const Benchmark::TOptions::TSweep& sweep,
+                                     const std::string& value)
+{
+    overlay.push_back({sweep.section, sweep.key, value});
+    Benchmark::TVariant v;
+    try
+    {
+        v = loadVariant(path, mapFile, overlay);
+    }
+    catch (const std::exception& e)
+    {
+        // "ini 'PATH': [SECTION] KEY: ..." or "ini [SECTION] KEY: ...": of the swept key.
+        std::string m = errorMessage(e);
+        const std::string ofFile = "ini '" + path + "': ";
+        m = m.rfind(ofFile, 0) == 0    ? m.substr(ofFile.size())
+            : m.rfind("ini [", 0) == 0 ? m.substr(4)
+                                       : m;
+        THROW_EXCEPTION(sweep.error("the value '" + value + "' (variant '" + name + "'): " + m));
+    }
+    v.options.variant += "@" + sweep.key + "=" + value;
     return v;
 }
 
@@ -361,54 +405,42 @@ std::vector<std::string> Benchmark::inputFiles() const
 std::vector<size_t> Benchmark::readVariants(const mrpt::config::CConfigFileBase& ini)
 {
     const auto& o = m_options;
+    checkSweepKey();
     // A sweep: each variant once per value, the value overlaid on its ini.
-    std::vector<std::pair<std::string, std::string>> runsOf;  // (variant, sweep value)
-    for (const auto& name : o.variants)
-    {
-        if (o.sweep.key.empty())
-        {
-            runsOf.emplace_back(name, std::string());
-        }
-        for (const auto& value : o.sweep.values)
-        {
-            runsOf.emplace_back(name, value);
-        }
-    }
+    const bool swept = !o.sweep.key.empty();
+    const auto values = swept ? o.sweep.values : std::vector<std::string>{std::string()};
+    const std::string mapFile = mapFromWorld() ? m_simulation.simulation.world_file : std::string();
     std::vector<size_t> reference;  // per variant: the first one of its sweep value
     const bool closedLoop = o.controls.size() > 1 || o.controls.front() != "route";
-    for (const auto& [name, value] : runsOf)
+    for (const auto& name : o.variants)
     {
-        auto overlay = m_variantOverlay;
-        if (!o.sweep.key.empty())
+        const std::string path = variantIniPath(ini, m_iniPath, o.variants_dir, name);
+        if (swept)
         {
-            overlay.push_back({o.sweep.section, o.sweep.key, value});
+            (void)readVariant(name, path, mapFile, m_variantOverlay);  // errors of its file
         }
-        TVariant v = readVariant(
-            ini, m_iniPath, o.variants_dir, name,
-            mapFromWorld() ? m_simulation.simulation.world_file : std::string(), overlay);
-        if (!o.sweep.key.empty())
+        for (size_t i = 0; i < values.size(); i++)
         {
-            v.options.variant += "@" + o.sweep.key + "=" + value;
-        }
-        for (const auto& w : m_variants)
-        {
-            if (w.name() == v.name())
+            TVariant v =
+                swept ? readSweptVariant(name, path, mapFile, m_variantOverlay, o.sweep, values[i])
+                      : readVariant(name, path, mapFile, m_variantOverlay);
+            for (const auto& w : m_variants)
             {
-                THROW_EXCEPTION("ini [" + kSection + "] variants: '" + v.name() +
-                                "' appears twice");
+                if (w.name() == v.name())
+                {
+                    THROW_EXCEPTION("ini [" + kSection + "] variants: '" + v.name() +
+                                    "' appears twice");
+                }
             }
+            if (closedLoop && !v.maps.map->mapByClass<CSemanticMap>())
+            {
+                THROW_EXCEPTION("ini [" + kSection + "] controls: the variant '" + v.name() +
+                                "' has no semantic map for the active and random controls to "
+                                "plan in (keep them to variants with a semanticMap)");
+            }
+            reference.push_back(i);  // the first variant's of value i
+            m_variants.push_back(std::move(v));
         }
-        if (closedLoop && !v.maps.map->mapByClass<CSemanticMap>())
-        {
-            THROW_EXCEPTION("ini [" + kSection + "] controls: the variant '" + v.name() +
-                            "' has no semantic map for the active and random controls to "
-                            "plan in (keep them to variants with a semanticMap)");
-        }
-        const std::string& swept = value;  // a structured binding cannot be captured in C++17
-        const auto first = std::find_if(runsOf.begin(), runsOf.end(),
-                                        [&](const auto& r) { return r.second == swept; });
-        reference.push_back(static_cast<size_t>(first - runsOf.begin()));
-        m_variants.push_back(std::move(v));
     }
     if (m_variants.empty())
     {
@@ -431,6 +463,7 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
     {
         references.push_back(m_variants[r].options);
     }
+    // The keys set below for every variant are keySetByBenchmark()'s: a sweep of one is refused.
     for (size_t k = 0; k < m_variants.size(); k++)
     {
         auto& v = m_variants[k];
@@ -474,6 +507,7 @@ void Benchmark::loadVariants(const mrpt::config::CConfigFileBase& ini)
                             "semanticMap in its [MetricMap]");
         }
     }
+    checkSweepValuesDiffer();
 }
 
 long Benchmark::kidnapStep() const

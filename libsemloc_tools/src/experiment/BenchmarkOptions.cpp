@@ -4,7 +4,9 @@
 #include <semloc/io/ConfigHelpers.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <limits>
+#include <optional>
 
 #include "experiment/BenchmarkLists.h"
 #include "experiment/ClosedLoop.h"
@@ -24,6 +26,33 @@ const std::vector<std::string> kKeys = {
     "scenarios", "map_from_world", "controls",     "sweep"};
 
 const std::string kActiveSection = "ActiveLocalization";
+
+/** `v` as a number when the whole of it reads as one (strtod: 0.5, 0.50 and 5e-1 alike). */
+std::optional<double> asNumber(const std::string& v)
+{
+    char* end = nullptr;
+    const double d = std::strtod(v.c_str(), &end);
+    return !v.empty() && *end == '\0' ? std::optional<double>(d) : std::nullopt;
+}
+
+/** Throws `bad` when the i-th value is an earlier one again, as text or as a number. */
+template <typename Bad>
+void checkNotTwice(const std::vector<std::string>& values, size_t i, const Bad& bad)
+{
+    const auto& v = values[i];
+    for (size_t j = 0; j < i; j++)
+    {
+        if (values[j] == v)
+        {
+            bad("the value '" + v + "' appears twice");
+        }
+        const auto a = asNumber(values[j]), b = asNumber(v);
+        if (a && b && *a == *b)
+        {
+            bad("the values '" + values[j] + "' and '" + v + "' are one number");
+        }
+    }
+}
 
 /** [Benchmark] sweep: "SECTION.KEY: v1, v2, ..." (values without blanks, none twice). */
 Benchmark::TOptions::TSweep readSweep(const mrpt::config::CConfigFileBase& c, const std::string& s)
@@ -57,16 +86,27 @@ Benchmark::TOptions::TSweep readSweep(const mrpt::config::CConfigFileBase& c, co
         {
             bad("a value is empty or holds a blank");
         }
-        if (std::find(w.values.begin(), w.values.begin() + static_cast<long>(i), v) !=
-            w.values.begin() + static_cast<long>(i))
-        {
-            bad("the value '" + v + "' appears twice");
-        }
+        checkNotTwice(w.values, i, bad);
     }
     return w;
 }
 
 }  // namespace
+
+std::string Benchmark::TOptions::TSweep::text() const
+{
+    std::string s = section + "." + key + ":";
+    for (size_t i = 0; i < values.size(); i++)
+    {
+        s += (i == 0 ? " " : ", ") + values[i];
+    }
+    return s;
+}
+
+std::string Benchmark::TOptions::TSweep::error(const std::string& why) const
+{
+    return "ini [Benchmark] sweep: '" + text() + "': " + why;
+}
 
 void Benchmark::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                              const std::string& s)

@@ -25,11 +25,6 @@ namespace semloc::detail
 {
 namespace
 {
-std::string exact(double v)
-{
-    return mrpt::format("%.17g", v);
-}
-
 /** Why a run failed: its error message, else how its process ended (the signal named) and
  *  the end of what it printed (its log). */
 std::string runFailure(const std::string& scenario, int run, int status, const std::string& error,
@@ -185,7 +180,7 @@ void RunPool::child(int run) const
     int rc = 0;
     try
     {
-        writeFile(m_files.path(run, "txt"), runFileText(m_runOne(run)));
+        writeFile(m_files.path(run, "txt"), runFileText(m_runOne(run), run, m_files.inputs()));
     }
     catch (const std::exception& e)
     {
@@ -237,74 +232,6 @@ void RunPool::reap()
 
 }  // namespace
 
-std::string runFileText(const std::vector<Benchmark::TRunResult>& rs)
-{
-    std::ostringstream o;
-    for (const auto& r : rs)
-    {
-        o << "V " << r.variant << ' ' << r.control << ' ' << r.particles << ' ' << r.threads << ' '
-          << exact(r.wallTime_s) << ' ' << r.reinitializations << ' ' << r.decisions << ' '
-          << exact(r.decisionWall_s) << ' ' << r.records.size() << '\n';
-        for (const auto& s : r.records)
-        {
-            o << s.step << ' ' << exact(s.t) << ' ' << (s.gt ? 1 : 0) << ' '
-              << exact(s.gt ? s.gt->x : 0) << ' ' << exact(s.gt ? s.gt->y : 0) << ' '
-              << exact(s.gt ? s.gt->phi : 0) << ' ' << exact(s.est.x) << ' ' << exact(s.est.y)
-              << ' ' << exact(s.est.phi) << ' ' << exact(s.var_xy) << ' ' << exact(s.ess) << ' '
-              << s.n_particles << ' ' << exact(s.update_us) << ' ' << exact(s.var_x) << ' '
-              << exact(s.var_y) << ' ' << exact(s.var_phi) << ' ' << exact(s.cov_xy) << ' '
-              << exact(s.cov_xphi) << ' ' << exact(s.cov_yphi) << '\n';
-        }
-        o << "B " << r.detectorBound.size();
-        for (const auto& b : r.detectorBound)
-        {
-            o << ' ' << exact(b.rms_xy_m) << ' ' << exact(b.mean_err_xy_m);
-        }
-        o << '\n';
-    }
-    return o.str();
-}
-
-std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run)
-{
-    std::ifstream f(path);
-    std::vector<Benchmark::TRunResult> rs;
-    std::string tag;
-    while (f >> tag)
-    {
-        ASSERTMSG_(tag == "V", "corrupt run file '" + path + "'");
-        Benchmark::TRunResult r;
-        r.run = run;
-        r.seed = static_cast<uint32_t>(run);
-        size_t n = 0;
-        f >> r.variant >> r.control >> r.particles >> r.threads >> r.wallTime_s >>
-            r.reinitializations >> r.decisions >> r.decisionWall_s >> n;
-        r.records.resize(n);
-        for (auto& s : r.records)
-        {
-            int hasGt = 0;
-            mrpt::math::TPose2D g;
-            f >> s.step >> s.t >> hasGt >> g.x >> g.y >> g.phi >> s.est.x >> s.est.y >> s.est.phi >>
-                s.var_xy >> s.ess >> s.n_particles >> s.update_us >> s.var_x >> s.var_y >>
-                s.var_phi >> s.cov_xy >> s.cov_xphi >> s.cov_yphi;
-            if (hasGt)
-            {
-                s.gt = g;
-            }
-        }
-        f >> tag >> n;
-        ASSERTMSG_(static_cast<bool>(f) && tag == "B", "corrupt run file '" + path + "'");
-        r.detectorBound.resize(n);
-        for (auto& b : r.detectorBound)
-        {
-            f >> b.rms_xy_m >> b.mean_err_xy_m;
-        }
-        ASSERTMSG_(static_cast<bool>(f), "corrupt run file '" + path + "'");
-        rs.push_back(std::move(r));
-    }
-    return rs;
-}
-
 void runInChildProcesses(const RunFiles& files, int first, int last, size_t jobs,
                          const std::string& scenario,
                          const std::function<std::vector<Benchmark::TRunResult>(int)>& runOne,
@@ -312,31 +239,6 @@ void runInChildProcesses(const RunFiles& files, int first, int last, size_t jobs
 {
     ASSERTMSG_(first >= 1 && first <= last, "runInChildProcesses: no run");
     RunPool(files, first, last, jobs, scenario, runOne, progress).runAll();
-}
-
-void gatherRunFiles(const std::vector<std::string>& dirs, int runs, const RunFiles& files)
-{
-    for (int run = 1; run <= runs; run++)
-    {
-        bool found = false;
-        for (const auto& d : dirs)
-        {
-            const std::string from = RunFiles(d).path(run, "txt");
-            if (std::filesystem::exists(from))
-            {
-                std::filesystem::copy_file(from, files.path(run, "txt"));
-                found = true;
-                break;
-            }
-        }
-        if (!found)
-        {
-            THROW_EXCEPTION(
-                mrpt::format("run %d: no shard holds its results (%s in none of the "
-                             "shards' run directories)",
-                             run, RunFiles("").path(run, "txt").substr(1).c_str()));
-        }
-    }
 }
 
 }  // namespace semloc::detail

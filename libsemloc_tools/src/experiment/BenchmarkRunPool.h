@@ -5,6 +5,7 @@
 #include <mrpt/core/format.h>
 #include <semloc/experiment/Benchmark.h>
 
+#include <cstdint>
 #include <functional>
 #include <string>
 #include <utility>
@@ -13,13 +14,19 @@
 namespace semloc::detail
 {
 /** The files of the runs, in one directory: `run_NNNNNN.txt` (the results, runFileText()),
- *  `.err` (the run's error message) and `.log` (what its process printed). */
+ *  `.err` (the run's error message) and `.log` (what its process printed); `inputs` is the
+ *  benchmark's digest (Benchmark::digest()) each run file carries. */
 class RunFiles
 {
 public:
-    explicit RunFiles(std::string dir) : m_dir(std::move(dir)) {}
+    RunFiles(std::string dir, std::string inputs)
+        : m_dir(std::move(dir)), m_inputs(std::move(inputs))
+    {
+    }
     /** The directory. */
     const std::string& dir() const { return m_dir; }
+    /** The benchmark's digest. */
+    const std::string& inputs() const { return m_inputs; }
     /** The file of `run` with extension `ext`. */
     std::string path(int run, const char* ext) const
     {
@@ -27,17 +34,38 @@ public:
     }
 
 private:
-    std::string m_dir;
+    std::string m_dir, m_inputs;
 };
 
-/** A run's results as its run file holds them: per variant and control "V <variant> <control>
- *  <particles> <threads> <wall_s> <reinitializations> <decisions> <decision_wall_s> <n>" then n
- *  step lines and the detector's bound "B <n> ..."; doubles printed with 17 digits read
- *  back bit-exactly, so the parent's metrics equal the child's. */
-std::string runFileText(const std::vector<Benchmark::TRunResult>& results);
+/** The (variant, control) of each result of a run, in the order of the run's results. */
+using RunSeries = std::vector<std::pair<std::string, std::string>>;
 
-/** The results of run `run` read back from its run file (metrics and scenario not set). */
-std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run);
+/** The largest run file readRunFile() reads [bytes]. */
+constexpr uint64_t kMaxRunFileBytes = uint64_t(1) << 30;
+
+/** A run's results as its run file holds them: a header comment, `run <run>`, `inputs
+ *  <inputs>` (the benchmark's digest), then per variant and control "V <variant> <control>
+ *  <particles> <threads> <wall_s> <reinitializations> <decisions> <decision_wall_s> <n>", n
+ *  step lines and the detector's bound "B <n> ...", and last `content <digest>`: the FNV-1a
+ *  digest of every byte before that line (detail::fnv1a), which seals the file. Doubles are
+ *  printed with 17 digits and read back bit-exactly, so the parent's metrics equal the
+ *  child's. */
+std::string runFileText(const std::vector<Benchmark::TRunResult>& results, int run,
+                        const std::string& inputs);
+
+/** The results of run `run` read back from its run file `path` (metrics and scenario not
+ *  set). Refused with one line naming `path` (and the line, where there is one): not a regular
+ *  file (a symbolic link, a FIFO, a device), larger than kMaxRunFileBytes, not a run file, a
+ *  content digest that is not its content's (a file changed after its run wrote it), the
+ *  results of another run or of another benchmark (its `inputs` digest is not `inputs`), a
+ *  line that does not read, other results than the run's `series`. */
+std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run,
+                                               const std::string& inputs, const RunSeries& series);
+
+/** The bytes of the file `path` (`what` names it in the errors) through semloc's one reader
+ *  of inputs (readInputFile: a regular file of at most `maxBytes`), and not a symbolic link:
+ *  semloc-benchmark reads only the files it wrote. */
+std::string readBoundedFile(const std::string& path, uint64_t maxBytes, const std::string& what);
 
 /** Runs `runOne(run)` for run = first..last, each in a child process (fork(), no exec), at
  *  most `jobs` at once, writing its run file (or its error) in `files`; `progress(done, n)`
@@ -49,10 +77,5 @@ void runInChildProcesses(const RunFiles& files, int first, int last, size_t jobs
                          const std::string& scenario,
                          const std::function<std::vector<Benchmark::TRunResult>(int)>& runOne,
                          const std::function<void(size_t, size_t)>& progress);
-
-/** Copies the run files of runs 1..runs into `files` from `dirs` (each a shard's run
- *  directory, RunFiles' names; Benchmark::Merge() has checked that each run is in exactly
- *  one). Throws naming the run whose file is in none. */
-void gatherRunFiles(const std::vector<std::string>& dirs, int runs, const RunFiles& files);
 
 }  // namespace semloc::detail

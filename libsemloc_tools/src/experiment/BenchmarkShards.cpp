@@ -1,5 +1,6 @@
 /* semloc — Benchmark's shards: runs first..last written apart (a cluster's task, a machine of
  * GNU parallel) and merged into the outputs of the whole benchmark. */
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <semloc/experiment/Benchmark.h>
@@ -13,6 +14,7 @@
 #include <sstream>
 
 #include "experiment/BenchmarkRunPool.h"
+#include "experiment/Digest.h"
 #include "io/Text.h"
 #include "io/TextFiles.h"
 
@@ -25,28 +27,8 @@ constexpr const char* kShardHeader =
     "# semloc-benchmark shard: runs first..last of the benchmark below (semloc-benchmark "
     "--merge)";
 
-/** 64-bit FNV-1a over `bytes`, continuing from `h`. */
-uint64_t fnv1a(const std::string& bytes, uint64_t h)
-{
-    for (const unsigned char c : bytes)
-    {
-        h ^= c;
-        h *= 1099511628211ULL;
-    }
-    return h;
-}
-
-std::string fileBytes(const std::string& path)
-{
-    std::ifstream f(path, std::ios::binary);
-    if (!f)
-    {
-        THROW_EXCEPTION("cannot read '" + path + "'");
-    }
-    std::ostringstream s;
-    s << f.rdbuf();
-    return s.str();
-}
+/** The largest shard.txt read [bytes]. */
+constexpr uint64_t kMaxShardFileBytes = 1 << 16;
 
 /** A shard's runs as "'dir' (runs a..b)". */
 std::string shardText(const Benchmark::TShard& s)
@@ -57,6 +39,92 @@ std::string shardText(const Benchmark::TShard& s)
 std::string runsText(int a, int b)
 {
     return a == b ? mrpt::format("run %d", a) : mrpt::format("runs %d..%d", a, b);
+}
+
+/** The last line of the text file `path` (its last 4 KiB read); empty if none. */
+std::string lastLine(const std::string& path)
+{
+    std::error_code ec;
+    const auto size = std::filesystem::file_size(path, ec);
+    std::ifstream f(path, std::ios::binary);
+    if (ec || !f)
+    {
+        return {};
+    }
+    constexpr uintmax_t kTail = 4096;
+    f.seekg(static_cast<std::streamoff>(size > kTail ? size - kTail : 0));
+    std::ostringstream tail;
+    tail << f.rdbuf();
+    std::string t = tail.str();
+    while (!t.empty() && t.back() == '\n')
+    {
+        t.pop_back();
+    }
+    return t.substr(t.rfind('\n') == std::string::npos ? 0 : t.rfind('\n') + 1);
+}
+
+/** Field `k` (from 0) of a CSV line; empty if it has fewer. */
+std::string csvField(const std::string& line, size_t k)
+{
+    std::istringstream in(line);
+    std::string f;
+    for (size_t i = 0; i <= k; i++)
+    {
+        if (!std::getline(in, f, ','))
+        {
+            return {};
+        }
+    }
+    return f;
+}
+
+/** The runs of a whole benchmark's outputs: the run of results.csv's last row, or the `runs`
+ *  of scenarios.csv's first row; empty if unreadable. */
+std::string runsOf(const std::filesystem::path& csv, bool scenarios)
+{
+    if (!scenarios)
+    {
+        return csvField(lastLine(csv.string()), 0);
+    }
+    std::ifstream f(csv);
+    std::string header, row;
+    std::getline(f, header);
+    std::getline(f, row);
+    return csvField(row, 2);
+}
+
+/** What the directory `dir` holds of semloc-benchmark's outputs: "a shard of runs A:B" (its
+ *  shard.txt; `shard` set), "a whole benchmark of N runs" (results.csv, or scenarios.csv with
+ *  scenarios), or nothing (empty). */
+std::string heldOutputs(const std::string& dir, bool& shard)
+{
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    shard = fs::exists(fs::path(dir) / kShardFile, ec);
+    if (shard)
+    {
+        try
+        {
+            const auto s = Benchmark::ReadShard(dir);
+            return mrpt::format("a shard of runs %d:%d of a benchmark of %d (%s)", s.first, s.last,
+                                s.runs, kShardFile);
+        }
+        catch (const std::exception&)
+        {
+            return std::string("a shard (") + kShardFile + ")";
+        }
+    }
+    for (const char* file : {"results.csv", "scenarios.csv"})
+    {
+        const fs::path p = fs::path(dir) / file;
+        if (fs::is_regular_file(p, ec))
+        {
+            const std::string n = runsOf(p, file == std::string("scenarios.csv"));
+            return "a whole benchmark" + (n.empty() ? std::string() : " of " + n + " runs") + " (" +
+                   file + ")";
+        }
+    }
+    return {};
 }
 
 /** Throws unless the shards are of one benchmark and cover its runs once each. */
@@ -101,20 +169,56 @@ void checkShards(std::vector<Benchmark::TShard>& shards)
 }
 }  // namespace
 
+std::string Benchmark::effectiveConfiguration() const
+{
+    TOptions o = m_options;
+    o.output_dir.clear();  // where the outputs go, not what they are
+    mrpt::config::CConfigFileMemory c;
+    o.saveToConfigFile(c, "Benchmark");
+    m_simulation.saveToConfigFile(c);
+    if (!m_scenario.name.empty())
+    {
+        m_scenario.saveToConfigFile(c, "Scenario");
+    }
+    std::string text = c.getContent();
+    for (const auto& [section, key, value] : m_variantOverlay)
+    {
+        text.append("overlay [").append(section).append("] ").append(key).append(" = ");
+        text.append(value).append("\n");
+    }
+    for (const auto& v : m_variants)
+    {
+        text += "variant " + v.name() + " (" + v.iniPath + ")\n" + runConfiguration(v);
+    }
+    for (const auto& sc : m_scenarios)
+    {
+        text += "scenario " + sc.m_scenario.name + "\n" + sc.effectiveConfiguration();
+    }
+    return text;
+}
+
 std::string Benchmark::digest() const
 {
-    uint64_t h = 14695981039346656037ULL;
-    h = fnv1a("runs " + std::to_string(m_options.runs) + "\n", h);
+    uint64_t h = detail::fnv1a("semloc-benchmark inputs\n");
+    const std::string config = effectiveConfiguration();
+    h = detail::fnv1a(std::to_string(config.size()) + "\n", h);
+    h = detail::fnv1a(config, h);
     for (const auto& f : inputFiles())
     {
         if (!f.empty() && std::filesystem::is_regular_file(f))
         {
-            const std::string bytes = fileBytes(f);
-            h = fnv1a(std::to_string(bytes.size()) + "\n", h);
-            h = fnv1a(bytes, h);
+            std::ifstream in(f, std::ios::binary);
+            std::ostringstream bytes;
+            bytes << in.rdbuf();
+            if (!in)
+            {
+                THROW_EXCEPTION("cannot read '" + f + "'");
+            }
+            h = detail::fnv1a(std::to_string(bytes.str().size()) + "\n", h);
+            h = detail::fnv1a(bytes.str(), h);
         }
     }
-    return mrpt::format("%016llx", static_cast<unsigned long long>(h));
+    return detail::digestText(h);
 }
 
 std::string Benchmark::shardRunsDir(const std::string& shardDir) const
@@ -123,17 +227,41 @@ std::string Benchmark::shardRunsDir(const std::string& shardDir) const
            "runs";
 }
 
-Benchmark::TShard Benchmark::runShard(int first, int last,
-                                      const std::function<void(size_t, size_t)>& progress) const
+void Benchmark::checkShardRuns(int first, int last) const
 {
-    const int runs = m_options.runs;
-    if (!(first >= 1 && first <= last && last <= runs))
+    if (!(first >= 1 && first <= last && last <= m_options.runs))
     {
         THROW_EXCEPTION(
             mrpt::format("--runs %d:%d: a shard is runs A:B with 1 <= A <= B <= %d "
                          "(the benchmark's runs)",
-                         first, last, runs));
+                         first, last, m_options.runs));
     }
+}
+
+void Benchmark::checkOutputKind(int first, int last) const
+{
+    const std::string& dir = m_options.output_dir;
+    bool shard = false;
+    const std::string held = heldOutputs(dir, shard);
+    if (held.empty() || shard == (first > 0))
+    {
+        return;  // nothing of ours, or of the same kind: replaced as any previous output
+    }
+    const std::string what =
+        first > 0 ? mrpt::format("a shard (--runs %d:%d) does not", first, last)
+                  : std::string("the outputs of a whole benchmark (a run or a merge) do not");
+    THROW_EXCEPTION("output directory '" + dir + "' holds " + held + ": " + what +
+                    " replace it; remove it first (rm -r '" + dir +
+                    "') or name another directory (-o)");
+}
+
+Benchmark::TShard Benchmark::runShard(int first, int last,
+                                      const std::function<void(size_t, size_t)>& progress) const
+{
+    const int runs = m_options.runs;
+    checkShardRuns(first, last);
+    checkOutputKind(first, last);
+    const std::string inputs = digest();
     StagedDirectory out(m_options.output_dir, inputFiles());
     const std::vector<const Benchmark*> parts = [&]
     {
@@ -148,7 +276,7 @@ Benchmark::TShard Benchmark::runShard(int first, int last,
     for (size_t i = 0; i < parts.size(); i++)
     {
         const Benchmark& b = *parts[i];
-        const detail::RunFiles files(b.shardRunsDir(out.path("")));
+        const detail::RunFiles files(b.shardRunsDir(out.path("")), inputs);
         std::filesystem::create_directories(files.dir());
         detail::runInChildProcesses(
             files, first, last, effectiveJobs(), b.m_scenario.name,
@@ -162,7 +290,7 @@ Benchmark::TShard Benchmark::runShard(int first, int last,
             });
     }
     TShard s{out.target(), std::filesystem::absolute(m_iniPath).lexically_normal().string(),
-             digest(),     runs,
+             inputs,       runs,
              first,        last};
     detail::writeFile(out.path(kShardFile),
                       std::string(kShardHeader) + "\nbenchmark " + s.ini + "\ndigest " + s.digest +
@@ -180,7 +308,7 @@ Benchmark::TShard Benchmark::ReadShard(const std::string& dir)
         THROW_EXCEPTION("'" + dir + "' is not a shard of semloc-benchmark (no " + kShardFile +
                         "; semloc-benchmark INI --runs A:B -o DIR writes one)");
     }
-    std::istringstream in(fileBytes(path));
+    std::istringstream in(detail::readBoundedFile(path, kMaxShardFileBytes, "shard file"));
     TShard s;
     s.dir = dir;
     std::string line;
@@ -240,14 +368,14 @@ Benchmark::TResult Benchmark::Merge(const std::vector<std::string>& shardDirs,
     checkShards(shards);
     const auto& a = shards.front();
     const Benchmark b = FromConfigFile(a.ini, outputDir, a.runs);
+    b.checkOutputKind();
     if (b.digest() != a.digest)
     {
         THROW_EXCEPTION("the benchmark '" + a.ini + "' is not the one of the shards any more: " +
-                        "its files changed since they were run (digest " + b.digest() +
-                        ", the shards' " + a.digest + ")");
+                        "its files (or semloc's defaults) changed since they were run (digest " +
+                        b.digest() + ", the shards' " + a.digest + ")");
     }
-    return b.m_scenarios.empty() ? b.runAll(progress, shardDirs)
-                                 : b.runScenarios(progress, shardDirs);
+    return b.m_scenarios.empty() ? b.runAll(progress, shards) : b.runScenarios(progress, shards);
 }
 
 }  // namespace semloc

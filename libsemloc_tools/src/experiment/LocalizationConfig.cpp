@@ -97,18 +97,9 @@ void checkSections(const mrpt::config::CConfigFileBase& ini, const std::string& 
     ini.getAllSections(sections);
     for (const auto& s : sections)
     {
-        if (!s.empty() && std::find(kSections.begin(), kSections.end(), s) == kSections.end() &&
-            s.rfind("MetricMap_", 0) != 0)
+        if (!s.empty())
         {
-            std::string list;
-            for (const auto& k : kSections)
-            {
-                list.append(list.empty() ? "[" : ", [").append(k).append("]");
-            }
-            THROW_EXCEPTION(
-                mrpt::format("ini [%s]: unknown section (semloc-localize reads %s and "
-                             "[MetricMap_<map>_<NN>_...])",
-                             shownValue(s).c_str(), list.c_str()));
+            detail::checkLocalizeSection(s);
         }
     }
     if (!ini.sectionExists(kSection))
@@ -497,6 +488,24 @@ std::vector<std::string> LocalizationExperiment::inputFiles() const
 
 namespace detail
 {
+void checkLocalizeSection(const std::string& section)
+{
+    if (std::find(kSections.begin(), kSections.end(), section) != kSections.end() ||
+        section.rfind("MetricMap_", 0) == 0)
+    {
+        return;
+    }
+    std::string list;
+    for (const auto& k : kSections)
+    {
+        list.append(list.empty() ? "[" : ", [").append(k).append("]");
+    }
+    THROW_EXCEPTION(
+        mrpt::format("ini [%s]: unknown section (semloc-localize reads %s and "
+                     "[MetricMap_<map>_<NN>_...])",
+                     shownValue(section).c_str(), list.c_str()));
+}
+
 std::string effectiveConfigText(const LocalizationExperiment::TOptions& o,
                                 const std::vector<std::pair<std::string, std::string>>& carried,
                                 const LocalizationMap& maps,

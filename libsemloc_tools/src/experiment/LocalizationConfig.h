@@ -11,6 +11,10 @@
 
 namespace semloc::detail
 {
+/** Throws "ini [SECTION]: unknown section (semloc-localize reads ...)" unless semloc-localize
+ *  reads `section` (its own sections and [MetricMap_...], whose names LocalizationMap checks). */
+void checkLocalizeSection(const std::string& section);
+
 /** config.ini: the effective configuration of a run configured by `o` (every key of our
  *  sections, defaults included), the pf-localization keys it only carried over (`carried`)
  *  and the map sections of `ini` (LocalizationMap::effectiveConfig). */

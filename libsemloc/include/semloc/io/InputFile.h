@@ -31,4 +31,7 @@ uint64_t checkInputFile(const std::string& path, const std::string& what, InputK
  *  the cap (a file that grows beyond it while read is refused). */
 std::string readInputFile(const std::string& path, const std::string& what, InputKind kind);
 
+/** readInputFile() with a cap of `maxBytes` (a kind of file a tool defines itself). */
+std::string readInputFile(const std::string& path, const std::string& what, uint64_t maxBytes);
+
 }  // namespace semloc

@@ -90,11 +90,16 @@ public:
         std::vector<std::string> controls{"route"};
         /** A parameter sweep (`sweep = SECTION.KEY: v1, v2, ...`): every variant runs once
          *  per value, with SECTION's KEY set to it, as the variant `<name>@KEY=<value>`;
-         *  empty `key`: none. */
+         *  empty `key`: none. No value twice (values that read as numbers are compared as
+         *  numbers), and the key must change the runs: see Benchmark::FromConfigFile(). */
         struct TSweep
         {
             std::string section, key;
             std::vector<std::string> values;
+            /** "SECTION.KEY: v1, v2, ..." (the [Benchmark] sweep line as read). */
+            std::string text() const;
+            /** An error of the sweep line: "ini [Benchmark] sweep: 'text()': `why`". */
+            std::string error(const std::string& why) const;
         } sweep;
         /** [ActiveLocalization] of benchmark.ini: the policy of `active` and the candidates
          *  and stop rule of `random` (its seed replaced by each run's). */
@@ -166,6 +171,9 @@ public:
         LocalizationExperiment::TOptions options;
         /** The maps the variant localizes in. */
         LocalizationMap maps;
+        /** The maps' effective configuration (LocalizationMap::effectiveConfig() of the
+         *  variant's ini as read, the scenario's and the sweep's keys on it). */
+        std::string mapsConfig;
         /** The variant's name (options.variant). */
         const std::string& name() const { return options.variant; }
     };
@@ -269,7 +277,14 @@ public:
 
     /** Reads [Benchmark], the simulation ini and every variant ini (strictly) before any
      *  output is written. Throws naming the file, [section] and key of any error.
-     *  A non-empty `outputDir` replaces [Benchmark] output_dir, `runs` > 0 its runs. */
+     *  A non-empty `outputDir` replaces [Benchmark] output_dir, `runs` > 0 its runs.
+     *
+     *  A sweep is refused, naming the [Benchmark] sweep line and why, when its key is not one
+     *  the variants' runs read and that changes them: a key of [Benchmark] (the benchmark's
+     *  own), of a section semloc-localize does not read, or one the benchmark sets itself
+     *  (keySetByBenchmark()); a bad value, or a key a variant does not have, is an error of
+     *  the sweep line, not of the variant's file; and two values of which a variant runs the
+     *  same (runConfiguration()) are refused. */
     static Benchmark FromConfigFile(const std::string& iniPath, const std::string& outputDir = {},
                                     int runs = 0);
 
@@ -296,17 +311,32 @@ public:
      *  `<scenario>/runs/`), staged and renamed at the end. `progress` as run()'s. */
     TShard runShard(int first, int last,
                     const std::function<void(size_t, size_t)>& progress = {}) const;
+    /** Throws unless 1 <= first <= last <= runs (the runs of a shard), naming them: what
+     *  runShard() checks first, for a caller to check before it prints anything. */
+    void checkShardRuns(int first, int last) const;
+    /** Throws, before any work, when output_dir holds the other kind of outputs than those to
+     *  be written (first = 0: the whole benchmark's, of run() or Merge(); else the shard of runs
+     *  first..last): a shard never replaces a whole benchmark's outputs, nor a whole benchmark
+     *  a shard. The error names the directory and what it holds ("a whole benchmark of N
+     *  runs", "a shard of runs A:B"); the user removes it to replace it. run(), runShard() and
+     *  Merge() check it first, a caller may before it prints anything. */
+    void checkOutputKind(int first = 0, int last = 0) const;
     /** Reads the `shard.txt` of `dir`; throws naming the file and line of anything wrong. */
     static TShard ReadShard(const std::string& dir);
     /** Merges shards into `outputDir`: they must be of one benchmark (the same digest and
      *  runs; its ini, read again, must still have that digest) and cover its runs 1..runs
      *  exactly once, else the merge is refused naming the shards and the runs that overlap or
-     *  are missing. The outputs are those run() writes (the same bytes but for the timings). */
+     *  are missing. Each run file is read where its shard is (detail::readRunFile: refused,
+     *  naming it and its line, unless it is a regular file of that run and of this benchmark's
+     *  digest whose content matches its own digest). The outputs are those run() writes (the
+     *  same bytes but for the timings). */
     static TResult Merge(const std::vector<std::string>& shardDirs, const std::string& outputDir,
                          const std::function<void(size_t, size_t)>& progress = {});
     /** What identifies the benchmark across machines: 16 hex digits of a 64-bit FNV-1a hash
-     *  of `runs` and the contents of every file it reads (its ini and bases, the simulation's,
-     *  the variants' inis and maps, the scenarios', the worlds), in order. */
+     *  of its effective configuration (runs, every variant's filter and maps as they run, the
+     *  simulation, the scenarios: effectiveConfiguration()) and the contents of every file it
+     *  reads (its ini and bases, the simulation's, the variants' inis and maps, the
+     *  scenarios', the worlds), in order. Every run file carries it. */
     std::string digest() const;
 
     /** Runs one (run, seed) in this process: simulation and every variant, each with every
@@ -376,16 +406,36 @@ private:
     /** Reads the variants of m_options (names resolved next to `ini`) and applies the
      *  benchmark's and the scenario's filter overrides. */
     void loadVariants(const mrpt::config::CConfigFileBase& ini);
+    /** Why the runs do not take the variants' [section] key (empty: they do): the keys the
+     *  benchmark sets itself, in loadVariants() and runOne(): the filter's seed (each run's),
+     *  its threads ([Benchmark] filter_threads: results do not depend on them), the variant's
+     *  name, and, when this benchmark or its scenario sets them, particles_count, map_file
+     *  (map_from_world), init_PDF_mode and the [Recovery] trigger and rates. */
+    std::string keySetByBenchmark(const std::string& section, const std::string& key) const;
+    /** Throws, naming the sweep line, unless the variants' runs read the sweep's key and the
+     *  benchmark does not set it itself (keySetByBenchmark()). */
+    void checkSweepKey() const;
+    /** Throws, naming the sweep line, when two values of the sweep give one variant the same
+     *  runConfiguration(). */
+    void checkSweepValuesDiffer() const;
+    /** What the runs of `v` depend on, as ini text: its filter (but the seed, each run's, and
+     *  the threads), its convergence criterion, its map_file and mapsConfig. */
+    static std::string runConfiguration(const TVariant& v);
     /** The kidnap step of the simulation, -1 if none. */
     long kidnapStep() const;
     /** Summaries of `runs` (this benchmark's) per variant. */
     std::vector<TScenarioSummary> summarize(const std::vector<TRunResult>& runs) const;
-    /** run() with scenarios; with `shardDirs`, the runs are those shards' (Merge()). */
+    /** run() with scenarios; with `shards`, the runs are those shards' (Merge()). */
     TResult runScenarios(const std::function<void(size_t, size_t)>& progress,
-                         const std::vector<std::string>& shardDirs = {}) const;
-    /** run() without scenarios; with `shardDirs`, the runs are those shards' (Merge()). */
+                         const std::vector<TShard>& shards = {}) const;
+    /** run() without scenarios; with `shards`, the runs are those shards' (Merge(): each run
+     *  in one). The run files carry `inputs` (empty: digest()), the whole benchmark's digest. */
     TResult runAll(const std::function<void(size_t, size_t)>& progress,
-                   const std::vector<std::string>& shardDirs = {}) const;
+                   const std::vector<TShard>& shards = {}, const std::string& inputs = {}) const;
+    /** What digest() hashes besides the input files' bytes: the effective configuration of the
+     *  whole benchmark as ini text ([Benchmark] but output_dir, the simulation, each scenario
+     *  and its overlay, each variant's name, ini and runConfiguration()). */
+    std::string effectiveConfiguration() const;
     /** Where the run files of this benchmark are in a shard directory. */
     std::string shardRunsDir(const std::string& shardDir) const;
     /** Fills m_mapWarnings: the variants' maps compared with the simulated world. */
