@@ -13,8 +13,7 @@ enum class InputKind
     Config,  ///< an ini file or a base of one: 16 MiB
     World,   ///< a world YAML file: 1 GiB
     Text,    ///< a table read line by line (ground truth, CSV, landmarks, a run's files): 16 GiB
-    Rawlog,  ///< a rawlog, read entry by entry: 1 TiB
-    ShardRunFile  ///< a benchmark shard's run file: 16 MiB
+    Rawlog   ///< a rawlog, read entry by entry: 1 TiB
 };
 
 /** The largest file of `kind` that is read, in bytes. */
