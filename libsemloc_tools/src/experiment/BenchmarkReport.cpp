@@ -41,12 +41,26 @@ std::string shownPath(const std::string& path)
 }
 
 /** What the NEES columns of the tables are (docs/design.md, "Consistency"). */
-constexpr const char* kNeesText =
-    "Mean NEES is the mean over the runs of a run's mean normalized estimation error squared "
-    "of the pose (e' P⁻¹ e over its steps with ground truth, e the error of (x, y, φ), P the "
-    "particles' covariance); NEES inside 95 % is the mean share of those steps whose NEES is at "
-    "most 7.81, the χ² 95 % quantile with 3 degrees of freedom (a one-sided bound): about 95 % "
-    "for a consistent filter, less for an overconfident one.";
+std::string neesText()
+{
+    return mrpt::format(
+        "Median NEES is the median over the runs of a run's median normalized estimation error "
+        "squared of the pose (e' P⁻¹ e over its steps with ground truth, e the error of (x, y, "
+        "φ), P the particles' covariance): about %.2f, the χ² median with 3 degrees of freedom, "
+        "for a consistent filter; NEES inside 95 %% is the mean share of those steps whose NEES "
+        "is at most %.2f, the χ² 95 %% quantile (a one-sided bound): about 95 %% for a "
+        "consistent filter, less for an overconfident one. The mean NEES (about 3 for a "
+        "consistent filter) is over the well-conditioned steps only, the mean over the runs of "
+        "a run's mean over them: steps whose P rests on at least %.0f effective particles (ESS "
+        "× particles), its condition number at most 10⁹ and its eigenvalues at least 10⁻⁹; "
+        "the next column is their share of the steps. A degenerate P (a cloud collapsed on a "
+        "few particles) gives a NEES up to 10¹² times the squared error, which alone would set "
+        "a mean over every step.",
+        RunMetrics::kNeesChi2Median, RunMetrics::kNeesChi2_95,
+        TStepRecord::kNeesMinEffectiveParticles);
+}
+static_assert(TStepRecord::kNeesMaxCondition == 1e9 && TStepRecord::kNeesMinEigenvalue == 1e-9,
+              "neesText() says 10⁹ and 10⁻⁹");
 
 /** Every value of `field` over every step of every run. */
 template <typename Field>
@@ -249,7 +263,7 @@ std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
        << " consecutive steps). Times to convergence and errors after convergence are means "
           "over the converged runs; variance is the mean var_xy over every step of every "
           "run. "
-       << kNeesText
+       << neesText()
        << " Filter time is the sum of the filter updates (update_us); wall time adds "
           "building the filter and reading the results. The ratio is the filter time over "
           "`"
@@ -332,7 +346,7 @@ std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult
        << " consecutive steps); with a kidnapping, the same criterion met again from the kidnap "
           "step on within the scenario's bound (recovery steps = first such step - kidnap "
           "step). "
-       << kNeesText << "\n\n"
+       << neesText() << "\n\n"
        << res.table << controlsSection(b.options(), res.runs);
     if (!b.mapWarnings().empty())
     {

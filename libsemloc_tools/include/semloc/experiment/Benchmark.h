@@ -241,9 +241,11 @@ public:
         int recovery_max_steps = 0;
         /** Mean and maximum recovery steps of the runs that recovered; NaN if none. */
         double mean_recovery_steps = 0, max_recovery_steps = 0;
-        /** Means over the runs with one of RunMetrics::nees_mean and nees_inside_share; NaN
-         *  if none. */
-        double nees_mean = 0, nees_inside_share = 0;
+        /** Over the runs with ground truth: the median of their RunMetrics::nees_median, the
+         *  means of their nees_inside_share and nees_well_conditioned_share, and the mean of
+         *  nees_mean_well_conditioned over the runs that have one; NaN if none. */
+        double nees_median = 0, nees_inside_share = 0, nees_mean_well_conditioned = 0,
+               nees_well_conditioned_share = 0;
 
         /** successes / runs. */
         double successRate() const;
@@ -314,8 +316,9 @@ public:
     std::vector<TRunResult> runOne(int run) const;
 
     /** The markdown table of report.md: per variant success rate, convergence time, error,
-     *  the detector's bound, consistency (the means over the runs of RunMetrics::nees_mean
-     *  and nees_inside_share), variance, filter time per run and per particle-step, wall
+     *  the detector's bound, consistency (over the runs, as TScenarioSummary's: the median
+     *  NEES, the share inside its bound, the mean NEES of the well-conditioned steps and
+     *  their share), variance, filter time per run and per particle-step, wall
      *  time, ratio to the first variant (or to "semantic" if present). */
     static std::string reportTable(const std::vector<TRunResult>& runs,
                                    const std::vector<std::string>& variants);
