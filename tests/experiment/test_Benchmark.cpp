@@ -626,3 +626,44 @@ TEST(Benchmark, ABadSweepIsAnErrorNamingIt)
         errorOf(writeSweepIni("bench_sweep_bad4.ini", "PF_options.powFactr: 0.5")).find("powFactr"),
         std::string::npos);
 }
+
+TEST(Benchmark, AWideSweepDrawsNineOfItsSeriesAndTablesEveryOne)
+{
+    // 12 values: the figures draw 9 (the first, the last and 7 evenly between), world_paths.png
+    // in 9 panels; curves.csv, results.csv and the tables have all 12, and report.md says so.
+    std::string values;
+    for (int k = 0; k < 12; k++)
+    {
+        values += (k ? ", " : "") + std::to_string(0.3 + 0.1 * k).substr(0, 3);
+    }
+    const std::string ini = writeSweepIni(
+        "bench_wide_sweep.ini", "MetricMap_semanticMap_00_likelihoodOpts.sigma_range_m: " + values +
+                                    "\nruns = 1\nmax_steps = 4\nparticles = 50\njobs = 1");
+    const std::string out = std::string(SEMLOC_TEST_OUT) + "/bench_wide_sweep_out";
+    std::filesystem::remove_all(out);
+    const auto res = semloc::Benchmark::FromConfigFile(ini, out).run();
+    ASSERT_EQ(res.runs.size(), 12u);
+    const std::string gp = semloc::test::readText(out + "/world_paths.gp");
+    EXPECT_NE(gp.find("set multiplot layout 3,3"), std::string::npos) << gp;
+    size_t panels = 0;
+    for (size_t at = 0; (at = gp.find("\nplot ", at)) != std::string::npos; at++)
+    {
+        panels++;
+    }
+    EXPECT_EQ(panels, 9u);
+    for (const char* shown : {"sigma_range_m=0.3,", "sigma_range_m=0.4,", "sigma_range_m=1.4,"})
+    {
+        EXPECT_NE(gp.find(shown), std::string::npos) << shown << " (first, second, last)";
+    }
+    EXPECT_EQ(gp.find("sigma_range_m=0.5,"), std::string::npos) << "not among the 9";
+    EXPECT_FALSE(std::filesystem::exists(out + "/world_paths_10.dat"));
+    const std::string figures = semloc::test::readText(out + "/figures.gp");
+    EXPECT_EQ(figures.find("sigma_range_m=0.5'"), std::string::npos) << figures;
+    EXPECT_NE(figures.find("sigma_range_m=1.4'"), std::string::npos) << figures;
+    const std::string curves = semloc::test::readText(out + "/curves.csv");
+    EXPECT_NE(curves.find("semantic@sigma_range_m=0.5,"), std::string::npos);
+    const std::string report = semloc::test::readText(out + "/report.md");
+    EXPECT_NE(report.find("| semantic@sigma_range_m=0.5 |"), std::string::npos);
+    EXPECT_NE(report.find("9 of the 12 series, evenly spread over them"), std::string::npos)
+        << report;
+}

@@ -20,6 +20,9 @@ namespace semloc::detail
 {
 namespace
 {
+/** Most series a figure draws: world_paths.png's panels (3 x 3), the curves of fig_*.png. */
+constexpr size_t kMaxFigureSeries = 9;
+
 // The paper's Table I: average execution time of one run [ns].
 constexpr double kPaperSemanticNs = 1171934146.0;
 constexpr double kPaperGeometricNs = 6977878010.0;
@@ -38,6 +41,33 @@ std::string shownPath(const std::string& path)
     }
     const auto rel = p.lexically_proximate(cwd);
     return rel.empty() || rel.is_absolute() || *rel.begin() == ".." ? path : rel.string();
+}
+
+/** The series the figures draw, as indices into the `n` series: every one up to
+ *  kMaxFigureSeries, else kMaxFigureSeries of them evenly spread, the first and the last among
+ *  them (a sweep's ends and its middle); the tables have every series. */
+std::vector<size_t> figureSeries(size_t n)
+{
+    std::vector<size_t> k;
+    const size_t most = std::min(n, kMaxFigureSeries);
+    for (size_t i = 0; i < most; i++)
+    {
+        k.push_back(most < 2 ? i : (i * (n - 1) + (most - 1) / 2) / (most - 1));
+    }
+    return k;
+}
+
+/** "" when the figures draw every one of `n` series, else what they draw. */
+std::string figureSeriesNote(size_t n)
+{
+    if (n <= kMaxFigureSeries)
+    {
+        return {};
+    }
+    return mrpt::format(
+        " (%zu of the %zu series, evenly spread over them from the first to the "
+        "last; the tables above have every one)",
+        kMaxFigureSeries, n);
 }
 
 /** What the NEES columns of the tables are (docs/design.md, "Consistency"). */
@@ -77,9 +107,14 @@ std::vector<double> stepValues(const std::vector<Benchmark::TRunResult>& runs, F
     return v;
 }
 
-std::string figuresScript(const std::vector<std::string>& variants,
+std::string figuresScript(const std::vector<std::string>& allVariants,
                           const std::vector<Benchmark::TRunResult>& runs)
 {
+    std::vector<std::string> variants;
+    for (const size_t k : figureSeries(allVariants.size()))
+    {
+        variants.push_back(allVariants[k]);
+    }
     // Fig. 3 of the paper: average particle variance and average error over time, on a log
     // axis unless nothing is positive (one particle: no variance).
     std::ostringstream g;
@@ -143,13 +178,17 @@ std::vector<TFigureWarning> drawWorldPaths(const StagedDirectory& out,
 {
     const Simulator simulator(simulation);
     const World& world = simulator.world();
-    std::vector<const Benchmark::TRunResult*> run1;
+    std::vector<const Benchmark::TRunResult*> all1, run1;
     for (const auto& r : runs)
     {
         if (r.run == 1)
         {
-            run1.push_back(&r);
+            all1.push_back(&r);
         }
+    }
+    for (const size_t k : figureSeries(all1.size()))
+    {
+        run1.push_back(all1[k]);
     }
     const size_t n = std::max<size_t>(run1.size(), 1), cols = std::min<size_t>(n, 3);
     const size_t rows = (n + cols - 1) / cols;
@@ -176,10 +215,10 @@ std::vector<TFigureWarning> drawWorldPaths(const StagedDirectory& out,
           << trackLayers(data, true, conv ? r.metrics.convergence_step : -1) << "\nunset label\n";
     }
     g << "unset multiplot\nunset output\n";
-    writeFile(
-        out.path("world_paths.gp"),
-        "# semloc-benchmark: run 1 of each variant over the world (gnuplot world_paths.gp)\n" +
-            figureSelector() + figureBlock("world_paths.png", g.str()));
+    writeFile(out.path("world_paths.gp"),
+              "# semloc-benchmark: run 1 of each variant over the world" +
+                  figureSeriesNote(all1.size()) + " (gnuplot world_paths.gp)\n" + figureSelector() +
+                  figureBlock("world_paths.png", g.str()));
     return drawFigures(out, "world_paths.gp", {"world_paths.png"});
 }
 
@@ -228,9 +267,10 @@ std::string experimentSection(const Benchmark& b, const Benchmark::TResult& res,
     return md.str();
 }
 
-/** report.md's "Controls" (Benchmark::controlsTable()); empty when the route alone drove. */
+/** report.md's "Controls" (Benchmark::controlsTable()); empty when the route alone drove.
+ *  `series`: how many world_paths.png has to show. */
 std::string controlsSection(const Benchmark::TOptions& o,
-                            const std::vector<Benchmark::TRunResult>& runs)
+                            const std::vector<Benchmark::TRunResult>& runs, size_t series)
 {
     if (o.controls.size() == 1 && o.controls.front() == "route")
     {
@@ -246,7 +286,8 @@ std::string controlsSection(const Benchmark::TOptions& o,
        << " m², then back to the route), `random` (a random walk over the same candidate "
           "motions, free from the true pose, until the same stop rule). The distance is the "
           "length of the true path up to the convergence step; `world_paths.png` shows run 1 "
-          "of each.\n\n"
+          "of each"
+       << figureSeriesNote(series) << ".\n\n"
        << Benchmark::controlsTable(runs);
     return md.str();
 }
@@ -283,7 +324,7 @@ std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
               "one of the two converged.\n\n"
            << paired;
     }
-    md << controlsSection(b.options(), res.runs);
+    md << controlsSection(b.options(), res.runs, names.size());
     return md.str();
 }
 
@@ -323,13 +364,29 @@ std::string reportMarkdown(const Benchmark& b, const Benchmark::TResult& res, si
           "compare.\n\n"
        << paperTable(res.runs) << "\n## Figures\n\n"
        << "- `fig_variance.png`, `fig_error.png`: mean particle variance and mean error "
-          "over time per variant (the paper's Fig. 3; data in `curves.csv`, script "
-          "`figures.gp`)\n"
+          "over time per variant"
+       << figureSeriesNote(b.seriesNames().size())
+       << " (the paper's Fig. 3; data in `curves.csv`, script `figures.gp`)\n"
        << "- `world_paths.png`: the world, run 1's true path and each variant's estimate (one "
-          "panel per variant and control)\n"
+          "panel per variant and control"
+       << figureSeriesNote(b.seriesNames().size()) << ")\n"
        << figureWarningsMarkdown(res.figureWarnings);
     return md.str();
 }
+
+namespace
+{
+/** The most series of any of the scenarios. */
+size_t mostSeries(const std::vector<Benchmark>& scenarios)
+{
+    size_t n = 0;
+    for (const auto& sc : scenarios)
+    {
+        n = std::max(n, sc.seriesNames().size());
+    }
+    return n;
+}
+}  // namespace
 
 std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult& res)
 {
@@ -347,7 +404,7 @@ std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult
           "step on within the scenario's bound (recovery steps = first such step - kidnap "
           "step). "
        << neesText() << "\n\n"
-       << res.table << controlsSection(b.options(), res.runs);
+       << res.table << controlsSection(b.options(), res.runs, mostSeries(scenarios));
     if (!b.mapWarnings().empty())
     {
         md << "\n## Maps\n\n";
