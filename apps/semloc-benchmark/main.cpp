@@ -147,6 +147,28 @@ void warnAboutVariants(const semloc::Benchmark& bench)
     }
 }
 
+/** When semloc-benchmark started: the progress's clock. */
+const auto kStart = std::chrono::steady_clock::now();
+
+/** The stages after the runs (Benchmark::SetStageReporter) on a terminal's stderr, a line
+ *  each where the progress bar is. */
+void showStages()
+{
+    if (::isatty(STDERR_FILENO) == 0)
+    {
+        return;
+    }
+    semloc::Benchmark::SetStageReporter(
+        [](const std::string& what)
+        {
+            const double el =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - kStart).count();
+            std::cerr << "\r" << std::string(79, ' ') << "\rsemloc-benchmark: " << what
+                      << " (elapsed " << clock(el) << ")\n"
+                      << std::flush;
+        });
+}
+
 /** The progress bar on a terminal's stderr. */
 std::function<void(size_t, size_t)> progressBar()
 {
@@ -207,6 +229,7 @@ void merge()
 
 void run()
 {
+    showStages();
     if (argMerge.getValue())
     {
         merge();

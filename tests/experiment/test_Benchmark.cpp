@@ -667,3 +667,30 @@ TEST(Benchmark, AWideSweepDrawsNineOfItsSeriesAndTablesEveryOne)
     EXPECT_NE(report.find("9 of the 12 series, evenly spread over them"), std::string::npos)
         << report;
 }
+
+TEST(Benchmark, TheWorkAfterTheRunsIsReportedStageByStage)
+{
+    // What the progress bar does not show: after the last run, a line per stage as it starts.
+    std::vector<std::string> stages;
+    semloc::Benchmark::SetStageReporter([&](const std::string& s) { stages.push_back(s); });
+    const std::string out = std::string(SEMLOC_TEST_OUT) + "/bench_stages_out";
+    std::filesystem::remove_all(out);
+    const auto b = semloc::Benchmark::FromConfigFile(
+        writeIni("bench_stages.ini", "runs = 2\nmax_steps = 4\nparticles = 50\njobs = 1\n"), out);
+    size_t runsDone = 0, stagesAtLastRun = 99;
+    b.run(
+        [&](size_t done, size_t total)
+        {
+            runsDone = done;
+            stagesAtLastRun = done == total ? stages.size() : stagesAtLastRun;
+        });
+    semloc::Benchmark::SetStageReporter({});
+    EXPECT_EQ(runsDone, 2u);
+    EXPECT_EQ(stagesAtLastRun, 0u) << "the stages come after the runs";
+    const std::vector<std::string> expected{"reading the results of 2 runs x 2 series",
+                                            "writing results.csv and curves.csv",
+                                            "drawing fig_variance.png and fig_error.png",
+                                            "drawing world_paths.png", "writing report.md"};
+    EXPECT_EQ(stages, expected);
+    EXPECT_TRUE(std::filesystem::exists(out + "/report.md"));
+}

@@ -2,6 +2,7 @@
  * configuration is in BenchmarkConfig.cpp, the child processes in BenchmarkRunPool.cpp, the
  * tables in BenchmarkTables.cpp and the report in BenchmarkReport.cpp. */
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <mrpt/obs/CRawlog.h>
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/experiment/GroundTruth.h>
@@ -25,6 +26,13 @@ namespace semloc
 namespace
 {
 using detail::writeFile;
+
+/** Benchmark::SetStageReporter()'s. */
+std::function<void(const std::string&)>& stageReporter()
+{
+    static std::function<void(const std::string&)> reporter;
+    return reporter;
+}
 
 /** The results of runs 1..runs read back from their files, in run-major order, each with
  *  its scenario name, its metrics (its variant's convergence criterion, `kidnapStep`) and
@@ -172,6 +180,19 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
 
 // ------------------------------------------------------------------ the benchmark
 
+void Benchmark::SetStageReporter(std::function<void(const std::string&)> reporter)
+{
+    stageReporter() = std::move(reporter);
+}
+
+void detail::reportStage(const std::string& what)
+{
+    if (stageReporter())
+    {
+        stageReporter()(what);
+    }
+}
+
 Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& progress) const
 {
     return m_scenarios.empty() ? runAll(progress) : runScenarios(progress);
@@ -189,6 +210,9 @@ Benchmark::TResult Benchmark::runAll(const std::function<void(size_t, size_t)>& 
     std::filesystem::create_directories(files.dir());
 
     const size_t jobs = effectiveJobs();
+    const std::string scenario =
+        m_scenario.name.empty() ? std::string() : "scenario '" + m_scenario.name + "': ";
+    const auto stage = [&](const std::string& what) { detail::reportStage(scenario + what); };
     if (shardDirs.empty())
     {
         // One child process per run (see the class documentation: MRPT's global generator).
@@ -204,19 +228,23 @@ Benchmark::TResult Benchmark::runAll(const std::function<void(size_t, size_t)>& 
         {
             dirs.push_back(shardRunsDir(d));
         }
+        stage(mrpt::format("gathering the %d runs of %zu shards", o.runs, shardDirs.size()));
         detail::gatherRunFiles(dirs, o.runs, files);
     }
 
     TResult res;
+    const auto names = seriesNames();
+    stage(mrpt::format("reading the results of %d runs x %zu series", o.runs, names.size()));
     res.runs =
         collectRuns(files, o.runs, m_variants, o.controls.size(), m_scenario.name, kidnapStep());
     std::filesystem::remove_all(files.dir());
 
-    const auto names = seriesNames();
+    stage("writing results.csv and curves.csv");
     writeFile(out.path("results.csv"), detail::resultsCsv(res.runs));
     writeFile(out.path("curves.csv"), detail::curvesCsv(res.runs, names));
-    res.figureWarnings = detail::writeFigures(out, names, m_simulation, res.runs);
+    res.figureWarnings = detail::writeFigures(out, names, m_simulation, res.runs, scenario);
 
+    stage("writing report.md");
     res.table = reportTable(res.runs, names);
     res.summaries = summarize(res.runs);
     res.wallTime_s =
@@ -259,6 +287,7 @@ Benchmark::TResult Benchmark::runScenarios(const std::function<void(size_t, size
             res.figureWarnings.push_back(std::move(w));
         }
     }
+    detail::reportStage("writing scenarios.csv and report.md");
     res.table = scenariosTable(res.summaries);
     writeFile(out.path("scenarios.csv"), detail::scenariosCsv(res.summaries));
 

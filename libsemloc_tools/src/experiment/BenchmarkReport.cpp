@@ -333,10 +333,13 @@ std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
 std::vector<TFigureWarning> writeFigures(const StagedDirectory& out,
                                          const std::vector<std::string>& variants,
                                          const TSimulatorOptions& simulation,
-                                         const std::vector<Benchmark::TRunResult>& runs)
+                                         const std::vector<Benchmark::TRunResult>& runs,
+                                         const std::string& stagePrefix)
 {
+    reportStage(stagePrefix + "drawing fig_variance.png and fig_error.png");
     writeFile(out.path("figures.gp"), figuresScript(variants, runs));
     auto warnings = drawFigures(out, "figures.gp", {"fig_variance.png", "fig_error.png"});
+    reportStage(stagePrefix + "drawing world_paths.png");
     for (auto& w : drawWorldPaths(out, simulation, runs))
     {
         warnings.push_back(std::move(w));

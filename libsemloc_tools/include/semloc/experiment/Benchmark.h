@@ -279,6 +279,12 @@ public:
      *  calling thread at the start (0) and after each run. On error nothing is left in output_dir.
      */
     TResult run(const std::function<void(size_t, size_t)>& progress = {}) const;
+    /** What run() and Merge() do once the runs are done, as a line each as it starts (reading
+     *  the runs' results, the tables, each figure, the report; with scenarios, each starting
+     *  with "scenario 'NAME': "): the work after the last run, which a wide sweep makes
+     *  long. Process-wide, for every benchmark from then on (Merge() builds its own); none by
+     *  default; semloc-benchmark shows them on a terminal. */
+    static void SetStageReporter(std::function<void(const std::string&)> reporter);
 
     /** A shard: runs first..last of a benchmark, as its `shard.txt` describes them. */
     struct TShard
