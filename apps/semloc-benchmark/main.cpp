@@ -150,11 +150,20 @@ void warnAboutVariants(const semloc::Benchmark& bench)
 /** When semloc-benchmark started: the progress's clock. */
 const auto kStart = std::chrono::steady_clock::now();
 
-/** The stages after the runs (Benchmark::SetStageReporter) on a terminal's stderr, a line
- *  each where the progress bar is. */
+/** What the runs tell as they go (Benchmark::SetWarningReporter), on stderr as warnings (on
+ *  a terminal, where the progress bar is), and the stages after the runs
+ *  (Benchmark::SetStageReporter) on a terminal's stderr. */
 void showStages()
 {
-    if (::isatty(STDERR_FILENO) == 0)
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    semloc::Benchmark::SetWarningReporter(
+        [tty](const std::string& text)
+        {
+            std::cerr << (tty ? "\r" + std::string(79, ' ') + "\r" : std::string())
+                      << "semloc-benchmark: warning: " << text << "\n"
+                      << std::flush;
+        });
+    if (!tty)
     {
         return;
     }

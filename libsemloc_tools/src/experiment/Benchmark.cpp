@@ -34,6 +34,13 @@ std::function<void(const std::string&)>& stageReporter()
     return reporter;
 }
 
+/** Benchmark::SetWarningReporter()'s. */
+std::function<void(const std::string&)>& warningReporter()
+{
+    static std::function<void(const std::string&)> reporter;
+    return reporter;
+}
+
 /** The results of runs 1..runs read back from their files, in run-major order, each with
  *  its scenario name, its metrics (its variant's convergence criterion, `kidnapStep`) and
  *  its distance to convergence; each run holds every variant with each of `controls`
@@ -157,12 +164,20 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
             {
                 auto policy = m_options.active;
                 policy.threads = m_options.filter_threads;
+                const std::string who =
+                    (m_scenario.name.empty() ? "" : "scenario '" + m_scenario.name + "', ") +
+                    "run " + std::to_string(run) + ", " + r.series() + ": ";
                 auto loop = detail::runClosedLoop(
                     simulator, loc, *v.maps.map->mapByClass<CSemanticMap>(),
-                    detail::controlFromName(control), policy, static_cast<uint32_t>(run));
+                    detail::controlFromName(control), policy, static_cast<uint32_t>(run),
+                    [&who](const std::string& kind, const std::string& text)
+                    { detail::runNote(kind, who + text); });
                 r.records = std::move(loop.records);
                 r.decisions = loop.decisions;
                 r.decisionWall_s = loop.decisionWall_s;
+                r.decisionFilterSteps = loop.decisionFilterSteps;
+                r.maxDecisionFilterSteps = loop.maxDecisionFilterSteps;
+                r.stuckDecisions = loop.stuckDecisions;
                 if (detectionsOnly(v.maps))
                 {
                     r.detectorBound = detectorCramerRaoBound(simulator, loop.data);
@@ -190,6 +205,19 @@ void detail::reportStage(const std::string& what)
     if (stageReporter())
     {
         stageReporter()(what);
+    }
+}
+
+void Benchmark::SetWarningReporter(std::function<void(const std::string&)> reporter)
+{
+    warningReporter() = std::move(reporter);
+}
+
+void detail::reportWarning(const std::string& text)
+{
+    if (warningReporter())
+    {
+        warningReporter()(text);
     }
 }
 

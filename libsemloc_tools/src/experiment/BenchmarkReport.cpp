@@ -3,10 +3,13 @@
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
+#include <semloc/active/ActivePolicy.h>
 #include <semloc/plot/WorldPlot.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <system_error>
 
@@ -267,6 +270,58 @@ std::string experimentSection(const Benchmark& b, const Benchmark::TResult& res,
     return md.str();
 }
 
+/** report.md's warnings on the controls: per series, the runs whose decisions cost more than
+ *  the budget on average, and those in which the vehicle could not move. */
+std::string controlWarnings(const std::vector<Benchmark::TRunResult>& runs)
+{
+    std::vector<std::string> order;
+    std::map<std::string, std::array<size_t, 5>> n;  // runs, costly, stuck runs, stuck, decisions
+    for (const auto& r : runs)
+    {
+        if (r.decisions == 0)
+        {
+            continue;
+        }
+        const std::string key = (r.scenario.empty() ? "" : r.scenario + ", ") + r.series();
+        if (n.count(key) == 0)
+        {
+            order.push_back(key);
+        }
+        auto& c = n[key];
+        c[0]++;
+        c[1] += r.decisionFilterSteps / static_cast<double>(r.decisions) >
+                        ActivePolicy::kBudgetFilterSteps
+                    ? 1
+                    : 0;
+        c[2] += r.stuckDecisions > 0 ? 1 : 0;
+        c[3] += r.stuckDecisions;
+        c[4] += r.decisions;
+    }
+    std::ostringstream md;
+    for (const auto& key : order)
+    {
+        const auto& c = n[key];
+        if (c[1] > 0)
+        {
+            md << mrpt::format(
+                "- **warning**: `%s`: the decisions cost more than the budget of %g filter steps "
+                "on average in %zu of %zu runs ([ActiveLocalization] headings, distances_m, "
+                "look_around, representatives, outcomes, scan_every_m set it)\n",
+                key.c_str(), ActivePolicy::kBudgetFilterSteps, c[1], c[0]);
+        }
+        if (c[2] > 0)
+        {
+            md << mrpt::format(
+                "- **warning**: `%s`: the vehicle could not move at %zu of %zu decisions, in %zu "
+                "of %zu runs (every candidate path left the free space: [ActiveLocalization] "
+                "distances_m, headings)\n",
+                key.c_str(), c[3], c[4], c[2], c[0]);
+        }
+    }
+    const std::string text = md.str();
+    return text.empty() ? text : "\n" + text;
+}
+
 /** report.md's "Controls" (Benchmark::controlsTable()); empty when the route alone drove.
  *  `series`: how many world_paths.png has to show. */
 std::string controlsSection(const Benchmark::TOptions& o,
@@ -287,8 +342,14 @@ std::string controlsSection(const Benchmark::TOptions& o,
           "motions, free from the true pose, until the same stop rule). The distance is the "
           "length of the true path up to the convergence step; `world_paths.png` shows run 1 "
           "of each"
-       << figureSeriesNote(series) << ".\n\n"
-       << Benchmark::controlsTable(runs);
+       << figureSeriesNote(series)
+       << ". A decision's cost is its likelihood evaluations (for each admissible candidate, "
+          "representatives² × outcomes × path points) over the particles, those of a filter "
+          "step; the budget is "
+       << ActivePolicy::kBudgetFilterSteps
+       << " (docs/active.md). A decision could not move when no candidate motion that goes "
+          "somewhere was free from the true pose.\n\n"
+       << Benchmark::controlsTable(runs) << controlWarnings(runs);
     return md.str();
 }
 

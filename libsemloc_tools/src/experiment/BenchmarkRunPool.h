@@ -13,7 +13,8 @@
 namespace semloc::detail
 {
 /** The files of the runs, in one directory: `run_NNNNNN.txt` (the results, runFileText()),
- *  `.err` (the run's error message) and `.log` (what its process printed). */
+ *  `.err` (the run's error message), `.log` (what its process printed) and `.note` (what it
+ *  told while it ran, runNote()). */
 class RunFiles
 {
 public:
@@ -30,8 +31,18 @@ private:
     std::string m_dir;
 };
 
+/** Where runNote() writes in this (child) process: the run's `.note` file. */
+void runNotesTo(const std::string& path);
+/** A note of the running run (ClosedLoopNote: one line `kind<TAB>text`), which the parent
+ *  reads while the run goes on and reports once per kind (reportWarning); without a note
+ *  file (a run in the calling process), reported at once. */
+void runNote(const std::string& kind, const std::string& text);
+/** Benchmark::SetWarningReporter()'s reporter, told `text` (nothing without one). */
+void reportWarning(const std::string& text);
+
 /** A run's results as its run file holds them: per variant and control "V <variant> <control>
- *  <particles> <threads> <wall_s> <reinitializations> <decisions> <decision_wall_s> <n>" then n
+ *  <particles> <threads> <wall_s> <reinitializations> <decisions> <decision_wall_s>
+ *  <decision_filter_steps> <max_decision_filter_steps> <stuck_decisions> <n>" then n
  *  step lines and the detector's bound "B <n> ..."; doubles printed with 17 digits read
  *  back bit-exactly, so the parent's metrics equal the child's. */
 std::string runFileText(const std::vector<Benchmark::TRunResult>& results);
@@ -41,7 +52,8 @@ std::vector<Benchmark::TRunResult> readRunFile(const std::string& path, int run)
 
 /** Runs `runOne(run)` for run = first..last, each in a child process (fork(), no exec), at
  *  most `jobs` at once, writing its run file (or its error) in `files`; `progress(done, n)`
- *  (n runs) at the start and after each run. The first failure stops new runs and is thrown once
+ *  (n runs) at the start and after each run; the runs' notes (runNote()) reported as they
+ *  come, once per kind. The first failure stops new runs and is thrown once
  * the running ones ended, naming `scenario` (if not empty), the run and its error or how its
  *  process ended; Ctrl-C (installInterruptHandlers) ends the running ones and throws
  *  Interrupted. */

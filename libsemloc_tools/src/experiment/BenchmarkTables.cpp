@@ -391,12 +391,13 @@ std::string Benchmark::controlsTable(const std::vector<TRunResult>& runs)
     }
     std::ostringstream o;
     o << "| scenario | variant | control | runs | converged | median distance to conv. [m] | "
-         "90th percentile [m] | decisions per run | mean decision time [ms] |\n"
-         "|---|---|---|---:|---:|---:|---:|---:|---:|\n";
+         "90th percentile [m] | decisions per run | mean decision time [ms] | mean decision "
+         "cost [filter steps] | decisions that could not move [%] |\n"
+         "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& [scenario, series] : keys)
     {
         std::vector<double> dist;
-        double decisions = 0, decisionWall = 0;
+        double decisions = 0, decisionWall = 0, filterSteps = 0, stuck = 0;
         const TRunResult* any = nullptr;
         for (const auto& r : runs)
         {
@@ -409,6 +410,8 @@ std::string Benchmark::controlsTable(const std::vector<TRunResult>& runs)
                                                : std::numeric_limits<double>::infinity());
             decisions += static_cast<double>(r.decisions);
             decisionWall += r.decisionWall_s;
+            filterSteps += r.decisionFilterSteps;
+            stuck += static_cast<double>(r.stuckDecisions);
         }
         std::sort(dist.begin(), dist.end());
         const auto quantile = [&](double p)
@@ -423,7 +426,10 @@ std::string Benchmark::controlsTable(const std::vector<TRunResult>& runs)
           << any->control << " | " << dist.size() << " | " << converged << " | " << quantile(0.5)
           << " | " << quantile(0.9) << " | "
           << mrpt::format("%.1f", decisions / static_cast<double>(dist.size())) << " | "
-          << cell("%.2f", decisions > 0 ? 1e3 * decisionWall / decisions : kNaN) << " |\n";
+          << cell("%.2f", decisions > 0 ? 1e3 * decisionWall / decisions : kNaN) << " | "
+          << cell("%.1f",
+                  decisions > 0 && any->control == "active" ? filterSteps / decisions : kNaN)
+          << " | " << cell("%.0f", decisions > 0 ? 100 * stuck / decisions : kNaN) << " |\n";
     }
     return o.str();
 }

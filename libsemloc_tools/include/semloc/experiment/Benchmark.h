@@ -190,6 +190,12 @@ public:
         size_t decisions = 0;
         /** Wall time of those decisions [s]. */
         double decisionWall_s = 0;
+        /** The active policy's decisions in filter steps of the run's particles
+         *  (ActivePolicy::filterSteps): their sum and the largest (0 for the other controls). */
+        double decisionFilterSteps = 0, maxDecisionFilterSteps = 0;
+        /** Decisions at which no candidate motion that goes somewhere was free from the true
+         *  pose: the vehicle turned on the spot or stood. */
+        size_t stuckDecisions = 0;
         /** Where the tables list it: the variant, and with another control than the route
          *  "variant/control". */
         std::string series() const { return seriesName(variant, control); }
@@ -285,6 +291,13 @@ public:
      *  long. Process-wide, for every benchmark from then on (Merge() builds its own); none by
      *  default; semloc-benchmark shows them on a terminal. */
     static void SetStageReporter(std::function<void(const std::string&)> reporter);
+    /** What a run tells while the runs go on, once per benchmark (per scenario) and kind, as
+     *  soon as the first run tells it: a decision of the active policy over its budget of
+     *  ActivePolicy::kBudgetFilterSteps filter steps (before it is made), a vehicle that could
+     *  not move; each text names the scenario, the run, the series and the [ActiveLocalization]
+     *  keys. Process-wide as SetStageReporter(); semloc-benchmark prints them on stderr as
+     *  warnings. report.md's "Controls" counts the runs of each. */
+    static void SetWarningReporter(std::function<void(const std::string&)> reporter);
 
     /** A shard: runs first..last of a benchmark, as its `shard.txt` describes them. */
     struct TShard
@@ -344,8 +357,10 @@ public:
     /** report.md's table of the controls: per scenario and series (TRunResult::series(), in
      *  the order of their first run) the runs, the converged ones, the median and 90th
      *  percentile of the distance driven to convergence (a run that did not converge counts
-     *  as infinitely far: "-" when the percentile falls on one), the decisions per run and
-     *  the mean wall time of a decision. */
+     *  as infinitely far: "-" when the percentile falls on one), the decisions per run, the
+     *  mean wall time of a decision, the active policy's mean decision in filter steps
+     *  (ActivePolicy::filterSteps) and the share of the decisions at which the vehicle could
+     *  not move. */
     static std::string controlsTable(const std::vector<TRunResult>& runs);
     /** The benchmark options. */
     const TOptions& options() const { return m_options; }
