@@ -107,12 +107,19 @@ void BM_Decision(benchmark::State& state)
     o.look_around = state.range(1) != 0;
     semloc::ActivePolicy policy(o, *maps().map->mapByClass<semloc::CSemanticMap>(), &*maps().world);
     size_t candidates = 0;
+    double evaluations = 0;
     for (auto _ : state)
     {
         const auto d = policy.decide(pdf, *sensor);
         candidates = d.candidates.size();
+        evaluations = 0;
+        for (const auto& c : d.candidates)
+        {
+            evaluations += c.evaluations;
+        }
         benchmark::DoNotOptimize(d.chosen);
     }
+    state.counters["evaluations"] = evaluations;
     state.counters["threads"] = static_cast<double>(state.range(0));
     state.counters["candidates"] = static_cast<double>(candidates);
     state.counters["look_around"] = static_cast<double>(state.range(1));

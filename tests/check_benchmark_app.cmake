@@ -78,7 +78,7 @@ foreach(f results.csv curves.csv report.md figures.gp)
   endif()
 endforeach()
 check_header(${o1}/results.csv
-  "run,seed,variant,particles,threads,steps,steps_with_ground_truth,converged,convergence_step,convergence_time_s,mean_err_after_conv_m,rmse_m,final_err_m,total_update_s,mean_update_us_per_particle,final_particles,reinitializations,wall_time_s,kidnap_step,recovery_steps,nees_mean,nees_inside_share,control,distance_to_convergence_m")
+  "run,seed,variant,particles,threads,steps,steps_with_ground_truth,converged,convergence_step,convergence_time_s,mean_err_after_conv_m,rmse_m,final_err_m,total_update_s,mean_update_us_per_particle,final_particles,reinitializations,wall_time_s,kidnap_step,recovery_steps,nees_median,nees_inside_share,nees_mean_well_conditioned,nees_well_conditioned_share,control,distance_to_convergence_m")
 check_header(${o1}/curves.csv
   "variant,step,t_s,runs,err_xy_mean,err_xy_p10,err_xy_p50,err_xy_p90,var_xy_mean,var_xy_p10,var_xy_p50,var_xy_p90")
 file(STRINGS ${o1}/results.csv rows)
@@ -93,7 +93,7 @@ if(NOT n EQUAL 61)
 endif()
 file(READ ${o1}/report.md report)
 foreach(s "1171934146" "6977878010" "| semantic |" "| geometric |"
-          "detector bound after conv. [m]" "| mean NEES | NEES inside 95 % [%] |")
+          "detector bound after conv. [m]" "| median NEES | NEES inside 95 % [%] | mean NEES, well-conditioned steps | well-conditioned steps [%] |")
   string(FIND "${report}" "${s}" at)
   if(at EQUAL -1)
     message(FATAL_ERROR "report.md lacks '${s}'")

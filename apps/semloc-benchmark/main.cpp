@@ -152,6 +152,37 @@ void warnAboutVariants(const semloc::Benchmark& bench)
     }
 }
 
+/** When semloc-benchmark started: the progress's clock. */
+const auto kStart = std::chrono::steady_clock::now();
+
+/** What the runs tell as they go (Benchmark::SetWarningReporter), on stderr as warnings (on
+ *  a terminal, where the progress bar is), and the stages after the runs
+ *  (Benchmark::SetStageReporter) on a terminal's stderr. */
+void showStages()
+{
+    const bool tty = ::isatty(STDERR_FILENO) != 0;
+    semloc::Benchmark::SetWarningReporter(
+        [tty](const std::string& text)
+        {
+            std::cerr << (tty ? "\r" + std::string(79, ' ') + "\r" : std::string())
+                      << "semloc-benchmark: warning: " << text << "\n"
+                      << std::flush;
+        });
+    if (!tty)
+    {
+        return;
+    }
+    semloc::Benchmark::SetStageReporter(
+        [](const std::string& what)
+        {
+            const double el =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - kStart).count();
+            std::cerr << "\r" << std::string(79, ' ') << "\rsemloc-benchmark: " << what
+                      << " (elapsed " << clock(el) << ")\n"
+                      << std::flush;
+        });
+}
+
 /** The progress bar on a terminal's stderr. */
 std::function<void(size_t, size_t)> progressBar()
 {
@@ -212,6 +243,7 @@ void merge()
 
 void run()
 {
+    showStages();
     if (argMerge.getValue())
     {
         merge();

@@ -295,3 +295,49 @@ TEST(ActivePolicy, TheObjectiveIsReadByNameAndWrittenBack)
     EXPECT_NE(errorOf("overhead_m", "0").find("overhead_m"), std::string::npos);
     EXPECT_EQ(errorOf("objective", "entropy_plus_cost"), "");
 }
+
+TEST(ActivePolicy, ADecisionCountsItsLikelihoodEvaluationsAndTellsThemBeforeDrawing)
+{
+    // Two places 20 m apart, 0.4 m spreads: representatives of 1 m bins. The wall in front
+    // of both makes the straight moves inadmissible (no evaluation), the turns evaluate
+    // representatives^2 x outcomes x path points each; the observer sees the total before
+    // any scan is drawn (no expected entropy yet) and the decision ends with the same.
+    const World w = twoPlaces(true);
+    const CSemanticMap map = mapOf(w);
+    auto o = options();
+    o.look_around = true;
+    ActivePolicy policy(o, map, &w);
+    std::vector<ActivePolicy::TDecision> told;
+    policy.setCostObserver([&](const ActivePolicy::TDecision& d) { told.push_back(d); });
+    const auto pdf = cloud({{10.5, 10.5}, {30.5, 10.5}}, 0.4);
+    const auto d = policy.decide(pdf, sensor());
+    ASSERT_EQ(told.size(), 1u);
+    const auto K = static_cast<double>(d.representatives);
+    double expected = 0;
+    size_t inadmissible = 0;
+    for (const auto& c : d.candidates)
+    {
+        const double points =
+            c.motion.distance_m > 0 ? std::ceil(c.motion.distance_m / o.scan_every_m) : 1;
+        EXPECT_EQ(c.evaluations, c.admissible ? K * K * o.outcomes * points : 0.0);
+        expected += c.evaluations;
+        inadmissible += c.admissible ? 0 : 1;
+    }
+    EXPECT_GT(inadmissible, 0u) << "the wall";
+    EXPECT_GT(expected, 0.0);
+    EXPECT_EQ(d.evaluations, expected);
+    EXPECT_EQ(told[0].evaluations, expected);
+    for (const auto& c : told[0].candidates)
+    {
+        EXPECT_TRUE(std::isnan(c.expected_entropy)) << "told before any scan is drawn";
+    }
+    // In filter steps of the cloud's 200 particles.
+    EXPECT_DOUBLE_EQ(ActivePolicy::filterSteps(d.evaluations, pdf.size()), expected / 200);
+    EXPECT_TRUE(std::isinf(ActivePolicy::filterSteps(1, 0)));
+    // Converged: nothing evaluated, nothing told.
+    o.converged_var_xy_m2 = 1e6;
+    ActivePolicy converged(o, map, &w);
+    converged.setCostObserver([&](const ActivePolicy::TDecision& x) { told.push_back(x); });
+    EXPECT_EQ(converged.decide(pdf, sensor()).evaluations, 0.0);
+    EXPECT_EQ(told.size(), 1u);
+}

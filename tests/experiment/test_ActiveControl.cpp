@@ -2,17 +2,20 @@
  * free space respected), the active policy and the random walk in closed loop with the filter,
  * the stop rule, determinism, and the results' control columns. */
 #include <gtest/gtest.h>
+#include <mrpt/core/format.h>
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "TestHelpers.h"
 #include "experiment/BenchmarkTables.h"
 #include "experiment/ClosedLoop.h"
 
@@ -235,4 +238,159 @@ TEST(ActiveControl, ControlsAreCheckedByName)
                                    "headings = 0\n"))
                   .find("[ActiveLocalization] headings"),
               std::string::npos);
+}
+
+namespace
+{
+/** The warnings told (Benchmark::SetWarningReporter) while `f` runs. */
+template <typename F>
+std::vector<std::string> warningsOf(F&& f)
+{
+    std::vector<std::string> told;
+    semloc::Benchmark::SetWarningReporter([&](const std::string& w) { told.push_back(w); });
+    f();
+    semloc::Benchmark::SetWarningReporter({});
+    return told;
+}
+
+/** config/benchmark/active.ini's [ActiveLocalization], with `outcomes` drawn scans. */
+std::string shippedPolicy(int outcomes = 2)
+{
+    return "[ActiveLocalization]\nheadings = 8\ndistances_m = 6, 12\nlook_around = true\n"
+           "representatives = 24\noutcomes = " +
+           std::to_string(outcomes) + "\nobjective = gain_per_metre\noverhead_m = 2.5\n";
+}
+}  // namespace
+
+TEST(ActiveControl, AVehicleThatCannotMoveIsToldOnceAtTheRunsEnd)
+{
+    // Every candidate 1 km straight ahead, no look-around: no path stays in the harbour, so
+    // the policy and the walk turn on the spot or stand at every decision.
+    const auto b = semloc::Benchmark::FromConfigFile(benchmarkIni(
+        "active_stuck", "controls = active, random\n[ActiveLocalization]\ndistances_m = 1000\n",
+        kConfig + "localize/semantic.ini", 30));
+    std::vector<semloc::Benchmark::TRunResult> rs;
+    const auto told = warningsOf([&] { rs = b.scenarios().front().runOne(1); });
+    ASSERT_EQ(rs.size(), 2u);
+    for (const auto& r : rs)
+    {
+        EXPECT_GT(r.decisions, 0u) << r.control;
+        EXPECT_EQ(r.stuckDecisions, r.decisions) << r.control;
+    }
+    ASSERT_EQ(told.size(), 2u) << "one a run";
+    EXPECT_NE(told[0].find("run 1, semantic/active: the vehicle could not move at " +
+                           std::to_string(rs[0].decisions) + " of its " +
+                           std::to_string(rs[0].decisions) + " decisions"),
+              std::string::npos)
+        << told[0];
+    EXPECT_NE(told[0].find("[ActiveLocalization] distances_m = 1000, headings = 8"),
+              std::string::npos)
+        << told[0];
+    EXPECT_NE(told[1].find("semantic/random: the vehicle could not move"), std::string::npos)
+        << told[1];
+    const std::string table = semloc::Benchmark::controlsTable(rs);
+    EXPECT_NE(table.find("| 100 |\n"), std::string::npos) << table;
+}
+
+TEST(ActiveControl, ADecisionOverTenBudgetsIsToldBeforeItIsMadeOnceARun)
+{
+    // 64 drawn scans per representative instead of 2, 300 particles: a look-around alone
+    // costs 24^2 x 64 / 300 = 123 filter steps.
+    const auto b = semloc::Benchmark::FromConfigFile(
+        benchmarkIni("active_costly", "controls = active\n" + shippedPolicy(64),
+                     kConfig + "localize/semantic.ini", 20));
+    std::vector<semloc::Benchmark::TRunResult> rs;
+    const auto told = warningsOf([&] { rs = b.scenarios().front().runOne(1); });
+    ASSERT_EQ(rs.size(), 1u);
+    ASSERT_GT(rs[0].decisions, 1u);
+    EXPECT_GT(rs[0].maxDecisionFilterSteps, 100.0);
+    EXPECT_GE(rs[0].decisionFilterSteps, rs[0].maxDecisionFilterSteps);
+    ASSERT_EQ(told.size(), 1u) << "once a run, not once a decision";
+    EXPECT_NE(told[0].find("run 1, semantic/active: a decision of the active policy costs "),
+              std::string::npos)
+        << told[0];
+    EXPECT_NE(told[0].find("filter steps of 300 particles"), std::string::npos) << told[0];
+    EXPECT_NE(told[0].find("representatives = 24, outcomes = 64, scan_every_m = 2"),
+              std::string::npos)
+        << told[0];
+    const std::string table = semloc::Benchmark::controlsTable(rs);
+    const double mean = rs[0].decisionFilterSteps / static_cast<double>(rs[0].decisions);
+    EXPECT_NE(table.find(mrpt::format("| %.1f | 0 |", mean)), std::string::npos) << table;
+}
+
+TEST(ActiveControl, DecisionsOverTheBudgetOnAverageAreToldAtTheRunsEnd)
+{
+    // active.ini's policy with 500 particles instead of 2 000: its decisions cost four times
+    // as many filter steps, over the budget of 10 on average but none over ten budgets: told
+    // once the run is done.
+    const auto b = semloc::Benchmark::FromConfigFile(
+        benchmarkIni("active_over", "controls = active\n" + shippedPolicy(),
+                     kConfig + "localize/semantic.ini", 20, 500));
+    std::vector<semloc::Benchmark::TRunResult> rs;
+    const auto told = warningsOf([&] { rs = b.scenarios().front().runOne(1); });
+    ASSERT_EQ(rs.size(), 1u);
+    ASSERT_GT(rs[0].decisions, 0u);
+    const double mean = rs[0].decisionFilterSteps / static_cast<double>(rs[0].decisions);
+    ASSERT_GT(mean, 10.0);
+    ASSERT_LT(rs[0].maxDecisionFilterSteps, 100.0);
+    ASSERT_EQ(told.size(), 1u);
+    EXPECT_NE(told[0].find(mrpt::format("decisions cost %.3g filter steps of 500 particles on "
+                                        "average (the largest %.3g)",
+                                        mean, rs[0].maxDecisionFilterSteps)),
+              std::string::npos)
+        << told[0];
+}
+
+TEST(ActiveControl, TheShippedPolicyStaysWithinItsBudgetAndMoves)
+{
+    // config/benchmark/active.ini's policy and particles on the paper's harbour: nothing told.
+    const auto b = semloc::Benchmark::FromConfigFile(
+        benchmarkIni("active_shipped", "controls = active, random\n" + shippedPolicy(),
+                     kConfig + "localize/semantic.ini", 60, 2000));
+    std::vector<semloc::Benchmark::TRunResult> rs;
+    const auto told = warningsOf([&] { rs = b.scenarios().front().runOne(1); });
+    ASSERT_EQ(rs.size(), 2u);
+    EXPECT_GT(rs[0].decisions, 0u);
+    EXPECT_LE(rs[0].decisionFilterSteps / static_cast<double>(rs[0].decisions), 10.0);
+    EXPECT_EQ(rs[0].stuckDecisions, 0u);
+    EXPECT_EQ(rs[1].stuckDecisions, 0u);
+    EXPECT_TRUE(told.empty()) << told.front();
+}
+
+TEST(ActiveControl, TheBenchmarkTellsEachKindOnceWhileItRunsAndReportsEveryRun)
+{
+    // Two runs in child processes, each of whose vehicles cannot move: one warning on stderr's
+    // reporter, as soon as the first run ends; report.md counts both runs of both controls.
+    const auto b = semloc::Benchmark::FromConfigFile(
+        benchmarkIni("active_stuck_bench",
+                     "runs = 2\njobs = 2\ncontrols = active, random\n[ActiveLocalization]\n"
+                     "distances_m = 1000\n",
+                     kConfig + "localize/semantic.ini", 20));
+    std::filesystem::remove_all(kOut + "active_stuck_bench_out");
+    std::vector<size_t> runsDoneWhenTold;
+    size_t runsDone = 0;
+    std::vector<std::string> told;
+    semloc::Benchmark::SetWarningReporter(
+        [&](const std::string& w)
+        {
+            told.push_back(w);
+            runsDoneWhenTold.push_back(runsDone);
+        });
+    const auto res = b.run([&](size_t done, size_t) { runsDone = done; });
+    semloc::Benchmark::SetWarningReporter({});
+    ASSERT_EQ(told.size(), 1u) << "once per benchmark and kind";
+    EXPECT_NE(told[0].find("the vehicle could not move at"), std::string::npos) << told[0];
+    EXPECT_EQ(runsDoneWhenTold[0], 0u) << "told as the first run ended, before it was counted";
+    const std::string report = semloc::test::readText(
+        res.outputDir + "/" + b.scenarios().front().scenario().name + "/report.md");
+    for (const char* series : {"semantic/active", "semantic/random"})
+    {
+        EXPECT_NE(report.find(std::string("`: the vehicle could not move at ")), std::string::npos)
+            << report;
+        EXPECT_NE(report.find(std::string(series) + "`: the vehicle could not move at"),
+                  std::string::npos)
+            << series << "\n"
+            << report;
+    }
+    EXPECT_NE(report.find("decisions, in 2 of 2 runs"), std::string::npos) << report;
 }

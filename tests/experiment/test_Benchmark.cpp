@@ -136,8 +136,10 @@ TEST(Benchmark, ARunDependsOnItsSeedOnly)
         EXPECT_EQ(a1[k].records.back().est.x, again[k].records.back().est.x);
         EXPECT_EQ(a1[k].records.back().var_xy, again[k].records.back().var_xy);
         EXPECT_EQ(a1[k].records.back().cov_xphi, again[k].records.back().cov_xphi);
-        EXPECT_EQ(a1[k].metrics.nees_mean, again[k].metrics.nees_mean);
-        EXPECT_TRUE(std::isfinite(a1[k].metrics.nees_mean)) << a1[k].variant;
+        EXPECT_EQ(a1[k].metrics.nees_median, again[k].metrics.nees_median);
+        EXPECT_EQ(a1[k].metrics.nees_mean_well_conditioned,
+                  again[k].metrics.nees_mean_well_conditioned);
+        EXPECT_TRUE(std::isfinite(a1[k].metrics.nees_median)) << a1[k].variant;
         EXPECT_NE(a1[k].records.back().est.x, a2[k].records.back().est.x);
         EXPECT_EQ(a1[k].seed, 1u);
     }
@@ -517,52 +519,73 @@ TEST(Benchmark, PairedTableComparesEachVariantWithTheReferenceRunByRun)
 
 TEST(Benchmark, ResultsAndTablesShowTheConsistencyOfEveryRun)
 {
-    // results.csv ends with each run's nees_mean and nees_inside_share; the report's tables
-    // show their means over the runs that have one (a run without ground truth has none).
+    // results.csv has each run's median NEES, share inside, mean NEES of the well-conditioned
+    // steps and their share; the report's tables show, over the runs that have them (a run
+    // without ground truth has none), the median of the medians and the means of the others.
     using R = semloc::Benchmark::TRunResult;
-    auto result = [](int run, const std::string& variant, double nees, double inside)
+    auto result = [](int run, const std::string& variant, double median, double inside,
+                     double meanWc, double wc)
     {
         R r;
         r.run = run;
         r.variant = variant;
-        r.metrics.nees_mean = nees;
+        r.metrics.nees_mean = 1e12;  // a degenerate step's: shown nowhere
+        r.metrics.nees_median = median;
         r.metrics.nees_inside_share = inside;
+        r.metrics.nees_mean_well_conditioned = meanWc;
+        r.metrics.nees_well_conditioned_share = wc;
         return r;
     };
-    const std::vector<R> runs = {result(1, "semantic", 2.0, 0.9), result(2, "semantic", 4.5, 0.96),
-                                 result(3, "semantic", NAN, NAN), result(1, "other", 1234.5, 0.25)};
+    const std::vector<R> runs = {
+        result(1, "semantic", 2.0, 0.9, 3.5, 1.0), result(2, "semantic", 4.5, 0.96, 2.5, 0.8),
+        result(3, "semantic", 1.0, 0.5, NAN, 0.0), result(4, "semantic", NAN, NAN, NAN, NAN),
+        result(1, "other", 1234.5, 0.25, 5678, 0.5)};
     const std::string csv = semloc::detail::resultsCsv(runs);
     const std::string header = csv.substr(0, csv.find('\n'));
     const std::string tail =
-        ",kidnap_step,recovery_steps,nees_mean,nees_inside_share,control,distance_to_convergence_m";
+        ",kidnap_step,recovery_steps,nees_median,nees_inside_share,nees_mean_well_conditioned,"
+        "nees_well_conditioned_share,control,distance_to_convergence_m";
     EXPECT_EQ(header.substr(header.size() - tail.size()), tail) << header;
-    EXPECT_NE(csv.find(",,2,0.9,route,\n"), std::string::npos) << csv;
-    EXPECT_NE(csv.find(",,4.5,0.96,route,\n"), std::string::npos) << csv;
-    EXPECT_NE(csv.find(",,,,route,\n"), std::string::npos) << "no ground truth: empty cells\n"
-                                                           << csv;
+    EXPECT_EQ(csv.find("1e+12"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",,2,0.9,3.5,1,route,\n"), std::string::npos) << csv;
+    EXPECT_NE(csv.find(",,1,0.5,,0,route,\n"), std::string::npos) << "no well-conditioned step\n"
+                                                                  << csv;
+    EXPECT_NE(csv.find(",,,,,,route,\n"), std::string::npos) << "no ground truth: empty cells\n"
+                                                             << csv;
 
     const std::string t = semloc::Benchmark::reportTable(runs, {"semantic", "other"});
-    EXPECT_NE(t.find("| detector bound after conv. [m] | mean NEES | NEES inside 95 % [%] | mean "
+    EXPECT_NE(t.find("| detector bound after conv. [m] | median NEES | NEES inside 95 % [%] | "
+                     "mean NEES, well-conditioned steps | well-conditioned steps [%] | mean "
                      "var_xy [m²] |"),
               std::string::npos)
         << t;
-    // semantic: NEES (2 + 4.5) / 2, inside (90 + 96) / 2 %; other: 1234.5, 25 %.
-    EXPECT_NE(t.find("| - | 3.25 | 93 |"), std::string::npos) << t;
-    EXPECT_NE(t.find("| - | 1.23e+03 | 25 |"), std::string::npos) << t;
+    // semantic: median of (2, 4.5, 1) 2, inside (90 + 96 + 50) / 3 %, mean NEES (3.5 + 2.5)
+    // / 2 over the runs with a well-conditioned step, their share (100 + 80 + 0) / 3 %.
+    EXPECT_NE(t.find("| - | 2 | 79 | 3 | 60 |"), std::string::npos) << t;
+    EXPECT_NE(t.find("| - | 1.23e+03 | 25 | 5.68e+03 | 50 |"), std::string::npos) << t;
+    EXPECT_EQ(t.find("1e+12"), std::string::npos) << t;
 
     semloc::Benchmark::TScenarioSummary s;
     s.scenario = "all";
     s.variant = "semantic";
     s.runs = 3;
     s.mean_err_after_conv_m = 0.25;
-    s.nees_mean = 3.25;
+    s.nees_median = 2.5;
     s.nees_inside_share = 0.93;
+    s.nees_mean_well_conditioned = 3.25;
+    s.nees_well_conditioned_share = 0.875;
     const std::string sc = semloc::Benchmark::scenariosTable({s});
-    EXPECT_NE(sc.find("| mean err after conv. [m] | mean NEES | NEES inside 95 % [%] |"),
+    EXPECT_NE(sc.find("| mean err after conv. [m] | median NEES | NEES inside 95 % [%] | mean "
+                      "NEES, well-conditioned steps | well-conditioned steps [%] |"),
               std::string::npos)
         << sc;
-    EXPECT_NE(sc.find("| 0.250 | 3.25 | 93 |"), std::string::npos) << sc;
-    EXPECT_NE(semloc::detail::scenariosCsv({s}).find(",3.25,0.93\n"), std::string::npos);
+    EXPECT_NE(sc.find("| 0.250 | 2.5 | 93 | 3.25 | 88 |"), std::string::npos) << sc;
+    const std::string scCsv = semloc::detail::scenariosCsv({s});
+    EXPECT_NE(scCsv.find(",nees_median,nees_inside_share,nees_mean_well_conditioned,"
+                         "nees_well_conditioned_share\n"),
+              std::string::npos)
+        << scCsv;
+    EXPECT_NE(scCsv.find(",2.5,0.93,3.25,0.875\n"), std::string::npos) << scCsv;
 }
 
 TEST(Benchmark, ASweepMakesAVariantOfEachValue)
@@ -626,4 +649,72 @@ TEST(Benchmark, ASweepOfMapsIsOneWithoutMapFromWorld)
     ASSERT_EQ(b.variants().size(), 2u);
     EXPECT_EQ(b.variants()[0].options.map_file, maps + "paper_50x50.yaml");
     EXPECT_EQ(b.variants()[1].options.map_file, maps + "paper_50x50_surveyed.yaml");
+}
+
+TEST(Benchmark, AWideSweepDrawsNineOfItsSeriesAndTablesEveryOne)
+{
+    // 12 values: the figures draw 9 (the first, the last and 7 evenly between), world_paths.png
+    // in 9 panels; curves.csv, results.csv and the tables have all 12, and report.md says so.
+    std::string values;
+    for (int k = 0; k < 12; k++)
+    {
+        values += (k ? ", " : "") + std::to_string(0.3 + 0.1 * k).substr(0, 3);
+    }
+    const std::string ini = writeSweepIni(
+        "bench_wide_sweep.ini", "MetricMap_semanticMap_00_likelihoodOpts.sigma_range_m: " + values +
+                                    "\nruns = 1\nmax_steps = 4\nparticles = 50\njobs = 1");
+    const std::string out = std::string(SEMLOC_TEST_OUT) + "/bench_wide_sweep_out";
+    std::filesystem::remove_all(out);
+    const auto res = semloc::Benchmark::FromConfigFile(ini, out).run();
+    ASSERT_EQ(res.runs.size(), 12u);
+    const std::string gp = semloc::test::readText(out + "/world_paths.gp");
+    EXPECT_NE(gp.find("set multiplot layout 3,3"), std::string::npos) << gp;
+    size_t panels = 0;
+    for (size_t at = 0; (at = gp.find("\nplot ", at)) != std::string::npos; at++)
+    {
+        panels++;
+    }
+    EXPECT_EQ(panels, 9u);
+    for (const char* shown : {"sigma_range_m=0.3,", "sigma_range_m=0.4,", "sigma_range_m=1.4,"})
+    {
+        EXPECT_NE(gp.find(shown), std::string::npos) << shown << " (first, second, last)";
+    }
+    EXPECT_EQ(gp.find("sigma_range_m=0.5,"), std::string::npos) << "not among the 9";
+    EXPECT_FALSE(std::filesystem::exists(out + "/world_paths_10.dat"));
+    const std::string figures = semloc::test::readText(out + "/figures.gp");
+    EXPECT_EQ(figures.find("sigma_range_m=0.5'"), std::string::npos) << figures;
+    EXPECT_NE(figures.find("sigma_range_m=1.4'"), std::string::npos) << figures;
+    const std::string curves = semloc::test::readText(out + "/curves.csv");
+    EXPECT_NE(curves.find("semantic@sigma_range_m=0.5,"), std::string::npos);
+    const std::string report = semloc::test::readText(out + "/report.md");
+    EXPECT_NE(report.find("| semantic@sigma_range_m=0.5 |"), std::string::npos);
+    EXPECT_NE(report.find("9 of the 12 series, evenly spread over them"), std::string::npos)
+        << report;
+}
+
+TEST(Benchmark, TheWorkAfterTheRunsIsReportedStageByStage)
+{
+    // What the progress bar does not show: after the last run, a line per stage as it starts.
+    std::vector<std::string> stages;
+    semloc::Benchmark::SetStageReporter([&](const std::string& s) { stages.push_back(s); });
+    const std::string out = std::string(SEMLOC_TEST_OUT) + "/bench_stages_out";
+    std::filesystem::remove_all(out);
+    const auto b = semloc::Benchmark::FromConfigFile(
+        writeIni("bench_stages.ini", "runs = 2\nmax_steps = 4\nparticles = 50\njobs = 1\n"), out);
+    size_t runsDone = 0, stagesAtLastRun = 99;
+    b.run(
+        [&](size_t done, size_t total)
+        {
+            runsDone = done;
+            stagesAtLastRun = done == total ? stages.size() : stagesAtLastRun;
+        });
+    semloc::Benchmark::SetStageReporter({});
+    EXPECT_EQ(runsDone, 2u);
+    EXPECT_EQ(stagesAtLastRun, 0u) << "the stages come after the runs";
+    const std::vector<std::string> expected{"reading the results of 2 runs x 2 series",
+                                            "writing results.csv and curves.csv",
+                                            "drawing fig_variance.png and fig_error.png",
+                                            "drawing world_paths.png", "writing report.md"};
+    EXPECT_EQ(stages, expected);
+    EXPECT_TRUE(std::filesystem::exists(out + "/report.md"));
 }

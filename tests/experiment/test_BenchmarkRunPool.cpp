@@ -82,6 +82,12 @@ TEST(BenchmarkRunPool, RunFileGivesBackEveryValueBitForBit)
     in[0].threads = 3;
     in[0].wallTime_s = 0.1 + 0.2;
     in[0].reinitializations = 4;
+    in[0].control = "active";
+    in[0].decisions = 5;
+    in[0].decisionWall_s = 1.0 / 3.0;
+    in[0].decisionFilterSteps = 2.0 / 7.0 + 40;
+    in[0].maxDecisionFilterSteps = 1e-7 / 3;
+    in[0].stuckDecisions = 2;
     for (size_t k = 0; k < 3; k++)
     {
         semloc::TStepRecord s;
@@ -119,6 +125,12 @@ TEST(BenchmarkRunPool, RunFileGivesBackEveryValueBitForBit)
     EXPECT_EQ(out[0].threads, 3u);
     EXPECT_EQ(bits(out[0].wallTime_s), bits(in[0].wallTime_s));
     EXPECT_EQ(out[0].reinitializations, 4u);
+    EXPECT_EQ(out[0].control, "active");
+    EXPECT_EQ(out[0].decisions, 5u);
+    EXPECT_EQ(bits(out[0].decisionWall_s), bits(in[0].decisionWall_s));
+    EXPECT_EQ(bits(out[0].decisionFilterSteps), bits(in[0].decisionFilterSteps));
+    EXPECT_EQ(bits(out[0].maxDecisionFilterSteps), bits(in[0].maxDecisionFilterSteps));
+    EXPECT_EQ(out[0].stuckDecisions, 2u);
     ASSERT_EQ(out[0].records.size(), 3u);
     for (size_t k = 0; k < 3; k++)
     {

@@ -5,6 +5,7 @@
 #include <semloc/experiment/RunMetrics.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
@@ -131,6 +132,7 @@ TStepRecord withCovariance(const TPose2D& e, const std::array<double, 6>& c)
     r.cov_xphi = c[4];
     r.cov_yphi = c[5];
     r.var_xy = r.var_x + r.var_y;
+    r.n_particles = 100;
     return r;
 }
 }  // namespace
@@ -224,6 +226,38 @@ TEST(RunMetrics, SingularCovarianceGetsTheDocumentedFloor)
     EXPECT_TRUE(std::isnan(withCovariance({1, 0, 0}, {1, 1, 1, INFINITY, 0, 0}).nees()));
 }
 
+TEST(RunMetrics, NeesIsWellConditionedOnEnoughParticlesAndARegularCovariance)
+{
+    const auto wellConditioned = [](const std::array<double, 6>& c, double ess = 1)
+    {
+        auto r = withCovariance({0.1, 0.2, 0.01}, c);
+        r.ess = ess;
+        return r.neesWellConditioned();
+    };
+    EXPECT_TRUE(wellConditioned({1, 1, 1, 0, 0, 0}));
+    // 100 particles: 45 effective ones (ess 0.45) are enough, 44 are not.
+    EXPECT_TRUE(wellConditioned({1, 1, 1, 0, 0, 0}, 0.45));
+    EXPECT_FALSE(wellConditioned({1, 1, 1, 0, 0, 0}, 0.44));
+    EXPECT_FALSE(wellConditioned({1, 1, 1, 0, 0, 0}, 0.02)) << "the hostile user's ESS 0.002";
+    // Every particle on one pose, a direction at the floor, or eigenvalues under 1e-9.
+    EXPECT_FALSE(wellConditioned({0, 0, 0, 0, 0, 0}));
+    EXPECT_FALSE(wellConditioned({1, 1, 0, 0, 0, 0}));
+    EXPECT_TRUE(wellConditioned({1e-8, 1e-8, 1e-8, 0, 0, 0}));
+    EXPECT_FALSE(wellConditioned({1e-10, 1e-10, 1e-10, 0, 0, 0}));
+    // The condition number: 1e9 is the largest taken.
+    EXPECT_TRUE(wellConditioned({10, 1, 1e-8, 0, 0, 0}));
+    EXPECT_FALSE(wellConditioned({11, 1, 1e-8, 0, 0, 0}));
+    // Perfectly correlated x and y (rounded indefinite), non-finite, no ground truth.
+    EXPECT_FALSE(wellConditioned({1, 1, 1, 1 + 1e-9, 0, 0}));
+    EXPECT_FALSE(wellConditioned({NAN, 1, 1, 0, 0, 0}));
+    auto r = withCovariance({0.1, 0.2, 0.01}, {1, 1, 1, 0, 0, 0});
+    r.gt.reset();
+    EXPECT_FALSE(r.neesWellConditioned());
+    r = withCovariance({0.1, 0.2, 0.01}, {1, 1, 1, 0, 0, 0});
+    r.n_particles = 0;
+    EXPECT_FALSE(r.neesWellConditioned()) << "no particle count: no effective particles";
+}
+
 namespace
 {
 /** The figures RunMetricsAccumulator keeps online, computed over the whole record list. */
@@ -232,6 +266,7 @@ struct BruteForce
     long convergence = -1;
     size_t lostSteps = 0, episodes = 0;
     double lostS = NAN, longestS = NAN, firstLostS = NAN, neesMean = NAN, inside = NAN;
+    double neesMedian = NAN, wellConditionedShare = NAN, neesMeanWellConditioned = NAN;
 };
 
 BruteForce bruteForce(const std::vector<TStepRecord>& r,
@@ -282,8 +317,9 @@ BruteForce bruteForce(const std::vector<TStepRecord>& r,
             }
         }
     }
-    double sum = 0;
-    size_t count = 0, in = 0;
+    double sum = 0, sumWellConditioned = 0;
+    size_t count = 0, in = 0, wellConditioned = 0;
+    std::vector<double> all;
     for (const auto& s : r)
     {
         if (s.gt)
@@ -291,12 +327,25 @@ BruteForce bruteForce(const std::vector<TStepRecord>& r,
             sum += s.nees();
             count++;
             in += s.nees() <= semloc::RunMetrics::kNeesChi2_95 ? 1 : 0;
+            all.push_back(s.nees());
+            if (s.neesWellConditioned())
+            {
+                sumWellConditioned += s.nees();
+                wellConditioned++;
+            }
         }
     }
     if (count > 0)
     {
         b.neesMean = sum / static_cast<double>(count);
         b.inside = static_cast<double>(in) / static_cast<double>(count);
+        std::sort(all.begin(), all.end());
+        b.neesMedian = 0.5 * (all[(count - 1) / 2] + all[count / 2]);
+        b.wellConditionedShare = static_cast<double>(wellConditioned) / static_cast<double>(count);
+        if (wellConditioned > 0)
+        {
+            b.neesMeanWellConditioned = sumWellConditioned / static_cast<double>(wellConditioned);
+        }
     }
     return b;
 }
@@ -335,6 +384,7 @@ std::vector<TStepRecord> randomRecords(mrpt::random::CRandomGenerator& rng, size
         s.cov_xphi = u < 0.5 ? 0.0 : rng.drawUniform(-0.1, 0.1) * a;
         s.var_xy = rng.drawUniform(0.0, 1.0) < 0.05 ? 2.0 : s.var_x + s.var_y;
         s.n_particles = 100;
+        s.ess = k % 7 == 3 ? 0.2 : 1.0;  // 20 effective particles: not well conditioned
     }
     return r;
 }
@@ -349,6 +399,7 @@ TEST(RunMetrics, AccumulatorMatchesABruteForceOverTheRecordsAtEveryStep)
     auto& rng = mrpt::random::getRandomGenerator();
     rng.randomize(11);
     size_t withEpisodes = 0, withReset = 0, converged = 0, openAtEnd = 0;
+    size_t wellConditioned = 0, illConditioned = 0;
     for (int trial = 0; trial < 400; trial++)
     {
         semloc::RunMetrics::TConvergenceCriterion c;
@@ -375,6 +426,12 @@ TEST(RunMetrics, AccumulatorMatchesABruteForceOverTheRecordsAtEveryStep)
             ASSERT_PRED2(same, m.first_lost_after_convergence_s, b.firstLostS) << trial;
             ASSERT_PRED2(same, m.nees_mean, b.neesMean) << trial << " step " << k;
             ASSERT_PRED2(same, m.nees_inside_share, b.inside) << trial << " step " << k;
+            ASSERT_PRED2(same, m.nees_median, b.neesMedian) << trial << " step " << k;
+            ASSERT_PRED2(same, m.nees_well_conditioned_share, b.wellConditionedShare) << trial;
+            ASSERT_PRED2(same, m.nees_mean_well_conditioned, b.neesMeanWellConditioned)
+                << trial << " step " << k;
+            wellConditioned += r[k].neesWellConditioned() ? 1 : 0;
+            illConditioned += r[k].gt && !r[k].neesWellConditioned() ? 1 : 0;
         }
         const auto all = semloc::RunMetrics::compute(r, c);
         const auto m = acc.result();
@@ -389,6 +446,8 @@ TEST(RunMetrics, AccumulatorMatchesABruteForceOverTheRecordsAtEveryStep)
     EXPECT_GT(withEpisodes, 40u) << "runs with several lost episodes after convergence";
     EXPECT_GT(converged, 200u);
     EXPECT_GT(openAtEnd, 20u) << "runs that end lost";
+    EXPECT_GT(illConditioned, wellConditioned / 20) << "steps of either kind";
+    EXPECT_GT(wellConditioned, illConditioned);
 }
 
 TEST(RunMetrics, LostAgainCountsTheEpisodesAfterConvergence)
@@ -441,11 +500,47 @@ TEST(RunMetrics, NeesSummaryCountsTheStepsWithGroundTruth)
         r.back().step = r.size() - 1;
     }
     r.back().gt.reset();
-    const auto m = semloc::RunMetrics::compute(r, {});
+    auto m = semloc::RunMetrics::compute(r, {});
     EXPECT_NEAR(m.nees_mean, 7.0, 1e-9);
     EXPECT_DOUBLE_EQ(m.nees_inside_share, 2.0 / 3.0);
+    EXPECT_NEAR(m.nees_median, 4.0, 1e-9);
+    EXPECT_NEAR(m.nees_mean_well_conditioned, 7.0, 1e-9);
+    EXPECT_DOUBLE_EQ(m.nees_well_conditioned_share, 1.0);
+    // A fourth step with ground truth: an even count's median is the mean of the middle two.
+    r.back().gt = TPose2D(0, 0, 0);
+    m = semloc::RunMetrics::compute(r, {});
+    EXPECT_NEAR(m.nees_median, (4.0 + 9.0) / 2, 1e-9);
     r.resize(1);
     r[0].gt.reset();
-    EXPECT_TRUE(std::isnan(semloc::RunMetrics::compute(r, {}).nees_mean));
-    EXPECT_TRUE(std::isnan(semloc::RunMetrics::compute(r, {}).nees_inside_share));
+    m = semloc::RunMetrics::compute(r, {});
+    for (const double v : {m.nees_mean, m.nees_inside_share, m.nees_median,
+                           m.nees_mean_well_conditioned, m.nees_well_conditioned_share})
+    {
+        EXPECT_TRUE(std::isnan(v)) << "no ground truth";
+    }
+}
+
+TEST(RunMetrics, ADegenerateStepSetsTheMeanButNotTheFiguresReported)
+{
+    // The hostile user's run: 430 steps of a consistent filter (NEES 3: e = (1, 1, 1) with
+    // P = I) and one whose cloud collapsed (ESS 0.002 of 2000 particles, P of determinant
+    // 4e-30): its NEES, ~2e10, sets the mean of every step alone, ~4e7.
+    std::vector<TStepRecord> r;
+    for (size_t k = 0; k < 431; k++)
+    {
+        r.push_back(withCovariance({1, 1, 1}, {1, 1, 1, 0, 0, 0}));
+        r.back().step = k;
+        r.back().n_particles = 2000;
+    }
+    r[200] = withCovariance({1, 1, 1}, {1.587e-10, 1.587e-10, 1.587e-10, 0, 0, 0});
+    r[200].step = 200;
+    r[200].n_particles = 2000;
+    r[200].ess = 0.002;
+    ASSERT_GT(r[200].nees(), 1e10);
+    const auto m = semloc::RunMetrics::compute(r, {});
+    EXPECT_GT(m.nees_mean, 1e7) << "the mean of every step means nothing";
+    EXPECT_NEAR(m.nees_median, 3.0, 1e-9);
+    EXPECT_DOUBLE_EQ(m.nees_inside_share, 430.0 / 431.0);
+    EXPECT_NEAR(m.nees_mean_well_conditioned, 3.0, 1e-9);
+    EXPECT_DOUBLE_EQ(m.nees_well_conditioned_share, 430.0 / 431.0);
 }

@@ -6,6 +6,7 @@
 #include <semloc/experiment/RunPlot.h>
 #include <semloc/simulator/Simulator.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -230,7 +231,7 @@ TEST_F(RunPlotTest, StepsCsvEndsWithTheNeesAndThePoseCovarianceReadBackExactly)
                                         "cov_yphi"}));
     const auto plot = RunPlot::FromDirectory(dir.string());
     size_t inside = 0;
-    double sum = 0;
+    std::vector<double> all, wellConditioned;
     std::string old = line.substr(0, line.find(",nees")) + "\n";
     for (const auto& r : plot.records())
     {
@@ -243,7 +244,11 @@ TEST_F(RunPlotTest, StepsCsvEndsWithTheNeesAndThePoseCovarianceReadBackExactly)
         ASSERT_EQ(r.var_x + r.var_y, r.var_xy) << "step " << r.step;
         ASSERT_GE(r.var_phi, 0.0) << "step " << r.step;
         inside += nees <= semloc::RunMetrics::kNeesChi2_95 ? 1 : 0;
-        sum += nees;
+        all.push_back(nees);
+        if (r.neesWellConditioned())
+        {
+            wellConditioned.push_back(nees);
+        }
         for (size_t k = 0; k < 14; k++)
         {
             old += cells[k] + (k < 13 ? "," : "\n");
@@ -257,9 +262,22 @@ TEST_F(RunPlotTest, StepsCsvEndsWithTheNeesAndThePoseCovarianceReadBackExactly)
         return std::stod(summary.substr(at + key.size() + 3));
     };
     const double n = static_cast<double>(plot.records().size());
-    EXPECT_NEAR(value("nees_mean"), sum / n, 1e-9 * sum / n);
+    EXPECT_EQ(summary.find("\nnees_mean:"), std::string::npos) << "a mean of every step";
+    std::sort(all.begin(), all.end());
+    const double median = 0.5 * (all[(all.size() - 1) / 2] + all[all.size() / 2]);
+    EXPECT_NEAR(value("nees_median"), median, 1e-9 * median);
     EXPECT_DOUBLE_EQ(value("nees_inside_share"), static_cast<double>(inside) / n);
     EXPECT_GT(inside, 0u);
+    ASSERT_FALSE(wellConditioned.empty());
+    double wcSum = 0;
+    for (const double v : wellConditioned)
+    {
+        wcSum += v;
+    }
+    const double wcMean = wcSum / static_cast<double>(wellConditioned.size());
+    EXPECT_NEAR(value("nees_mean_well_conditioned"), wcMean, 1e-9 * wcMean);
+    EXPECT_DOUBLE_EQ(value("nees_well_conditioned_share"),
+                     static_cast<double>(wellConditioned.size()) / n);
 
     // The steps.csv of a run written before these columns.
     const auto before = kOut / ("nees_before_" + tag);

@@ -157,11 +157,12 @@ Cases calibrateCases();
 Cases runPlotCases();
 Cases figureCases();
 // The hostile user's cases (BadInputSafetyCases.cpp): special files, shards and merges,
-// calibration, large maps.
+// calibration, large maps, the benchmark's active control.
 Cases specialFileCases();
 Cases benchmarkSafetyCases();
 Cases calibrateSafetyCases();
 Cases largeMapCases();
+Cases reportSafetyCases();
 
 inline std::vector<Cases> allCaseGroups()
 {
@@ -192,6 +193,7 @@ inline std::vector<Cases> allCaseGroups()
             specialFileCases(),
             benchmarkSafetyCases(),
             calibrateSafetyCases(),
-            largeMapCases()};
+            largeMapCases(),
+            reportSafetyCases()};
 }
 }  // namespace semloc::test::bad_input

@@ -278,6 +278,17 @@ ActivePolicy::ActivePolicy(const TOptions& options, const CSemanticMap& map, con
 
 ActivePolicy::~ActivePolicy() = default;
 
+void ActivePolicy::setCostObserver(std::function<void(const TDecision&)> observer)
+{
+    m_costObserver = std::move(observer);
+}
+
+double ActivePolicy::filterSteps(double evaluations, size_t particles)
+{
+    return particles > 0 ? evaluations / static_cast<double>(particles)
+                         : std::numeric_limits<double>::infinity();
+}
+
 std::vector<TActiveMotion> ActivePolicy::candidates() const
 {
     std::vector<TActiveMotion> out;
@@ -397,8 +408,16 @@ struct DecisionContext
     uint64_t streamSeed;
 };
 
-/** E[H] after the candidate's motion (see ActivePolicy), its free share and its score. */
-void evaluate(const DecisionContext& x, ActivePolicy::TCandidate& c)
+/** The scans along the path of `m`: one every scan_every_m and at its end (one after a turn
+ *  alone). */
+size_t pathPoints(const TActiveMotion& m, double scanEvery)
+{
+    return m.distance_m > 0 ? static_cast<size_t>(std::ceil(m.distance_m / scanEvery - 1e-9)) : 1;
+}
+
+/** The candidate's free share, whether it is admissible and the likelihood evaluations its
+ *  evaluation will take (no scan drawn). */
+void admit(const DecisionContext& x, ActivePolicy::TCandidate& c)
 {
     const auto& reps = x.reps;
     c.free_share = 0;
@@ -409,14 +428,23 @@ void evaluate(const DecisionContext& x, ActivePolicy::TCandidate& c)
     c.admissible = c.motion.distance_m <= 0 || c.free_share >= x.options.min_free_share;
     c.expected_entropy = std::numeric_limits<double>::quiet_NaN();
     c.score = std::numeric_limits<double>::infinity();
+    const auto K = static_cast<double>(reps.size());
+    c.evaluations = c.admissible
+                        ? K * K * x.options.outcomes *
+                              static_cast<double>(pathPoints(c.motion, x.options.scan_every_m))
+                        : 0.0;
+}
+
+/** E[H] after the admissible candidate's motion (see ActivePolicy) and its score. */
+void evaluate(const DecisionContext& x, ActivePolicy::TCandidate& c)
+{
+    const auto& reps = x.reps;
     if (!c.admissible)
     {
         return;
     }
-    // The scans along the path: every scan_every_m and at its end (one after a turn alone).
     const double d = c.motion.distance_m;
-    const size_t points =
-        d > 0 ? static_cast<size_t>(std::ceil(d / x.options.scan_every_m - 1e-9)) : 1;
+    const size_t points = pathPoints(c.motion, x.options.scan_every_m);
     const size_t K = reps.size();
     std::vector<std::vector<mrpt::math::TPose2D>> moved(points,
                                                         std::vector<mrpt::math::TPose2D>(K));
@@ -519,16 +547,29 @@ ActivePolicy::TDecision ActivePolicy::decide(const mrpt::poses::CPosePDFParticle
         m_map,  m_world, m_options,
         reps,   logw0,   out.entropy,
         labels, sensor,  (static_cast<uint64_t>(m_options.seed) << 32) ^ decision};
-    m_executor->forEachRange(
-        motions.size(),
-        [&](size_t begin, size_t end, size_t /*thread*/)
-        {
-            for (size_t k = begin; k < end; k++)
+    const auto forEachCandidate = [&](void (*f)(const DecisionContext&, TCandidate&))
+    {
+        m_executor->forEachRange(
+            motions.size(),
+            [&](size_t begin, size_t end, size_t /*thread*/)
             {
-                evaluate(x, out.candidates[k]);
-            }
-        },
-        1);
+                for (size_t k = begin; k < end; k++)
+                {
+                    f(x, out.candidates[k]);
+                }
+            },
+            1);
+    };
+    forEachCandidate(admit);
+    for (const auto& c : out.candidates)
+    {
+        out.evaluations += c.evaluations;
+    }
+    if (m_costObserver)
+    {
+        m_costObserver(out);  // before the scans are drawn: a costly decision is told first
+    }
+    forEachCandidate(evaluate);
     out.chosen = chooseCandidate(out.candidates);
     out.motion = out.candidates[static_cast<size_t>(out.chosen)].motion;
     return out;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace semloc
 {
@@ -34,27 +35,60 @@ double TStepRecord::errPhi() const
     return gt ? mrpt::math::wrapToPi(est.phi - gt->phi) : kNaN;
 }
 
+namespace
+{
+/** The error e of nees() and P's eigen-decomposition; nullopt without ground truth or with a
+ *  non-finite value. */
+struct NeesTerms
+{
+    Eigen::Vector3d e;
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+};
+
+std::optional<NeesTerms> neesTerms(const TStepRecord& r)
+{
+    if (!r.gt)
+    {
+        return std::nullopt;
+    }
+    const Eigen::Vector3d e(r.gt->x - r.est.x, r.gt->y - r.est.y,
+                            mrpt::math::wrapToPi(r.gt->phi - r.est.phi));
+    Eigen::Matrix3d P;
+    P << r.var_x, r.cov_xy, r.cov_xphi, r.cov_xy, r.var_y, r.cov_yphi, r.cov_xphi, r.cov_yphi,
+        r.var_phi;
+    if (!e.allFinite() || !P.allFinite())
+    {
+        return std::nullopt;
+    }
+    return NeesTerms{e, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(P)};
+}
+}  // namespace
+
 double TStepRecord::nees() const
 {
-    if (!gt)
-    {
-        return kNaN;
-    }
-    const Eigen::Vector3d e(gt->x - est.x, gt->y - est.y, mrpt::math::wrapToPi(gt->phi - est.phi));
-    Eigen::Matrix3d P;
-    P << var_x, cov_xy, cov_xphi, cov_xy, var_y, cov_yphi, cov_xphi, cov_yphi, var_phi;
-    if (!e.allFinite() || !P.allFinite())
+    const auto terms = neesTerms(*this);
+    if (!terms)
     {
         return kNaN;
     }
     // P = V diag(l) V^T: e^T P^-1 e = sum_i (v_i . e)^2 / l_i, each l_i floored (StepRecord.h).
-    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(P);
-    const Eigen::Vector3d proj = eig.eigenvectors().transpose() * e;
+    const Eigen::Vector3d proj = terms->eig.eigenvectors().transpose() * terms->e;
     double n = 0;
     for (int i = 0; i < 3; i++)
     {
-        n += proj[i] * proj[i] / (std::max(eig.eigenvalues()[i], 0.0) + kNeesFloor);
+        n += proj[i] * proj[i] / (std::max(terms->eig.eigenvalues()[i], 0.0) + kNeesFloor);
     }
     return n;
+}
+
+bool TStepRecord::neesWellConditioned() const
+{
+    const auto terms = neesTerms(*this);
+    if (!terms || !(ess * static_cast<double>(n_particles) >= kNeesMinEffectiveParticles))
+    {
+        return false;
+    }
+    const auto& l = terms->eig.eigenvalues();  // ascending
+    return l[0] >= kNeesMinEigenvalue && l[0] * kNeesMaxCondition >= l[2];
 }
 }  // namespace semloc

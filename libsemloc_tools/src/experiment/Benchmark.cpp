@@ -2,6 +2,7 @@
  * configuration is in BenchmarkConfig.cpp, the child processes in BenchmarkRunPool.cpp, the
  * tables in BenchmarkTables.cpp and the report in BenchmarkReport.cpp. */
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <mrpt/obs/CRawlog.h>
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/experiment/GroundTruth.h>
@@ -25,6 +26,20 @@ namespace semloc
 namespace
 {
 using detail::writeFile;
+
+/** Benchmark::SetStageReporter()'s. */
+std::function<void(const std::string&)>& stageReporter()
+{
+    static std::function<void(const std::string&)> reporter;
+    return reporter;
+}
+
+/** Benchmark::SetWarningReporter()'s. */
+std::function<void(const std::string&)>& warningReporter()
+{
+    static std::function<void(const std::string&)> reporter;
+    return reporter;
+}
 
 /** The results of runs 1..runs read back from their run files (`pathOf(run)`; detail::
  *  readRunFile(), `inputs` the benchmark's digest), in run-major order, each with its scenario
@@ -156,12 +171,20 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
             {
                 auto policy = m_options.active;
                 policy.threads = m_options.filter_threads;
+                const std::string who =
+                    (m_scenario.name.empty() ? "" : "scenario '" + m_scenario.name + "', ") +
+                    "run " + std::to_string(run) + ", " + r.series() + ": ";
                 auto loop = detail::runClosedLoop(
                     simulator, loc, *v.maps.map->mapByClass<CSemanticMap>(),
-                    detail::controlFromName(control), policy, static_cast<uint32_t>(run));
+                    detail::controlFromName(control), policy, static_cast<uint32_t>(run),
+                    [&who](const std::string& kind, const std::string& text)
+                    { detail::runNote(kind, who + text); });
                 r.records = std::move(loop.records);
                 r.decisions = loop.decisions;
                 r.decisionWall_s = loop.decisionWall_s;
+                r.decisionFilterSteps = loop.decisionFilterSteps;
+                r.maxDecisionFilterSteps = loop.maxDecisionFilterSteps;
+                r.stuckDecisions = loop.stuckDecisions;
                 if (detectionsOnly(v.maps))
                 {
                     r.detectorBound = detectorCramerRaoBound(simulator, loop.data);
@@ -178,6 +201,32 @@ std::vector<Benchmark::TRunResult> Benchmark::runOne(int run) const
 }
 
 // ------------------------------------------------------------------ the benchmark
+
+void Benchmark::SetStageReporter(std::function<void(const std::string&)> reporter)
+{
+    stageReporter() = std::move(reporter);
+}
+
+void detail::reportStage(const std::string& what)
+{
+    if (stageReporter())
+    {
+        stageReporter()(what);
+    }
+}
+
+void Benchmark::SetWarningReporter(std::function<void(const std::string&)> reporter)
+{
+    warningReporter() = std::move(reporter);
+}
+
+void detail::reportWarning(const std::string& text)
+{
+    if (warningReporter())
+    {
+        warningReporter()(text);
+    }
+}
 
 Benchmark::TResult Benchmark::run(const std::function<void(size_t, size_t)>& progress) const
 {
@@ -199,6 +248,9 @@ Benchmark::TResult Benchmark::runAll(const std::function<void(size_t, size_t)>& 
     }
     StagedDirectory out(o.output_dir, inputPaths);
     const size_t jobs = effectiveJobs();
+    const std::string scenario =
+        m_scenario.name.empty() ? std::string() : "scenario '" + m_scenario.name + "': ";
+    const auto stage = [&](const std::string& what) { detail::reportStage(scenario + what); };
     TResult res;
     const auto collect = [&](const std::function<std::string(int)>& pathOf)
     {
@@ -213,12 +265,16 @@ Benchmark::TResult Benchmark::runAll(const std::function<void(size_t, size_t)>& 
         detail::runInChildProcesses(
             files, 1, o.runs, jobs, m_scenario.name, [this](int run) { return runOne(run); },
             progress);
+        stage(mrpt::format("reading the results of %d runs x %zu series", o.runs,
+                           seriesNames().size()));
         res.runs = collect([&](int run) { return files.path(run, "txt"); });
         std::filesystem::remove_all(files.dir());
     }
     else
     {
         // Each run's file as the user named its shard (Merge() checked that one holds it).
+        stage(mrpt::format("reading the results of %d runs x %zu series of %zu shards", o.runs,
+                           seriesNames().size(), shards.size()));
         res.runs = collect(
             [&](int run)
             {
@@ -230,10 +286,12 @@ Benchmark::TResult Benchmark::runAll(const std::function<void(size_t, size_t)>& 
     }
 
     const auto names = seriesNames();
+    stage("writing results.csv and curves.csv");
     writeFile(out.path("results.csv"), detail::resultsCsv(res.runs));
     writeFile(out.path("curves.csv"), detail::curvesCsv(res.runs, names));
-    res.figureWarnings = detail::writeFigures(out, names, m_simulation, res.runs);
+    res.figureWarnings = detail::writeFigures(out, names, m_simulation, res.runs, scenario);
 
+    stage("writing report.md");
     res.table = reportTable(res.runs, names);
     res.summaries = summarize(res.runs);
     res.wallTime_s =
@@ -280,6 +338,7 @@ Benchmark::TResult Benchmark::runScenarios(const std::function<void(size_t, size
             res.figureWarnings.push_back(std::move(w));
         }
     }
+    detail::reportStage("writing scenarios.csv and report.md");
     res.table = scenariosTable(res.summaries);
     writeFile(out.path("scenarios.csv"), detail::scenariosCsv(res.summaries));
 

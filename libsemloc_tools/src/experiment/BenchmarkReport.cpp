@@ -3,10 +3,13 @@
 
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
+#include <semloc/active/ActivePolicy.h>
 #include <semloc/plot/WorldPlot.h>
 
 #include <algorithm>
+#include <array>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <system_error>
 
@@ -20,6 +23,9 @@ namespace semloc::detail
 {
 namespace
 {
+/** Most series a figure draws: world_paths.png's panels (3 x 3), the curves of fig_*.png. */
+constexpr size_t kMaxFigureSeries = 9;
+
 // The paper's Table I: average execution time of one run [ns].
 constexpr double kPaperSemanticNs = 1171934146.0;
 constexpr double kPaperGeometricNs = 6977878010.0;
@@ -40,13 +46,54 @@ std::string shownPath(const std::string& path)
     return rel.empty() || rel.is_absolute() || *rel.begin() == ".." ? path : rel.string();
 }
 
+/** The series the figures draw, as indices into the `n` series: every one up to
+ *  kMaxFigureSeries, else kMaxFigureSeries of them evenly spread, the first and the last among
+ *  them (a sweep's ends and its middle); the tables have every series. */
+std::vector<size_t> figureSeries(size_t n)
+{
+    std::vector<size_t> k;
+    const size_t most = std::min(n, kMaxFigureSeries);
+    for (size_t i = 0; i < most; i++)
+    {
+        k.push_back(most < 2 ? i : (i * (n - 1) + (most - 1) / 2) / (most - 1));
+    }
+    return k;
+}
+
+/** "" when the figures draw every one of `n` series, else what they draw. */
+std::string figureSeriesNote(size_t n)
+{
+    if (n <= kMaxFigureSeries)
+    {
+        return {};
+    }
+    return mrpt::format(
+        " (%zu of the %zu series, evenly spread over them from the first to the "
+        "last; the tables above have every one)",
+        kMaxFigureSeries, n);
+}
+
 /** What the NEES columns of the tables are (docs/design.md, "Consistency"). */
-constexpr const char* kNeesText =
-    "Mean NEES is the mean over the runs of a run's mean normalized estimation error squared "
-    "of the pose (e' P⁻¹ e over its steps with ground truth, e the error of (x, y, φ), P the "
-    "particles' covariance); NEES inside 95 % is the mean share of those steps whose NEES is at "
-    "most 7.81, the χ² 95 % quantile with 3 degrees of freedom (a one-sided bound): about 95 % "
-    "for a consistent filter, less for an overconfident one.";
+std::string neesText()
+{
+    return mrpt::format(
+        "Median NEES is the median over the runs of a run's median normalized estimation error "
+        "squared of the pose (e' P⁻¹ e over its steps with ground truth, e the error of (x, y, "
+        "φ), P the particles' covariance): about %.2f, the χ² median with 3 degrees of freedom, "
+        "for a consistent filter; NEES inside 95 %% is the mean share of those steps whose NEES "
+        "is at most %.2f, the χ² 95 %% quantile (a one-sided bound): about 95 %% for a "
+        "consistent filter, less for an overconfident one. The mean NEES (about 3 for a "
+        "consistent filter) is over the well-conditioned steps only, the mean over the runs of "
+        "a run's mean over them: steps whose P rests on at least %.0f effective particles (ESS "
+        "× particles), its condition number at most 10⁹ and its eigenvalues at least 10⁻⁹; "
+        "the next column is their share of the steps. A degenerate P (a cloud collapsed on a "
+        "few particles) gives a NEES up to 10¹² times the squared error, which alone would set "
+        "a mean over every step.",
+        RunMetrics::kNeesChi2Median, RunMetrics::kNeesChi2_95,
+        TStepRecord::kNeesMinEffectiveParticles);
+}
+static_assert(TStepRecord::kNeesMaxCondition == 1e9 && TStepRecord::kNeesMinEigenvalue == 1e-9,
+              "neesText() says 10⁹ and 10⁻⁹");
 
 /** Every value of `field` over every step of every run. */
 template <typename Field>
@@ -63,9 +110,14 @@ std::vector<double> stepValues(const std::vector<Benchmark::TRunResult>& runs, F
     return v;
 }
 
-std::string figuresScript(const std::vector<std::string>& variants,
+std::string figuresScript(const std::vector<std::string>& allVariants,
                           const std::vector<Benchmark::TRunResult>& runs)
 {
+    std::vector<std::string> variants;
+    for (const size_t k : figureSeries(allVariants.size()))
+    {
+        variants.push_back(allVariants[k]);
+    }
     // Fig. 3 of the paper: average particle variance and average error over time, on a log
     // axis unless nothing is positive (one particle: no variance).
     std::ostringstream g;
@@ -129,13 +181,17 @@ std::vector<TFigureWarning> drawWorldPaths(const StagedDirectory& out,
 {
     const Simulator simulator(simulation);
     const World& world = simulator.world();
-    std::vector<const Benchmark::TRunResult*> run1;
+    std::vector<const Benchmark::TRunResult*> all1, run1;
     for (const auto& r : runs)
     {
         if (r.run == 1)
         {
-            run1.push_back(&r);
+            all1.push_back(&r);
         }
+    }
+    for (const size_t k : figureSeries(all1.size()))
+    {
+        run1.push_back(all1[k]);
     }
     const size_t n = std::max<size_t>(run1.size(), 1), cols = std::min<size_t>(n, 3);
     const size_t rows = (n + cols - 1) / cols;
@@ -162,10 +218,10 @@ std::vector<TFigureWarning> drawWorldPaths(const StagedDirectory& out,
           << trackLayers(data, true, conv ? r.metrics.convergence_step : -1) << "\nunset label\n";
     }
     g << "unset multiplot\nunset output\n";
-    writeFile(
-        out.path("world_paths.gp"),
-        "# semloc-benchmark: run 1 of each variant over the world (gnuplot world_paths.gp)\n" +
-            figureSelector() + figureBlock("world_paths.png", g.str()));
+    writeFile(out.path("world_paths.gp"),
+              "# semloc-benchmark: run 1 of each variant over the world" +
+                  figureSeriesNote(all1.size()) + " (gnuplot world_paths.gp)\n" + figureSelector() +
+                  figureBlock("world_paths.png", g.str()));
     return drawFigures(out, "world_paths.gp", {"world_paths.png"});
 }
 
@@ -214,9 +270,62 @@ std::string experimentSection(const Benchmark& b, const Benchmark::TResult& res,
     return md.str();
 }
 
-/** report.md's "Controls" (Benchmark::controlsTable()); empty when the route alone drove. */
+/** report.md's warnings on the controls: per series, the runs whose decisions cost more than
+ *  the budget on average, and those in which the vehicle could not move. */
+std::string controlWarnings(const std::vector<Benchmark::TRunResult>& runs)
+{
+    std::vector<std::string> order;
+    std::map<std::string, std::array<size_t, 5>> n;  // runs, costly, stuck runs, stuck, decisions
+    for (const auto& r : runs)
+    {
+        if (r.decisions == 0)
+        {
+            continue;
+        }
+        const std::string key = (r.scenario.empty() ? "" : r.scenario + ", ") + r.series();
+        if (n.count(key) == 0)
+        {
+            order.push_back(key);
+        }
+        auto& c = n[key];
+        c[0]++;
+        c[1] += r.decisionFilterSteps / static_cast<double>(r.decisions) >
+                        ActivePolicy::kBudgetFilterSteps
+                    ? 1
+                    : 0;
+        c[2] += r.stuckDecisions > 0 ? 1 : 0;
+        c[3] += r.stuckDecisions;
+        c[4] += r.decisions;
+    }
+    std::ostringstream md;
+    for (const auto& key : order)
+    {
+        const auto& c = n[key];
+        if (c[1] > 0)
+        {
+            md << mrpt::format(
+                "- **warning**: `%s`: the decisions cost more than the budget of %g filter steps "
+                "on average in %zu of %zu runs ([ActiveLocalization] headings, distances_m, "
+                "look_around, representatives, outcomes, scan_every_m set it)\n",
+                key.c_str(), ActivePolicy::kBudgetFilterSteps, c[1], c[0]);
+        }
+        if (c[2] > 0)
+        {
+            md << mrpt::format(
+                "- **warning**: `%s`: the vehicle could not move at %zu of %zu decisions, in %zu "
+                "of %zu runs (every candidate path left the free space: [ActiveLocalization] "
+                "distances_m, headings)\n",
+                key.c_str(), c[3], c[4], c[2], c[0]);
+        }
+    }
+    const std::string text = md.str();
+    return text.empty() ? text : "\n" + text;
+}
+
+/** report.md's "Controls" (Benchmark::controlsTable()); empty when the route alone drove.
+ *  `series`: how many world_paths.png has to show. */
 std::string controlsSection(const Benchmark::TOptions& o,
-                            const std::vector<Benchmark::TRunResult>& runs)
+                            const std::vector<Benchmark::TRunResult>& runs, size_t series)
 {
     if (o.controls.size() == 1 && o.controls.front() == "route")
     {
@@ -232,8 +341,15 @@ std::string controlsSection(const Benchmark::TOptions& o,
        << " m², then back to the route), `random` (a random walk over the same candidate "
           "motions, free from the true pose, until the same stop rule). The distance is the "
           "length of the true path up to the convergence step; `world_paths.png` shows run 1 "
-          "of each.\n\n"
-       << Benchmark::controlsTable(runs);
+          "of each"
+       << figureSeriesNote(series)
+       << ". A decision's cost is its likelihood evaluations (for each admissible candidate, "
+          "representatives² × outcomes × path points) over the particles, those of a filter "
+          "step; the budget is "
+       << ActivePolicy::kBudgetFilterSteps
+       << " (docs/active.md). A decision could not move when no candidate motion that goes "
+          "somewhere was free from the true pose.\n\n"
+       << Benchmark::controlsTable(runs) << controlWarnings(runs);
     return md.str();
 }
 
@@ -249,7 +365,7 @@ std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
        << " consecutive steps). Times to convergence and errors after convergence are means "
           "over the converged runs; variance is the mean var_xy over every step of every "
           "run. "
-       << kNeesText
+       << neesText()
        << " Filter time is the sum of the filter updates (update_us); wall time adds "
           "building the filter and reading the results. The ratio is the filter time over "
           "`"
@@ -269,7 +385,7 @@ std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
               "one of the two converged.\n\n"
            << paired;
     }
-    md << controlsSection(b.options(), res.runs);
+    md << controlsSection(b.options(), res.runs, names.size());
     return md.str();
 }
 
@@ -278,10 +394,13 @@ std::string resultsSection(const Benchmark& b, const Benchmark::TResult& res)
 std::vector<TFigureWarning> writeFigures(const StagedDirectory& out,
                                          const std::vector<std::string>& variants,
                                          const TSimulatorOptions& simulation,
-                                         const std::vector<Benchmark::TRunResult>& runs)
+                                         const std::vector<Benchmark::TRunResult>& runs,
+                                         const std::string& stagePrefix)
 {
+    reportStage(stagePrefix + "drawing fig_variance.png and fig_error.png");
     writeFile(out.path("figures.gp"), figuresScript(variants, runs));
     auto warnings = drawFigures(out, "figures.gp", {"fig_variance.png", "fig_error.png"});
+    reportStage(stagePrefix + "drawing world_paths.png");
     for (auto& w : drawWorldPaths(out, simulation, runs))
     {
         warnings.push_back(std::move(w));
@@ -309,13 +428,29 @@ std::string reportMarkdown(const Benchmark& b, const Benchmark::TResult& res, si
           "compare.\n\n"
        << paperTable(res.runs) << "\n## Figures\n\n"
        << "- `fig_variance.png`, `fig_error.png`: mean particle variance and mean error "
-          "over time per variant (the paper's Fig. 3; data in `curves.csv`, script "
-          "`figures.gp`)\n"
+          "over time per variant"
+       << figureSeriesNote(b.seriesNames().size())
+       << " (the paper's Fig. 3; data in `curves.csv`, script `figures.gp`)\n"
        << "- `world_paths.png`: the world, run 1's true path and each variant's estimate (one "
-          "panel per variant and control)\n"
+          "panel per variant and control"
+       << figureSeriesNote(b.seriesNames().size()) << ")\n"
        << figureWarningsMarkdown(res.figureWarnings);
     return md.str();
 }
+
+namespace
+{
+/** The most series of any of the scenarios. */
+size_t mostSeries(const std::vector<Benchmark>& scenarios)
+{
+    size_t n = 0;
+    for (const auto& sc : scenarios)
+    {
+        n = std::max(n, sc.seriesNames().size());
+    }
+    return n;
+}
+}  // namespace
 
 std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult& res)
 {
@@ -332,8 +467,8 @@ std::string scenariosReportMarkdown(const Benchmark& b, const Benchmark::TResult
        << " consecutive steps); with a kidnapping, the same criterion met again from the kidnap "
           "step on within the scenario's bound (recovery steps = first such step - kidnap "
           "step). "
-       << kNeesText << "\n\n"
-       << res.table << controlsSection(b.options(), res.runs);
+       << neesText() << "\n\n"
+       << res.table << controlsSection(b.options(), res.runs, mostSeries(scenarios));
     if (!b.mapWarnings().empty())
     {
         md << "\n## Maps\n\n";

@@ -10,14 +10,21 @@
 
 namespace semloc::detail
 {
+/** Benchmark::SetStageReporter()'s reporter, told `what` (nothing without one). */
+void reportStage(const std::string& what);
+
 /** Writes figures.gp (the paper's Fig. 3 from curves.csv, one curve per variant), draws
  *  fig_variance.png and fig_error.png with gnuplot and writes world_paths.png (the world of
  *  `simulation`, run 1's true path and each variant's estimate) in `out`; returns the figures
- *  gnuplot could not draw (left out). */
+ *  gnuplot could not draw (left out). With more than 9 series (a sweep), the figures draw 9 of
+ *  them, evenly spread from the first to the last, so that they stay readable and drawable;
+ *  report.md says so, and its tables and curves.csv have every series. Each figure is a
+ *  stage (reportStage), its text after `stagePrefix`. */
 std::vector<TFigureWarning> writeFigures(const StagedDirectory& out,
                                          const std::vector<std::string>& variants,
                                          const TSimulatorOptions& simulation,
-                                         const std::vector<Benchmark::TRunResult>& runs);
+                                         const std::vector<Benchmark::TRunResult>& runs,
+                                         const std::string& stagePrefix = {});
 
 /** report.md of benchmark `b`, whose runs (`jobs` at once) gave `res` (runs, table,
  *  summaries, wall time); `kidnapStep` -1 without a kidnapping. */

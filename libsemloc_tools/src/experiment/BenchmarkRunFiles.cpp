@@ -25,7 +25,7 @@ constexpr const char* kHeaderStart = "# semloc-benchmark run file";
 const std::string kHeader = std::string(kHeaderStart) +
                             ": the results of one run (docs/design.md), sealed by its last line";
 /** Fields of a "V" line and of a step line. */
-constexpr size_t kResultFields = 10, kStepFields = 19;
+constexpr size_t kResultFields = 13, kStepFields = 19;
 
 std::string exact(double v)
 {
@@ -152,7 +152,10 @@ Benchmark::TRunResult resultOf(const Lines& lines, size_t& i, size_t end, int ru
     r.reinitializations = number<size_t>(lines, i, v[6]);
     r.decisions = number<size_t>(lines, i, v[7]);
     r.decisionWall_s = number<double>(lines, i, v[8]);
-    const auto n = number<size_t>(lines, i, v[9]);
+    r.decisionFilterSteps = number<double>(lines, i, v[9]);
+    r.maxDecisionFilterSteps = number<double>(lines, i, v[10]);
+    r.stuckDecisions = number<size_t>(lines, i, v[11]);
+    const auto n = number<size_t>(lines, i, v[12]);
     if (n >= end - i - 1)  // n step lines and the B line before `end`
     {
         lines.fail(i, mrpt::format("%zu steps, but the file ends before them", n));
@@ -211,7 +214,9 @@ std::string runFileText(const std::vector<Benchmark::TRunResult>& rs, int run,
     {
         o << "V " << r.variant << ' ' << r.control << ' ' << r.particles << ' ' << r.threads << ' '
           << exact(r.wallTime_s) << ' ' << r.reinitializations << ' ' << r.decisions << ' '
-          << exact(r.decisionWall_s) << ' ' << r.records.size() << '\n';
+          << exact(r.decisionWall_s) << ' ' << exact(r.decisionFilterSteps) << ' '
+          << exact(r.maxDecisionFilterSteps) << ' ' << r.stuckDecisions << ' ' << r.records.size()
+          << '\n';
         for (const auto& s : r.records)
         {
             o << s.step << ' ' << exact(s.t) << ' ' << (s.gt ? 1 : 0) << ' '

@@ -13,10 +13,12 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
+#include <set>
 #include <sstream>
 
 #include "io/TextFiles.h"
@@ -81,8 +83,11 @@ private:
     void start(int run);
     /** The child process of `run`: runs it, writes its file, exits. */
     [[noreturn]] void child(int run) const;
-    /** Waits for a child to end and takes note of its result. */
+    /** Takes note of a child's end and result, else of what the running ones told
+     *  (readNotes) before a tenth of a second's wait. */
     void reap();
+    /** The new lines of the notes of `run` (runNote), each kind reported once. */
+    void readNotes(int run);
 
     const RunFiles& m_files;
     const int m_runs;  // how many: first..last
@@ -93,6 +98,8 @@ private:
     const std::function<std::vector<Benchmark::TRunResult>(int)>& m_runOne;
     const std::function<void(size_t, size_t)>& m_progress;
     std::map<pid_t, int> m_children;
+    std::map<int, size_t> m_notesSeen;  // per run: the lines of its notes read
+    std::set<std::string> m_toldKinds;
     std::string m_failure;
     size_t m_done = 0;
     bool m_interrupted = false;
@@ -178,6 +185,7 @@ void RunPool::child(int run) const
         ::close(log);
     }
     int rc = 0;
+    runNotesTo(m_files.path(run, "note"));
     try
     {
         writeFile(m_files.path(run, "txt"), runFileText(m_runOne(run), run, m_files.inputs()));
@@ -193,10 +201,41 @@ void RunPool::child(int run) const
     ::_exit(rc);  // no destructors: the staging directory is the parent's
 }
 
+void RunPool::readNotes(int run)
+{
+    std::ifstream f(m_files.path(run, "note"));
+    size_t& seen = m_notesSeen[run];
+    size_t line = 0;
+    for (std::string text; std::getline(f, text); line++)
+    {
+        if (f.eof() || line < seen)
+        {
+            continue;  // a line being written, or one already read
+        }
+        seen = line + 1;
+        const auto tab = text.find('\t');
+        if (tab != std::string::npos && m_toldKinds.insert(text.substr(0, tab)).second)
+        {
+            reportWarning(text.substr(tab + 1));
+        }
+    }
+}
+
 void RunPool::reap()
 {
     int status = 0;
-    const pid_t pid = ::waitpid(-1, &status, 0);
+    const pid_t pid = ::waitpid(-1, &status, WNOHANG);
+    if (pid == 0)
+    {
+        // Every run still running: what they tell so far, then a tenth of a second.
+        for (const auto& c : m_children)
+        {
+            readNotes(c.second);
+        }
+        const timespec tenth{0, 100000000};
+        ::nanosleep(&tenth, nullptr);
+        return;
+    }
     if (pid < 0)
     {
         if (errno == EINTR)
@@ -213,6 +252,7 @@ void RunPool::reap()
     const int run = it->second;
     m_children.erase(it);
     unregisterChildProcess(pid);
+    readNotes(run);
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
     {
         std::ifstream f(m_files.path(run, "err"));
@@ -230,7 +270,28 @@ void RunPool::reap()
     }
 }
 
+/** The note file of the run of this child process (runNotesTo), empty in the parent. */
+std::string& notesPath()
+{
+    static std::string path;
+    return path;
+}
 }  // namespace
+
+void runNotesTo(const std::string& path)
+{
+    notesPath() = path;
+}
+
+void runNote(const std::string& kind, const std::string& text)
+{
+    if (notesPath().empty())
+    {
+        reportWarning(text);  // a run of this process: told at once
+        return;
+    }
+    std::ofstream(notesPath(), std::ios::app) << kind << '\t' << text << '\n' << std::flush;
+}
 
 void runInChildProcesses(const RunFiles& files, int first, int last, size_t jobs,
                          const std::string& scenario,

@@ -14,8 +14,9 @@
 namespace semloc::detail
 {
 /** The files of the runs, in one directory: `run_NNNNNN.txt` (the results, runFileText()),
- *  `.err` (the run's error message) and `.log` (what its process printed); `inputs` is the
- *  benchmark's digest (Benchmark::digest()) each run file carries. */
+ *  `.err` (the run's error message), `.log` (what its process printed) and `.note` (what it
+ *  told while it ran, runNote()); `inputs` is the benchmark's digest (Benchmark::digest())
+ *  each run file carries. */
 class RunFiles
 {
 public:
@@ -40,16 +41,25 @@ private:
 /** The (variant, control) of each result of a run, in the order of the run's results. */
 using RunSeries = std::vector<std::pair<std::string, std::string>>;
 
+/** Where runNote() writes in this (child) process: the run's `.note` file. */
+void runNotesTo(const std::string& path);
+/** A note of the running run (ClosedLoopNote: one line `kind<TAB>text`), which the parent
+ *  reads while the run goes on and reports once per kind (reportWarning); without a note
+ *  file (a run in the calling process), reported at once. */
+void runNote(const std::string& kind, const std::string& text);
+/** Benchmark::SetWarningReporter()'s reporter, told `text` (nothing without one). */
+void reportWarning(const std::string& text);
+
 /** The largest run file readRunFile() reads [bytes]. */
 constexpr uint64_t kMaxRunFileBytes = uint64_t(1) << 30;
 
 /** A run's results as its run file holds them: a header comment, `run <run>`, `inputs
  *  <inputs>` (the benchmark's digest), then per variant and control "V <variant> <control>
- *  <particles> <threads> <wall_s> <reinitializations> <decisions> <decision_wall_s> <n>", n
- *  step lines and the detector's bound "B <n> ...", and last `content <digest>`: the FNV-1a
- *  digest of every byte before that line (detail::fnv1a), which seals the file. Doubles are
- *  printed with 17 digits and read back bit-exactly, so the parent's metrics equal the
- *  child's. */
+ *  <particles> <threads> <wall_s> <reinitializations> <decisions> <decision_wall_s>
+ *  <decision_filter_steps> <max_decision_filter_steps> <stuck_decisions> <n>", n step lines and the
+ * detector's bound "B <n> ...", and last `content <digest>`: the FNV-1a digest of every byte before
+ * that line (detail::fnv1a), which seals the file. Doubles are printed with 17 digits and read back
+ * bit-exactly, so the parent's metrics equal the child's. */
 std::string runFileText(const std::vector<Benchmark::TRunResult>& results, int run,
                         const std::string& inputs);
 
@@ -69,7 +79,8 @@ std::string readBoundedFile(const std::string& path, uint64_t maxBytes, const st
 
 /** Runs `runOne(run)` for run = first..last, each in a child process (fork(), no exec), at
  *  most `jobs` at once, writing its run file (or its error) in `files`; `progress(done, n)`
- *  (n runs) at the start and after each run. The first failure stops new runs and is thrown once
+ *  (n runs) at the start and after each run; the runs' notes (runNote()) reported as they
+ *  come, once per kind. The first failure stops new runs and is thrown once
  * the running ones ended, naming `scenario` (if not empty), the run and its error or how its
  *  process ended; Ctrl-C (installInterruptHandlers) ends the running ones and throws
  *  Interrupted. */

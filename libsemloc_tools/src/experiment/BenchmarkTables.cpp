@@ -38,7 +38,8 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
     o << "run,seed,variant,particles,threads,steps,steps_with_ground_truth,converged,"
          "convergence_step,convergence_time_s,mean_err_after_conv_m,rmse_m,final_err_m,"
          "total_update_s,mean_update_us_per_particle,final_particles,reinitializations,"
-         "wall_time_s,kidnap_step,recovery_steps,nees_mean,nees_inside_share,control,"
+         "wall_time_s,kidnap_step,recovery_steps,nees_median,nees_inside_share,"
+         "nees_mean_well_conditioned,nees_well_conditioned_share,control,"
          "distance_to_convergence_m\n";
     for (const auto& r : runs)
     {
@@ -54,8 +55,9 @@ std::string resultsCsv(const std::vector<Benchmark::TRunResult>& runs)
           << ',' << num(r.wallTime_s) << ','
           << (m.kidnap_step >= 0 ? std::to_string(m.kidnap_step) : "") << ','
           << (m.recovery_steps >= 0 ? std::to_string(m.recovery_steps) : "") << ','
-          << num(m.nees_mean) << ',' << num(m.nees_inside_share) << ',' << r.control << ','
-          << num(r.distance_to_convergence_m) << '\n';
+          << num(m.nees_median) << ',' << num(m.nees_inside_share) << ','
+          << num(m.nees_mean_well_conditioned) << ',' << num(m.nees_well_conditioned_share) << ','
+          << r.control << ',' << num(r.distance_to_convergence_m) << '\n';
     }
     return o.str();
 }
@@ -101,6 +103,28 @@ std::string curvesCsv(const std::vector<Benchmark::TRunResult>& runs,
     return o.str();
 }
 
+void NeesOverRuns::add(const RunMetrics& m)
+{
+    if (!std::isfinite(m.nees_median))
+    {
+        return;  // no ground truth
+    }
+    median.push_back(m.nees_median);
+    inside.push_back(m.nees_inside_share);
+    wellConditionedShare.push_back(m.nees_well_conditioned_share);
+    if (std::isfinite(m.nees_mean_well_conditioned))
+    {
+        meanWellConditioned.push_back(m.nees_mean_well_conditioned);
+    }
+}
+
+double NeesOverRuns::medianOfMedians() const
+{
+    auto v = median;
+    std::sort(v.begin(), v.end());
+    return percentile(v, 0.5);
+}
+
 std::map<std::string, VariantStatistics> variantStatistics(
     const std::vector<Benchmark::TRunResult>& runs)
 {
@@ -123,11 +147,7 @@ std::map<std::string, VariantStatistics> variantStatistics(
         {
             s.var.push_back(x.var_xy);
         }
-        if (std::isfinite(r.metrics.nees_mean))
-        {
-            s.nees.push_back(r.metrics.nees_mean);
-            s.neesInside.push_back(r.metrics.nees_inside_share);
-        }
+        s.nees.add(r.metrics);
         s.filter.push_back(r.metrics.total_update_s);
         s.perParticle.push_back(r.metrics.mean_update_us_per_particle);
         s.wall.push_back(r.wallTime_s);
@@ -147,7 +167,8 @@ std::string scenariosCsv(const std::vector<Benchmark::TScenarioSummary>& summari
     std::ostringstream csv;
     csv << "scenario,variant,runs,successes,success_rate,converged,mean_convergence_time_s,"
            "mean_err_after_conv_m,kidnap_step,recovery_max_steps,mean_recovery_steps,"
-           "max_recovery_steps,nees_mean,nees_inside_share\n";
+           "max_recovery_steps,nees_median,nees_inside_share,nees_mean_well_conditioned,"
+           "nees_well_conditioned_share\n";
     for (const auto& s : summaries)
     {
         const bool kidnap = s.kidnap_step >= 0;
@@ -157,8 +178,9 @@ std::string scenariosCsv(const std::vector<Benchmark::TScenarioSummary>& summari
             << (kidnap ? std::to_string(s.kidnap_step) : "") << ','
             << (kidnap ? std::to_string(s.recovery_max_steps) : "") << ','
             << (kidnap ? num(s.mean_recovery_steps) : "") << ','
-            << (kidnap ? num(s.max_recovery_steps) : "") << ',' << num(s.nees_mean) << ','
-            << num(s.nees_inside_share) << '\n';
+            << (kidnap ? num(s.max_recovery_steps) : "") << ',' << num(s.nees_median) << ','
+            << num(s.nees_inside_share) << ',' << num(s.nees_mean_well_conditioned) << ','
+            << num(s.nees_well_conditioned_share) << '\n';
     }
     return csv.str();
 }
@@ -204,7 +226,8 @@ std::vector<Benchmark::TScenarioSummary> Benchmark::summarize(
         s.variant = name;
         s.kidnap_step = kidnapStep();
         s.recovery_max_steps = m_scenario.recovery_max_steps;
-        std::vector<double> conv, err, rec, nees, inside;
+        std::vector<double> conv, err, rec;
+        detail::NeesOverRuns nees;
         for (const auto& r : runs)
         {
             if (r.series() != s.variant)
@@ -223,11 +246,7 @@ std::vector<Benchmark::TScenarioSummary> Benchmark::summarize(
             {
                 rec.push_back(static_cast<double>(m.recovery_steps));
             }
-            if (std::isfinite(m.nees_mean))
-            {
-                nees.push_back(m.nees_mean);
-                inside.push_back(m.nees_inside_share);
-            }
+            nees.add(m);
             const bool ok = s.kidnap_step >= 0
                                 ? m.recovery_steps >= 0 && m.recovery_steps <= s.recovery_max_steps
                                 : m.converged;
@@ -236,8 +255,10 @@ std::vector<Benchmark::TScenarioSummary> Benchmark::summarize(
         s.mean_convergence_time_s = mean(conv);
         s.mean_err_after_conv_m = mean(err);
         s.mean_recovery_steps = mean(rec);
-        s.nees_mean = mean(nees);
-        s.nees_inside_share = mean(inside);
+        s.nees_median = nees.medianOfMedians();
+        s.nees_inside_share = mean(nees.inside);
+        s.nees_mean_well_conditioned = mean(nees.meanWellConditioned);
+        s.nees_well_conditioned_share = mean(nees.wellConditionedShare);
         s.max_recovery_steps = rec.empty() ? kNaN : *std::max_element(rec.begin(), rec.end());
         out.push_back(s);
     }
@@ -248,17 +269,20 @@ std::string Benchmark::scenariosTable(const std::vector<TScenarioSummary>& summa
 {
     std::ostringstream o;
     o << "| scenario | variant | runs | success | converged | mean conv. time [s] | "
-         "mean err after conv. [m] | mean NEES | NEES inside 95 % [%] | kidnap step | "
+         "mean err after conv. [m] | median NEES | NEES inside 95 % [%] | mean NEES, "
+         "well-conditioned steps | well-conditioned steps [%] | kidnap step | "
          "recovered within | mean recovery steps | max recovery steps |\n"
-         "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+         "|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& s : summaries)
     {
         const bool kidnap = s.kidnap_step >= 0;
         o << "| " << (s.scenario.empty() ? "-" : s.scenario) << " | " << s.variant << " | "
           << s.runs << " | " << mrpt::format("%.0f%%", 100.0 * s.successRate()) << " | "
           << s.converged << " | " << cell("%.1f", s.mean_convergence_time_s) << " | "
-          << cell("%.3f", s.mean_err_after_conv_m) << " | " << cell("%.3g", s.nees_mean) << " | "
+          << cell("%.3f", s.mean_err_after_conv_m) << " | " << cell("%.3g", s.nees_median) << " | "
           << cell("%.0f", 100.0 * s.nees_inside_share) << " | "
+          << cell("%.3g", s.nees_mean_well_conditioned) << " | "
+          << cell("%.0f", 100.0 * s.nees_well_conditioned_share) << " | "
           << (kidnap ? std::to_string(s.kidnap_step) : "-") << " | "
           << (kidnap ? std::to_string(s.recovery_max_steps) + " steps" : "-") << " | "
           << (kidnap ? cell("%.1f", s.mean_recovery_steps) : "-") << " | "
@@ -275,10 +299,11 @@ std::string Benchmark::reportTable(const std::vector<TRunResult>& runs,
     const double refFilter = st.count(ref) ? mean(st[ref].filter) : kNaN;
     std::ostringstream o;
     o << "| variant | runs | converged | mean conv. time [s] | mean err after conv. [m] | "
-         "detector bound after conv. [m] | mean NEES | NEES inside 95 % [%] | mean var_xy [m²] | "
+         "detector bound after conv. [m] | median NEES | NEES inside 95 % [%] | mean NEES, "
+         "well-conditioned steps | well-conditioned steps [%] | mean var_xy [m²] | "
          "filter time / run [s] | filter time / particle-step [µs] | wall time / run [s] | "
          "filter time / "
-      << ref << " |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      << ref << " |\n|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& v : variants)
     {
         const auto& s = st[v];
@@ -287,10 +312,13 @@ std::string Benchmark::reportTable(const std::vector<TRunResult>& runs,
                                                  static_cast<double>(s.runs)
                                            : 0.0)
           << " | " << cell("%.1f", mean(s.convTime)) << " | " << cell("%.3f", mean(s.errAfter))
-          << " | " << cell("%.3f", mean(s.boundAfter)) << " | " << cell("%.3g", mean(s.nees))
-          << " | " << cell("%.0f", 100.0 * mean(s.neesInside)) << " | " << cell("%.3f", mean(s.var))
-          << " | " << cell("%.3f", mean(s.filter)) << " | " << cell("%.3f", mean(s.perParticle))
-          << " | " << cell("%.3f", mean(s.wall)) << " | "
+          << " | " << cell("%.3f", mean(s.boundAfter)) << " | "
+          << cell("%.3g", s.nees.medianOfMedians()) << " | "
+          << cell("%.0f", 100.0 * mean(s.nees.inside)) << " | "
+          << cell("%.3g", mean(s.nees.meanWellConditioned)) << " | "
+          << cell("%.0f", 100.0 * mean(s.nees.wellConditionedShare)) << " | "
+          << cell("%.3f", mean(s.var)) << " | " << cell("%.3f", mean(s.filter)) << " | "
+          << cell("%.3f", mean(s.perParticle)) << " | " << cell("%.3f", mean(s.wall)) << " | "
           << cell("%.2f", mean(s.filter) / refFilter) << " |\n";
     }
     return o.str();
@@ -363,12 +391,13 @@ std::string Benchmark::controlsTable(const std::vector<TRunResult>& runs)
     }
     std::ostringstream o;
     o << "| scenario | variant | control | runs | converged | median distance to conv. [m] | "
-         "90th percentile [m] | decisions per run | mean decision time [ms] |\n"
-         "|---|---|---|---:|---:|---:|---:|---:|---:|\n";
+         "90th percentile [m] | decisions per run | mean decision time [ms] | mean decision "
+         "cost [filter steps] | decisions that could not move [%] |\n"
+         "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
     for (const auto& [scenario, series] : keys)
     {
         std::vector<double> dist;
-        double decisions = 0, decisionWall = 0;
+        double decisions = 0, decisionWall = 0, filterSteps = 0, stuck = 0;
         const TRunResult* any = nullptr;
         for (const auto& r : runs)
         {
@@ -381,6 +410,8 @@ std::string Benchmark::controlsTable(const std::vector<TRunResult>& runs)
                                                : std::numeric_limits<double>::infinity());
             decisions += static_cast<double>(r.decisions);
             decisionWall += r.decisionWall_s;
+            filterSteps += r.decisionFilterSteps;
+            stuck += static_cast<double>(r.stuckDecisions);
         }
         std::sort(dist.begin(), dist.end());
         const auto quantile = [&](double p)
@@ -395,7 +426,10 @@ std::string Benchmark::controlsTable(const std::vector<TRunResult>& runs)
           << any->control << " | " << dist.size() << " | " << converged << " | " << quantile(0.5)
           << " | " << quantile(0.9) << " | "
           << mrpt::format("%.1f", decisions / static_cast<double>(dist.size())) << " | "
-          << cell("%.2f", decisions > 0 ? 1e3 * decisionWall / decisions : kNaN) << " |\n";
+          << cell("%.2f", decisions > 0 ? 1e3 * decisionWall / decisions : kNaN) << " | "
+          << cell("%.1f",
+                  decisions > 0 && any->control == "active" ? filterSteps / decisions : kNaN)
+          << " | " << cell("%.0f", decisions > 0 ? 100 * stuck / decisions : kNaN) << " |\n";
     }
     return o.str();
 }

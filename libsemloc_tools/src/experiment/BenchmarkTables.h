@@ -10,6 +10,16 @@
 
 namespace semloc::detail
 {
+/** The NEES figures of RunMetrics over runs, each run's taken once it has ground truth (its
+ *  nees_mean_well_conditioned only if it has a well-conditioned step). */
+struct NeesOverRuns
+{
+    std::vector<double> median, inside, meanWellConditioned, wellConditionedShare;
+    void add(const RunMetrics& m);
+    /** The median of the medians; NaN without a run. */
+    double medianOfMedians() const;
+};
+
 /** What the runs of one variant measured. */
 struct VariantStatistics
 {
@@ -20,8 +30,8 @@ struct VariantStatistics
     std::vector<double> boundAfter;
     /** var_xy of every step of every run [m^2]. */
     std::vector<double> var;
-    /** Per run with a NEES (RunMetrics::nees_mean): its nees_mean and nees_inside_share. */
-    std::vector<double> nees, neesInside;
+    /** The consistency over the runs (TScenarioSummary's NEES fields). */
+    NeesOverRuns nees;
     /** Per run: filter time [s], filter time per particle-step [us], wall time [s]. */
     std::vector<double> filter, perParticle, wall;
 };

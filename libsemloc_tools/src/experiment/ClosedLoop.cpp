@@ -1,5 +1,6 @@
 /* semloc — the closed loop of Benchmark's controls: simulate a step, localize it, decide. */
 #include <mrpt/core/exceptions.h>
+#include <mrpt/core/format.h>
 #include <mrpt/math/geometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <semloc/maps/CSemanticMap.h>
@@ -94,6 +95,10 @@ std::vector<mrpt::math::TPoint2D> routeFrom(const World& world, const mrpt::math
 
 namespace
 {
+/** A decision over this many budgets is told before it is made, not at the run's end: the
+ *  shipped active.ini's decisions reach 2.6 budgets, 4.6 with every candidate admissible. */
+constexpr double kTellAtOnce = 10;
+
 /** The motion under way: a turn still to make and a distance still to go. */
 struct Plan
 {
@@ -110,7 +115,7 @@ class LoopDriver
 public:
     LoopDriver(const Simulator& sim, Localizer& loc, Control control,
                const ActivePolicy::TOptions& policy, const CSemanticMap& map, uint32_t seed,
-               TClosedLoopRun& out)
+               TClosedLoopRun& out, const ClosedLoopNote& note)
         : m_sim(sim),
           m_loc(loc),
           m_control(control),
@@ -118,8 +123,10 @@ public:
           m_policy(m_policyOptions, map, &sim.world()),
           m_rng(seed),
           m_step(sim.stepLength_m()),
-          m_out(out)
+          m_out(out),
+          m_note(note)
     {
+        m_policy.setCostObserver([this](const ActivePolicy::TDecision& d) { costOf(d); });
     }
 
     mrpt::poses::CPose2D operator()(size_t k, const mrpt::math::TPose2D& pose,
@@ -164,11 +171,56 @@ public:
         m_lastFrame = sf;
     }
 
+    /** The run's notes at its end: decisions over the budget on average (unless told
+     *  already), a vehicle that could not move. */
+    void finish() const
+    {
+        if (!m_note)
+        {
+            return;
+        }
+        const auto n = static_cast<double>(m_out.decisions);
+        if (m_control == Control::Active && !m_toldCost && n > 0 &&
+            m_out.decisionFilterSteps / n > ActivePolicy::kBudgetFilterSteps)
+        {
+            m_note("cost", costlyRunNote(m_policyOptions, m_out.decisionFilterSteps / n,
+                                         m_out.maxDecisionFilterSteps, m_loc.pdf().size()));
+        }
+        if (m_out.stuckDecisions > 0)
+        {
+            m_note("stuck",
+                   stuckVehicleNote(m_policyOptions, m_out.stuckDecisions, m_out.decisions));
+        }
+    }
+
 private:
     static ActivePolicy::TOptions withSeed(ActivePolicy::TOptions o, uint32_t seed)
     {
         o.seed = seed;
         return o;
+    }
+
+    /** The cost of a decision about to be made (ActivePolicy's cost observer). */
+    void costOf(const ActivePolicy::TDecision& d)
+    {
+        const size_t particles = m_loc.pdf().size();
+        const double steps = ActivePolicy::filterSteps(d.evaluations, particles);
+        m_out.decisionFilterSteps += steps;
+        m_out.maxDecisionFilterSteps = std::max(m_out.maxDecisionFilterSteps, steps);
+        if (steps > kTellAtOnce * ActivePolicy::kBudgetFilterSteps && !m_toldCost && m_note)
+        {
+            m_toldCost = true;
+            m_note("cost", costlyDecisionNote(m_policyOptions, steps, d.evaluations, particles));
+        }
+    }
+
+    /** True when a candidate that goes somewhere is free from the true `pose`. */
+    bool canMove(const mrpt::math::TPose2D& pose) const
+    {
+        const auto cs = m_policy.candidates();
+        return std::any_of(cs.begin(), cs.end(),
+                           [&](const TActiveMotion& m)
+                           { return m.distance_m > 0 && freeFromHere(m, pose); });
     }
 
     void decide(size_t step, const mrpt::math::TPose2D& pose)
@@ -192,6 +244,7 @@ private:
             m = randomFreeMotion(pose);
         }
         m_out.decisions++;
+        m_out.stuckDecisions += canMove(pose) ? 0 : 1;
         m_out.decisionWall_s +=
             std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         m_plan = Plan{m.turn_rad, m.distance_m, false};
@@ -279,6 +332,8 @@ private:
     std::mt19937_64 m_rng;
     double m_step;
     TClosedLoopRun& m_out;
+    const ClosedLoopNote& m_note;
+    bool m_toldCost = false;
     Plan m_plan;
     bool m_expectMove = false;
     mrpt::math::TPose2D m_lastPose;
@@ -288,17 +343,77 @@ private:
 }  // namespace
 
 TClosedLoopRun runClosedLoop(const Simulator& simulator, Localizer& loc, const CSemanticMap& map,
-                             Control control, const ActivePolicy::TOptions& policy, uint32_t seed)
+                             Control control, const ActivePolicy::TOptions& policy, uint32_t seed,
+                             const ClosedLoopNote& note)
 {
     ASSERTMSG_(control != Control::Route,
                "runClosedLoop: the route needs no loop (Simulator::run)");
     TClosedLoopRun out;
-    LoopDriver driver(simulator, loc, control, policy, map, seed, out);
+    LoopDriver driver(simulator, loc, control, policy, map, seed, out, note);
     out.data = simulator.runDriven(
         [&](size_t k, const mrpt::math::TPose2D& pose, const SimulationResult& sofar)
         { return driver(k, pose, sofar); },
         simulator.routeSteps());
     driver.feed(out.data, out.data.steps - 1);  // the last step: no decision after it
+    driver.finish();
     return out;
+}
+
+namespace
+{
+/** `v` as an ini list. */
+std::string listText(const std::vector<double>& v)
+{
+    std::string s;
+    for (const double x : v)
+    {
+        s += (s.empty() ? "" : ", ") + mrpt::format("%g", x);
+    }
+    return s;
+}
+
+/** The [ActiveLocalization] keys that set a decision's cost, with their values. */
+std::string costKeys(const ActivePolicy::TOptions& o)
+{
+    return mrpt::format(
+        "[ActiveLocalization] headings = %d, distances_m = %s, look_around = %s, representatives "
+        "= %d, outcomes = %d, scan_every_m = %g",
+        o.headings, listText(o.distances_m).c_str(), o.look_around ? "true" : "false",
+        o.representatives, o.outcomes, o.scan_every_m);
+}
+}  // namespace
+
+std::string costlyDecisionNote(const ActivePolicy::TOptions& o, double filterSteps,
+                               double evaluations, size_t particles)
+{
+    return mrpt::format(
+               "a decision of the active policy costs %.3g filter steps of %zu particles (%.3g "
+               "likelihood evaluations: for each admissible candidate, representatives^2 x "
+               "outcomes x "
+               "path points), against a budget of %g a decision (docs/active.md), so the run will "
+               "be "
+               "slow: ",
+               filterSteps, particles, evaluations, ActivePolicy::kBudgetFilterSteps) +
+           costKeys(o);
+}
+
+std::string costlyRunNote(const ActivePolicy::TOptions& o, double meanFilterSteps,
+                          double maxFilterSteps, size_t particles)
+{
+    return mrpt::format(
+               "the active policy's decisions cost %.3g filter steps of %zu particles on average "
+               "(the "
+               "largest %.3g), over the budget of %g a decision (docs/active.md): ",
+               meanFilterSteps, particles, maxFilterSteps, ActivePolicy::kBudgetFilterSteps) +
+           costKeys(o);
+}
+
+std::string stuckVehicleNote(const ActivePolicy::TOptions& o, size_t stuck, size_t decisions)
+{
+    return mrpt::format(
+        "the vehicle could not move at %zu of its %zu decisions: no candidate motion's path from "
+        "where it was stayed in the free space, so it turned on the spot or stood "
+        "([ActiveLocalization] distances_m = %s, headings = %d)",
+        stuck, decisions, listText(o.distances_m).c_str(), o.headings);
 }
 }  // namespace semloc::detail

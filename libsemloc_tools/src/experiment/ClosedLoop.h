@@ -8,6 +8,7 @@
 #include <semloc/simulator/Simulator.h>
 
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -43,7 +44,22 @@ struct TClosedLoopRun
     long handedBackAtStep = -1;
     /** Total wall time of the decisions [s]. */
     double decisionWall_s = 0;
+    /** The policy's decisions in filter steps of the filter's particles
+     *  (ActivePolicy::filterSteps of TDecision::evaluations; 0 for the random walk): their sum
+     *  and the largest. */
+    double decisionFilterSteps = 0, maxDecisionFilterSteps = 0;
+    /** Decisions (or draws) at which no candidate motion that goes somewhere was free from
+     *  the true pose (pathIsFree: every path leaves the free space or meets an object): the
+     *  vehicle turned on the spot or stood instead. */
+    size_t stuckDecisions = 0;
 };
+
+/** A note of a closed-loop run on what it costs or cannot do, once per run and kind: "cost",
+ *  a decision over ten budgets (ActivePolicy::kBudgetFilterSteps: told before it is made) or,
+ *  at the run's end, decisions over the budget on average; "stuck", a vehicle that could not
+ *  move (at the end of the run). Each text names the [ActiveLocalization] keys that set it,
+ *  with their values. */
+using ClosedLoopNote = std::function<void(const std::string& kind, const std::string& text)>;
 
 /** Simulates `simulator`'s scenario for its route's number of steps (Simulator::routeSteps)
  *  with the vehicle driven by `control` (Active or Random) while `loc` localizes it in
@@ -57,9 +73,22 @@ struct TClosedLoopRun
  *  handed back, the vehicle heads straight for the nearest point of the route it can reach
  *  in a straight line, follows the route to its end and then back along it to its start
  *  (at the route's start: the route itself). The policy (and the random walk's draws) is seeded
- * with `seed`. */
+ * with `seed`. `note` (if any) is told of a decision over budget and of a vehicle that could
+ * not move, once per run each (ClosedLoopNote). */
 TClosedLoopRun runClosedLoop(const Simulator& simulator, Localizer& loc, const CSemanticMap& map,
-                             Control control, const ActivePolicy::TOptions& policy, uint32_t seed);
+                             Control control, const ActivePolicy::TOptions& policy, uint32_t seed,
+                             const ClosedLoopNote& note = {});
+
+/** The note of a decision of `filterSteps` filter steps of `particles` particles (of
+ *  `evaluations` likelihood evaluations): the cost and the keys that set it. */
+std::string costlyDecisionNote(const ActivePolicy::TOptions& policy, double filterSteps,
+                               double evaluations, size_t particles);
+/** The note of a run whose decisions cost `meanFilterSteps` on average, at most
+ *  `maxFilterSteps`. */
+std::string costlyRunNote(const ActivePolicy::TOptions& policy, double meanFilterSteps,
+                          double maxFilterSteps, size_t particles);
+/** The note of a vehicle that found no free motion in `stuck` of its `decisions`. */
+std::string stuckVehicleNote(const ActivePolicy::TOptions& policy, size_t stuck, size_t decisions);
 
 /** The path of a vehicle handed back at `here`: straight to the nearest point of `world`'s
  *  route it can reach in a straight line (the first such leg on a tie), along the route to its

@@ -99,18 +99,27 @@ void StepsCsv::finish()
 
 namespace
 {
+static_assert(TStepRecord::kNeesMaxCondition == 1e9 && TStepRecord::kNeesMinEigenvalue == 1e-9,
+              "summary.yaml's comment says 1e9 and 1e-9");
+
 /** summary.yaml's consistency (NEES) and "lost again" keys, with their comments. */
 std::string neesAndLostYaml(const RunMetrics& m, const RunMetrics::TConvergenceCriterion& c)
 {
     const auto count = [&](size_t n) { return m.converged ? std::to_string(n) : "null"; };
     std::ostringstream y;
     y << "# NEES: e' P^-1 e, e the pose error (x, y, phi) to the ground truth, P the particles'\n"
-      << "# covariance: its mean over the steps with ground truth, and the share of them with\n"
-      << "# NEES <= " << mrpt::format("%.4f", RunMetrics::kNeesChi2_95)
-      << " (the chi-square 95 % quantile, 3 dof; a one-sided bound): ~0.95 consistent,\n"
-      << "# less overconfident\n"
-      << "nees_mean: " << yamlNum(m.nees_mean) << "\n"
+      << "# covariance, over the steps with ground truth: its median (~"
+      << mrpt::format("%.2f", RunMetrics::kNeesChi2Median) << " consistent), the share\n"
+      << "# of them with NEES <= " << mrpt::format("%.4f", RunMetrics::kNeesChi2_95)
+      << " (the chi-square 95 % quantile, 3 dof; a one-sided bound:\n"
+      << "# ~0.95 consistent, less overconfident), and its mean over the steps whose P is well\n"
+      << "# conditioned (>= " << mrpt::format("%.0f", TStepRecord::kNeesMinEffectiveParticles)
+      << " effective particles, condition number <= 1e9, eigenvalues >= 1e-9;\n"
+      << "# ~3 consistent) with the share of such steps\n"
+      << "nees_median: " << yamlNum(m.nees_median) << "\n"
       << "nees_inside_share: " << yamlNum(m.nees_inside_share) << "\n"
+      << "nees_mean_well_conditioned: " << yamlNum(m.nees_mean_well_conditioned) << "\n"
+      << "nees_well_conditioned_share: " << yamlNum(m.nees_well_conditioned_share) << "\n"
       << "# lost again: from the convergence step on, steps with ground truth and err_xy > "
       << num(c.max_err_xy_m) << " m;\n"
       << "# an episode lasts to the next step not lost (or the last step); null: not converged\n"

@@ -4,12 +4,25 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <vector>
 
 namespace semloc
 {
 namespace
 {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/** The median of `v` (not empty): of an even count, the mean of the middle two. */
+double median(std::vector<double> v)
+{
+    const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    if (v.size() % 2 == 1)
+    {
+        return *mid;
+    }
+    return 0.5 * (*mid + *std::max_element(v.begin(), mid));
+}
 
 /** The larger of a and b, NaN if either is. */
 double maxOrNaN(double a, double b)
@@ -92,7 +105,8 @@ RunMetricsAccumulator::RunMetricsAccumulator(const RunMetrics::TConvergenceCrite
     : m_criterion(criterion), m_kidnapStep(kidnapStep)
 {
     m_m.convergence_time_s = m_m.mean_err_after_conv_m = m_m.rmse_m = m_m.final_err_m = kNaN;
-    m_m.nees_mean = m_m.nees_inside_share = kNaN;
+    m_m.nees_mean = m_m.nees_inside_share = m_m.nees_median = kNaN;
+    m_m.nees_well_conditioned_share = m_m.nees_mean_well_conditioned = kNaN;
     m_m.lost_after_convergence_s = m_m.first_lost_after_convergence_s = m_m.longest_lost_s = kNaN;
 }
 
@@ -127,6 +141,12 @@ void RunMetricsAccumulator::add(const TStepRecord& r)
             m_neesSum += n;
             m_neesCount++;
             m_neesInside += n <= RunMetrics::kNeesChi2_95 ? 1 : 0;
+            m_nees.push_back(n);
+            if (r.neesWellConditioned())
+            {
+                m_neesWellConditionedSum += n;
+                m_neesWellConditioned++;
+            }
         }
     }
 }
@@ -153,6 +173,12 @@ RunMetrics RunMetricsAccumulator::result() const
         const auto n = static_cast<double>(m_neesCount);
         m.nees_mean = m_neesSum / n;
         m.nees_inside_share = static_cast<double>(m_neesInside) / n;
+        m.nees_median = median(m_nees);
+        m.nees_well_conditioned_share = static_cast<double>(m_neesWellConditioned) / n;
+        m.nees_mean_well_conditioned =
+            m_neesWellConditioned > 0
+                ? m_neesWellConditionedSum / static_cast<double>(m_neesWellConditioned)
+                : kNaN;
     }
     if (m_kidnapStep >= 0)
     {

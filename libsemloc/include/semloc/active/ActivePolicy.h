@@ -9,6 +9,7 @@
 #include <semloc/io/ConfigHelpers.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -60,8 +61,9 @@ bool pathIsFree(const World& world, const mrpt::math::TPose2D& from, const TActi
  *  - every representative is re-weighted by each drawn path of scans with the map's
  *    likelihood (the filter's own), H taken, and the expectation is the representatives'
  *    weighted mean.
- *  Cost per decision: candidates x representatives^2 x outcomes x path points likelihood
- *  evaluations.
+ *  Cost per decision: for each admissible candidate, representatives^2 x outcomes x path
+ *  points likelihood evaluations (TDecision::evaluations), against a filter step's one per
+ *  particle (filterSteps(); the budget, kBudgetFilterSteps, is ten filter steps).
  *
  *  Candidates: `headings` turns evenly spaced over the circle (0 first) times each of
  *  `distances_m`, and with `look_around` each non-zero turn alone. A motion is a candidate
@@ -142,6 +144,9 @@ public:
         double free_share = 1;
         /** Whether it was evaluated (free_share >= min_free_share). */
         bool admissible = true;
+        /** Likelihood evaluations of a pose against a drawn scan it takes: representatives^2 x
+         *  outcomes x path points when admissible, else 0. */
+        double evaluations = 0;
         /** E[H] after it [nats] (NaN when not admissible). */
         double expected_entropy = 0;
         /** What the objective minimizes: expected_entropy + travel_cost_per_m x distance, or
@@ -168,7 +173,24 @@ public:
         std::vector<TCandidate> candidates;
         /** Index of the chosen one in candidates (-1 when converged). */
         int chosen = -1;
+        /** Likelihood evaluations the decision took: the sum of its candidates' (its cost; see
+         *  filterSteps()). */
+        double evaluations = 0;
     };
+
+    /** The budget of a decision, in filter steps of the same particles (docs/active.md). */
+    static constexpr double kBudgetFilterSteps = 10;
+    /** A decision of `evaluations` likelihood evaluations in filter steps of `particles`
+     *  particles: a filter step evaluates each particle's likelihood once, and the two
+     *  evaluations cost about the same (bench_ActiveDecision: ~0.12 us each), so
+     *  evaluations / particles (infinite without particles). Besides them a decision costs about
+     *  two or three filter steps of 2 000 particles (the representatives, the free shares). */
+    static double filterSteps(double evaluations, size_t particles);
+    /** `observer(decision)` in every decide() that evaluates candidates, once their
+     *  admissibility and TCandidate::evaluations are known and before any scan is drawn (only
+     *  free_share, admissible and evaluations are set, and TDecision::evaluations, entropy and
+     *  representatives): a costly decision can be told before it is made. None by default. */
+    void setCostObserver(std::function<void(const TDecision&)> observer);
 
     /** A policy over `map` (kept by reference: it must outlive the policy), the free space
      *  of `world` if given (also kept), `options` validated. */
@@ -207,6 +229,7 @@ private:
     const World* m_world;
     std::unique_ptr<ParallelExecutor> m_executor;
     uint64_t m_decisions = 0;
+    std::function<void(const TDecision&)> m_costObserver;
 };
 
 }  // namespace semloc

@@ -56,6 +56,27 @@ struct TStepRecord
      *  is 0 (one particle, or every particle on one pose). NaN without ground truth or with a
      *  non-finite value. */
     double nees() const;
+    /** @name When nees() says something of the filter (docs/design.md, "Consistency")
+     *  @{ */
+    /** Fewest effective particles (ess x n_particles): a covariance estimated from n samples of
+     *  a 3-D Gaussian has E[P^-1] = Sigma^-1 (n - 1) / (n - 5), so the mean NEES is inflated by
+     *  at most 10 % from n = 45 on (and without bound below n = 5). */
+    static constexpr double kNeesMinEffectiveParticles = 45;
+    /** Largest condition number of P (its largest eigenvalue over its smallest, in m^2 and
+     *  rad^2): the eigenvalues come out of P's sums and its eigen-decomposition with errors
+     *  of up to ~1e-16 x particles x the largest, so up to 1e9 the smallest, which the NEES
+     *  divides by, keeps three digits for up to 10 000 particles. */
+    static constexpr double kNeesMaxCondition = 1e9;
+    /** Smallest eigenvalue of P [m^2, rad^2]: from 1000 x kNeesFloor on the floor moves the
+     *  NEES by at most 0.1 %. */
+    static constexpr double kNeesMinEigenvalue = 1e3 * kNeesFloor;
+    /** Whether P is well conditioned, so that nees() measures the filter and not its
+     *  degeneracy (a cloud collapsed on a few particles, P at the floor): at least
+     *  kNeesMinEffectiveParticles effective particles, P's smallest eigenvalue at least
+     *  kNeesMinEigenvalue and at least 1 / kNeesMaxCondition of its largest. False when
+     *  nees() is NaN. */
+    bool neesWellConditioned() const;
+    /** @} */
 };
 
 }  // namespace semloc

@@ -198,6 +198,12 @@ public:
         size_t decisions = 0;
         /** Wall time of those decisions [s]. */
         double decisionWall_s = 0;
+        /** The active policy's decisions in filter steps of the run's particles
+         *  (ActivePolicy::filterSteps): their sum and the largest (0 for the other controls). */
+        double decisionFilterSteps = 0, maxDecisionFilterSteps = 0;
+        /** Decisions at which no candidate motion that goes somewhere was free from the true
+         *  pose: the vehicle turned on the spot or stood. */
+        size_t stuckDecisions = 0;
         /** Where the tables list it: the variant, and with another control than the route
          *  "variant/control". */
         std::string series() const { return seriesName(variant, control); }
@@ -249,9 +255,11 @@ public:
         int recovery_max_steps = 0;
         /** Mean and maximum recovery steps of the runs that recovered; NaN if none. */
         double mean_recovery_steps = 0, max_recovery_steps = 0;
-        /** Means over the runs with one of RunMetrics::nees_mean and nees_inside_share; NaN
-         *  if none. */
-        double nees_mean = 0, nees_inside_share = 0;
+        /** Over the runs with ground truth: the median of their RunMetrics::nees_median, the
+         *  means of their nees_inside_share and nees_well_conditioned_share, and the mean of
+         *  nees_mean_well_conditioned over the runs that have one; NaN if none. */
+        double nees_median = 0, nees_inside_share = 0, nees_mean_well_conditioned = 0,
+               nees_well_conditioned_share = 0;
 
         /** successes / runs. */
         double successRate() const;
@@ -292,6 +300,19 @@ public:
      *  calling thread at the start (0) and after each run. On error nothing is left in output_dir.
      */
     TResult run(const std::function<void(size_t, size_t)>& progress = {}) const;
+    /** What run() and Merge() do once the runs are done, as a line each as it starts (reading
+     *  the runs' results, the tables, each figure, the report; with scenarios, each starting
+     *  with "scenario 'NAME': "): the work after the last run, which a wide sweep makes
+     *  long. Process-wide, for every benchmark from then on (Merge() builds its own); none by
+     *  default; semloc-benchmark shows them on a terminal. */
+    static void SetStageReporter(std::function<void(const std::string&)> reporter);
+    /** What a run tells while the runs go on, once per benchmark (per scenario) and kind, as
+     *  soon as the first run tells it: a decision of the active policy over its budget of
+     *  ActivePolicy::kBudgetFilterSteps filter steps (before it is made), a vehicle that could
+     *  not move; each text names the scenario, the run, the series and the [ActiveLocalization]
+     *  keys. Process-wide as SetStageReporter(); semloc-benchmark prints them on stderr as
+     *  warnings. report.md's "Controls" counts the runs of each. */
+    static void SetWarningReporter(std::function<void(const std::string&)> reporter);
 
     /** A shard: runs first..last of a benchmark, as its `shard.txt` describes them. */
     struct TShard
@@ -344,8 +365,9 @@ public:
     std::vector<TRunResult> runOne(int run) const;
 
     /** The markdown table of report.md: per variant success rate, convergence time, error,
-     *  the detector's bound, consistency (the means over the runs of RunMetrics::nees_mean
-     *  and nees_inside_share), variance, filter time per run and per particle-step, wall
+     *  the detector's bound, consistency (over the runs, as TScenarioSummary's: the median
+     *  NEES, the share inside its bound, the mean NEES of the well-conditioned steps and
+     *  their share), variance, filter time per run and per particle-step, wall
      *  time, ratio to the first variant (or to "semantic" if present). */
     static std::string reportTable(const std::vector<TRunResult>& runs,
                                    const std::vector<std::string>& variants);
@@ -365,8 +387,10 @@ public:
     /** report.md's table of the controls: per scenario and series (TRunResult::series(), in
      *  the order of their first run) the runs, the converged ones, the median and 90th
      *  percentile of the distance driven to convergence (a run that did not converge counts
-     *  as infinitely far: "-" when the percentile falls on one), the decisions per run and
-     *  the mean wall time of a decision. */
+     *  as infinitely far: "-" when the percentile falls on one), the decisions per run, the
+     *  mean wall time of a decision, the active policy's mean decision in filter steps
+     *  (ActivePolicy::filterSteps) and the share of the decisions at which the vehicle could
+     *  not move. */
     static std::string controlsTable(const std::vector<TRunResult>& runs);
     /** The benchmark options. */
     const TOptions& options() const { return m_options; }

@@ -52,8 +52,22 @@ struct RunMetrics
      *  @{ */
     /** The chi-square distribution's 95 % quantile with 3 degrees of freedom. */
     static constexpr double kNeesChi2_95 = 7.814727903251178;
-    /** Mean NEES; NaN if no step has ground truth. */
+    /** Mean NEES; NaN if no step has ground truth. One step of a degenerate covariance (a
+     *  cloud collapsed on one particle: NEES up to |e|^2 / 1e-12) sets it, so the outputs give
+     *  the median and the mean over the well-conditioned steps instead (the calibration's
+     *  consistency stage still shows it). */
     double nees_mean = 0;
+    /** The chi-square distribution's median with 3 degrees of freedom. */
+    static constexpr double kNeesChi2Median = 2.365973884375338;
+    /** Median NEES (of an even count, the mean of the middle two): ~kNeesChi2Median for a
+     *  consistent filter; NaN if no step has ground truth. */
+    double nees_median = 0;
+    /** Share of the steps whose covariance is well conditioned (TStepRecord::
+     *  neesWellConditioned(): enough effective particles, the covariance neither at the floor
+     *  nor near singular), in [0, 1]; NaN if no step has ground truth. */
+    double nees_well_conditioned_share = 0;
+    /** Mean NEES over those steps: ~3 for a consistent filter; NaN if there are none. */
+    double nees_mean_well_conditioned = 0;
     /** Share of the steps whose NEES <= kNeesChi2_95, in [0, 1]: the one-sided upper bound a
      *  consistent filter's NEES stays under 95 % of the time, so ~0.95 for a consistent filter,
      *  less for an overconfident one (a spread too small for its errors); NaN if no step has
@@ -91,8 +105,8 @@ struct RunMetrics
                               const TConvergenceCriterion& criterion, long kidnapStep = -1);
 };
 
-/** RunMetrics::compute() one record at a time, in step order, in constant memory: what a run of any
- *  length keeps of its steps. */
+/** RunMetrics::compute() one record at a time, in step order: what a run of any length keeps of
+ *  its steps, the NEES of each (for its median) and otherwise constant memory. */
 class RunMetricsAccumulator
 {
 public:
@@ -147,8 +161,10 @@ private:
     Settling m_convergence, m_recovery;
     RunMetrics m_m;
     double m_firstT = 0, m_lastT = 0, m_sum2 = 0, m_updates = 0, m_particleUpdates = 0;
-    double m_neesSum = 0;
-    size_t m_neesCount = 0, m_neesInside = 0;
+    double m_neesSum = 0, m_neesWellConditionedSum = 0;
+    size_t m_neesCount = 0, m_neesInside = 0, m_neesWellConditioned = 0;
+    /** Every NEES, for the median: the one thing kept per step (8 bytes). */
+    std::vector<double> m_nees;
     bool m_any = false;
 };
 
