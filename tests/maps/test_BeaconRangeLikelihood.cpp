@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <mrpt/maps/CBeaconMap.h>
 #include <mrpt/maps/CMultiMetricMap.h>
+#include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3D.h>
@@ -256,4 +257,24 @@ TEST(BeaconRangeLikelihood, FrameLikelihoodWithManyBeaconsIsMrpts)
             ASSERT_TRUE(sameBits(out[i], mrpt)) << i;
         }
     }
+}
+
+TEST(BeaconRangeLikelihood, OnlyBeaconRangesCountAsUsedByABeaconMap)
+{
+    // A beacon map scores beacon ranges alone: a sonar scan beside them is skipped (no map
+    // scores it), as with a semantic map.
+    auto multi = mrpt::maps::CMultiMetricMap::Create();
+    multi->maps.push_back(paperBeacons(0));
+    mrpt::obs::CSensoryFrame sf;
+    auto scan = mrpt::obs::CObservation2DRangeScan::Create();
+    scan->resizeScan(3);
+    sf.insert(scan);
+    sf.insert(paperRanges());
+    const std::vector<mrpt::math::TPose2D> poses = {{20, 20, 0}};
+    std::vector<double> out(1);
+    semloc::ParallelExecutor executor(1);
+    semloc::SensoryFrameLikelihood lik(*multi);
+    lik.evaluate(sf, poses.data(), poses.size(), out.data(), executor);
+    EXPECT_EQ(lik.stats().observations_used, 1u);
+    EXPECT_EQ(lik.stats().observations_skipped, 1u);
 }

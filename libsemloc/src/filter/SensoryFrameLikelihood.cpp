@@ -78,6 +78,17 @@ bool isBeaconRanges(const mrpt::obs::CObservation& obs)
     return typeid(obs) == typeid(mrpt::obs::CObservationBeaconRanges);
 }
 
+/** Whether `map` scores `obs` at all: CBeaconMap says it can score any observation, and
+ *  scores (adds anything but 0 for) beacon ranges only. */
+bool scores(const mrpt::maps::CMetricMap& map, const mrpt::obs::CObservation& obs)
+{
+    if (typeid(map) == typeid(mrpt::maps::CBeaconMap))
+    {
+        return isBeaconRanges(obs);
+    }
+    return map.canComputeObservationLikelihood(obs);
+}
+
 bool isThreadSafeGrid(const COccupancyGridMap2D& g)
 {
     // These two methods only read the grid (the likelihood field through its cache, filled
@@ -209,7 +220,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
         const CSemanticMap* checkedBy = nullptr;
         for (const auto* map : m_maps)
         {
-            usable = usable || map->canComputeObservationLikelihood(*o);
+            usable = usable || scores(*map, *o);
             Path path = m_enabled ? choosePath(*o, *map) : Path::Zero;
             if (path == Path::Model && !checkedBy &&
                 dynamic_cast<const CObservationSemantic*>(o.get()))

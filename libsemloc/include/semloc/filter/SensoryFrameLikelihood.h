@@ -60,7 +60,8 @@ public:
     /** What the evaluated frames contained (cumulative). */
     struct TStats
     {
-        /** Observations at least one map can score. */
+        /** Observations at least one map can score (canComputeObservationLikelihood; for
+         *  a CBeaconMap, beacon ranges only: it adds 0 for any other observation). */
         size_t observations_used = 0;
         /** Observations no map can score (ignored, as MRPT does). */
         size_t observations_skipped = 0;
