@@ -52,12 +52,18 @@ double positionCell(const CsvTable& t, size_t row, const std::string& col)
 
 long integerCell(const CsvTable& t, size_t row, const std::string& col, long lo, long hi)
 {
+    // strtod would read 0x10 and 1e3 as 16 and 1000: an id is decimal digits.
+    const std::string text = t.text(row, col);
     const double v = t.number(row, col);
-    if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
+    const size_t sign = text[0] == '-' ? 1 : 0;
+    const bool digits = text.size() > sign && text.size() <= sign + 10 &&
+                        std::all_of(text.begin() + static_cast<long>(sign), text.end(),
+                                    [](char c) { return c >= '0' && c <= '9'; });
+    if (!digits || v < static_cast<double>(lo) || v > static_cast<double>(hi))
     {
         t.fail(row, col,
-               "'" + shownValue(t.text(row, col)) +
-                   mrpt::format("' is not an integer in [%ld, %ld]", lo, hi));
+               "'" + shownValue(text) +
+                   mrpt::format("' is not an integer of decimal digits in [%ld, %ld]", lo, hi));
     }
     return static_cast<long>(v);
 }

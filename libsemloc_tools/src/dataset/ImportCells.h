@@ -16,7 +16,8 @@ double boundedCell(const CsvTable& t, size_t row, const std::string& col, double
                    const char* unit);
 /** A position cell: within the world's bound, +-1e7 m. */
 double positionCell(const CsvTable& t, size_t row, const std::string& col);
-/** A cell that must be a whole number in [lo, hi]. */
+/** An id cell: decimal digits (a leading '-' allowed), a whole number in [lo, hi]; `0x10`,
+ *  `1e3`, `+5` or `16.0`, which read as numbers, are refused. */
 long integerCell(const CsvTable& t, size_t row, const std::string& col, long lo, long hi);
 /** The table of the file at `path`, or of `in` (standing for `path` in messages) if given. */
 CsvTable openTable(std::istream* in, const std::string& path,

@@ -84,15 +84,21 @@ void rowNumbers(const std::string& path, size_t n, const std::vector<std::string
     }
 }
 
-/** A landmark id: the last column, a whole number in [0, 2e9]. */
-int landmarkId(const std::string& path, size_t n, double id)
+/** A landmark id: decimal digits (as simul-landmarks writes it) of a value in [0, 2e9];
+ *  `0x10`, `1e3` or `16.0`, which read as numbers, are refused. */
+int landmarkId(const std::string& path, size_t n, const std::string& word)
 {
-    if (id != std::floor(id) || id < 0 || id > 2e9)
+    const bool digits =
+        !word.empty() && word.size() <= 10 &&
+        std::all_of(word.begin(), word.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (!digits || std::stoll(word) > 2000000000LL)
     {
         THROW_EXCEPTION(
-            mrpt::format("'%s' line %zu: last column must be a landmark id", path.c_str(), n));
+            mrpt::format("'%s' line %zu: last column must be a landmark id: '%s' is "
+                         "not an integer of decimal digits in [0, 2000000000]",
+                         path.c_str(), n, shownValue(word).c_str()));
     }
-    return static_cast<int>(id);
+    return static_cast<int>(std::stoll(word));
 }
 
 void checkLabel(const std::string& label)
@@ -245,7 +251,7 @@ LandmarkSet LandmarkImport::readLandmarkSet(const std::string& path, const std::
                [&](size_t n, const std::vector<std::string>& words)
                {
                    rowNumbers(path, n, words, 4, cols);
-                   const int id = landmarkId(path, n, cols.back());
+                   const int id = landmarkId(path, n, words.back());
                    hasZero |= id == 0;
                    out.add(id, label, cols[0], cols[1], cols[2]);
                });

@@ -37,8 +37,10 @@ public:
     static size_t convertRawlog(mrpt::obs::CRawlog& log, const std::string& label);
 
     /** Reads simul-landmarks' landmark file (rows `x y z ... id`, the id in the last
-     *  column) into point objects, one row in memory at a time. Throws naming the file and
-     *  line on a malformed row, and "--label: ..." for a label checkOptions() refuses. */
+     *  column: decimal digits, as simul-landmarks writes it; `0x10` or `1e3`, which read as
+     *  numbers, are refused) into point objects, one row in memory at a time. Throws naming
+     *  the file and line on a malformed row, and "--label: ..." for a label checkOptions()
+     *  refuses. */
     static std::vector<WorldObject> readLandmarks(const std::string& path,
                                                   const std::string& label);
     /** readLandmarks() into a LandmarkSet (40 bytes a landmark; the file is read twice, its
