@@ -1,12 +1,12 @@
 #!/usr/bin/env bash
 # What large maps cost the tools (docs/performance.md, "Large maps"):
 #   - a beacon map of 100 000 beacons (the paper world's three and 99 997 on a 29 m grid
-#     around it, 10 m below: about 150 answer a ping within the sonar's 200 m), 10 steps of
+#     around it, 10 m below: about 155 answer a ping within the transducer's 200 m), 10 steps of
 #     config/simulate/simulate_lbl.ini localized by semantic_lbl.ini with 200 particles on one
 #     thread: the filter time per step;
 #   - a landmark map of 1 000 000 landmarks (a 4 x 4 km grid, 4 m apart) imported by
 #     semloc-import-landmarks (`x y z id` rows, 27 MB) and by semloc-import (`id,label,x,y`
-#     rows, 30 MB): the peak resident set and the wall time (/usr/bin/time -v), beside the
+#     rows, 30 MB): the peak resident set and the wall time (/usr/bin/time), beside the
 #     same imports of two landmarks (the tools' own memory).
 #   bash bench/large_maps.sh [build dir (default build)] [work dir (default /tmp/semloc_large_maps)]
 set -euo pipefail

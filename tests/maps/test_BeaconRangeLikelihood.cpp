@@ -15,6 +15,7 @@
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -32,7 +33,10 @@ using mrpt::poses::CPose3D;
 /** True when a and b are the same double, bit for bit. */
 bool sameBits(double a, double b)
 {
-    return std::memcmp(&a, &b, sizeof a) == 0;
+    uint64_t ua = 0, ub = 0;
+    std::memcpy(&ua, &a, sizeof a);
+    std::memcpy(&ub, &b, sizeof b);
+    return ua == ub;
 }
 
 CBeacon gaussBeacon(int64_t id, double x, double y, double z, double var = 1e-6)
@@ -69,9 +73,10 @@ CBeaconMap::Ptr paperBeacons(size_t far)
     map->push_back(gaussBeacon(3, 25, 55, -10));
     for (size_t k = 0; k < far; k++)
     {
+        const size_t column = k % 300, row = k / 300;
         map->push_back(gaussBeacon(static_cast<int64_t>(100 + k),
-                                   1000.0 + 30.0 * static_cast<double>(k % 300),
-                                   1000.0 + 30.0 * static_cast<double>(k / 300), -10));
+                                   1000.0 + 30.0 * static_cast<double>(column),
+                                   1000.0 + 30.0 * static_cast<double>(row), -10));
     }
     return map;
 }
