@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <set>
@@ -573,9 +574,22 @@ World World::FromText(const std::string& yamlText, const std::string& sourceName
 
 World World::FromFile(const std::string& path)
 {
-    // Read as it is parsed: a world of a million objects is never held as text.
+    std::error_code ec;
+    if (std::filesystem::is_regular_file(path, ec))
+    {
+        // Read as it is parsed: a world of a million objects is never held as text.
+        detail::FileSource source(path);
+        return detail::readWorld(source, path);
+    }
+    // A pipe or a device cannot be read twice: held as text (the errors as for a file).
     detail::FileSource source(path);
-    return detail::readWorld(source, path);
+    std::string text;
+    std::vector<char> buf(size_t{1} << 16);
+    for (size_t n; (n = source.read(buf.data(), buf.size())) > 0;)
+    {
+        text.append(buf.data(), n);
+    }
+    return FromText(text, path);
 }
 
 }  // namespace semloc
