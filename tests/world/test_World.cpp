@@ -2,9 +2,13 @@
 #include <gtest/gtest.h>
 #include <semloc/world/World.h>
 
+#include <sys/stat.h>
+
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -13,7 +17,7 @@ using semloc::World;
 
 namespace
 {
-const char* kDesignExample = R"(name: paper_50x50
+const std::string kDesignExample = R"(name: paper_50x50
 bounds: {x_min: 0, x_max: 50, y_min: 0, y_max: 50}      # metres, the area particles may occupy
 objects:
   - {id: 1, label: wellhead, shape: box, center: [7.5, 12.5], size: [2.0, 3.0], yaw_deg: 0}
@@ -153,6 +157,86 @@ TEST(World, RejectsTextThatIsNotUtf8NamingTheLine)
     EXPECT_NO_THROW(World::FromText(
         "name: dársena\n" + withObject("{id: 1, label: bolardo, shape: point, center: [5, 5]}"),
         "u.yaml"));
+}
+
+namespace
+{
+/** The error of World::FromFile(path) ("" when it loads). */
+std::string fileError(const std::string& path)
+{
+    try
+    {
+        World::FromFile(path);
+    }
+    catch (const std::exception& e)
+    {
+        return e.what();
+    }
+    return "";
+}
+}  // namespace
+
+// The reader streams a file: the UTF-8 check reads it once through (in pieces: a character
+// across two of them is whole), then the parser; a pipe, which cannot be read twice, is read
+// whole first.
+TEST(World, ReadsFilesInPiecesAndPipesWhole)
+{
+    const std::string dir = std::string(SEMLOC_TEST_OUT) + "/world_pieces";
+    std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
+    // A name whose 2-byte character straddles the reader's 64 KiB pieces.
+    std::string name = "w";
+    while (name.size() + 6 < 65535)
+    {
+        name += 'x';
+    }
+    name += "\xC3\xA1";  // á, its bytes at 65535 and 65536 of the file
+    const std::string text =
+        "name: " + name + "\n" + kDesignExample.substr(kDesignExample.find('\n') + 1);
+    std::ofstream(dir + "/big.yaml") << text;
+    ASSERT_EQ(fileError(dir + "/big.yaml"), "");
+    EXPECT_EQ(World::FromFile(dir + "/big.yaml").name, name);
+    // Bytes that are not UTF-8 at the end are found before a syntax error near the start.
+    std::ofstream(dir + "/late.yaml") << "name: [\n" << std::string(100000, '#') << "\n# \xff\n";
+    EXPECT_NE(fileError(dir + "/late.yaml").find("late.yaml': line 3: not UTF-8"),
+              std::string::npos)
+        << fileError(dir + "/late.yaml");
+    // A pipe.
+    const std::string fifo = dir + "/pipe.yaml";
+    ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+    std::thread writer([&] { std::ofstream(fifo) << kDesignExample; });
+    const std::string e = fileError(fifo);
+    writer.join();
+    EXPECT_EQ(e, "");
+}
+
+// Each element of `objects` is parsed as it is read; the checks across them (unique ids,
+// centres in bounds written after them) follow in file order: the first error is the one a
+// reading of the whole document finds.
+TEST(World, ReportsTheFirstErrorInFileOrder)
+{
+    const std::string objects =
+        "objects:\n  - {id: 1, label: a, shape: point, center: [1, 1]}\n"
+        "  - {id: 1, label: b, shape: point, center: [2, 2]}\n"
+        "  - {id: 3, label: c, shape: point, center: [99, 2]}\n"
+        "  - {id: 4, label: d, shape: cone}\n";
+    // The bounds come first in the reading, though after the objects in the file.
+    EXPECT_NE(loadError(objects + "bounds: {x_min: 0, x_max: 0, y_min: 0, y_max: 9}\n")
+                  .find("key 'bounds': empty area"),
+              std::string::npos);
+    const std::string bounds = "bounds: {x_min: 0, x_max: 9, y_min: 0, y_max: 9}\n";
+    EXPECT_NE(loadError(objects + bounds).find("objects[1] (id 1): key 'id': duplicate id 1"),
+              std::string::npos)
+        << loadError(objects + bounds);
+    const std::string unique =
+        std::string(objects).replace(objects.find("id: 1, label: b"), 5, "id: 2");
+    EXPECT_NE(loadError(unique + bounds)
+                  .find("objects[2] (id 3): key 'center': object centre is outside bounds"),
+              std::string::npos)
+        << loadError(unique + bounds);
+    const std::string inside = std::string(unique).replace(unique.find("[99, 2]"), 7, "[9, 2]");
+    EXPECT_NE(loadError(inside + bounds).find("objects[3] (id 4): key 'shape': unknown shape"),
+              std::string::npos)
+        << loadError(inside + bounds);
 }
 
 struct BadCase

@@ -21,6 +21,7 @@
 
 #include <semloc/filter/LookAlikeMemory.h>
 #include "filter/DetectorOutage.h"
+#include "maps/BeaconRangeLikelihood.h"
 
 namespace semloc
 {
@@ -72,6 +73,22 @@ size_t addObservation(double* out, const double* v, size_t m, bool first, bool l
                 : addObservationAs<false, false>(out, v, m);
 }
 
+bool isBeaconRanges(const mrpt::obs::CObservation& obs)
+{
+    return typeid(obs) == typeid(mrpt::obs::CObservationBeaconRanges);
+}
+
+/** Whether `map` scores `obs` at all: CBeaconMap says it can score any observation, and
+ *  scores (adds anything but 0 for) beacon ranges only. */
+bool scores(const mrpt::maps::CMetricMap& map, const mrpt::obs::CObservation& obs)
+{
+    if (typeid(map) == typeid(mrpt::maps::CBeaconMap))
+    {
+        return isBeaconRanges(obs);
+    }
+    return map.canComputeObservationLikelihood(obs);
+}
+
 bool isThreadSafeGrid(const COccupancyGridMap2D& g)
 {
     // These two methods only read the grid (the likelihood field through its cache, filled
@@ -114,13 +131,13 @@ SensoryFrameLikelihood::Path SensoryFrameLikelihood::choosePath(
         return model->uses(obs) ? Path::Model : Path::Zero;
     }
     // MRPT's maps: the generic call, in parallel where it only reads the map and the
-    // observation. CBeaconMap (range-only acoustic beacons, LBL) reads its beacons alone and
-    // scores CObservationBeaconRanges only (0 for any other observation, as it returns); exact
-    // types, as a subclass may keep state of its own.
+    // observation. CBeaconMap (range-only acoustic beacons, LBL) scores
+    // CObservationBeaconRanges only (0 for any other observation, as it returns), by its own
+    // terms with each range's beacon looked up once per frame (detail::BeaconRangeTerm);
+    // exact types, as a subclass may keep state of its own.
     if (typeid(map) == typeid(mrpt::maps::CBeaconMap))
     {
-        return typeid(obs) == typeid(mrpt::obs::CObservationBeaconRanges) ? Path::GenericParallel
-                                                                          : Path::Zero;
+        return isBeaconRanges(obs) ? Path::Beacons : Path::Zero;
     }
     if (const auto* grid = dynamic_cast<const COccupancyGridMap2D*>(&map);
         grid && isThreadSafeGrid(*grid))
@@ -191,6 +208,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
     m_outage = TOutageTerms();
     m_outageMixed = false;
     m_withoutObjects = TWithoutObjects();
+    m_nBeaconTerms = 0;
     bool anyParallelGeneric = false;
     for (const auto& o : sf)
     {
@@ -202,8 +220,8 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
         const CSemanticMap* checkedBy = nullptr;
         for (const auto* map : m_maps)
         {
-            usable = usable || map->canComputeObservationLikelihood(*o);
-            const Path path = m_enabled ? choosePath(*o, *map) : Path::Zero;
+            usable = usable || scores(*map, *o);
+            Path path = m_enabled ? choosePath(*o, *map) : Path::Zero;
             if (path == Path::Model && !checkedBy &&
                 dynamic_cast<const CObservationSemantic*>(o.get()))
             {
@@ -218,6 +236,11 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
             t.map = map;
             t.model = dynamic_cast<const BatchLikelihood*>(map);
             t.semantic = path == Path::Model ? dynamic_cast<const CSemanticMap*>(map) : nullptr;
+            if (path == Path::Beacons)
+            {
+                t.beacons = planBeacons(*o, *map);
+                path = t.beacons < 0 ? Path::GenericParallel : path;
+            }
             t.path = path;
             t.firstOfObservation = first;
             first = false;
@@ -248,6 +271,33 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
         prepare(executor);
     }
     return m_nSerial == 0 && !anyParallelGeneric;
+}
+
+int SensoryFrameLikelihood::planBeacons(const mrpt::obs::CObservation& obs,
+                                        const mrpt::maps::CMetricMap& map)
+{
+    const auto& beacons = static_cast<const mrpt::maps::CBeaconMap&>(map);
+    auto it = std::find_if(m_beaconIndexes.begin(), m_beaconIndexes.end(),
+                           [&](const auto& m) { return m.first == &beacons; });
+    if (it == m_beaconIndexes.end())
+    {
+        it = m_beaconIndexes.emplace(m_beaconIndexes.end(), &beacons, nullptr);
+    }
+    if (!it->second || !it->second->matches(beacons))
+    {
+        it->second = std::make_unique<detail::BeaconIdIndex>(beacons);  // built, or rebuilt
+    }
+    if (m_beaconTerms.size() <= m_nBeaconTerms)
+    {
+        m_beaconTerms.push_back(std::make_unique<detail::BeaconRangeTerm>());
+    }
+    auto& term = *m_beaconTerms[m_nBeaconTerms];
+    if (!term.plan(beacons, *it->second,
+                   static_cast<const mrpt::obs::CObservationBeaconRanges&>(obs)))
+    {
+        return -1;
+    }
+    return static_cast<int>(m_nBeaconTerms++);
 }
 
 bool SensoryFrameLikelihood::planOutage(const Term& t)
@@ -346,6 +396,15 @@ void SensoryFrameLikelihood::evaluateTerm(const Term& t, const TPose2D* poses, s
             }
             t.model->logLikelihoods(*t.obs, poses + b, m, term);
             break;
+        case Path::Beacons:
+        {
+            const auto& beacons = *m_beaconTerms[static_cast<size_t>(t.beacons)];
+            for (size_t i = 0; i < m; i++)
+            {
+                term[i] = beacons.logLikelihood(mrptPose(poses[b + i]));
+            }
+            break;
+        }
         case Path::GenericParallel:
             for (size_t i = 0; i < m; i++)
             {

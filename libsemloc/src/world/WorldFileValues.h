@@ -7,8 +7,13 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/math/TPoint2D.h>
 
+#include <algorithm>
+#include <cstddef>
+#include <limits>
 #include <set>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace semloc::detail
 {
@@ -54,6 +59,30 @@ const WorldNode& requireKey(const WorldMap& m, const std::string& key, const Whe
 const WorldNode* findKey(const WorldMap& m, const std::string& key);
 /** Fails on the first key of `m` (in the map's order) that is not in `allowed`. */
 void checkKeys(const WorldMap& m, const std::set<std::string>& allowed, const Where& w);
+
+/** Index of the first element whose id an earlier element has (SIZE_MAX if none): the
+ *  duplicates a set of ids filled in file order finds first, in memory for 16 bytes an
+ *  element. */
+template <typename Elements>
+size_t firstRepeatedId(const Elements& elements)
+{
+    std::vector<std::pair<int, size_t>> byId;
+    byId.reserve(elements.size());
+    for (size_t i = 0; i < elements.size(); i++)
+    {
+        byId.emplace_back(elements[i].id, i);
+    }
+    std::sort(byId.begin(), byId.end());
+    size_t first = std::numeric_limits<size_t>::max();
+    for (size_t k = 1; k < byId.size(); k++)
+    {
+        if (byId[k].first == byId[k - 1].first)
+        {
+            first = std::min(first, byId[k].second);
+        }
+    }
+    return first;
+}
 
 /** `[x, y]` of `p`, each the shortest text that reads back as it. */
 std::string pointText(const mrpt::math::TPoint2D& p);

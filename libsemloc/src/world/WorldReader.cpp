@@ -8,12 +8,17 @@
 
 #include <algorithm>
 #include <cmath>
+#include <exception>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <set>
-#include <sstream>
+#include <utility>
+#include <vector>
 
 #include "world/ObjectShape.h"
 #include "world/WorldFileValues.h"
+#include "world/WorldStream.h"
 #include "world/YamlSyntax.h"
 
 namespace semloc
@@ -31,37 +36,6 @@ using detail::Where;
 using mrpt::math::TPoint2D;
 using node_t = detail::WorldNode;
 using map_t = detail::WorldMap;
-
-/** 1-based line of the first byte sequence that is not UTF-8 (overlong forms and surrogates
- *  are not told apart), or 0 if there is none. YAML text must be Unicode, and libfyaml (MRPT's
- *  YAML parser) loops forever on some invalid bytes (found by tests/fuzz/fuzz_world). */
-size_t firstNonUtf8Line(const std::string& text)
-{
-    size_t line = 1;
-    for (size_t i = 0; i < text.size();)
-    {
-        const auto c = static_cast<unsigned char>(text[i]);
-        const size_t len = c < 0x80           ? 1
-                           : (c >> 5) == 0x6  ? 2
-                           : (c >> 4) == 0xE  ? 3
-                           : (c >> 3) == 0x1E ? 4
-                                              : 0;
-        if (len == 0 || i + len > text.size())
-        {
-            return line;
-        }
-        for (size_t k = 1; k < len; k++)
-        {
-            if ((static_cast<unsigned char>(text[i + k]) >> 6) != 0x2)
-            {
-                return line;
-            }
-        }
-        line += c == '\n' ? 1 : 0;
-        i += len;
-    }
-    return 0;
-}
 
 /** A polygon's area centroid; fails if it is self-intersecting or has zero area. */
 void finishPolygon(WorldObject& o, const Where& w)
@@ -302,38 +276,6 @@ WorldBounds readBounds(const node_t& b, const std::string& file, const Where& to
     return bounds;
 }
 
-/** The objects, in file order, into `world` (whose bounds are read): unique ids, centres
- *  inside the bounds. */
-void readObjects(const node_t& objs, const std::string& file, const Where& top, World& world)
-{
-    if (objs.isNullNode())
-    {
-        return;  // "objects:" with nothing after it: an empty world is allowed.
-    }
-    if (!objs.isSequence())
-    {
-        top.fail("objects", "expected a list of objects");
-    }
-    std::set<int> ids;
-    size_t i = 0;
-    for (const auto& on : objs.asSequence())
-    {
-        WorldObject o = parseObject(on, i, file);
-        const Where w{file, "objects[" + std::to_string(i) + "] (id " + std::to_string(o.id) + ")"};
-        if (!ids.insert(o.id).second)
-        {
-            w.fail("id", "duplicate id " + std::to_string(o.id));
-        }
-        if (!world.bounds.contains(o.center.x, o.center.y))
-        {
-            w.fail(o.shape == ShapeType::Polygon ? "points" : "center",
-                   "object centre is outside bounds");
-        }
-        world.objects.push_back(std::move(o));
-        i++;
-    }
-}
-
 /** beacons[index]: `id` (a non-negative integer), `x`, `y`, optional `z`. */
 WorldBeacon parseBeacon(const node_t& n, size_t index, const std::string& file)
 {
@@ -360,9 +302,116 @@ WorldBeacon parseBeacon(const node_t& n, size_t index, const std::string& file)
     return b;
 }
 
+/** What the checks of the objects need of one (with a sink, which takes the object). */
+struct PlacedObject
+{
+    int id = 0;
+    ShapeType shape = ShapeType::Point;
+    TPoint2D center{0, 0};
+};
+
+/** The elements of `objects:` and `beacons:`, parsed one by one as the YAML parser hands them
+ *  over: the parsed ones in file order, and the first that failed (its exception; those after
+ *  it are not parsed). The checks that span elements (unique ids, centres in the bounds,
+ *  which may come later in the file) are made when the whole file is read, in file order, so
+ *  the first error is the one a whole-document reading finds. */
+struct Streamed
+{
+    Streamed(const std::string& f, const detail::ObjectSink* s) : file(f), sink(s) {}
+
+    const std::string& file;
+    const detail::ObjectSink* sink = nullptr;
+    std::vector<WorldObject> objects;  // without a sink
+    std::vector<PlacedObject> placed;  // with a sink
+    size_t objectCount = 0;
+    std::exception_ptr objectError;  // objects[objectCount]'s
+    std::vector<WorldBeacon> beacons;
+    std::exception_ptr beaconError;  // beacons[beacons.size()]'s
+
+    void take(const std::string& key, size_t index, const node_t& n)
+    {
+        try
+        {
+            if (key == "beacons" && !beaconError)
+            {
+                beacons.push_back(parseBeacon(n, index, file));
+            }
+            else if (key == "objects" && !objectError)
+            {
+                takeObject(parseObject(n, index, file), index);
+            }
+        }
+        catch (...)
+        {
+            (key == "beacons" ? beaconError : objectError) = std::current_exception();
+        }
+    }
+
+    void takeObject(WorldObject&& o, size_t index)
+    {
+        objectCount++;
+        if (!sink)
+        {
+            objects.push_back(std::move(o));
+            return;
+        }
+        placed.push_back({o.id, o.shape, o.center});
+        (*sink)(std::move(o), index);
+    }
+};
+
+/** The streamed objects' checks in file order (the first failing parse last of all, where it
+ *  stopped): unique ids, centres inside the bounds. */
+template <typename Elements>
+void checkObjects(const Elements& objects, const Streamed& st, const World& world)
+{
+    const size_t repeated = detail::firstRepeatedId(objects);
+    for (size_t i = 0; i < objects.size(); i++)
+    {
+        const auto& o = objects[i];
+        const Where w{st.file,
+                      "objects[" + std::to_string(i) + "] (id " + std::to_string(o.id) + ")"};
+        if (i == repeated)
+        {
+            w.fail("id", "duplicate id " + std::to_string(o.id));
+        }
+        if (!world.bounds.contains(o.center.x, o.center.y))
+        {
+            w.fail(o.shape == ShapeType::Polygon ? "points" : "center",
+                   "object centre is outside bounds");
+        }
+    }
+    if (st.objectError)
+    {
+        std::rethrow_exception(st.objectError);
+    }
+}
+
+/** The objects, in file order, into `world` (whose bounds are read): unique ids, centres
+ *  inside the bounds (`objs` is the document's `objects:`, its elements in `st`). */
+void readObjects(const node_t& objs, const Where& top, World& world, Streamed& st)
+{
+    if (objs.isNullNode())
+    {
+        return;  // "objects:" with nothing after it: an empty world is allowed.
+    }
+    if (!objs.isSequence())
+    {
+        top.fail("objects", "expected a list of objects");
+    }
+    if (st.sink)
+    {
+        checkObjects(st.placed, st, world);
+        return;
+    }
+    checkObjects(st.objects, st, world);
+    world.objects = std::move(st.objects);
+}
+
 /** The optional acoustic beacons, in file order, with unique ids (anywhere: a beacon may be
- *  moored outside the area particles may occupy). */
-std::vector<WorldBeacon> readBeacons(const node_t& list, const std::string& file, const Where& top)
+ *  moored outside the area particles may occupy); `list` is the document's `beacons:`, its
+ *  elements in `st`. */
+std::vector<WorldBeacon> readBeacons(const node_t& list, const Where& top, Streamed& st)
 {
     std::vector<WorldBeacon> beacons;
     if (list.isNullNode())
@@ -373,19 +422,21 @@ std::vector<WorldBeacon> readBeacons(const node_t& list, const std::string& file
     {
         top.fail("beacons", "expected a list of beacons [{id: ..., x: ..., y: ...}, ...]");
     }
-    std::set<int> ids;
-    for (const auto& n : list.asSequence())
+    const size_t repeated = detail::firstRepeatedId(st.beacons);
+    for (size_t i = 0; i < st.beacons.size(); i++)
     {
-        const size_t i = beacons.size();
-        beacons.push_back(parseBeacon(n, i, file));
-        if (!ids.insert(beacons.back().id).second)
+        if (i == repeated)
         {
-            const Where w{file, "beacons[" + std::to_string(i) + "] (id " +
-                                    std::to_string(beacons.back().id) + ")"};
-            w.fail("id", "duplicate id " + std::to_string(beacons.back().id));
+            const Where w{st.file, "beacons[" + std::to_string(i) + "] (id " +
+                                       std::to_string(st.beacons[i].id) + ")"};
+            w.fail("id", "duplicate id " + std::to_string(st.beacons[i].id));
         }
     }
-    return beacons;
+    if (st.beaconError)
+    {
+        std::rethrow_exception(st.beaconError);
+    }
+    return std::move(st.beacons);
 }
 
 /** The simulated vehicle follows the waypoints: a path of zero length, or one through an
@@ -461,7 +512,7 @@ WorldTrajectory readTrajectory(const node_t& t, const std::string& file, const W
     return tr;
 }
 
-World parseWorld(const node_t& doc, const std::string& file)
+World parseWorld(const node_t& doc, const std::string& file, Streamed& st)
 {
     const Where top{file, ""};
     if (!doc.isMap())
@@ -477,37 +528,58 @@ World parseWorld(const node_t& doc, const std::string& file)
         world.name = scalarText(*n, top, "name");
     }
     world.bounds = readBounds(requireKey(m, "bounds", top), file, top);
-    readObjects(requireKey(m, "objects", top), file, top, world);
+    readObjects(requireKey(m, "objects", top), top, world, st);
     if (const auto* b = findKey(m, "beacons"))
     {
-        world.beacons = readBeacons(*b, file, top);
+        world.beacons = readBeacons(*b, top, st);
     }
     if (const auto* t = findKey(m, "trajectory"))
     {
+        ASSERTMSG_(!st.sink, "a world with a trajectory is read with its objects");
         world.trajectory = readTrajectory(*t, file, top, world);
     }
     return world;
 }
 }  // namespace
 
-World World::FromText(const std::string& yamlText, const std::string& sourceName)
+namespace detail
 {
-    if (const size_t line = firstNonUtf8Line(yamlText))
+World readWorld(TextSource& source, const std::string& sourceName, const ObjectSink* sink)
+{
+    if (const size_t line = detail::firstNonUtf8Line(source))
     {
         THROW_EXCEPTION(
             mrpt::format("world file '%s': line %zu: not UTF-8 text", sourceName.c_str(), line));
     }
+    source.rewind();
+    Streamed st{sourceName, sink};
+    YamlElementSink elements;
+    elements.keys = {"objects", "beacons"};
+    elements.take = [&](const std::string& key, size_t index, const node_t& n)
+    { st.take(key, index, n); };
     node_t doc;
-    if (const std::string err = detail::parseYaml(yamlText, doc); !err.empty())
+    const YamlRead read = [&](char* buf, size_t n) { return source.read(buf, n); };
+    if (const std::string err = detail::parseYaml(read, doc, &elements); !err.empty())
     {
         THROW_EXCEPTION("world file '" + sourceName + "': " + err);
     }
-    return parseWorld(doc, sourceName);
+    return parseWorld(doc, sourceName, st);
+}
+}  // namespace detail
+
+World World::FromText(const std::string& yamlText, const std::string& sourceName)
+{
+    detail::StringSource source(yamlText);
+    return detail::readWorld(source, sourceName);
 }
 
 World World::FromFile(const std::string& path)
 {
-    return FromText(readInputFile(path, "world file", InputKind::World), path);
+    // A regular file within the cap (checkInputFile), read as it is parsed: a world of a
+    // million objects is never held as text.
+    (void)checkInputFile(path, "world file", InputKind::World);
+    detail::FileSource source(path);
+    return detail::readWorld(source, path);
 }
 
 }  // namespace semloc

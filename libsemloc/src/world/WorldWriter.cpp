@@ -5,6 +5,7 @@
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/world/World.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -12,9 +13,11 @@
 #include <fstream>
 #include <ostream>
 #include <sstream>
+#include <vector>
 
 #include "io/Text.h"
 #include "world/WorldFileValues.h"
+#include "world/WorldStream.h"
 
 namespace semloc
 {
@@ -140,81 +143,175 @@ void writeObject(std::ostream& o, const WorldObject& ob)
     }
     o << "}\n";
 }
-}  // namespace
 
-std::string World::toYamlText() const
+/** The lines before the `objects` objects: name, bounds, `objects:`. */
+void writeHeader(std::ostream& o, const World& w, size_t objects)
 {
-    std::ostringstream o;
-    if (!name.empty())
+    if (!w.name.empty())
     {
-        o << "name: " << yamlString(name) << "\n";
+        o << "name: " << yamlString(w.name) << "\n";
     }
-    o << "bounds: {x_min: " << num(bounds.x_min) << ", x_max: " << num(bounds.x_max)
-      << ", y_min: " << num(bounds.y_min) << ", y_max: " << num(bounds.y_max) << "}\n";
-    o << "objects:" << (objects.empty() ? " []" : "") << "\n";
-    for (const auto& ob : objects)
-    {
-        writeObject(o, ob);
-    }
-    if (!beacons.empty())
-    {
-        o << "beacons:\n";
-        for (const auto& b : beacons)
-        {
-            o << "  - {id: " << b.id << ", x: " << num(b.x) << ", y: " << num(b.y);
-            if (b.z != 0)
-            {
-                o << ", z: " << num(b.z);
-            }
-            o << "}\n";
-        }
-    }
-    if (trajectory)
-    {
-        o << "trajectory:\n  speed_mps: " << num(trajectory->speed_mps) << "\n  waypoints: [";
-        for (size_t i = 0; i < trajectory->waypoints.size(); i++)
-        {
-            o << (i ? ", " : "") << pt(trajectory->waypoints[i]);
-        }
-        o << "]\n";
-    }
-    return o.str();
+    o << "bounds: {x_min: " << num(w.bounds.x_min) << ", x_max: " << num(w.bounds.x_max)
+      << ", y_min: " << num(w.bounds.y_min) << ", y_max: " << num(w.bounds.y_max) << "}\n";
+    o << "objects:" << (objects == 0 ? " []" : "") << "\n";
 }
 
-void World::saveToFile(const std::string& path) const
+void writeBeacon(std::ostream& o, const WorldBeacon& b)
+{
+    o << "  - {id: " << b.id << ", x: " << num(b.x) << ", y: " << num(b.y);
+    if (b.z != 0)
+    {
+        o << ", z: " << num(b.z);
+    }
+    o << "}\n";
+}
+
+void writeTrajectory(std::ostream& o, const WorldTrajectory& t)
+{
+    o << "trajectory:\n  speed_mps: " << num(t.speed_mps) << "\n  waypoints: [";
+    for (size_t i = 0; i < t.waypoints.size(); i++)
+    {
+        o << (i ? ", " : "") << pt(t.waypoints[i]);
+    }
+    o << "]\n";
+}
+
+/** Bytes of text WorldTextSource makes at a time (whole lines). */
+constexpr size_t kTextPiece = size_t{1} << 16;
+
+/** `what` of a read-back that failed, without the "world file 'PATH': " the reader puts
+ *  first. */
+std::string readBackError(const std::exception& e, const std::string& path)
+{
+    std::string why = errorMessage(e);
+    const std::string prefix = "world file '" + path + "': ";
+    if (why.compare(0, prefix.size(), prefix) == 0)
+    {
+        why.erase(0, prefix.size());
+    }
+    return why;
+}
+}  // namespace
+
+namespace detail
+{
+bool WorldTextSource::nextLines()
+{
+    std::ostringstream o;
+    while (static_cast<size_t>(o.tellp()) < kTextPiece && m_part < 4)
+    {
+        if (m_part == 0)
+        {
+            writeHeader(o, m_world, objectCount());
+            m_part = 1;
+        }
+        else if (m_part == 1 && m_item < objectCount())
+        {
+            writeObject(o, m_objects ? m_objects->at(m_item) : m_world.objects[m_item]);
+            m_item++;
+        }
+        else if (m_part == 1)
+        {
+            o << (m_world.beacons.empty() ? "" : "beacons:\n");
+            m_part = 2;
+            m_item = 0;
+        }
+        else if (m_part == 2 && m_item < m_world.beacons.size())
+        {
+            writeBeacon(o, m_world.beacons[m_item++]);
+        }
+        else
+        {
+            if (m_part == 2 && m_world.trajectory)
+            {
+                writeTrajectory(o, *m_world.trajectory);
+            }
+            m_part = 4;
+        }
+    }
+    m_line = o.str();
+    m_at = 0;
+    return !m_line.empty();
+}
+
+size_t WorldTextSource::objectCount() const
+{
+    return m_objects ? m_objects->count : m_world.objects.size();
+}
+
+size_t WorldTextSource::read(char* buf, size_t n)
+{
+    if (m_at == m_line.size() && !nextLines())
+    {
+        return 0;
+    }
+    const size_t k = std::min(n, m_line.size() - m_at);
+    std::copy_n(m_line.data() + m_at, k, buf);
+    m_at += k;
+    return k;
+}
+
+void WorldTextSource::rewind()
+{
+    m_part = 0;
+    m_item = 0;
+    m_line.clear();
+    m_at = 0;
+}
+
+void checkReadsBack(const World& world, const std::string& sourceName,
+                    const WorldObjectList* objects)
 {
     // What semloc writes, semloc reads back: the text must load, with the same name and the
     // same objects (ids, labels, shapes) and beacons (ids; numbers are written exactly).
-    const std::string text = toYamlText();
-    try
+    ASSERTMSG_(!objects || world.objects.empty(), "a world with objects and an object list");
+    WorldTextSource text(world, objects);
+    const size_t count = objects ? objects->count : world.objects.size();
+    bool same = true;
+    size_t read = 0;
+    const ObjectSink compare = [&](WorldObject&& b, size_t i)
     {
-        const World back = World::FromText(text, path);
-        bool same = back.name == name && back.objects.size() == objects.size() &&
-                    back.beacons.size() == beacons.size();
-        for (size_t i = 0; same && i < beacons.size(); i++)
+        if (same && i < count)
         {
-            same = back.beacons[i].id == beacons[i].id;
-        }
-        for (size_t i = 0; same && i < objects.size(); i++)
-        {
-            const auto &a = objects[i], &b = back.objects[i];
+            const WorldObject a = objects ? objects->at(i) : world.objects[i];
             same = a.id == b.id && a.label == b.label && a.shape == b.shape;
         }
-        if (!same)
-        {
-            THROW_EXCEPTION("it reads back as another world");
-        }
+        same = same && i < count;
+        read++;
+    };
+    // A trajectory's check needs the objects: such a world (a simulator's, small) is read
+    // back whole.
+    const World back = readWorld(text, sourceName, world.trajectory ? nullptr : &compare);
+    for (size_t i = 0; world.trajectory && i < back.objects.size(); i++)
+    {
+        compare(WorldObject(back.objects[i]), i);
+    }
+    same = same && back.name == world.name && read == count &&
+           back.beacons.size() == world.beacons.size();
+    for (size_t i = 0; same && i < world.beacons.size(); i++)
+    {
+        same = back.beacons[i].id == world.beacons[i].id;
+    }
+    if (!same)
+    {
+        THROW_EXCEPTION("it reads back as another world");
+    }
+}
+}  // namespace detail
+
+namespace
+{
+/** World::saveToFile(): read back as it is made, then written as it is made. */
+void saveWorldFile(const World& w, const std::string& path, const WorldObjectList* objects)
+{
+    try
+    {
+        detail::checkReadsBack(w, path, objects);
     }
     catch (const std::exception& e)
     {
-        std::string why = errorMessage(e);
-        const std::string prefix = "world file '" + path + "': ";
-        if (why.compare(0, prefix.size(), prefix) == 0)
-        {
-            why.erase(0, prefix.size());
-        }
         THROW_EXCEPTION("not writing world file '" + path +
-                        "': semloc could not read it back: " + why);
+                        "': semloc could not read it back: " + readBackError(e, path));
     }
     errno = 0;
     std::ofstream f(path, std::ios::binary);
@@ -222,13 +319,43 @@ void World::saveToFile(const std::string& path) const
     {
         THROW_EXCEPTION("cannot write world file '" + path + "': " + std::strerror(errno));
     }
-    f << text;
+    detail::WorldTextSource lines(w, objects);
+    std::vector<char> buf(kTextPiece);
+    for (size_t n; f && (n = lines.read(buf.data(), buf.size())) > 0;)
+    {
+        f.write(buf.data(), static_cast<std::streamsize>(n));
+    }
     f.close();
     if (!f)
     {
         THROW_EXCEPTION("cannot write world file '" + path +
                         "': " + (errno ? std::strerror(errno) : "write error"));
     }
+}
+}  // namespace
+
+std::string World::toYamlText() const
+{
+    detail::WorldTextSource lines(*this);
+    std::string text;
+    char buf[kTextPiece];
+    for (size_t n; (n = lines.read(buf, sizeof buf)) > 0;)
+    {
+        text.append(buf, n);
+    }
+    return text;
+}
+
+void World::saveToFile(const std::string& path) const
+{
+    saveWorldFile(*this, path, nullptr);
+}
+
+void World::saveToFile(const std::string& path, const WorldObjectList& list) const
+{
+    ASSERTMSG_(objects.empty(),
+               "World::saveToFile: the world has objects of its own and an object list");
+    saveWorldFile(*this, path, &list);
 }
 
 }  // namespace semloc

@@ -3,6 +3,8 @@
 
 #include <yaml.h>
 
+#include <algorithm>
+#include <exception>
 #include <memory>
 #include <set>
 #include <vector>
@@ -28,6 +30,9 @@ struct Open
     bool haveKey = false;
     std::string key;
     std::map<std::string, size_t> keyLine;  // each key and its 0-based line
+    /** A sequence whose elements go to the sink (under this key), and how many went. */
+    const std::string* streamedKey = nullptr;
+    size_t streamed = 0;
 };
 
 /** `n` with the position of the event that starts it. */
@@ -57,13 +62,12 @@ node_t scalarNode(const yaml_event_t& e)
 class Reader
 {
 public:
-    explicit Reader(const std::string& text)
+    Reader(const YamlRead& read, const YamlElementSink* sink) : m_read(read), m_sink(sink)
     {
         m_ok = yaml_parser_initialize(&m_parser) != 0;
         if (m_ok)
         {
-            yaml_parser_set_input_string(
-                &m_parser, reinterpret_cast<const unsigned char*>(text.data()), text.size());
+            yaml_parser_set_input(&m_parser, &Reader::input, this);
         }
     }
     ~Reader()
@@ -92,6 +96,10 @@ public:
         {
             if (!next())
             {
+                if (m_readError)
+                {
+                    std::rethrow_exception(m_readError);
+                }
                 return syntaxError();
             }
             if (m_event.type == YAML_STREAM_END_EVENT)
@@ -106,6 +114,23 @@ public:
     }
 
 private:
+    /** libyaml's read handler: the next bytes from m_read (1: read, 0: failed). */
+    static int input(void* data, unsigned char* buffer, size_t size, size_t* sizeRead)
+    {
+        auto& self = *static_cast<Reader*>(data);
+        try
+        {
+            *sizeRead = self.m_read(reinterpret_cast<char*>(buffer), size);
+            return 1;
+        }
+        catch (...)
+        {
+            self.m_readError = std::current_exception();
+            *sizeRead = 0;
+            return 0;
+        }
+    }
+
     /** The parser's error, where it is. */
     std::string syntaxError() const
     {
@@ -150,6 +175,14 @@ private:
             case YAML_SEQUENCE_END_EVENT:
             case YAML_MAPPING_END_EVENT:
                 m_open.pop_back();
+                if (!m_open.empty() && m_open.back().streamedKey)
+                {
+                    // A map or sequence of a streamed sequence is complete: handed over.
+                    Open& list = m_open.back();
+                    m_sink->take(*list.streamedKey, list.streamed++,
+                                 list.node->asSequence().back());
+                    list.node->asSequence().pop_back();
+                }
                 return {};
             default:
                 return {};
@@ -200,12 +233,26 @@ private:
             n.d.emplace<mrpt::containers::yaml::sequence_t>();
         }
         Open o;
+        o.streamedKey = e.type == YAML_SEQUENCE_START_EVENT ? streamedKey() : nullptr;
         o.node = place(marked(n, e));
         m_open.push_back(o);
         return {};
     }
 
-    /** Places a new node (a scalar, or a collection still empty) where the document is at. */
+    /** The sink's key when a sequence starting now is the value of one of its keys in the
+     *  document's top-level map, else null. */
+    const std::string* streamedKey() const
+    {
+        if (!m_sink || m_open.size() != 1 || !m_open[0].node->isMap() || !m_open[0].haveKey)
+        {
+            return nullptr;
+        }
+        const auto it = m_sink->keys.find(m_open[0].key);
+        return it == m_sink->keys.end() ? nullptr : &*it;
+    }
+
+    /** Places a new node (a scalar, or a collection still empty) where the document is at;
+     *  a scalar element of a streamed sequence goes to the sink (nullptr returned). */
     node_t* place(const node_t& n)
     {
         if (m_open.empty())
@@ -214,6 +261,11 @@ private:
             return m_doc;
         }
         Open& parent = m_open.back();
+        if (parent.streamedKey && !n.isMap() && !n.isSequence())
+        {
+            m_sink->take(*parent.streamedKey, parent.streamed++, n);
+            return nullptr;
+        }
         if (parent.node->isSequence())
         {
             parent.node->asSequence().push_back(n);
@@ -241,6 +293,9 @@ private:
         return true;
     }
 
+    const YamlRead& m_read;
+    const YamlElementSink* m_sink = nullptr;
+    std::exception_ptr m_readError;  // what m_read threw
     yaml_parser_t m_parser{};
     yaml_event_t m_event{};
     bool m_ok = false;
@@ -253,7 +308,20 @@ private:
 
 std::string parseYaml(const std::string& text, node_t& doc)
 {
+    size_t at = 0;
+    const YamlRead read = [&](char* buf, size_t n)
+    {
+        n = std::min(n, text.size() - at);
+        std::copy_n(text.data() + at, n, buf);
+        at += n;
+        return n;
+    };
+    return parseYaml(read, doc);
+}
+
+std::string parseYaml(const YamlRead& read, node_t& doc, const YamlElementSink* sink)
+{
     doc = node_t();
-    return Reader(text).read(doc);
+    return Reader(read, sink).read(doc);
 }
 }  // namespace semloc::detail

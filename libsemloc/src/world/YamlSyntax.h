@@ -10,6 +10,9 @@
 
 #include <mrpt/containers/yaml.h>
 
+#include <cstddef>
+#include <functional>
+#include <set>
 #include <string>
 
 namespace semloc::detail
@@ -27,4 +30,26 @@ constexpr size_t kMaxYamlDepth = 64;
  *    deeper than kMaxYamlDepth;
  *  then `doc` is unspecified. An empty text is a null document. */
 std::string parseYaml(const std::string& text, mrpt::containers::yaml::node_t& doc);
+
+/** Where parseYaml() reads its text from, in pieces: read() puts up to `n` bytes into `buf`
+ *  and returns how many (0 at the end); it may throw. */
+using YamlRead = std::function<size_t(char* buf, size_t n)>;
+
+/** The elements of the sequences under some keys of the document's top-level map, handed
+ *  over one by one as they are read instead of kept in the document (whose sequence stays
+ *  empty), so that a long list never stands as a tree of nodes: `keys` names them,
+ *  `take(key, index, node)` receives each element (with its marks) in order. `take` must not
+ *  throw. */
+struct YamlElementSink
+{
+    std::set<std::string> keys;
+    std::function<void(const std::string& key, size_t index,
+                       const mrpt::containers::yaml::node_t& node)>
+        take;
+};
+
+/** parseYaml() on the text `read` gives, the elements of `sink`'s sequences handed over to
+ *  it (none if null); an exception of `read` is thrown as it is. */
+std::string parseYaml(const YamlRead& read, mrpt::containers::yaml::node_t& doc,
+                      const YamlElementSink* sink = nullptr);
 }  // namespace semloc::detail

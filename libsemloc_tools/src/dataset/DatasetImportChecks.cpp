@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <set>
@@ -220,27 +221,50 @@ void DatasetImport::checkLandmarks(const std::vector<ImportStep>& steps,
                                    const std::vector<ImportedLandmark>& landmarks,
                                    TDatasetImportStats& stats)
 {
+    LandmarkSet set;
+    set.reserve(landmarks.size());
+    for (const auto& l : landmarks)
+    {
+        set.add(l.object.id, l.object.label, l.object.center.x, l.object.center.y);
+    }
+    checkLandmarkSet(steps, scans, set, stats);
+}
+
+void DatasetImport::checkLandmarkSet(const std::vector<ImportStep>& steps,
+                                     const std::vector<DetectionScan>& scans,
+                                     const LandmarkSet& landmarks, TDatasetImportStats& stats)
+{
     if (landmarks.empty())
     {
         return;
     }
-    std::map<int, std::string> labelOf;
-    std::set<std::string> labels;
-    for (const auto& l : landmarks)
+    // The landmarks by id (the last of an id), 8 bytes each, and their labels.
+    std::vector<std::pair<int32_t, uint32_t>> byId;
+    byId.reserve(landmarks.size());
+    for (size_t i = 0; i < landmarks.size(); i++)
     {
-        labelOf[l.object.id] = l.object.label;
-        labels.insert(l.object.label);
+        byId.emplace_back(landmarks[i].id, static_cast<uint32_t>(i));
     }
+    std::sort(byId.begin(), byId.end());
+    const std::set<std::string> labels(landmarks.labels().begin(), landmarks.labels().end());
+    auto labelOf = [&](int id) -> const std::string*
+    {
+        const auto it = std::upper_bound(byId.begin(), byId.end(),
+                                         std::make_pair(id, std::numeric_limits<uint32_t>::max()));
+        return it == byId.begin() || std::prev(it)->first != id
+                   ? nullptr
+                   : &landmarks.labelOf(std::prev(it)->second);
+    };
     DetectionKind unknown, idNotLandmark, otherLabel;
     for (const auto& s : steps)
     {
         for (const auto& d : s.scan < 0 ? std::vector<TSemanticDetection>{}
                                         : scans[static_cast<size_t>(s.scan)].detections)
         {
-            const auto it = d.object_id > 0 ? labelOf.find(d.object_id) : labelOf.end();
-            if (it != labelOf.end())
+            const std::string* label = d.object_id > 0 ? labelOf(d.object_id) : nullptr;
+            if (label != nullptr)
             {
-                if (it->second != d.label)
+                if (*label != d.label)
                 {
                     otherLabel.add(d);
                 }

@@ -17,11 +17,67 @@
 #include <vector>
 
 #include "dataset/CsvTable.h"
+#include "dataset/ImportCells.h"
 #include "io/Text.h"
 
 namespace semloc
 {
 using detail::CsvTable;
+using detail::integerCell;
+using detail::openTable;
+using detail::positionCell;
+
+namespace detail
+{
+/** A cell that must be a number within [-limit, limit] (`unit` for the message: "x 1e+308 is
+ *  beyond +-1e+07 m"). */
+double boundedCell(const CsvTable& t, size_t row, const std::string& col, double limit,
+                   const char* unit)
+{
+    const double v = t.number(row, col);
+    if (std::abs(v) > limit)
+    {
+        t.fail(row, col,
+               col + " " + detail::shortestText(v) + " is beyond +-" + detail::shortestText(limit) +
+                   " " + unit);
+    }
+    return v;
+}
+
+/** A position cell: within the world's bound, +-1e7 m. */
+double positionCell(const CsvTable& t, size_t row, const std::string& col)
+{
+    return boundedCell(t, row, col, kMaxWorldCoordinate_m, "m");
+}
+
+long integerCell(const CsvTable& t, size_t row, const std::string& col, long lo, long hi)
+{
+    // strtod would read 0x10 and 1e3 as 16 and 1000: an id is decimal digits.
+    const std::string text = t.text(row, col);
+    const double v = t.number(row, col);
+    const size_t sign = text[0] == '-' ? 1 : 0;
+    const bool digits = text.size() > sign && text.size() <= sign + 10 &&
+                        std::all_of(text.begin() + static_cast<long>(sign), text.end(),
+                                    [](char c) { return c >= '0' && c <= '9'; });
+    if (!digits || v < static_cast<double>(lo) || v > static_cast<double>(hi))
+    {
+        t.fail(row, col,
+               "'" + shownValue(text) +
+                   mrpt::format("' is not an integer of decimal digits in [%ld, %ld]", lo, hi));
+    }
+    return static_cast<long>(v);
+}
+
+/** The table of the file at `path`, or of `in` (standing for `path` in messages) if given. */
+CsvTable openTable(std::istream* in, const std::string& path,
+                   const std::vector<std::string>& required,
+                   const std::vector<std::string>& optional)
+{
+    return in != nullptr ? CsvTable::FromStream(*in, path, required, optional)
+                         : CsvTable::FromFile(path, required, optional);
+}
+
+}  // namespace detail
 
 namespace
 {
@@ -45,27 +101,6 @@ mrpt::math::TPose2D integrate(const mrpt::math::TPose2D& p, double v, double w, 
     return q;
 }
 
-/** A cell that must be a number within [-limit, limit] (`unit` for the message: "x 1e+308 is
- *  beyond +-1e+07 m"). */
-double boundedCell(const CsvTable& t, size_t row, const std::string& col, double limit,
-                   const char* unit)
-{
-    const double v = t.number(row, col);
-    if (std::abs(v) > limit)
-    {
-        t.fail(row, col,
-               col + " " + detail::shortestText(v) + " is beyond +-" + detail::shortestText(limit) +
-                   " " + unit);
-    }
-    return v;
-}
-
-/** A position cell: within the world's bound, +-1e7 m. */
-double positionCell(const CsvTable& t, size_t row, const std::string& col)
-{
-    return boundedCell(t, row, col, kMaxWorldCoordinate_m, "m");
-}
-
 /** A time cell [s]: within +-kMaxImportTime_s, else refused with the unit it looks like. */
 double timeCell(const CsvTable& t, size_t row, const std::string& col)
 {
@@ -79,19 +114,6 @@ double timeCell(const CsvTable& t, size_t row, const std::string& col)
                    "? semloc-import takes seconds (e.g. since 1970)");
     }
     return v;
-}
-
-/** A cell that must be a whole number in [lo, hi]. */
-long integerCell(const CsvTable& t, size_t row, const std::string& col, long lo, long hi)
-{
-    const double v = t.number(row, col);
-    if (v != std::floor(v) || v < static_cast<double>(lo) || v > static_cast<double>(hi))
-    {
-        t.fail(row, col,
-               "'" + shownValue(t.text(row, col)) +
-                   mrpt::format("' is not an integer in [%ld, %ld]", lo, hi));
-    }
-    return static_cast<long>(v);
 }
 
 /** One detection row (the label is not empty). */
@@ -272,15 +294,6 @@ void warnGrouping(const std::vector<DetectionScan>& scans, double window_s, size
             what.c_str(), detail::timeText(median).c_str(), w.c_str()));
     }
 }
-/** The table of the file at `path`, or of `in` (standing for `path` in messages) if given. */
-CsvTable openTable(std::istream* in, const std::string& path,
-                   const std::vector<std::string>& required,
-                   const std::vector<std::string>& optional = {})
-{
-    return in != nullptr ? CsvTable::FromStream(*in, path, required, optional)
-                         : CsvTable::FromFile(path, required, optional);
-}
-
 }  // namespace
 
 void TDatasetImportOptions::check() const
@@ -499,56 +512,6 @@ static std::vector<GroundTruthRow> groundTruthOf(std::istream* in, const std::st
     return rows;
 }
 
-static std::vector<ImportedLandmark> landmarksOf(std::istream* in, const std::string& path)
-{
-    const auto t = openTable(in, path, {"id", "label", "x", "y"}, {"sigma_x_m", "sigma_y_m"});
-    std::vector<ImportedLandmark> out;
-    std::map<long, size_t> lineOfId;
-    for (size_t r = 0; r < t.rows(); r++)
-    {
-        ImportedLandmark l;
-        const long id = integerCell(t, r, "id", 1, std::numeric_limits<int32_t>::max());
-        if (const auto it = lineOfId.find(id); it != lineOfId.end())
-        {
-            t.fail(r, "id", mrpt::format("duplicate id %ld (first on line %zu)", id, it->second));
-        }
-        lineOfId[id] = t.line(r);
-        l.object.id = static_cast<int>(id);
-        l.object.label = t.text(r, "label");
-        if (const std::string p = labelProblem(l.object.label); !p.empty())
-        {
-            t.fail(r, "label", p);
-        }
-        l.object.shape = ShapeType::Point;
-        l.object.center = {positionCell(t, r, "x"), positionCell(t, r, "y")};
-        for (auto [col, sigma] :
-             {std::pair{"sigma_x_m", &l.sigma_x_m}, {"sigma_y_m", &l.sigma_y_m}})
-        {
-            *sigma = t.numberOr(r, col, std::numeric_limits<double>::quiet_NaN());
-            if (*sigma < 0 || *sigma > kMaxWorldCoordinate_m)
-            {
-                t.fail(r, col, "a standard deviation must be in [0, 1e7] [m]");
-            }
-        }
-        const bool hasX = !std::isnan(l.sigma_x_m), hasY = !std::isnan(l.sigma_y_m);
-        if (hasX != hasY)
-        {
-            t.fail(r, hasX ? "sigma_x_m" : "sigma_y_m",
-                   std::string("given without ") + (hasX ? "sigma_y_m" : "sigma_x_m") +
-                       ": give both standard deviations or neither");
-        }
-        // The world's position uncertainty is isotropic: the one of the same total variance.
-        l.object.sigma_m =
-            hasX ? std::sqrt(0.5 * (l.sigma_x_m * l.sigma_x_m + l.sigma_y_m * l.sigma_y_m)) : 0.0;
-        out.push_back(l);
-    }
-    if (out.empty())
-    {
-        THROW_EXCEPTION("'" + path + "' holds no landmarks");
-    }
-    return out;
-}
-
 OdometryTrack DatasetImport::readOdometry(const std::string& path, TDatasetImportStats* stats)
 {
     return odometryOf(nullptr, path, stats);
@@ -567,11 +530,6 @@ std::vector<GroundTruthRow> DatasetImport::readGroundTruth(const std::string& pa
     return groundTruthOf(nullptr, path, stats);
 }
 
-std::vector<ImportedLandmark> DatasetImport::readLandmarks(const std::string& path)
-{
-    return landmarksOf(nullptr, path);
-}
-
 OdometryTrack DatasetImport::readOdometry(std::istream& in, const std::string& name)
 {
     return odometryOf(&in, name, nullptr);
@@ -586,12 +544,6 @@ std::vector<GroundTruthRow> DatasetImport::readGroundTruth(std::istream& in,
                                                            const std::string& name)
 {
     return groundTruthOf(&in, name, nullptr);
-}
-
-std::vector<ImportedLandmark> DatasetImport::readLandmarks(std::istream& in,
-                                                           const std::string& name)
-{
-    return landmarksOf(&in, name);
 }
 
 }  // namespace semloc

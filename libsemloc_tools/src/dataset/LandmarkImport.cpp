@@ -15,9 +15,12 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <sstream>
+#include <utility>
 
 #include "io/Text.h"
+#include "world/WorldStream.h"
 
 namespace semloc
 {
@@ -26,9 +29,11 @@ namespace
 /** The shortest text that reads back as `v`. */
 constexpr auto num = detail::shortestText;
 
-/** Numeric columns of each data line of a text file; `minCols` enforced per line. */
-std::vector<std::pair<size_t, std::vector<double>>> readRows(const std::string& path,
-                                                             size_t minCols)
+/** Calls `row(line, words)` for each data line of the text file `path` (blank-separated
+ *  words; blank lines and lines starting with % or # skipped), one line in memory at a time;
+ *  returns how many there were. */
+size_t forEachRow(const std::string& path,
+                  const std::function<void(size_t, const std::vector<std::string>&)>& row)
 {
     (void)checkInputFile(path, "landmark file", InputKind::Text);
     std::ifstream f(path);
@@ -36,8 +41,9 @@ std::vector<std::pair<size_t, std::vector<double>>> readRows(const std::string& 
     {
         THROW_EXCEPTION("cannot open '" + path + "' for reading");
     }
-    std::vector<std::pair<size_t, std::vector<double>>> rows;
     std::string line;
+    std::vector<std::string> words;
+    size_t rows = 0;
     for (size_t n = 1; std::getline(f, line); n++)
     {
         const auto b = line.find_first_not_of(" \t\r");
@@ -45,30 +51,56 @@ std::vector<std::pair<size_t, std::vector<double>>> readRows(const std::string& 
         {
             continue;
         }
+        words.clear();
         std::istringstream ss(line);
-        std::vector<double> cols;
-        std::string tok;
-        while (ss >> tok)
+        for (std::string w; ss >> w;)
         {
-            char* end = nullptr;
-            const double v = std::strtod(tok.c_str(), &end);
-            if (end == tok.c_str() || *end != '\0' || !std::isfinite(v))
-            {
-                THROW_EXCEPTION(mrpt::format("'%s' line %u: '%s' is not a finite number",
-                                             path.c_str(), static_cast<unsigned>(n), tok.c_str()));
-            }
-            cols.push_back(v);
+            words.push_back(std::move(w));
         }
-        if (cols.size() < minCols)
-        {
-            THROW_EXCEPTION(mrpt::format("'%s' line %u: expected at least %u columns, got %u",
-                                         path.c_str(), static_cast<unsigned>(n),
-                                         static_cast<unsigned>(minCols),
-                                         static_cast<unsigned>(cols.size())));
-        }
-        rows.emplace_back(n, std::move(cols));
+        row(n, words);
+        rows++;
     }
     return rows;
+}
+
+/** The numbers of a data line's words (each a finite number, at least `minCols`). */
+void rowNumbers(const std::string& path, size_t n, const std::vector<std::string>& words,
+                size_t minCols, std::vector<double>& cols)
+{
+    cols.clear();
+    for (const auto& w : words)
+    {
+        char* end = nullptr;
+        const double v = std::strtod(w.c_str(), &end);
+        if (end == w.c_str() || *end != '\0' || !std::isfinite(v))
+        {
+            THROW_EXCEPTION(mrpt::format("'%s' line %zu: '%s' is not a finite number", path.c_str(),
+                                         n, w.c_str()));
+        }
+        cols.push_back(v);
+    }
+    if (cols.size() < minCols)
+    {
+        THROW_EXCEPTION(mrpt::format("'%s' line %zu: expected at least %zu columns, got %zu",
+                                     path.c_str(), n, minCols, cols.size()));
+    }
+}
+
+/** A landmark id: decimal digits (as simul-landmarks writes it) of a value in [0, 2e9];
+ *  `0x10`, `1e3` or `16.0`, which read as numbers, are refused. */
+int landmarkId(const std::string& path, size_t n, const std::string& word)
+{
+    const bool digits =
+        !word.empty() && word.size() <= 10 &&
+        std::all_of(word.begin(), word.end(), [](char c) { return c >= '0' && c <= '9'; });
+    if (!digits || std::stoll(word) > 2000000000LL)
+    {
+        THROW_EXCEPTION(
+            mrpt::format("'%s' line %zu: last column must be a landmark id: '%s' is "
+                         "not an integer of decimal digits in [0, 2000000000]",
+                         path.c_str(), n, shownValue(word).c_str()));
+    }
+    return static_cast<int>(std::stoll(word));
 }
 
 void checkLabel(const std::string& label)
@@ -86,6 +118,74 @@ void checkMargin(double margin_m)
         THROW_EXCEPTION("--margin " + num(margin_m) + ": must be a finite number in [0, " +
                         num(kMaxWorldCoordinate_m) + "] [m] (world coordinates lie within +-" +
                         num(kMaxWorldCoordinate_m) + " m)");
+    }
+}
+
+/** A world named `name` without objects: bounds = box of the `count` centres and the path,
+ *  grown by `margin_m`; throws "--margin M: ..." if they would reach beyond
+ *  kMaxWorldCoordinate_m. */
+World worldAround(size_t count, const std::function<mrpt::math::TPoint2D(size_t)>& centre,
+                  const std::vector<mrpt::math::TPose2D>& path, double margin_m,
+                  const std::string& name)
+{
+    checkMargin(margin_m);
+    World w;
+    w.name = name;
+    bool first = true;
+    auto grow = [&](double x, double y)
+    {
+        if (first)
+        {
+            w.bounds = {x, x, y, y};
+            first = false;
+        }
+        w.bounds.x_min = std::min(w.bounds.x_min, x);
+        w.bounds.x_max = std::max(w.bounds.x_max, x);
+        w.bounds.y_min = std::min(w.bounds.y_min, y);
+        w.bounds.y_max = std::max(w.bounds.y_max, y);
+    };
+    for (size_t i = 0; i < count; i++)
+    {
+        const auto c = centre(i);
+        grow(c.x, c.y);
+    }
+    for (const auto& p : path)
+    {
+        grow(p.x, p.y);
+    }
+    if (first)
+    {
+        THROW_EXCEPTION("no landmarks and no path: cannot make a world");
+    }
+    w.bounds.x_min -= margin_m;
+    w.bounds.x_max += margin_m;
+    w.bounds.y_min -= margin_m;
+    w.bounds.y_max += margin_m;
+    const double reach =
+        std::max({-w.bounds.x_min, w.bounds.x_max, -w.bounds.y_min, w.bounds.y_max});
+    if (reach > kMaxWorldCoordinate_m)
+    {
+        THROW_EXCEPTION("--margin " + num(margin_m) + ": the world's bounds (x " +
+                        num(w.bounds.x_min) + " .. " + num(w.bounds.x_max) + ", y " +
+                        num(w.bounds.y_min) + " .. " + num(w.bounds.y_max) +
+                        ") would reach beyond +-" + num(kMaxWorldCoordinate_m) +
+                        " m, the bound of world coordinates");
+    }
+    return w;
+}
+
+/** What the world loader would refuse is refused here, before anything is written (read back
+ *  as the text streams: beyond the world, memory for its ids and centres). */
+void checkLoads(const World& w, const std::string& name, const WorldObjectList* objects)
+{
+    try
+    {
+        detail::checkReadsBack(w, name, objects);
+    }
+    catch (const std::exception& e)
+    {
+        THROW_EXCEPTION("the world of the landmarks and the path would not load: " +
+                        errorMessage(e));
     }
 }
 }  // namespace
@@ -141,32 +241,22 @@ size_t LandmarkImport::convertRawlog(mrpt::obs::CRawlog& log, const std::string&
     return n;
 }
 
-std::vector<WorldObject> LandmarkImport::readLandmarks(const std::string& path,
-                                                       const std::string& label)
+LandmarkSet LandmarkImport::readLandmarkSet(const std::string& path, const std::string& label)
 {
     checkLabel(label);
-    std::vector<WorldObject> out;
-    for (const auto& [line, cols] : readRows(path, 4))
-    {
-        WorldObject o;
-        const double id = cols.back();
-        if (id != std::floor(id) || id < 0 || id > 2e9)
-        {
-            THROW_EXCEPTION(mrpt::format("'%s' line %u: last column must be a landmark id",
-                                         path.c_str(), static_cast<unsigned>(line)));
-        }
-        o.id = static_cast<int>(id);
-        o.label = label;
-        o.shape = ShapeType::Point;
-        o.center = {cols[0], cols[1]};
-        o.z = cols[2];
-        out.push_back(o);
-    }
+    // Counted first: the landmarks are stored once, without the copies of a growing vector.
+    LandmarkSet out;
+    out.reserve(forEachRow(path, [](size_t, const std::vector<std::string>&) {}));
+    std::vector<double> cols;
     bool hasZero = false;
-    for (const auto& o : out)
-    {
-        hasZero |= (o.id == 0);
-    }
+    forEachRow(path,
+               [&](size_t n, const std::vector<std::string>& words)
+               {
+                   rowNumbers(path, n, words, 4, cols);
+                   const int id = landmarkId(path, n, words.back());
+                   hasZero |= id == 0;
+                   out.add(id, label, cols[0], cols[1], cols[2]);
+               });
     if (hasZero)
     {
         THROW_EXCEPTION("'" + path +
@@ -176,74 +266,53 @@ std::vector<WorldObject> LandmarkImport::readLandmarks(const std::string& path,
     return out;
 }
 
-std::vector<mrpt::math::TPose2D> LandmarkImport::readPath(const std::string& path)
+std::vector<WorldObject> LandmarkImport::readLandmarks(const std::string& path,
+                                                       const std::string& label)
 {
-    std::vector<mrpt::math::TPose2D> out;
-    for (const auto& [line, cols] : readRows(path, 4))
+    const LandmarkSet set = readLandmarkSet(path, label);
+    std::vector<WorldObject> out;
+    out.reserve(set.size());
+    for (size_t i = 0; i < set.size(); i++)
     {
-        (void)line;
-        out.emplace_back(cols[0], cols[1], cols[3]);
+        out.push_back(set.object(i));
     }
     return out;
 }
 
-World LandmarkImport::makeWorld(const std::vector<WorldObject>& landmarks,
+std::vector<mrpt::math::TPose2D> LandmarkImport::readPath(const std::string& path)
+{
+    std::vector<mrpt::math::TPose2D> out;
+    std::vector<double> cols;
+    forEachRow(path,
+               [&](size_t n, const std::vector<std::string>& words)
+               {
+                   rowNumbers(path, n, words, 4, cols);
+                   out.emplace_back(cols[0], cols[1], cols[3]);
+               });
+    return out;
+}
+
+World LandmarkImport::makeWorld(std::vector<WorldObject> landmarks,
                                 const std::vector<mrpt::math::TPose2D>& path, double margin_m,
                                 const std::string& name)
 {
-    checkMargin(margin_m);
-    World w;
-    w.name = name;
-    bool first = true;
-    auto grow = [&](double x, double y)
-    {
-        if (first)
-        {
-            w.bounds = {x, x, y, y};
-            first = false;
-        }
-        w.bounds.x_min = std::min(w.bounds.x_min, x);
-        w.bounds.x_max = std::max(w.bounds.x_max, x);
-        w.bounds.y_min = std::min(w.bounds.y_min, y);
-        w.bounds.y_max = std::max(w.bounds.y_max, y);
-    };
-    for (const auto& o : landmarks)
-    {
-        grow(o.center.x, o.center.y);
-    }
-    for (const auto& p : path)
-    {
-        grow(p.x, p.y);
-    }
-    if (first)
-    {
-        THROW_EXCEPTION("no landmarks and no path: cannot make a world");
-    }
-    w.bounds.x_min -= margin_m;
-    w.bounds.x_max += margin_m;
-    w.bounds.y_min -= margin_m;
-    w.bounds.y_max += margin_m;
-    const double reach =
-        std::max({-w.bounds.x_min, w.bounds.x_max, -w.bounds.y_min, w.bounds.y_max});
-    if (reach > kMaxWorldCoordinate_m)
-    {
-        THROW_EXCEPTION("--margin " + num(margin_m) + ": the world's bounds (x " +
-                        num(w.bounds.x_min) + " .. " + num(w.bounds.x_max) + ", y " +
-                        num(w.bounds.y_min) + " .. " + num(w.bounds.y_max) +
-                        ") would reach beyond +-" + num(kMaxWorldCoordinate_m) +
-                        " m, the bound of world coordinates");
-    }
-    w.objects = landmarks;
-    // What the world loader would refuse is refused here, before anything is written.
-    try
-    {
-        (void)World::FromText(w.toYamlText(), name);
-    }
-    catch (const std::exception& e)
-    {
-        THROW_EXCEPTION("the world of the landmarks and the path would not load: " +
-                        errorMessage(e));
-    }
+    World w = worldAround(
+        landmarks.size(), [&](size_t i) { return landmarks[i].center; }, path, margin_m, name);
+    w.objects = std::move(landmarks);
+    checkLoads(w, name, nullptr);
+    return w;
+}
+
+World LandmarkImport::makeWorldFrame(const LandmarkSet& landmarks,
+                                     const std::vector<mrpt::math::TPose2D>& path, double margin_m,
+                                     const std::string& name)
+{
+    World w = worldAround(
+        landmarks.size(),
+        [&](size_t i) { return mrpt::math::TPoint2D(landmarks[i].x, landmarks[i].y); }, path,
+        margin_m, name);
+    const WorldObjectList list = landmarks.objectList();
+    checkLoads(w, name, &list);
     return w;
 }
 

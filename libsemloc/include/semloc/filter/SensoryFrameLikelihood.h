@@ -11,11 +11,18 @@
 #include <memory>
 #include <vector>
 
+namespace mrpt::maps
+{
+class CBeaconMap;
+}  // namespace mrpt::maps
+
 namespace semloc
 {
 namespace detail
 {
 class DetectorOutage;
+class BeaconIdIndex;
+class BeaconRangeTerm;
 }  // namespace detail
 class LookAlikeMemory;
 class BatchLikelihood;
@@ -32,11 +39,16 @@ class ParallelExecutor;
  *  - a map that is a BatchLikelihood (CSemanticMap, CStructureMap, a program's own sensor
  *    model): BatchLikelihood::logLikelihoods() on each thread's contiguous chunk of poses; 0,
  *    not evaluated, for an observation it does not use;
- *  - COccupancyGridMap2D with the ray-tracing or Thrun likelihood-field method, and
- *    CBeaconMap with CObservationBeaconRanges: the generic call on every thread (the first
- *    pose is evaluated alone first, so the lazy caches of the observation are built before
- *    threads share it; the grid's likelihood-field cache is filled completely before the
- *    first multi-threaded use); CBeaconMap with any other observation: 0, not evaluated;
+ *  - COccupancyGridMap2D with the ray-tracing or Thrun likelihood-field method: the generic
+ *    call on every thread (the first pose is evaluated alone first, so the lazy caches of
+ *    the observation are built before threads share it; the grid's likelihood-field cache
+ *    is filled completely before the first multi-threaded use);
+ *  - CBeaconMap with CObservationBeaconRanges: CBeaconMap's terms on every thread, each
+ *    range's beacon found once per frame through an index of the map's ids (MRPT looks
+ *    through every beacon of the map for each range at each pose), so a pose costs the
+ *    observation's ranges alone, however many beacons the map holds; MRPT's call for an
+ *    observation with a beacon whose position is not a Gaussian; CBeaconMap with any other
+ *    observation: 0, not evaluated;
  *  - any other map: the generic call, for every pose on the calling thread (MRPT's other
  *    maps keep mutable caches that are not safe to share).
  *
@@ -48,7 +60,8 @@ public:
     /** What the evaluated frames contained (cumulative). */
     struct TStats
     {
-        /** Observations at least one map can score. */
+        /** Observations at least one map can score (canComputeObservationLikelihood; for
+         *  a CBeaconMap, beacon ranges only: it adds 0 for any other observation). */
         size_t observations_used = 0;
         /** Observations no map can score (ignored, as MRPT does). */
         size_t observations_skipped = 0;
@@ -183,7 +196,9 @@ private:
         /** A BatchLikelihood map. */
         Model,
         GenericParallel,
-        GenericSerial
+        GenericSerial,
+        /** MRPT's CBeaconMap with beacon ranges, by detail::BeaconRangeTerm. */
+        Beacons
     };
     struct Term
     {
@@ -204,12 +219,17 @@ private:
         bool lookAlikes = false;
         /** Index into m_clutterFactors of its detections' log clutter factors, or -1. */
         int clutter = -1;
+        /** Index into m_beaconTerms (Path::Beacons), or -1. */
+        int beacons = -1;
     };
 
     Path choosePath(const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map) const;
     /** term[0..m) = term `t` at poses[b..b+m). */
     void evaluateTerm(const Term& t, const mrpt::math::TPose2D* poses, size_t b, size_t m,
                       double* term) const;
+    /** Plans the beacon ranges `obs` against the CBeaconMap `map`: the index of its term in
+     *  m_beaconTerms, or -1 when MRPT's call must score it (a beacon not Gaussian). */
+    int planBeacons(const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map);
     /** Adds term `t` to m_outage if it is an outage term; true if so. */
     bool planOutage(const Term& t);
     /** Adds term `t`'s likelihood without objects to m_withoutObjects if it is semantic. */
@@ -237,6 +257,13 @@ private:
     /** The planned frame's log clutter factors, one vector per term that has them. */
     std::vector<std::vector<double>> m_clutterFactors;
     std::vector<std::vector<double>> m_serial;
+    /** The id index of each CBeaconMap scored so far (rebuilt when its beacons changed). */
+    std::vector<std::pair<const mrpt::maps::CBeaconMap*, std::unique_ptr<detail::BeaconIdIndex>>>
+        m_beaconIndexes;
+    /** The planned frame's beacon terms: the first m_nBeaconTerms (kept to reuse their
+     *  storage). */
+    std::vector<std::unique_ptr<detail::BeaconRangeTerm>> m_beaconTerms;
+    size_t m_nBeaconTerms = 0;
     TStats m_stats;
 };
 

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -142,6 +143,15 @@ struct WorldTrajectory
     std::vector<mrpt::math::TPoint2D> waypoints;
 };
 
+/** The objects of a world made one at a time, in file order, for a map too large to hold as
+ *  WorldObjects (a million point landmarks held in a compact form): `count` of them,
+ *  `at(i)` the i-th. */
+struct WorldObjectList
+{
+    size_t count = 0;
+    std::function<WorldObject(size_t)> at;
+};
+
 /** A world: bounds, labelled objects with outlines, optional acoustic beacons and an
  *  optional trajectory.
  *
@@ -169,8 +179,15 @@ public:
     /** Parses and validates world YAML text; `sourceName` is used in messages. */
     static World FromText(const std::string& yamlText, const std::string& sourceName);
 
-    /** Writes this world in the YAML schema of docs/design.md (round-trips through FromFile). */
+    /** Writes this world in the YAML schema of docs/design.md (round-trips through FromFile:
+     *  the text is read back as it is made, then written as it is made, never held whole;
+     *  memory beyond the world about 40 bytes an object). Throws "not writing world file
+     *  'PATH': semloc could not read it back: ..." (nothing written) or "cannot write world
+     *  file 'PATH': ...". */
     void saveToFile(const std::string& path) const;
+    /** saveToFile() of this world with the objects of `list` (this world's own must be
+     *  empty): the same file as for the world holding them, without holding them. */
+    void saveToFile(const std::string& path, const WorldObjectList& list) const;
     /** The world as YAML text, one object and one beacon per line in flow style. */
     std::string toYamlText() const;
 

@@ -4,6 +4,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CRawlog.h>
 #include <semloc/dataset/GroundTruthFile.h>
+#include <semloc/dataset/LandmarkSet.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 
@@ -184,6 +185,9 @@ public:
     /** Reads a landmarks file: `id,label,x,y`, optional `sigma_x_m,sigma_y_m`; ids positive
      *  and unique, labels as a world file takes them. */
     static std::vector<ImportedLandmark> readLandmarks(const std::string& path);
+    /** readLandmarks() into a LandmarkSet (40 bytes a landmark, sigma_m the isotropic
+     *  standard deviation): what semloc-import holds of a large landmark map. */
+    static LandmarkSet readLandmarkSet(const std::string& path);
 
     /** The readers above on the text of `in` (e.g. a std::istringstream), `name` standing for
      *  the file in their messages. */
@@ -257,6 +261,10 @@ public:
                                const std::vector<DetectionScan>& scans,
                                const std::vector<ImportedLandmark>& landmarks,
                                TDatasetImportStats& stats);
+    /** checkLandmarks() of a LandmarkSet (memory beyond it: 8 bytes a landmark). */
+    static void checkLandmarkSet(const std::vector<ImportStep>& steps,
+                                 const std::vector<DetectionScan>& scans,
+                                 const LandmarkSet& landmarks, TDatasetImportStats& stats);
     /** The counts of `stats` the summary line gives after the detections ("3 repeated odometry
      *  times (the later reading kept), 12 detections grouped into scans within 0.01 s"), the
      *  zero ones left out; "" when all are zero. */
@@ -266,6 +274,11 @@ public:
     static World makeWorld(const std::vector<ImportedLandmark>& landmarks,
                            const std::vector<GroundTruthRow>& groundTruth, double margin_m,
                            const std::string& name);
+    /** makeWorld() of a LandmarkSet without its objects (LandmarkImport::makeWorldFrame()):
+     *  World::saveToFile(file, landmarks.objectList()) writes the world makeWorld() makes. */
+    static World makeWorldFrame(const LandmarkSet& landmarks,
+                                const std::vector<GroundTruthRow>& groundTruth, double margin_m,
+                                const std::string& name);
 };
 
 }  // namespace semloc

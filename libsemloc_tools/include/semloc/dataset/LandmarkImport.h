@@ -3,6 +3,7 @@
 
 #include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CRawlog.h>
+#include <semloc/dataset/LandmarkSet.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 
@@ -36,10 +37,15 @@ public:
     static size_t convertRawlog(mrpt::obs::CRawlog& log, const std::string& label);
 
     /** Reads simul-landmarks' landmark file (rows `x y z ... id`, the id in the last
-     *  column) into point objects. Throws naming the file and line on a malformed row, and
-     *  "--label: ..." for a label checkOptions() refuses. */
+     *  column: decimal digits, as simul-landmarks writes it; `0x10` or `1e3`, which read as
+     *  numbers, are refused) into point objects, one row in memory at a time. Throws naming
+     *  the file and line on a malformed row, and "--label: ..." for a label checkOptions()
+     *  refuses. */
     static std::vector<WorldObject> readLandmarks(const std::string& path,
                                                   const std::string& label);
+    /** readLandmarks() into a LandmarkSet (40 bytes a landmark; the file is read twice, its
+     *  rows counted first). */
+    static LandmarkSet readLandmarkSet(const std::string& path, const std::string& label);
 
     /** Reads a robot-path file (rows `x y z yaw pitch roll`, lines starting with % or #
      *  ignored), returning (x, y, yaw) per row. Throws naming the file and line. */
@@ -49,10 +55,18 @@ public:
      *  Throws "--margin M: ..." if the bounds would reach beyond kMaxWorldCoordinate_m, and
      *  "the world ... would not load: <the world loader's message>" for anything else the
      *  world loader refuses: what makeWorld returns, World::saveToFile writes and semloc
-     *  reads back. */
-    static World makeWorld(const std::vector<WorldObject>& landmarks,
+     *  reads back. The landmarks become the world's objects (moved in: pass an rvalue to
+     *  keep one copy of a large map); the check streams the world's text (memory beyond
+     *  the world: its ids and centres). */
+    static World makeWorld(std::vector<WorldObject> landmarks,
                            const std::vector<mrpt::math::TPose2D>& path, double margin_m,
                            const std::string& name);
+    /** makeWorld() of the landmarks of a set without its objects (its name and bounds),
+     *  checked with them: World::saveToFile(file, landmarks.objectList()) writes the world
+     *  makeWorld() makes, without ever holding its objects. */
+    static World makeWorldFrame(const LandmarkSet& landmarks,
+                                const std::vector<mrpt::math::TPose2D>& path, double margin_m,
+                                const std::string& name);
 
     /** Timestamps [s] of the rawlog's sensory frames, in order (from their first
      *  observation). */
