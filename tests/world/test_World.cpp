@@ -178,7 +178,7 @@ std::string fileError(const std::string& path)
 // The reader streams a file: the UTF-8 check reads it once through (in pieces: a character
 // across two of them is whole), then the parser; a pipe, which cannot be read twice, is read
 // whole first.
-TEST(World, ReadsFilesInPiecesAndPipesWhole)
+TEST(World, ReadsFilesInPiecesAndRefusesPipes)
 {
     const std::string dir = std::string(SEMLOC_TEST_OUT) + "/world_pieces";
     std::system(("rm -rf '" + dir + "' && mkdir -p '" + dir + "'").c_str());
