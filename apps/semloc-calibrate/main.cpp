@@ -179,12 +179,8 @@ void run()
     {
         std::cerr << "semloc-calibrate: warning: " << w << "\n";
     }
-    std::cout << "semloc-calibrate: " << result.scans << " scans, " << result.increments
-              << " odometry increments: sigma_range_m " << result.sigma_range_m.value
-              << ", sigma_bearing_deg " << result.sigma_bearing_deg.value << ", p_detect "
-              << result.p_detect_near.value << " .. " << result.p_detect_far.value
-              << ", clutter_per_scan " << result.clutter_per_scan.value << ", p_confusion "
-              << result.p_confusion.value << ", p_range_outlier " << result.p_range_outlier.value
+    // The values as the ini has them, and why where they are not the fits.
+    std::cout << "semloc-calibrate: " << semloc::SensorCalibration::SummaryText(result, ini)
               << "; wrote " << out << (report.empty() ? "" : " and " + report) << "\n"
               << semloc::SensorCalibration::BiasText(result)
               << semloc::SensorCalibration::ConsistencyText(result);

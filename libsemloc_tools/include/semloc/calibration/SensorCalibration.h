@@ -377,6 +377,15 @@ public:
      *  the objects more than sigma_range_m. */
     static std::vector<std::string> Warnings(const TCalibrationResult& result);
 
+    /** semloc-calibrate's summary on stdout: "N scans, M odometry increments: sigma_range_m
+     *  V, sigma_bearing_deg V, p_detect V .. V, clutter_per_scan V, p_confusion V,
+     *  p_range_outlier V", each V as the ini `ini` (ApplyToIni() of `result`) writes it, with
+     *  why in brackets when it is not the fit as made (its comment there, without the fit's
+     *  method: "not fitted, too little data (...): the base ini's value kept", "fitted 0 (...),
+     *  clamped to the smallest value the filter takes", "widened x8 by the consistency stage
+     *  (fitted 0.03416)"); then, when [MotionModel] is the base's, that and why. */
+    static std::string SummaryText(const TCalibrationResult& result, const std::string& ini);
+
     /** The bias and map offset as lines for the terminal and report.md. */
     static std::string BiasText(const TCalibrationResult& result);
 
