@@ -1,5 +1,6 @@
 /* semloc tests — a rawlog of any length written entry by entry: a vehicle circling the paper
- * world, detecting (exactly, with ids) the objects within 15 m and 60 deg of its heading. */
+ * world, detecting (with ids; exactly, or with Gaussian range and bearing noise) the objects
+ * within 15 m and 60 deg of its heading. */
 #pragma once
 
 #include <mrpt/core/Clock.h>
@@ -12,18 +13,34 @@
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <random>
 #include <string>
 
 namespace semloc::test
 {
+/** The detector's noise of a long log: Gaussian, of these sigmas (0: exact readings), drawn
+ *  from a generator seeded with `seed`. */
+struct TLongLogNoise
+{
+    double range_m = 0, bearing_rad = 0;
+    uint32_t seed = 1;
+};
+
 /** Writes `steps` action / sensory-frame pairs (1 s apart, from t = 1.7e9 s) to `rawlogPath`
  *  and their ground truth (`t x y phi`) to `gtPath`: the vehicle circles the centre of `world`
- *  at radius 12 m and 0.6 m/s. Nothing is held in memory but one step. */
+ *  at radius 12 m and 0.6 m/s, its detections read with `noise`. Nothing is held in memory but
+ *  one step. */
 inline void writeLongLog(const World& world, size_t steps, const std::string& rawlogPath,
-                         const std::string& gtPath)
+                         const std::string& gtPath, const TLongLogNoise& noise = {})
 {
+    std::mt19937 rng(noise.seed);
+    std::normal_distribution<double> gauss;
+    const auto noisy = [&](double v, double sigma)
+    { return sigma > 0 ? v + sigma * gauss(rng) : v; };
     GzOutputFile out(rawlogPath);
     auto ar = mrpt::serialization::archiveFrom(out);
     writeRawlogSignature(ar, "a long test log");
@@ -62,7 +79,8 @@ inline void writeLongLog(const World& world, size_t steps, const std::string& ra
             const double b = std::remainder(std::atan2(dy, dx) - pose.phi, 2 * M_PI);
             if (r < 15 && std::abs(b) < M_PI / 3)
             {
-                obs->detections.push_back({o.label, r, b, 0.9, o.id});
+                obs->detections.push_back({o.label, std::max(0.0, noisy(r, noise.range_m)),
+                                           noisy(b, noise.bearing_rad), 0.9, o.id});
             }
         }
         mrpt::obs::CSensoryFrame sf;

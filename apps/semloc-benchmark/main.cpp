@@ -20,6 +20,7 @@
 #include <set>
 
 #include "common/AppMain.h"
+#include "common/ProgressBar.h"
 
 namespace
 {
@@ -84,12 +85,6 @@ RunsArg runsArg()
         THROW_EXCEPTION("--runs " + v + ": the first run is after the last");
     }
     return r;
-}
-
-std::string clock(double s)
-{
-    const long t = std::lround(s);
-    return mrpt::format("%ld:%02ld:%02ld", t / 3600, (t / 60) % 60, t % 60);
 }
 
 /** SEMLOC_BENCHMARK_RUNS (docs/testing.md): the most runs of any benchmark, whatever the ini
@@ -184,32 +179,7 @@ void showStages()
 }
 
 /** The progress bar on a terminal's stderr. */
-std::function<void(size_t, size_t)> progressBar()
-{
-    const bool tty = ::isatty(STDERR_FILENO) != 0;
-    const auto t0 = std::chrono::steady_clock::now();
-    return [tty, t0](size_t done, size_t total)
-    {
-        if (!tty)
-        {
-            return;
-        }
-        const double el =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const int width = 30;
-        const int fill = static_cast<int>(width * done / total);
-        std::cerr << "\r[" << std::string(fill, '#') << std::string(width - fill, ' ') << "] "
-                  << done << "/" << total << " runs, elapsed " << clock(el) << ", left "
-                  << (done ? clock(el / static_cast<double>(done) *
-                                   static_cast<double>(total - done))
-                           : std::string("?"))
-                  << "  " << std::flush;
-        if (done == total)
-        {
-            std::cerr << "\n";
-        }
-    };
-}
+const auto progressBar = semloc::apps::runsProgressBar;
 
 void printResult(const semloc::Benchmark::TResult& res, bool scenarios)
 {

@@ -11,7 +11,6 @@
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
-#include <semloc/io/RawlogReader.h>
 #include <semloc/io/StagedDirectory.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>
@@ -21,9 +20,11 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/AppMain.h"
+#include "common/ProgressBar.h"
 
 namespace
 {
@@ -68,9 +69,20 @@ void checkWritten(const std::string& written, const std::string& out)
     }
 }
 
+/** The progress of the long steps, shown by `bar` (nothing when stderr is not a terminal). */
+semloc::CalibrationProgress progressOn(semloc::apps::ProgressBar& bar)
+{
+    if (!bar.shown())
+    {
+        return {};
+    }
+    return [&bar](const semloc::TCalibrationProgress& p)
+    { bar.show("semloc-calibrate: " + p.stage, p.done, p.total, p.unit); };
+}
+
 /** The consistency stage (SensorCalibration::Consistency), each setting shown on stderr. */
-semloc::TCalibrationResult consistency(const semloc::TCalibrationResult& fitted,
-                                       const std::string& baseText)
+semloc::TCalibrationResult consistency(semloc::TCalibrationResult fitted,
+                                       const std::string& baseText, semloc::apps::ProgressBar& bar)
 {
     semloc::SensorCalibration::TConsistencyOptions c;
     c.seeds.clear();
@@ -79,16 +91,18 @@ semloc::TCalibrationResult consistency(const semloc::TCalibrationResult& fitted,
         c.seeds.push_back(static_cast<uint32_t>(s));
     }
     return semloc::SensorCalibration::Consistency(
-        fitted, baseText, argBase.getValue(), argWorld.getValue(), argRawlog.getValue(),
+        std::move(fitted), baseText, argBase.getValue(), argWorld.getValue(), argRawlog.getValue(),
         argGroundTruth.getValue(), c,
-        [](const semloc::TConsistencyTrial& t)
+        [&bar](const semloc::TConsistencyTrial& t)
         {
+            bar.erase();
             std::cerr << "semloc-calibrate: consistency: detector sigmas x" << t.sensorScale
                       << ", motion noise x" << t.motionScale << ", likelihood tempered x"
                       << t.temper << ": NEES inside its 95 % bound in " << 100 * t.insideShare
                       << " % of the steps, mean error " << t.meanErr_m << " m, " << t.converged
                       << " of " << t.runs << " runs converged\n";
-        });
+        },
+        progressOn(bar));
 }
 
 /** The rawlog, the world, the ground truth and every base of the base ini's chain. */
@@ -128,12 +142,16 @@ void run()
     semloc::SensorCalibration::CheckBase(base, argWorld.getValue());
     semloc::SensorCalibration::ReadBaseOptions(baseText, o);
     const auto world = semloc::World::FromFile(argWorld.getValue());
-    const auto gt = semloc::GroundTruthFile::Read(argGroundTruth.getValue());
-    const auto rawlog = semloc::RawlogReader::Load(rawlogPath);
-    auto result = semloc::SensorCalibration::Estimate(rawlog, rawlogPath, world, gt, o);
+    auto gt = semloc::GroundTruthFile::Read(argGroundTruth.getValue());
+    // The rawlog is streamed through the passes: memory does not grow with its length.
+    semloc::apps::ProgressBar bar;
+    auto result = semloc::SensorCalibration::EstimateFromFile(rawlogPath, world, std::move(gt), o,
+                                                              progressOn(bar));
+    bar.erase();
     if (argConsistencySeeds.getValue() > 0)
     {
-        result = consistency(result, baseText);
+        result = consistency(std::move(result), baseText, bar);
+        bar.erase();
     }
     const std::string ini =
         semloc::SensorCalibration::ApplyToIni(baseText, base, result, argWorld.getValue());
@@ -168,12 +186,8 @@ void run()
     {
         std::cerr << "semloc-calibrate: warning: " << w << "\n";
     }
-    std::cout << "semloc-calibrate: " << result.scans << " scans, " << result.increments
-              << " odometry increments: sigma_range_m " << result.sigma_range_m.value
-              << ", sigma_bearing_deg " << result.sigma_bearing_deg.value << ", p_detect "
-              << result.p_detect_near.value << " .. " << result.p_detect_far.value
-              << ", clutter_per_scan " << result.clutter_per_scan.value << ", p_confusion "
-              << result.p_confusion.value << ", p_range_outlier " << result.p_range_outlier.value
+    // The values as the ini has them, and why where they are not the fits.
+    std::cout << "semloc-calibrate: " << semloc::SensorCalibration::SummaryText(result, ini)
               << "; wrote " << out << (report.empty() ? "" : " and " + report) << "\n"
               << semloc::SensorCalibration::BiasText(result)
               << semloc::SensorCalibration::ConsistencyText(result);

@@ -165,6 +165,71 @@ bool has(const std::string& text, const std::string& part)
 {
     return text.find(part) != std::string::npos;
 }
+
+/** What the stdout summary `out` gives for `key` (p_detect_near and p_detect_far: the two ends
+ *  of `p_detect A .. B`): the text after the key up to the next ", " or "; " outside brackets. */
+std::string printed(const std::string& out, const std::string& key)
+{
+    const bool far = key == "p_detect_far";
+    const std::string name = key.rfind("p_detect_", 0) == 0 ? "p_detect" : key;
+    size_t b = out.find(" " + name + " ");
+    if (b == std::string::npos)
+    {
+        return "";
+    }
+    b += name.size() + 2;
+    std::string text;
+    int depth = 0;
+    for (size_t i = b; i < out.size(); i++)
+    {
+        const char c = out[i];
+        depth += c == '(' ? 1 : c == ')' ? -1 : 0;
+        if (depth == 0 && (out.compare(i, 2, ", ") == 0 || out.compare(i, 2, "; ") == 0))
+        {
+            break;
+        }
+        if (depth == 0 && out.compare(i, 4, " .. ") == 0)
+        {
+            if (!far)
+            {
+                break;
+            }
+            text.clear();
+            i += 3;
+            continue;
+        }
+        text += c;
+    }
+    return text;
+}
+
+/** Each value the summary line prints is the one the ini writes, with why where it is not the
+ *  fit: the base's value kept, a clamp. */
+void expectPrintedAsWritten(const ToolRun& t)
+{
+    const auto c = semloc::test::iniText(t.iniText);
+    for (const char* key : {"sigma_range_m", "sigma_bearing_deg", "p_detect_near", "p_detect_far",
+                            "clutter_per_scan", "p_confusion", "p_range_outlier"})
+    {
+        const std::string shown = printed(t.out, key), line = lineOf(t.iniText, key);
+        const std::string value = c.read_string(kLik, key, "?");
+        EXPECT_EQ(shown.substr(0, shown.find(' ')), value) << key << " printed: " << t.out;
+        if (has(line, "not fitted, too little data ("))
+        {
+            EXPECT_TRUE(has(shown, " (not fitted, too little data (") &&
+                        has(shown, "): the base ini's value kept)"))
+                << key << ": " << shown;
+        }
+        if (has(line, "clamped to the"))
+        {
+            EXPECT_TRUE(has(shown, "clamped to the")) << key << ": " << shown;
+        }
+        if (has(line, "// calibrated: n = "))
+        {
+            EXPECT_EQ(shown, value) << key << ": a fit as made needs no why";
+        }
+    }
+}
 }  // namespace
 
 TEST(CalibrationLimits, NoiseFreeDetectorSigmasClampedToTheSmallestTheFilterTakes)
@@ -184,6 +249,7 @@ TEST(CalibrationLimits, NoiseFreeDetectorSigmasClampedToTheSmallestTheFilterTake
         << lineOf(t.iniText, "sigma_range_m");
     EXPECT_TRUE(has(t.err, "warning: sigma_range_m: fitted ")) << t.err;
     EXPECT_TRUE(has(t.err, "warning: sigma_bearing_deg: fitted ")) << t.err;
+    expectPrintedAsWritten(t);
 }
 
 TEST(CalibrationLimits, DetectorThatSeesNothingFar)
@@ -225,6 +291,7 @@ TEST(CalibrationLimits, DetectorThatSeesEverything)
     EXPECT_TRUE(has(t.err, "warning: p_detect_near: fitted 1")) << t.err;
     EXPECT_TRUE(has(lineOf(t.iniText, "p_detect_near"), "clamped to the largest value"))
         << lineOf(t.iniText, "p_detect_near");
+    expectPrintedAsWritten(t);
 }
 
 TEST(CalibrationLimits, NoClutterClampedToTheSmallestRateTheFilterTakes)
@@ -272,6 +339,29 @@ TEST(CalibrationLimits, OneScanKeepsTheBasesValues)
     EXPECT_TRUE(has(lineOf(t.iniText, "p_detect_edge_ratio"),
                     "the default kept (the base ini does not set it)"))
         << lineOf(t.iniText, "p_detect_edge_ratio");
+}
+
+TEST(CalibrationLimits, OneScanPrintsTheBasesValuesItWritesAndWhy)
+{
+    // Too little data for any fit: the summary on stdout gives the values the ini keeps, not
+    // those the few samples would have fitted, each with why.
+    auto o = TSimulatorOptions::FromConfigFile(SEMLOC_SOURCE_DIR "/config/simulate/simulate.ini");
+    o.simulation.max_steps = 1;
+    o.simulation.seed = 2;
+    const auto t = calibrateTool("one_scan_summary", o);
+    ASSERT_EQ(t.status, 0) << t.err;
+    const auto base = semloc::test::iniText(readText(kSemanticIni));
+    EXPECT_EQ(printed(t.out, "sigma_range_m"),
+              base.read_string(kLik, "sigma_range_m", "?") +
+                  " (not fitted, too little data (2 matched range residuals, fewer than the 10 a "
+                  "sigma needs): the base ini's value kept)")
+        << t.out;
+    EXPECT_TRUE(has(printed(t.out, "p_detect_far"), "the base ini's value kept)")) << t.out;
+    EXPECT_TRUE(has(t.out,
+                    ", [MotionModel] the base ini's (not fitted, too little data (the "
+                    "vehicle moved in 0 of 0 odometry increments"))
+        << t.out;
+    expectPrintedAsWritten(t);
 }
 
 TEST(CalibrationLimits, StillVehicleKeepsTheBasesMotionModel)

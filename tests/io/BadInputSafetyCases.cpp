@@ -286,7 +286,37 @@ Cases benchmarkSafetyCases()
 /** semloc-calibrate. */
 Cases calibrateSafetyCases()
 {
-    return {};
+    // The rawlog is streamed through the passes, not loaded: its defects are still refused
+    // on the first reading, before anything is written.
+    return {
+        {"calibrate-rawlog-truncated",
+         [](const fs::path& d)
+         {
+             auto args = calibrate(d, 100, "semantic", "out.ini");
+             const std::string b = plainBytes(d);
+             writeText(d / "data.rawlog", b.substr(0, b.size() * 6 / 10));
+             return args;
+         }},
+        {"calibrate-rawlog-corrupted-entry",
+         [](const fs::path& d)
+         {
+             auto args = calibrate(d, 100, "semantic", "out.ini");
+             // The serialization version byte after the 2nd sensory frame's class name.
+             std::string b = plainBytes(d);
+             const std::string name = "mrpt::obs::CSensoryFrame";
+             const auto p = b.find(name, b.find(name) + 1);
+             b[p + name.size()] = 99;
+             writeText(d / "data.rawlog", b);
+             return args;
+         }},
+        {"calibrate-rawlog-empty",
+         [](const fs::path& d)
+         {
+             auto args = calibrate(d, 100, "semantic", "out.ini");
+             writeText(d / "data.rawlog", "");
+             return args;
+         }},
+    };
 }
 
 namespace

@@ -1,41 +1,26 @@
-/* semloc — a temporary directory of a job, removed with it (also by the interrupt watchdog). */
+/* semloc — a temporary directory of a job, removed with it (also by the interrupt watchdog,
+ * and by a later job when the process was killed). */
 #pragma once
 
-#include <mrpt/core/exceptions.h>
-#include <semloc/io/Interrupt.h>
-
-#include <cerrno>
-#include <cstdlib>
-#include <cstring>
+#include <cstddef>
 #include <filesystem>
 #include <string>
-#include <system_error>
 
 namespace semloc::detail
 {
-/** A new directory `<dir>/<prefix>XXXXXX`, registered for the interrupt watchdog and removed
- *  with everything in it at the end of the scope. */
+/** The file of a TemporaryDirectory whose lock (flock) its owner holds while it lives. */
+constexpr const char* kTemporaryLockFile = ".semloc-lock";
+
+/** A new directory `<dir>/<prefix>XXXXXX`, registered for the interrupt watchdog, locked while
+ *  the object lives (kTemporaryLockFile inside it) and removed with everything in it at the
+ *  end of the scope. The constructor first removes the directories `<dir>/<prefix>*` that no
+ *  running process holds (left by a process that was killed, kill -9, which no handler
+ *  sees): removeStaleTemporaryDirectories. */
 class TemporaryDirectory
 {
 public:
-    TemporaryDirectory(const std::filesystem::path& dir, const std::string& prefix)
-    {
-        std::string name = (dir / (prefix + "XXXXXX")).string();
-        const InterruptExitDeferral defer;  // created and registered as one step
-        if (!::mkdtemp(name.data()))
-        {
-            THROW_EXCEPTION("cannot create a temporary directory in '" + dir.string() +
-                            "': " + std::strerror(errno));
-        }
-        m_path = name;
-        registerTemporaryPath(m_path);
-    }
-    ~TemporaryDirectory()
-    {
-        std::error_code ec;
-        std::filesystem::remove_all(m_path, ec);
-        unregisterTemporaryPath(m_path);
-    }
+    TemporaryDirectory(const std::filesystem::path& dir, const std::string& prefix);
+    ~TemporaryDirectory();
     TemporaryDirectory(const TemporaryDirectory&) = delete;
     TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
     /** `file` inside the directory. */
@@ -46,5 +31,12 @@ public:
 
 private:
     std::string m_path;
+    int m_lockFd = -1;
 };
+
+/** Removes the directories `<dir>/<prefix>*` that no running process holds: nobody holds the
+ *  lock of their kTemporaryLockFile, or they have none (a process killed before it made it,
+ *  an older semloc) and were last changed more than ten minutes ago. Symbolic links are left,
+ *  and so is what cannot be removed (another user's); the number removed. */
+size_t removeStaleTemporaryDirectories(const std::filesystem::path& dir, const std::string& prefix);
 }  // namespace semloc::detail

@@ -213,6 +213,28 @@ void fitBias(TCalibrationResult& r)
 
 namespace semloc
 {
+namespace
+{
+/** "S about 0 (fitted)": the sigma about 0 as fitted, and what the ini has instead when it is
+ *  not that (the base's value, a clamp). */
+std::string aboutZero(const TCalibrationFit& f)
+{
+    using detail::num;
+    using Status = TCalibrationFit::Status;
+    const double fitted = f.status == Status::Clamped ? f.fitted : f.value / f.widenedBy;
+    std::string t = num(fitted) + " about 0 (fitted";
+    if (f.status == Status::TooLittleData)
+    {
+        t += "; not written: too little data";
+    }
+    else if (f.status == Status::Clamped)
+    {
+        t += "; written clamped to " + num(f.value / f.widenedBy);
+    }
+    return t + ")";
+}
+}  // namespace
+
 std::string SensorCalibration::BiasText(const TCalibrationResult& r)
 {
     using detail::num;
@@ -220,12 +242,10 @@ std::string SensorCalibration::BiasText(const TCalibrationResult& r)
     std::ostringstream t;
     t << "bias: mean range residual " << num(b.range_m) << " m, mean bearing residual "
       << num(b.bearing_deg) << " deg; sigma_range_m " << num(b.sigmaRangeAround_m)
-      << " around the mean, " << num(r.sigma_range_m.value / r.sigma_range_m.widenedBy)
-      << " about 0 (fitted), " << num(b.sigmaRangeAtTruth_m)
+      << " around the mean, " << aboutZero(r.sigma_range_m) << ", " << num(b.sigmaRangeAtTruth_m)
       << " at the ground truth as given; sigma_bearing_deg " << num(b.sigmaBearingAround_deg)
-      << " around the mean, " << num(r.sigma_bearing_deg.value / r.sigma_bearing_deg.widenedBy)
-      << " about 0 (fitted), " << num(b.sigmaBearingAtTruth_deg)
-      << " at the ground truth as given\n";
+      << " around the mean, " << aboutZero(r.sigma_bearing_deg) << ", "
+      << num(b.sigmaBearingAtTruth_deg) << " at the ground truth as given\n";
     if (!r.rangeBias_m.empty())
     {
         const auto& c = r.rangeBias_m;

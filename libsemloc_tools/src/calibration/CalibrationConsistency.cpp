@@ -44,10 +44,12 @@ void widen(TCalibrationFit& f, double k, const config::TValueRange& range)
     f.value = v;
 }
 
-/** The filter run once per seed with the ini `ini`, its metrics averaged into a trial. */
+/** The filter run once per seed with the ini `ini`, its metrics averaged into a trial;
+ *  `progress` told of each run's entries under `stage`. */
 TConsistencyTrial runTrial(const std::string& ini, const detail::TemporaryDirectory& dir,
                            const std::string& rawlogPath, const std::string& groundTruthPath,
-                           const SensorCalibration::TConsistencyOptions& o)
+                           const SensorCalibration::TConsistencyOptions& o,
+                           const std::string& stage, const CalibrationProgress& progress)
 {
     TConsistencyTrial t;
     for (const uint32_t seed : o.seeds)
@@ -58,8 +60,14 @@ TConsistencyTrial runTrial(const std::string& ini, const detail::TemporaryDirect
         ov.logOutput_dir = dir.path("run");
         ov.seed = seed;
         ov.threads = o.threads;
+        const std::string run =
+            stage + ", run " + std::to_string(t.runs + 1) + " of " + std::to_string(o.seeds.size());
+        const auto told = [&](size_t done, size_t total) {
+            progress({run, done, total, "entries"});
+        };
         const auto m = LocalizationExperiment::FromConfigFile(ini, ov)
-                           .run({}, LocalizationExperiment::Records::Stream)
+                           .run(progress ? std::function<void(size_t, size_t)>(told) : nullptr,
+                                LocalizationExperiment::Records::Stream)
                            .metrics;
         t.runs++;
         t.converged += m.converged ? 1 : 0;
@@ -206,9 +214,10 @@ TCalibrationResult SensorCalibration::Widened(const TCalibrationResult& r, doubl
 }
 
 TCalibrationResult SensorCalibration::Consistency(
-    const TCalibrationResult& r, const std::string& baseIni, const std::string& baseName,
+    TCalibrationResult r, const std::string& baseIni, const std::string& baseName,
     const std::string& worldPath, const std::string& rawlogPath, const std::string& groundTruthPath,
-    const TConsistencyOptions& o, const std::function<void(const TConsistencyTrial&)>& trial)
+    const TConsistencyOptions& o, const std::function<void(const TConsistencyTrial&)>& trial,
+    const CalibrationProgress& progress)
 {
     if (o.seeds.empty() || o.sensorScales.empty() || o.motionScales.empty() || o.tempers.empty())
     {
@@ -223,6 +232,10 @@ TCalibrationResult SensorCalibration::Consistency(
     }
     const detail::TemporaryDirectory dir(fs::temp_directory_path(), "semloc-calibrate-");
     const std::string iniPath = dir.path("trial.ini");
+    // The settings are copies of the fits: without their samples (as large as the log is
+    // long), given back at the end.
+    TCalibrationSamples samples = std::move(r.samples);
+    r.samples = TCalibrationSamples();
     TConsistency c;
     c.minInsideShare = o.minInsideShare;
     const Trial run = [&](double sz, double su, double tp)
@@ -235,7 +248,11 @@ TCalibrationResult SensorCalibration::Consistency(
                 throw std::runtime_error("cannot write '" + iniPath + "'");
             }
         }
-        auto t = runTrial(iniPath, dir, rawlogPath, groundTruthPath, o);
+        auto t = runTrial(iniPath, dir, rawlogPath, groundTruthPath, o,
+                          "consistency: setting " + std::to_string(c.trials.size() + 1) +
+                              " (detector sigmas x" + number(sz) + ", motion noise x" + number(su) +
+                              ", likelihood tempered x" + number(tp) + ")",
+                          progress);
         t.sensorScale = sz;
         t.motionScale = su;
         t.temper = tp;
@@ -259,6 +276,7 @@ TCalibrationResult SensorCalibration::Consistency(
     const auto& best = c.trials[c.chosen];
     TCalibrationResult out = Widened(r, best.sensorScale, best.motionScale, best.temper);
     out.consistency = std::move(c);
+    out.samples = std::move(samples);
     return out;
 }
 

@@ -87,14 +87,17 @@ TCalibrationFit robustSigma(const std::vector<double>& x)
                                    "more than half are one value)");
 }
 
+constexpr double kInvPhi = 0.6180339887498949;
+constexpr int kGoldenIterations = 60;
+constexpr double kGoldenWidth = 1e-10;
+
 /** The maximum of a concave function on [lo, hi] by golden-section search. */
 template <typename F>
 double goldenMax(F f, double lo, double hi)
 {
-    constexpr double kInvPhi = 0.6180339887498949;
     double a = lo, b = hi, c = b - kInvPhi * (b - a), d = a + kInvPhi * (b - a);
     double fc = f(c), fd = f(d);
-    for (int it = 0; it < 60 && b - a > 1e-10; it++)
+    for (int it = 0; it < kGoldenIterations && b - a > kGoldenWidth; it++)
     {
         if (fc >= fd)
         {
@@ -106,6 +109,19 @@ double goldenMax(F f, double lo, double hi)
         }
     }
     return fc >= fd ? c : d;
+}
+
+/** About how many times goldenMax() evaluates its function on [lo, hi] (the interval shrinks
+ *  by kInvPhi at each step whichever way it goes). */
+size_t goldenEvaluations(double lo, double hi)
+{
+    size_t n = 2;
+    for (double w = hi - lo; n < static_cast<size_t>(kGoldenIterations) + 2 && w > kGoldenWidth;
+         w *= kInvPhi)
+    {
+        n++;
+    }
+    return n;
 }
 
 /** The detection model q(x, b) = (qn + (qf - qn) x) (1 - (1 - e) b), x = range / max range
@@ -155,17 +171,30 @@ public:
         return std::isnan(l) ? -std::numeric_limits<double>::infinity() : l;
     }
 
-    /** The maximum over [0, seen]^2 x [0, 1] (e = 1 without an edge): qn, qf, e. */
-    std::array<double, 3> maximize(double seen) const
+    /** The maximum over [0, seen]^2 x [0, 1] (e = 1 without an edge): qn, qf, e. `progress`
+     *  is told each step of each round's search of the line. */
+    std::array<double, 3> maximize(double seen, const FitProgress& progress) const
     {
         std::array<double, 3> q{0, 0, 1};
         double best = -std::numeric_limits<double>::infinity();
+        const size_t steps = goldenEvaluations(0, seen);
         for (int round = 0; round < 50; round++)
         {
             const double e = q[2];
             const auto bestFar = [&](double qn)
             { return goldenMax([&](double qf) { return logLik(qn, qf, e); }, 0, seen); };
-            q[0] = goldenMax([&](double v) { return logLik(v, bestFar(v), e); }, 0, seen);
+            size_t step = 0;
+            q[0] = goldenMax(
+                [&](double v)
+                {
+                    const double l = logLik(v, bestFar(v), e);
+                    if (progress)
+                    {
+                        progress(round + 1, std::min(++step, steps), steps);
+                    }
+                    return l;
+                },
+                0, seen);
             q[1] = bestFar(q[0]);
             if (m_edge)
             {
@@ -235,10 +264,10 @@ private:
     bool m_edge = false;
 };
 
-void detectionModel(TCalibrationResult& r, double lambda, double seen)
+void detectionModel(TCalibrationResult& r, double lambda, double seen, const FitProgress& progress)
 {
     const DetectionModelFit f(r, lambda);
-    const auto q = f.maximize(seen);
+    const auto q = f.maximize(seen, progress);
     const auto hw = f.halfWidths(q);
     const size_t n = r.samples.visibleRanges_m.size();
     const std::string how = "maximum-likelihood detection model, (line against range / " +
@@ -500,7 +529,7 @@ void fitOdometry(TCalibrationResult& r)
     r.a4 = fit(cphi[2], n, iphi[2], ph);
 }
 
-void fitDetector(TCalibrationResult& r)
+void fitDetector(TCalibrationResult& r, const FitProgress& progress)
 {
     if (r.samples.rangeResiduals_m.empty())
     {
@@ -553,6 +582,6 @@ void fitDetector(TCalibrationResult& r)
                 text(100 * outside) + " % of the range outside the gate");
     // The detection model counted the detections the gates matched: all but the misreads
     // outside them.
-    detectionModel(r, lambda, 1 - eps * outside);
+    detectionModel(r, lambda, 1 - eps * outside, progress);
 }
 }  // namespace semloc::detail

@@ -7,6 +7,8 @@
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/observation/CObservationSemantic.h>
 
+#include <cstddef>
+#include <functional>
 #include <vector>
 
 namespace semloc::detail
@@ -21,9 +23,13 @@ std::vector<double> nonNegativeLeastSquares(const std::vector<std::vector<double
                                             const std::vector<double>& y,
                                             std::vector<double>& ci95);
 
+/** Called as the detection model's search goes on: `step` of about `steps` of round `round`
+ *  (from 1; at most 50 rounds, most searches end after a few). */
+using FitProgress = std::function<void(int round, size_t step, size_t steps)>;
+
 /** sigma_range_m, sigma_bearing_deg, p_detect_near/far, clutter_per_scan, p_confusion from
  *  the samples and counts of `r`. Throws when no detection matched an object. */
-void fitDetector(TCalibrationResult& r);
+void fitDetector(TCalibrationResult& r, const FitProgress& progress = {});
 
 /** The range bias by bearing the residuals of `s` show (TCalibrationResult::rangeBias_m):
  *  kRangeBiasTerms coefficients and their 95 % half-widths in `ci95`, or none (empty) when

@@ -295,7 +295,60 @@ void requireSemanticMap(const std::string& baseIni, const std::string& baseName)
                                  "no semantic map to calibrate (needs >= 1)");
     }
 }
+/** The comment of `key` in `section` of the ini text `ini` ("" when it has none). */
+std::string commentOf(const std::string& ini, const std::string& section, const std::string& key)
+{
+    std::istringstream in(ini);
+    bool inSection = false;
+    for (std::string line; std::getline(in, line);)
+    {
+        if (const std::string s = sectionOf(line); !s.empty())
+        {
+            inSection = lower(s) == lower(section);
+        }
+        else if (inSection && lower(keyOf(line)) == lower(key))
+        {
+            const auto c = line.find(" // ");
+            return c == std::string::npos ? std::string() : trim(line.substr(c + 4));
+        }
+    }
+    return "";
+}
+
+/** `key`'s value in the written ini `ini`, and why it is not the fit as made when it is not:
+ *  its comment, less the fit's count and method. */
+std::string writtenText(const std::string& ini, const mrpt::config::CConfigFileMemory& written,
+                        const char* key)
+{
+    std::string text = trim(written.read_string(kLikelihood, key, ""));
+    std::string why = commentOf(ini, kLikelihood, key);
+    const std::string calibrated = "calibrated: ";
+    why = why.rfind(calibrated, 0) == 0 ? why.substr(calibrated.size()) : std::string();
+    why = why.substr(0, why.find("; n = "));
+    if (!why.empty() && why.rfind("n = ", 0) != 0)
+    {
+        text += " (" + why + ")";
+    }
+    return text;
+}
 }  // namespace
+
+std::string SensorCalibration::SummaryText(const TCalibrationResult& r, const std::string& ini)
+{
+    const mrpt::config::CConfigFileMemory written(ini);
+    const auto value = [&](const char* key) { return writtenText(ini, written, key); };
+    std::string t = std::to_string(r.scans) + " scans, " + std::to_string(r.increments) +
+                    " odometry increments: sigma_range_m " + value("sigma_range_m") +
+                    ", sigma_bearing_deg " + value("sigma_bearing_deg") + ", p_detect " +
+                    value("p_detect_near") + " .. " + value("p_detect_far") +
+                    ", clutter_per_scan " + value("clutter_per_scan") + ", p_confusion " +
+                    value("p_confusion") + ", p_range_outlier " + value("p_range_outlier");
+    if (r.a1.status == TCalibrationFit::Status::TooLittleData)
+    {
+        t += ", [MotionModel] the base ini's (not fitted, too little data (" + r.a1.why + "))";
+    }
+    return t;
+}
 
 void SensorCalibration::ReadBaseOptions(const std::string& baseIni, TOptions& o)
 {

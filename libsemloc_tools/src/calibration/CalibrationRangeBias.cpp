@@ -49,21 +49,30 @@ std::vector<double> fitRangeBias(const TCalibrationSamples& s, std::vector<doubl
         }
         Eigen::MatrixXd a(static_cast<Eigen::Index>(m), kTerms);
         Eigen::VectorXd b(static_cast<Eigen::Index>(m));
-        Eigen::Index row = 0;
-        for (size_t i = 0; i < n; i++)
+        const auto fill = [&]
         {
-            if (kept[i])
+            Eigen::Index row = 0;
+            for (size_t i = 0; i < n; i++)
             {
-                a.row(row) << 1, u[i], u[i] * u[i], u[i] * u[i] * u[i];
-                b[row++] = y[i];
+                if (kept[i])
+                {
+                    a.row(row) << 1, u[i], u[i] * u[i], u[i] * u[i] * u[i];
+                    b[row++] = y[i];
+                }
             }
-        }
-        const auto qr = a.colPivHouseholderQr();
-        if (qr.rank() < kTerms)
+        };
+        fill();
         {
-            return {};  // the bearings do not vary enough for a cubic
+            // Decomposed in a's own storage (a long log's matrix is not copied), then a is
+            // filled again for the residuals.
+            const Eigen::ColPivHouseholderQR<Eigen::Ref<Eigen::MatrixXd>> qr(a);
+            if (qr.rank() < kTerms)
+            {
+                return {};  // the bearings do not vary enough for a cubic
+            }
+            c = qr.solve(b);
         }
-        c = qr.solve(b);
+        fill();
         sse = (a * c - b).squaredNorm();
         sse0 = b.squaredNorm();
         normal = a.transpose() * a;

@@ -24,12 +24,14 @@
 
 #include "calibration/CalibrationFits.h"
 #include "calibration/CalibrationLookAlikes.h"
+#include "calibration/CalibrationPasses.h"
 
 namespace semloc
 {
 namespace
 {
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+using detail::Gate;
 using mrpt::obs::CActionCollection;
 using mrpt::obs::CActionRobotMovement2D;
 using mrpt::obs::CSensoryFrame;
@@ -45,15 +47,6 @@ SemanticDetectorModel::TOptions coverageOf(const CObservationSemantic& obs)
     o.sensor_yaw_deg = mrpt::RAD2DEG(obs.sensorPose.yaw());
     return o;
 }
-
-/** The matching gate: a disc of radius `radius_m` around the object's centre, or (with
- *  sigmas > 0) the ellipse (d_range / sigma_range)^2 + (d_bearing / sigma_bearing)^2 <= k^2. */
-struct Gate
-{
-    double radius_m = 3.0;
-    double sigmaRange_m = 0, sigmaBearing_rad = 0, k = 4.0;
-    bool normalized() const { return sigmaRange_m > 0 && sigmaBearing_rad > 0; }
-};
 
 /** Squared distance between a detection and an object in the sensor frame. */
 double distance2(const TSemanticDetection& d, const SemanticDetectorModel::TVisibleObject& v)
@@ -433,160 +426,111 @@ struct Span
     }
 };
 
-std::vector<detail::TimedIncrement> timedIncrements(const mrpt::obs::CRawlog& rawlog,
-                                                    const std::string& rawlogName,
-                                                    const GroundTruth& gt,
-                                                    const SensorCalibration::TOptions& o)
+/** The semantic observations of a sensory frame or observation entry. */
+std::vector<std::shared_ptr<CObservationSemantic>> semanticScans(
+    const mrpt::serialization::CSerializable::Ptr& entry)
 {
-    std::vector<detail::TimedIncrement> out;
-    for (size_t i = 0; i < rawlog.size(); i++)
+    std::vector<std::shared_ptr<CObservationSemantic>> out;
+    const auto add = [&](const mrpt::obs::CObservation::Ptr& o)
     {
-        if (rawlog.getType(i) != mrpt::obs::CRawlog::etActionCollection)
+        if (auto obs = std::dynamic_pointer_cast<CObservationSemantic>(o))
         {
-            continue;
+            out.push_back(std::move(obs));
         }
-        const auto act = rawlog.getAsAction(i)->getBestMovementEstimation();
-        if (act)
+    };
+    if (const auto sf = std::dynamic_pointer_cast<CSensoryFrame>(entry))
+    {
+        for (size_t k = 0; k < sf->size(); k++)
         {
-            out.push_back({mrpt::Clock::toDouble(act->timestamp),
-                           act->rawOdometryIncrementReading.asTPose(),
-                           &rowAt(gt, act->timestamp, o.gtTolerance_s, rawlogName, i)});
+            add(sf->getObservationByIndex(k));
         }
+    }
+    else
+    {
+        add(std::dynamic_pointer_cast<mrpt::obs::CObservation>(entry));
     }
     return out;
 }
 
-/** Walks the rawlog: every semantic scan and every odometry action against the ground truth. */
-void collect(const mrpt::obs::CRawlog& rawlog, const std::string& rawlogName, const World& world,
+/** The odometry of an action-collection entry (null for another entry, or an action
+ *  collection without a movement). */
+std::shared_ptr<CActionRobotMovement2D> odometryOf(
+    const mrpt::serialization::CSerializable::Ptr& entry)
+{
+    const auto acts = std::dynamic_pointer_cast<CActionCollection>(entry);
+    return acts ? acts->getBestMovementEstimation() : nullptr;
+}
+}  // namespace
+
+namespace detail
+{
+std::vector<TimedIncrement> timedIncrements(const RawlogWalk& walk, const std::string& rawlogName,
+                                            const GroundTruth& gt,
+                                            const SensorCalibration::TOptions& o)
+{
+    std::vector<TimedIncrement> out;
+    walk(
+        [&](size_t i, const mrpt::serialization::CSerializable::Ptr& entry)
+        {
+            if (const auto act = odometryOf(entry))
+            {
+                out.push_back({mrpt::Clock::toDouble(act->timestamp),
+                               act->rawOdometryIncrementReading.asTPose(),
+                               &rowAt(gt, act->timestamp, o.gtTolerance_s, rawlogName, i)});
+            }
+        });
+    return out;
+}
+
+void collect(const RawlogWalk& walk, const std::string& rawlogName, const World& world,
              const GroundTruth& gt, const SensorCalibration::TOptions& o, const Gate& gate,
-             const detail::RigidTransform2D& toMap, double delay_s, TCalibrationResult& r)
+             const RigidTransform2D& toMap, double delay_s, TCalibrationResult& r)
 {
     const GroundTruthRow* prevAction = nullptr;
     std::unique_ptr<SemanticDetectorModel> model;
     OdometryDelay delay(delay_s);
     LookAlikeMemory memory;
     Span span;
-    for (size_t i = 0; i < rawlog.size(); i++)
-    {
-        if (rawlog.getType(i) == mrpt::obs::CRawlog::etActionCollection)
+    walk(
+        [&](size_t i, const mrpt::serialization::CSerializable::Ptr& entry)
         {
-            const auto acts = rawlog.getAsAction(i);
-            const auto act = acts->getBestMovementEstimation();
-            if (!act)
+            if (std::dynamic_pointer_cast<CActionCollection>(entry))
             {
-                continue;
+                const auto act = odometryOf(entry);
+                if (!act)
+                {
+                    return;
+                }
+                const GroundTruthRow& row =
+                    rowAt(gt, act->timestamp, o.gtTolerance_s, rawlogName, i);
+                // The increment the filter moves by: the odometry's, re-cut by the delay.
+                const mrpt::poses::CPose2D odo(
+                    delay.step(mrpt::Clock::toDouble(act->timestamp),
+                               act->rawOdometryIncrementReading.asTPose()));
+                if (prevAction != nullptr)
+                {
+                    addIncrement(odo, *prevAction, row, r);
+                    span.add(odo, *prevAction, row);
+                }
+                prevAction = &row;
+                return;
             }
-            const GroundTruthRow& row = rowAt(gt, act->timestamp, o.gtTolerance_s, rawlogName, i);
-            // The increment the filter moves by: the odometry's, re-cut by the delay.
-            const mrpt::poses::CPose2D odo(delay.step(mrpt::Clock::toDouble(act->timestamp),
-                                                      act->rawOdometryIncrementReading.asTPose()));
-            if (prevAction != nullptr)
-            {
-                addIncrement(odo, *prevAction, row, r);
-                span.add(odo, *prevAction, row);
-            }
-            prevAction = &row;
-            continue;
-        }
-        mrpt::obs::CSensoryFrame::Ptr sf;
-        if (rawlog.getType(i) == mrpt::obs::CRawlog::etSensoryFrame)
-        {
-            sf = rawlog.getAsObservations(i);
-        }
-        else
-        {
-            sf = std::make_shared<CSensoryFrame>();
-            sf->insert(rawlog.getAsObservation(i));
-        }
-        for (size_t k = 0; k < sf->size(); k++)
-        {
-            const auto obs =
-                std::dynamic_pointer_cast<CObservationSemantic>(sf->getObservationByIndex(k));
-            if (obs)
+            for (const auto& obs : semanticScans(entry))
             {
                 const GroundTruthRow& row =
                     rowAt(gt, obs->timestamp, o.gtTolerance_s, rawlogName, i);
                 // The ranges as the filter reads them: less the bias found so far.
                 CObservationSemantic corrected;
-                addScan(detail::lessRangeBias(*obs, r.rangeBias_m, corrected), row.pose(), toMap,
-                        world, modelFor(*obs, world, model), gate, o, memory, r);
+                addScan(lessRangeBias(*obs, r.rangeBias_m, corrected), row.pose(), toMap, world,
+                        modelFor(*obs, world, model), gate, o, memory, r);
                 if (!obs->detections.empty())
                 {
                     span.close(r);
                 }
             }
-        }
-    }
+        });
     span.close(r);
 }
-}  // namespace
-
-TCalibrationResult SensorCalibration::Estimate(const mrpt::obs::CRawlog& rawlog,
-                                               const std::string& rawlogName, const World& world,
-                                               const std::vector<GroundTruthRow>& groundTruth,
-                                               const TOptions& options)
-{
-    if (!(options.gate_m > 0) || !(options.gateSigmas > 0) || options.gatePasses < 0 ||
-        !(options.gtTolerance_s >= 0))
-    {
-        throw std::invalid_argument("calibration: the gate must be > 0 and the tolerance >= 0");
-    }
-    const GroundTruth gt(groundTruth);
-    // The first pass gates by distance; the next ones by the sigmas the previous one fitted.
-    Gate gate;
-    gate.radius_m = options.gate_m;
-    gate.k = options.gateSigmas;
-    // Each pass places the scans by the ground truth moved by the map offset the passes
-    // before it fitted (none in the first).
-    detail::RigidTransform2D toMap;
-    TCalibrationResult delayFit;
-    detail::fitOdometryDelay(timedIncrements(rawlog, rawlogName, gt, options), delayFit);
-    TCalibrationResult r;
-    std::vector<double> rangeBias, rangeBiasCi95;
-    double sigmaUncorrected = 0;
-    for (int pass = 0; pass <= options.gatePasses; pass++)
-    {
-        r = TCalibrationResult();
-        r.rangeBias_m = rangeBias;
-        r.rangeBiasCi95_m = rangeBiasCi95;
-        collect(rawlog, rawlogName, world, gt, options, gate, toMap,
-                delayFit.odometry_delay_s.value, r);
-        if (r.scans == 0)
-        {
-            throw std::runtime_error("rawlog '" + rawlogName +
-                                     "': no semantic observation (CObservationSemantic) to "
-                                     "calibrate");
-        }
-        if (pass < options.gatePasses)
-        {
-            // The next pass reads the ranges less the bias so far and what this one adds.
-            if (pass == 0)
-            {
-                sigmaUncorrected = detail::madSigma(r.samples.rangeResiduals_m);
-            }
-            detail::addRangeBias(r.samples, rangeBias, rangeBiasCi95);
-        }
-        r.sigmaRangeUncorrected_m = sigmaUncorrected;
-        detail::fitDetector(r);
-        detail::fitLookAlikes(r);
-        detail::fitBias(r);
-        gate.sigmaRange_m = r.sigma_range_m.value;
-        gate.sigmaBearing_rad = mrpt::DEG2RAD(r.sigma_bearing_deg.value);
-        // An offset that moves the objects by more than kBiasSigmas sigma_range is removed
-        // from the next pass's poses (a smaller one is noise, or changes little).
-        r.mapOffset.removed = toMap.theta != 0 || toMap.tx != 0 || toMap.ty != 0;
-        const auto total = detail::fitMapOffset(r, toMap).after(toMap);
-        const bool large =
-            r.mapOffset.fitted &&
-            r.mapOffset.rms_m > TCalibrationResult::kBiasSigmas * r.bias.sigmaRangeAround_m;
-        toMap = large ? total : detail::RigidTransform2D();
-    }
-    r.odometry_delay_s = delayFit.odometry_delay_s;
-    r.odomHeadingRms_deg = delayFit.odomHeadingRms_deg;
-    r.odomHeadingRmsDelayed_deg = delayFit.odomHeadingRmsDelayed_deg;
-    detail::fitOdometry(r);
-    detail::applyLimits(r);
-    return r;
-}
+}  // namespace detail
 
 }  // namespace semloc

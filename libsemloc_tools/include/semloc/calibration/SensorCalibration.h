@@ -257,6 +257,18 @@ struct TCalibrationResult
     static constexpr double kBiasSigmas = 0.5;
 };
 
+/** Where semloc-calibrate's long steps are, for a progress display (a bar on a terminal):
+ *  `done` of `total` `unit`s of `stage` ("pass 2 of 3: matching", 1234 of 60000 "entries");
+ *  `total` is 0 while it is not known (the rawlog's first reading). */
+struct TCalibrationProgress
+{
+    std::string stage;
+    size_t done = 0, total = 0;
+    std::string unit;
+};
+/** Called as a step goes on (after each rawlog entry, each step of a search). */
+using CalibrationProgress = std::function<void(const TCalibrationProgress&)>;
+
 /** Estimates the noise of a dataset's detector and odometry against its ground truth
  *  (docs/tools.md, "semloc-calibrate").
  *
@@ -337,6 +349,19 @@ public:
                                        const std::vector<GroundTruthRow>& groundTruth,
                                        const TOptions& options);
 
+    /** Estimate() of the rawlog file `rawlogPath`, streamed: read once for the odometry's
+     *  delay and once per matching pass (gatePasses + 2 times), one entry in memory at a
+     *  time, so that memory grows only with the samples of the fits (TCalibrationSamples),
+     *  not with the rawlog. The same fits as Estimate() of the file loaded
+     *  (RawlogReader::Load); its errors too (a truncated or corrupted entry, a file without
+     *  entries), thrown when the first reading reaches them. `progress` is told each entry of
+     *  each reading and each step of the detection model's search. The ground truth is taken
+     *  (move it in: it is not copied). */
+    static TCalibrationResult EstimateFromFile(const std::string& rawlogPath, const World& world,
+                                               std::vector<GroundTruthRow> groundTruth,
+                                               const TOptions& options,
+                                               const CalibrationProgress& progress = {});
+
     /** Checks the base ini `basePath` as semloc-localize checks an ini
      *  (LocalizationExperiment::CheckConfig, with `worldPath` as its map_file), so the
      *  calibrated ini is never refused for something of the base; then throws naming the file
@@ -351,6 +376,15 @@ public:
      *  the axis or at an edge of the view (taken off, but that large), a map offset moving
      *  the objects more than sigma_range_m. */
     static std::vector<std::string> Warnings(const TCalibrationResult& result);
+
+    /** semloc-calibrate's summary on stdout: "N scans, M odometry increments: sigma_range_m
+     *  V, sigma_bearing_deg V, p_detect V .. V, clutter_per_scan V, p_confusion V,
+     *  p_range_outlier V", each V as the ini `ini` (ApplyToIni() of `result`) writes it, with
+     *  why in brackets when it is not the fit as made (its comment there, without the fit's
+     *  method: "not fitted, too little data (...): the base ini's value kept", "fitted 0 (...),
+     *  clamped to the smallest value the filter takes", "widened x8 by the consistency stage
+     *  (fitted 0.03416)"); then, when [MotionModel] is the base's, that and why. */
+    static std::string SummaryText(const TCalibrationResult& result, const std::string& ini);
 
     /** The bias and map offset as lines for the terminal and report.md. */
     static std::string BiasText(const TCalibrationResult& result);
@@ -402,15 +436,18 @@ public:
      * until one of its settings is consistent — and returns `r` widened by the consistent setting
      * of the lowest error, with the trials in `consistency`. When none is consistent: of the
      * settings whose runs all converged within errorTolerance of the lowest error, the one with the
-     * most steps inside (none converged: the lowest error). `trial` is called after each setting.
-     * The runs' outputs go to a temporary directory, removed afterwards (and by the interrupt
-     * watchdog). Nothing fitted to widen (every sigma and minStd too little data): `r` as given, no
-     * trial run. */
+     * most steps inside (none converged: the lowest error). `trial` is called after each setting,
+     * `progress` after each entry of each run. The settings are made from `r` without its
+     * samples (given back to the result: move a large result in). The runs' outputs go to a
+     * temporary directory, removed afterwards (and by the interrupt watchdog; one a killed
+     * run left is removed by the next: detail::TemporaryDirectory). Nothing fitted to widen
+     * (every sigma and minStd too little data): `r` as given, no trial run. */
     static TCalibrationResult Consistency(
-        const TCalibrationResult& r, const std::string& baseIni, const std::string& baseName,
+        TCalibrationResult r, const std::string& baseIni, const std::string& baseName,
         const std::string& worldPath, const std::string& rawlogPath,
         const std::string& groundTruthPath, const TConsistencyOptions& options,
-        const std::function<void(const TConsistencyTrial&)>& trial = {});
+        const std::function<void(const TConsistencyTrial&)>& trial = {},
+        const CalibrationProgress& progress = {});
 
     /** The consistency stage's before and after, one line (empty when it did not run). */
     static std::string ConsistencyText(const TCalibrationResult& result);
