@@ -173,7 +173,7 @@ void showStages()
             const double el =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - kStart).count();
             std::cerr << "\r" << std::string(79, ' ') << "\rsemloc-benchmark: " << what
-                      << " (elapsed " << clock(el) << ")\n"
+                      << " (elapsed " << semloc::apps::clockText(el) << ")\n"
                       << std::flush;
         });
 }
