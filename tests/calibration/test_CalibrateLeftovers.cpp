@@ -200,6 +200,10 @@ TEST(CalibrateLeftovers, StaleDirectoriesAreRemovedHeldOnesKept)
     // Once its owner is gone, a held directory is stale.
     EXPECT_EQ(semloc::detail::removeStaleTemporaryDirectories(dir, "job-"), 1u);
     EXPECT_FALSE(fs::exists(live));
+    if (!HasFailure())
+    {
+        fs::remove_all(dir);
+    }
 }
 
 TEST(CalibrateLeftovers, AKilledRunsTemporaryDirectoryIsRemovedByTheNextRun)

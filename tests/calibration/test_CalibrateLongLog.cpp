@@ -127,6 +127,10 @@ TEST(CalibrateLongLog, StreamedFromTheFileTheFitsOfTheLoadedLog)
             EXPECT_EQ(p.unit, "entries");
         }
     }
+    if (!HasFailure())
+    {
+        fs::remove_all(d);
+    }
 }
 
 TEST(CalibrateLongLog, ARawlogThatChangesBetweenThePassesIsAnError)
@@ -162,6 +166,10 @@ TEST(CalibrateLongLog, ARawlogThatChangesBetweenThePassesIsAnError)
                        "the file changed while it was calibrated"),
               std::string::npos)
         << err;
+    if (!HasFailure())
+    {
+        fs::remove_all(d);
+    }
 }
 
 TEST(CalibrateLongLog, MemoryGrowsWithTheSamplesNotTheRawlog)
