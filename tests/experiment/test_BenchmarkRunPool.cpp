@@ -258,8 +258,7 @@ TEST(BenchmarkRunPool, RunFileThatIsNotARegularFileIsRefusedInOneLine)
     ASSERT_EQ(::mkfifo((dir + "/fifo.txt").c_str(), 0600), 0);
     EXPECT_NE(error(dir + "/fifo.txt").find("fifo.txt' is a FIFO (a pipe), not a regular file"),
               std::string::npos);
-    EXPECT_NE(error(dir).find("run_special' is a directory, not a file"),
-              std::string::npos);
+    EXPECT_NE(error(dir).find("run_special' is a directory, not a file"), std::string::npos);
     EXPECT_EQ(error(dir + "/none.txt"), "run file '" + dir + "/none.txt' does not exist");
     std::ofstream(dir + "/big.txt") << "0123456789a";
     EXPECT_NE(error(dir + "/big.txt", 10)
