@@ -116,7 +116,7 @@ TEST(BenchmarkRunPool, RunFileGivesBackEveryValueBitForBit)
         writeTemp("run_roundtrip.txt", semloc::detail::runFileText(in, 7, kInputs));
 
     const auto out = semloc::detail::readRunFile(path, 7, kInputs,
-                                                 {{"semantic", "route"}, {"grid_lf", "route"}});
+                                                 {{"semantic", "active"}, {"grid_lf", "route"}});
     ASSERT_EQ(out.size(), 2u);
     EXPECT_EQ(out[0].run, 7);
     EXPECT_EQ(out[0].seed, 7u);
@@ -195,7 +195,7 @@ TEST(BenchmarkRunPool, CorruptRunFileIsAnErrorNamingItsLine)
               std::string::npos)
         << errorOf(sealed(bad));
     bad = lines;
-    bad[3] = "V semantic route 0 1 0 0 0 0 1000";  // more steps than lines
+    bad[3] = "V semantic route 0 1 0 0 0 0 0 0 0 1000";  // more steps than lines
     EXPECT_NE(errorOf(sealed(bad)).find("line 4: 1000 steps, but the file ends before them"),
               std::string::npos);
     bad = lines;
