@@ -187,6 +187,10 @@ void printResult(const semloc::Benchmark::TResult& res, bool scenarios)
     {
         std::cerr << "semloc-benchmark: warning: " << w.text() << "\n";
     }
+    for (const auto& w : res.warnings)
+    {
+        std::cerr << "semloc-benchmark: warning: " << w << "\n";
+    }
     std::cout << "\n"
               << res.table << "\nsemloc-benchmark: " << res.runs.size() << " results in "
               << res.outputDir

@@ -413,6 +413,8 @@ Cases reportSafetyCases()
     return {
         {"benchmark-active-decision-costly", [=](const fs::path& d)
          { return activeBenchmark(d, "look_around = true\noutcomes = 64\n"); }},
+        {"benchmark-active-series-costly", [=](const fs::path& d)
+         { return activeBenchmark(d, "look_around = true\nrepresentatives = 24\n"); }},
         {"benchmark-active-vehicle-stuck",
          [=](const fs::path& d) { return activeBenchmark(d, "distances_m = 1000\n"); }},
     };

@@ -292,6 +292,11 @@ Benchmark::TResult Benchmark::runAll(const std::function<void(size_t, size_t)>& 
     res.figureWarnings = detail::writeFigures(out, names, m_simulation, res.runs, scenario);
 
     stage("writing report.md");
+    for (const auto& c : detail::costlySeries(res.runs, m_options.active))
+    {
+        res.warnings.push_back((c.scenario.empty() ? "" : "scenario '" + c.scenario + "', ") +
+                               c.series + ": " + c.text);
+    }
     res.table = reportTable(res.runs, names);
     res.summaries = summarize(res.runs);
     res.wallTime_s =
@@ -331,6 +336,7 @@ Benchmark::TResult Benchmark::runScenarios(const std::function<void(size_t, size
             shards, inputs);
         res.runs.insert(res.runs.end(), r.runs.begin(), r.runs.end());
         res.summaries.insert(res.summaries.end(), r.summaries.begin(), r.summaries.end());
+        res.warnings.insert(res.warnings.end(), r.warnings.begin(), r.warnings.end());
         for (auto w : r.figureWarnings)
         {
             w.figure = sc.m_scenario.name + "/" + w.figure;

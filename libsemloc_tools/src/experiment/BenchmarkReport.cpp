@@ -14,6 +14,7 @@
 #include <system_error>
 
 #include "experiment/BenchmarkTables.h"
+#include "experiment/ClosedLoop.h"
 #include "experiment/RunFigures.h"
 #include "experiment/Statistics.h"
 #include "io/TextFiles.h"
@@ -21,6 +22,46 @@
 
 namespace semloc::detail
 {
+std::vector<TSeriesNote> costlySeries(const std::vector<Benchmark::TRunResult>& runs,
+                                      const ActivePolicy::TOptions& policy)
+{
+    std::vector<std::pair<TSeriesNote, TDecisionCost>> series;
+    std::vector<size_t> particles;
+    for (const auto& r : runs)
+    {
+        if (r.control != "active" || r.decisions == 0)
+        {
+            continue;
+        }
+        auto it = std::find_if(
+            series.begin(), series.end(),
+            [&](const auto& s)
+            { return s.first.scenario == r.scenario && s.first.series == r.series(); });
+        if (it == series.end())
+        {
+            series.push_back({TSeriesNote{r.scenario, r.series(), {}}, TDecisionCost{}});
+            particles.push_back(r.particles);
+            it = std::prev(series.end());
+        }
+        auto& c = it->second;
+        c.runs++;
+        c.decisions += r.decisions;
+        c.filterSteps += r.decisionFilterSteps;
+        c.maxFilterSteps = std::max(c.maxFilterSteps, r.maxDecisionFilterSteps);
+    }
+    std::vector<TSeriesNote> out;
+    for (size_t i = 0; i < series.size(); i++)
+    {
+        const auto& c = series[i].second;
+        if (c.filterSteps / static_cast<double>(c.decisions) > ActivePolicy::kBudgetFilterSteps)
+        {
+            out.push_back(series[i].first);
+            out.back().text = costlySeriesNote(policy, c, particles[i]);
+        }
+    }
+    return out;
+}
+
 namespace
 {
 /** Most series a figure draws: world_paths.png's panels (3 x 3), the curves of fig_*.png. */
@@ -270,12 +311,20 @@ std::string experimentSection(const Benchmark& b, const Benchmark::TResult& res,
     return md.str();
 }
 
-/** report.md's warnings on the controls: per series, the runs whose decisions cost more than
- *  the budget on average, and those in which the vehicle could not move. */
-std::string controlWarnings(const std::vector<Benchmark::TRunResult>& runs)
+/** report.md's warnings on the controls: the series whose decisions cost more than the
+ *  budget on average over their runs (costlySeries), and per series the runs in which the
+ *  vehicle could not move. */
+std::string controlWarnings(const std::vector<Benchmark::TRunResult>& runs,
+                            const ActivePolicy::TOptions& policy)
 {
+    std::ostringstream md;
+    for (const auto& c : costlySeries(runs, policy))
+    {
+        md << "- **warning**: `" << (c.scenario.empty() ? "" : c.scenario + ", ") << c.series
+           << "`: " << c.text << "\n";
+    }
     std::vector<std::string> order;
-    std::map<std::string, std::array<size_t, 5>> n;  // runs, costly, stuck runs, stuck, decisions
+    std::map<std::string, std::array<size_t, 4>> n;  // runs, stuck runs, stuck, decisions
     for (const auto& r : runs)
     {
         if (r.decisions == 0)
@@ -289,33 +338,20 @@ std::string controlWarnings(const std::vector<Benchmark::TRunResult>& runs)
         }
         auto& c = n[key];
         c[0]++;
-        c[1] += r.decisionFilterSteps / static_cast<double>(r.decisions) >
-                        ActivePolicy::kBudgetFilterSteps
-                    ? 1
-                    : 0;
-        c[2] += r.stuckDecisions > 0 ? 1 : 0;
-        c[3] += r.stuckDecisions;
-        c[4] += r.decisions;
+        c[1] += r.stuckDecisions > 0 ? 1 : 0;
+        c[2] += r.stuckDecisions;
+        c[3] += r.decisions;
     }
-    std::ostringstream md;
     for (const auto& key : order)
     {
         const auto& c = n[key];
         if (c[1] > 0)
         {
             md << mrpt::format(
-                "- **warning**: `%s`: the decisions cost more than the budget of %g filter steps "
-                "on average in %zu of %zu runs ([ActiveLocalization] headings, distances_m, "
-                "look_around, representatives, outcomes, scan_every_m set it)\n",
-                key.c_str(), ActivePolicy::kBudgetFilterSteps, c[1], c[0]);
-        }
-        if (c[2] > 0)
-        {
-            md << mrpt::format(
                 "- **warning**: `%s`: the vehicle could not move at %zu of %zu decisions, in %zu "
                 "of %zu runs (every candidate path left the free space: [ActiveLocalization] "
                 "distances_m, headings)\n",
-                key.c_str(), c[3], c[4], c[2], c[0]);
+                key.c_str(), c[2], c[3], c[1], c[0]);
         }
     }
     const std::string text = md.str();
@@ -349,7 +385,7 @@ std::string controlsSection(const Benchmark::TOptions& o,
        << ActivePolicy::kBudgetFilterSteps
        << " (docs/active.md). A decision could not move when no candidate motion that goes "
           "somewhere was free from the true pose.\n\n"
-       << Benchmark::controlsTable(runs) << controlWarnings(runs);
+       << Benchmark::controlsTable(runs) << controlWarnings(runs, o.active);
     return md.str();
 }
 

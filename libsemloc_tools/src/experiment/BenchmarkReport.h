@@ -10,6 +10,18 @@
 
 namespace semloc::detail
 {
+/** A warning on one series of a benchmark's runs. */
+struct TSeriesNote
+{
+    std::string scenario, series, text;
+};
+
+/** The series of `runs` driven by the active policy (`policy`) whose decisions cost more than
+ *  the budget (ActivePolicy::kBudgetFilterSteps) on average over all their runs' decisions:
+ *  one note each (costlySeriesNote), in the runs' order. */
+std::vector<TSeriesNote> costlySeries(const std::vector<Benchmark::TRunResult>& runs,
+                                      const ActivePolicy::TOptions& policy);
+
 /** Benchmark::SetStageReporter()'s reporter, told `what` (nothing without one). */
 void reportStage(const std::string& what);
 

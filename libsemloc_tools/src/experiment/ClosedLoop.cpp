@@ -171,22 +171,11 @@ public:
         m_lastFrame = sf;
     }
 
-    /** The run's notes at its end: decisions over the budget on average (unless told
-     *  already), a vehicle that could not move. */
+    /** The run's note at its end: a vehicle that could not move. (Decisions over the budget
+     *  on average are judged over a series' runs: costlySeries.) */
     void finish() const
     {
-        if (!m_note)
-        {
-            return;
-        }
-        const auto n = static_cast<double>(m_out.decisions);
-        if (m_control == Control::Active && !m_toldCost && n > 0 &&
-            m_out.decisionFilterSteps / n > ActivePolicy::kBudgetFilterSteps)
-        {
-            m_note("cost", costlyRunNote(m_policyOptions, m_out.decisionFilterSteps / n,
-                                         m_out.maxDecisionFilterSteps, m_loc.pdf().size()));
-        }
-        if (m_out.stuckDecisions > 0)
+        if (m_note && m_out.stuckDecisions > 0)
         {
             m_note("stuck",
                    stuckVehicleNote(m_policyOptions, m_out.stuckDecisions, m_out.decisions));
@@ -397,14 +386,15 @@ std::string costlyDecisionNote(const ActivePolicy::TOptions& o, double filterSte
            costKeys(o);
 }
 
-std::string costlyRunNote(const ActivePolicy::TOptions& o, double meanFilterSteps,
-                          double maxFilterSteps, size_t particles)
+std::string costlySeriesNote(const ActivePolicy::TOptions& o, const TDecisionCost& cost,
+                             size_t particles)
 {
     return mrpt::format(
                "the active policy's decisions cost %.3g filter steps of %zu particles on average "
-               "(the "
-               "largest %.3g), over the budget of %g a decision (docs/active.md): ",
-               meanFilterSteps, particles, maxFilterSteps, ActivePolicy::kBudgetFilterSteps) +
+               "over %zu decision(s) of %zu run(s) (the largest %.3g), over the budget of %g a "
+               "decision (docs/active.md): ",
+               cost.filterSteps / static_cast<double>(cost.decisions), particles, cost.decisions,
+               cost.runs, cost.maxFilterSteps, ActivePolicy::kBudgetFilterSteps) +
            costKeys(o);
 }
 

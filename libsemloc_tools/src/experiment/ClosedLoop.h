@@ -55,9 +55,10 @@ struct TClosedLoopRun
 };
 
 /** A note of a closed-loop run on what it costs or cannot do, once per run and kind: "cost",
- *  a decision over ten budgets (ActivePolicy::kBudgetFilterSteps: told before it is made) or,
- *  at the run's end, decisions over the budget on average; "stuck", a vehicle that could not
- *  move (at the end of the run). Each text names the [ActiveLocalization] keys that set it,
+ *  a decision over ten budgets (ActivePolicy::kBudgetFilterSteps: told before it is made);
+ *  "stuck", a vehicle that could not move (at the end of the run). Decisions over the budget
+ *  on average are judged over a series' runs, once they are all done (Benchmark::TResult::
+ *  warnings). Each text names the [ActiveLocalization] keys that set it,
  *  with their values. */
 using ClosedLoopNote = std::function<void(const std::string& kind, const std::string& text)>;
 
@@ -83,10 +84,17 @@ TClosedLoopRun runClosedLoop(const Simulator& simulator, Localizer& loc, const C
  *  `evaluations` likelihood evaluations): the cost and the keys that set it. */
 std::string costlyDecisionNote(const ActivePolicy::TOptions& policy, double filterSteps,
                                double evaluations, size_t particles);
-/** The note of a run whose decisions cost `meanFilterSteps` on average, at most
- *  `maxFilterSteps`. */
-std::string costlyRunNote(const ActivePolicy::TOptions& policy, double meanFilterSteps,
-                          double maxFilterSteps, size_t particles);
+/** The active policy's decisions of a series over its runs: how many, their cost in filter
+ *  steps (the sum and the largest). */
+struct TDecisionCost
+{
+    size_t runs = 0, decisions = 0;
+    double filterSteps = 0, maxFilterSteps = 0;
+};
+/** The note of a series whose decisions (`cost`, of filters of `particles` particles) cost
+ *  over the budget on average. */
+std::string costlySeriesNote(const ActivePolicy::TOptions& policy, const TDecisionCost& cost,
+                             size_t particles);
 /** The note of a vehicle that found no free motion in `stuck` of its `decisions`. */
 std::string stuckVehicleNote(const ActivePolicy::TOptions& policy, size_t stuck, size_t decisions);
 

@@ -281,6 +281,11 @@ public:
         /** The figures gnuplot could not draw (left out; the other outputs are written);
          *  with scenarios, each figure's path starts with its scenario's directory. */
         std::vector<TFigureWarning> figureWarnings;
+        /** The series whose active-policy decisions cost more than their budget on average
+         *  over all their runs (report.md lists them too): "scenario 'S', series: text" (the
+         *  scenario's part with scenarios only), the text naming the [ActiveLocalization]
+         *  keys that set the cost. */
+        std::vector<std::string> warnings;
     };
 
     /** Reads [Benchmark], the simulation ini and every variant ini (strictly) before any
