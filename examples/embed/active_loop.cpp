@@ -2,68 +2,27 @@
  * policy for the next motion (the one expected to tell its hypotheses apart best); once they
  * have converged, it goes back to its mission (here: straight on).
  *   active_loop <world.yaml>
- * It links semloc::semloc alone. The "robot" is a stand-in written below: noisy odometry, a
- * detector of 12 m and 120 degrees, and the world itself as its obstacle sonar (a motion whose
+ * It links semloc::semloc alone. The "robot" is stand-ins: noisy odometry and a detector of 12 m
+ * and 120 degrees (StandIns.h), and the world itself as its obstacle sonar (a motion whose
  * path would hit something is not made); on a vehicle these come from its own sensors. */
 #include <mrpt/maps/CMultiMetricMap.h>
-#include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionCollection.h>
-#include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/random/RandomGenerators.h>
 #include <semloc/active/ActivePolicy.h>
 #include <semloc/filter/Localizer.h>
 #include <semloc/maps/CSemanticMap.h>
-#include <semloc/observation/CObservationSemantic.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
 
+#include "StandIns.h"
+
 namespace
 {
-/** The odometry's stand-in: the true increment with Gaussian noise, and MRPT's Gaussian
- *  odometry model around the reading. */
-mrpt::obs::CActionRobotMovement2D odometryReading(const mrpt::poses::CPose2D& u,
-                                                  mrpt::random::CRandomGenerator& rng)
-{
-    const mrpt::poses::CPose2D reading(u.x() + 0.02 * rng.drawGaussian1D_normalized(),
-                                       u.y() + 0.02 * rng.drawGaussian1D_normalized(),
-                                       u.phi() + 0.005 * rng.drawGaussian1D_normalized());
-    mrpt::obs::CActionRobotMovement2D action;
-    action.computeFromOdometry(reading, {});
-    return action;
-}
-
-/** The detector's stand-in: the world's objects within 12 m and a 120 degree view, 90 % of
- *  them detected, range and bearing with noise, labels only. */
-semloc::CObservationSemantic::Ptr detectorScan(const semloc::World& world,
-                                               const mrpt::poses::CPose2D& vehicle,
-                                               mrpt::random::CRandomGenerator& rng)
-{
-    auto scan = semloc::CObservationSemantic::Create();
-    scan->maxRange_m = 12.0;
-    scan->fov_rad = 120.0 * M_PI / 180.0;
-    for (const auto& object : world.objects)
-    {
-        const double dx = object.center.x - vehicle.x(), dy = object.center.y - vehicle.y();
-        const double range = std::hypot(dx, dy);
-        const double bearing = mrpt::math::wrapToPi(std::atan2(dy, dx) - vehicle.phi());
-        if (range > scan->maxRange_m || std::abs(bearing) > scan->fov_rad / 2 ||
-            rng.drawUniform(0.0, 1.0) > 0.9)
-        {
-            continue;
-        }
-        semloc::TSemanticDetection d;
-        d.label = object.label;
-        d.range_m = std::clamp(range + 0.1 * rng.drawGaussian1D_normalized(), 0.0, 12.0);
-        d.bearing_rad = std::clamp(bearing + 0.01 * rng.drawGaussian1D_normalized(),
-                                   -scan->fov_rad / 2, scan->fov_rad / 2);
-        scan->detections.push_back(d);
-    }
-    return scan;
-}
+/** The detector: 12 m and 120 degrees, 90 % of the objects in view detected. */
+const standin::Detector kDetector{12.0, 120.0, 0.9};
 
 /** The obstacle sonar's stand-in: true when `m` from the true pose stays in free space. */
 bool clear(const semloc::World& world, const mrpt::poses::CPose2D& truth,
@@ -112,8 +71,8 @@ struct Robot
     {
         truth = truth + u;
         mrpt::obs::CActionCollection action;
-        action.insert(odometryReading(u, rng));
-        scan = detectorScan(world, truth, rng);
+        action.insert(standin::odometryReading(u, rng));
+        scan = standin::detectorScan(kDetector, world, truth, rng);
         mrpt::obs::CSensoryFrame frame;
         frame.insert(scan);
         localizer.step(action, frame);
@@ -153,7 +112,7 @@ int main(int argc, char** argv)
     const auto& start = world.trajectory->waypoints[0];
     Robot robot{world, localizer, policy};
     robot.truth = mrpt::poses::CPose2D(start.x, start.y, 0);
-    robot.scan = detectorScan(world, robot.truth, robot.rng);
+    robot.scan = standin::detectorScan(kDetector, world, robot.truth, robot.rng);
     const double step = 0.5;     // metres per step
     semloc::TActiveMotion plan;  // the motion under way: a turn to make, metres to go
     bool converged = false;

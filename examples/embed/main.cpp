@@ -2,61 +2,19 @@
  * object detector's output to the localizer and read the pose estimate.
  *   robot_loop <world.yaml>
  * It links semloc::semloc alone, the core a robot needs. The "robot" here is two stand-ins
- * written below (a noisy odometry and a detector that reports the world's objects in view);
- * on a vehicle, odometry and detections come from the DVL/compass and the object recognizer. */
+ * (StandIns.h: a noisy odometry and a detector of 20 m and 120 degrees that reports the
+ * world's objects in view); on a vehicle, odometry and detections come from the DVL/compass
+ * and the object recognizer. */
 #include <mrpt/maps/CMultiMetricMap.h>
-#include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionCollection.h>
-#include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CSensoryFrame.h>
-#include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/Localizer.h>
 #include <semloc/maps/CSemanticMap.h>
-#include <semloc/observation/CObservationSemantic.h>
 
 #include <cmath>
 #include <cstdio>
 
-namespace
-{
-/** The odometry's stand-in: the true increment with Gaussian noise, and MRPT's Gaussian
- *  odometry model around the reading. */
-mrpt::obs::CActionRobotMovement2D odometryReading(const mrpt::poses::CPose2D& u,
-                                                  mrpt::random::CRandomGenerator& rng)
-{
-    const mrpt::poses::CPose2D reading(u.x() + 0.02 * rng.drawGaussian1D_normalized(),
-                                       u.y() + 0.02 * rng.drawGaussian1D_normalized(),
-                                       u.phi() + 0.005 * rng.drawGaussian1D_normalized());
-    mrpt::obs::CActionRobotMovement2D action;
-    action.computeFromOdometry(reading, {});  // MRPT's default Gaussian model
-    return action;
-}
-
-/** The detector's stand-in: every object of the world within 20 m and a 120 degree view,
- *  its range and bearing with noise, its label (no id: the map tells objects apart). */
-semloc::CObservationSemantic::Ptr detectorScan(const semloc::World& world,
-                                               const mrpt::poses::CPose2D& vehicle,
-                                               mrpt::random::CRandomGenerator& rng)
-{
-    auto scan = semloc::CObservationSemantic::Create();
-    scan->maxRange_m = 20.0;
-    scan->fov_rad = 120.0 * M_PI / 180.0;
-    for (const auto& object : world.objects)
-    {
-        const double dx = object.center.x - vehicle.x(), dy = object.center.y - vehicle.y();
-        const double range = std::hypot(dx, dy);
-        const double bearing = mrpt::math::wrapToPi(std::atan2(dy, dx) - vehicle.phi());
-        if (range > scan->maxRange_m || std::abs(bearing) > scan->fov_rad / 2)
-            continue;
-        semloc::TSemanticDetection d;
-        d.label = object.label;
-        d.range_m = std::max(0.0, range + 0.1 * rng.drawGaussian1D_normalized());
-        d.bearing_rad = mrpt::math::wrapToPi(bearing + 0.01 * rng.drawGaussian1D_normalized());
-        scan->detections.push_back(d);
-    }
-    return scan;
-}
-}  // namespace
+#include "StandIns.h"
 
 int main(int argc, char** argv)
 {
@@ -92,9 +50,9 @@ int main(int argc, char** argv)
     {
         truth = truth + u;
         mrpt::obs::CActionCollection action;
-        action.insert(odometryReading(u, rng));
+        action.insert(standin::odometryReading(u, rng));
         mrpt::obs::CSensoryFrame frame;
-        frame.insert(detectorScan(world, truth, rng));
+        frame.insert(standin::detectorScan(standin::Detector{}, world, truth, rng));
 
         localizer.step(action, frame);  // prediction + likelihood + resampling
 
