@@ -77,18 +77,31 @@ double calibrateLongLog(size_t scans)
     }
     return rss;
 }
+
+/** The detector of the fits' tests: 0.2 m and 0.03 rad of noise. */
+semloc::test::TLongLogNoise noisyDetector()
+{
+    semloc::test::TLongLogNoise noise;
+    noise.range_m = 0.2;
+    noise.bearing_rad = 0.03;
+    return noise;
+}
+
+/** `d`, created empty. */
+void freshDirectory(const fs::path& d)
+{
+    fs::remove_all(d);
+    fs::create_directories(d);
+}
 }  // namespace
 
 TEST(CalibrateLongLog, StreamedFromTheFileTheFitsOfTheLoadedLog)
 {
     const fs::path d = fs::path(SEMLOC_TEST_OUT) / "calibrate_streamed";
-    fs::remove_all(d);
-    fs::create_directories(d);
     const auto world = semloc::World::FromFile(kSrc + "/maps/paper_50x50.yaml");
-    semloc::test::TLongLogNoise noise;
-    noise.range_m = 0.2;
-    noise.bearing_rad = 0.03;
+    const auto noise = noisyDetector();
     const std::string rawlog = (d / "run.rawlog").string(), gtPath = (d / "run_gt.txt").string();
+    freshDirectory(d);
     semloc::test::writeLongLog(world, 600, rawlog, gtPath, noise);
     const auto gt = semloc::GroundTruthFile::Read(gtPath);
     const semloc::SensorCalibration::TOptions o;
@@ -136,13 +149,10 @@ TEST(CalibrateLongLog, StreamedFromTheFileTheFitsOfTheLoadedLog)
 TEST(CalibrateLongLog, ARawlogThatChangesBetweenThePassesIsAnError)
 {
     const fs::path d = fs::path(SEMLOC_TEST_OUT) / "calibrate_changed";
-    fs::remove_all(d);
-    fs::create_directories(d);
     const auto world = semloc::World::FromFile(kSrc + "/maps/paper_50x50.yaml");
-    semloc::test::TLongLogNoise noise;
-    noise.range_m = 0.2;
-    noise.bearing_rad = 0.03;
+    const auto noise = noisyDetector();
     const std::string rawlog = (d / "run.rawlog").string(), gtPath = (d / "run_gt.txt").string();
+    freshDirectory(d);
     semloc::test::writeLongLog(world, 300, rawlog, gtPath, noise);
     const auto gt = semloc::GroundTruthFile::Read(gtPath);
     // Rewritten shorter while the first pass's fits run (as by another program).

@@ -3,9 +3,7 @@
  * same import of two landmarks) stays within a few times the landmark file's size
  * (the landmarks held compactly, the world file's text and YAML never held whole). */
 #include <gtest/gtest.h>
-#include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CRawlog.h>
-#include <mrpt/obs/CSensoryFrame.h>
 #include <semloc/world/World.h>
 
 #include <cstdio>
@@ -16,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "LandmarkLog.h"
 #include "ProcessRun.h"
 #include "TestHelpers.h"
 
@@ -42,25 +41,7 @@ int run(std::vector<std::string> args, const fs::path& log, double& maxRss_MiB)
 /** simul-landmarks' output, small: 3 frames seeing landmarks 1 and 2, the robot path. */
 void writeLandmarkDataset(const fs::path& d)
 {
-    mrpt::obs::CRawlog log;
-    for (int k = 0; k < 3; k++)
-    {
-        auto o = mrpt::obs::CObservationBearingRange::Create();
-        o->timestamp = mrpt::Clock::fromDouble(1.0 + k);
-        o->maxSensorDistance = 10;
-        for (int id = 1; id <= 2; id++)
-        {
-            mrpt::obs::CObservationBearingRange::TMeasurement m;
-            m.range = 3.0f + static_cast<float>(id);
-            m.yaw = 0.1f * static_cast<float>(id);
-            m.pitch = 0;
-            m.landmarkID = id;
-            o->sensedData.push_back(m);
-        }
-        mrpt::obs::CSensoryFrame sf;
-        sf.insert(o);
-        log.insert(sf);
-    }
+    const mrpt::obs::CRawlog log = semloc::test::landmarkLog();
     ASSERT_TRUE(log.saveToRawLogFile((d / "in.rawlog").string()));
     std::ofstream(d / "path.txt") << "0 0 0 0 0 0\n0.5 0 0 0 0 0\n1 0 0 0 0 0\n";
     std::ofstream(d / "odom.csv") << "t,x,y,phi\n1,0,0,0\n2,1,0,0\n3,2,0,0\n";

@@ -4,7 +4,6 @@
 #include <mrpt/io/CFileOutputStream.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
-#include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/observation/CObservationSemantic.h>
@@ -29,6 +28,7 @@
 
 #include "TestHelpers.h"
 
+#include "LandmarkLog.h"
 #include "io/BadInputBuilders.h"
 
 namespace semloc::test::bad_input
@@ -128,25 +128,7 @@ std::vector<std::string> plotWorld(const fs::path& dir, const std::string& yaml)
 std::vector<std::string> importLandmarks(const fs::path& dir,
                                          const std::vector<std::string>& options)
 {
-    mrpt::obs::CRawlog log;
-    for (int k = 0; k < 3; k++)
-    {
-        auto o = mrpt::obs::CObservationBearingRange::Create();
-        o->timestamp = mrpt::Clock::fromDouble(1.0 + k);
-        o->maxSensorDistance = 10;
-        for (int id = 1; id <= 2; id++)
-        {
-            mrpt::obs::CObservationBearingRange::TMeasurement m;
-            m.range = 3.0f + static_cast<float>(id);
-            m.yaw = 0.1f * static_cast<float>(id);
-            m.pitch = 0;
-            m.landmarkID = id;
-            o->sensedData.push_back(m);
-        }
-        mrpt::obs::CSensoryFrame sf;
-        sf.insert(o);
-        log.insert(sf);
-    }
+    const mrpt::obs::CRawlog log = landmarkLog();
     saveGz(log, dir / "in.rawlog");
     writeText(dir / "in.rawlog_ground_truth.txt", "4 0.5 0 0 0 0 1\n5 1 0 0 0 0 2\n");
     writeText(dir / "in.rawlog_ground_truth_robot_path.txt",

@@ -255,13 +255,7 @@ World DatasetImport::makeWorld(const std::vector<ImportedLandmark>& landmarks,
     {
         objects.push_back(l.object);
     }
-    std::vector<mrpt::math::TPose2D> path;
-    path.reserve(groundTruth.size());
-    for (const auto& r : groundTruth)
-    {
-        path.emplace_back(r.x, r.y, r.phi);
-    }
-    return LandmarkImport::makeWorld(objects, path, margin_m, name);
+    return LandmarkImport::makeWorld(objects, posesOf(groundTruth), margin_m, name);
 }
 
 }  // namespace semloc

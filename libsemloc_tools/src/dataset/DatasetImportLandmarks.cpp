@@ -3,6 +3,7 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <semloc/dataset/DatasetImport.h>
+#include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/dataset/LandmarkImport.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/observation/Labels.h>
@@ -158,13 +159,7 @@ World DatasetImport::makeWorldFrame(const LandmarkSet& landmarks,
                                     const std::vector<GroundTruthRow>& groundTruth, double margin_m,
                                     const std::string& name)
 {
-    std::vector<mrpt::math::TPose2D> path;
-    path.reserve(groundTruth.size());
-    for (const auto& r : groundTruth)
-    {
-        path.emplace_back(r.x, r.y, r.phi);
-    }
-    return LandmarkImport::makeWorldFrame(landmarks, path, margin_m, name);
+    return LandmarkImport::makeWorldFrame(landmarks, posesOf(groundTruth), margin_m, name);
 }
 
 }  // namespace semloc

@@ -23,6 +23,18 @@ struct GroundTruthRow
     mrpt::math::TPose2D pose() const { return {x, y, phi}; }
 };
 
+/** The poses of `rows`, in order. */
+inline std::vector<mrpt::math::TPose2D> posesOf(const std::vector<GroundTruthRow>& rows)
+{
+    std::vector<mrpt::math::TPose2D> poses;
+    poses.reserve(rows.size());
+    for (const auto& r : rows)
+    {
+        poses.push_back(r.pose());
+    }
+    return poses;
+}
+
 /** The ground truth of a dataset as semloc-simulate, semloc-import and
  *  semloc-import-landmarks write it and semloc-localize and semloc-calibrate read it: one pose
  *  `t x y phi` per line, times increasing. */
