@@ -11,6 +11,7 @@
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <mrpt/serialization/CArchive.h>
+#include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/maps/CSemanticMap.h>
@@ -46,6 +47,13 @@ inline mrpt::config::CConfigFileMemory iniText(const std::string& text)
     mrpt::config::CConfigFileMemory c;
     c.setContent(text);
     return c;
+}
+
+/** The ini file at `p` with its bases resolved, as one text (semloc::config::readIniText): a
+ *  shipped configuration to change with withKeys() and write elsewhere. */
+inline std::string resolvedIni(const std::filesystem::path& p)
+{
+    return semloc::config::readIniText(p.string());
 }
 
 /** The whole file at `p`, byte for byte (empty when it cannot be read). */

@@ -102,7 +102,7 @@ void writeDataset(const fs::path& dir, int steps)
     const semloc::Simulator sim(o);
     sim.writeDataset(sim.run(), (dir / "data.rawlog").string());
     std::ofstream(dir / "base.ini")
-        << semloc::test::withKeys(semloc::test::readText(kSrc + "/config/localize/semantic.ini"),
+        << semloc::test::withKeys(semloc::test::resolvedIni(kSrc + "/config/localize/semantic.ini"),
                                   "semantic.ini", {{"particles_count", "1000"}});
 }
 

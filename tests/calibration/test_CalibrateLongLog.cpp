@@ -110,7 +110,7 @@ TEST(CalibrateLongLog, StreamedFromTheFileTheFitsOfTheLoadedLog)
     std::vector<semloc::TCalibrationProgress> told;
     const auto streamed = semloc::SensorCalibration::EstimateFromFile(
         rawlog, world, gt, o, [&](const semloc::TCalibrationProgress& p) { told.push_back(p); });
-    const std::string base = semloc::test::readText(kSrc + "/config/localize/semantic.ini");
+    const std::string base = semloc::test::resolvedIni(kSrc + "/config/localize/semantic.ini");
     EXPECT_EQ(semloc::SensorCalibration::ApplyToIni(base, "semantic.ini", streamed),
               semloc::SensorCalibration::ApplyToIni(base, "semantic.ini", loaded));
     EXPECT_EQ(streamed.samples.visibleRanges_m, loaded.samples.visibleRanges_m);

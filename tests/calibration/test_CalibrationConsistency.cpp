@@ -30,7 +30,7 @@ const std::string kPaper = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
 std::string smallBase()
 {
     return semloc::test::withKeys(
-        semloc::test::readText(SEMLOC_SOURCE_DIR "/config/localize/semantic.ini"), "semantic.ini",
+        semloc::test::resolvedIni(SEMLOC_SOURCE_DIR "/config/localize/semantic.ini"), "semantic.ini",
         {{"particles_count", "1000"}});
 }
 

@@ -460,7 +460,7 @@ void exportSimulation(const fs::path& d)
 /** config/localize/semantic.ini on the imported dataset, `particles` particles. */
 void writeIni(const fs::path& d, int particles)
 {
-    std::string ini = readText(kSrc + "/config/localize/semantic.ini");
+    std::string ini = semloc::test::resolvedIni(kSrc + "/config/localize/semantic.ini");
     const std::vector<std::pair<std::string, std::string>> keys = {
         {"map_file", "run_world.yaml"},
         {"ground_truth_path_file", "run_gt.txt"},

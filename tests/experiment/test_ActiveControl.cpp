@@ -105,8 +105,7 @@ TEST(ActiveControl, AHandedBackVehicleDrivesTheWholeRouteNotJustItsRest)
 TEST(ActiveControl, ARunThatStartsConvergedHandsBackAtOnceAndDrivesTheRoute)
 {
     // The filter starts at the true pose (3, 4, 0), 0.1 m and 2 degrees wide.
-    std::ifstream in(kConfig + "localize/semantic.ini");
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::string text = semloc::test::resolvedIni(kConfig + "localize/semantic.ini");
     for (const auto& [key, value] : std::vector<std::pair<std::string, std::string>>{
              {"init_PDF_mode", "2"}, {"init_PDF_std_xy", "0.1"}, {"init_PDF_std_yaw_deg", "2"}})
     {

@@ -78,7 +78,7 @@ std::string config(const std::string& world, const std::string& name,
 {
     keys.emplace_back("map_file", world);
     const std::string out =
-        withKeys(readText(kConfig + "localize/semantic.ini"), "semantic.ini", keys);
+        withKeys(semloc::test::resolvedIni(kConfig + "localize/semantic.ini"), "semantic.ini", keys);
     const auto path = kOut / (name + ".ini");
     std::ofstream(path) << out;
     return path.string();

@@ -348,7 +348,7 @@ TEST(MotionModel, SimulatorsModelRederivedChangesNothing)
     const auto world = semloc::World::FromFile(kPaperWorld);
     const auto sim = simulate(12);
     mrpt::config::CConfigFileMemory c;
-    c.setContent(semloc::test::readText(SEMLOC_SOURCE_DIR "/config/localize/semantic.ini"));
+    c.setContent(semloc::test::resolvedIni(SEMLOC_SOURCE_DIR "/config/localize/semantic.ini"));
     Localizer::TOptions o = gaussianStart(800, 1.5);
     o.motion_model.loadFromConfigFile(c, "MotionModel");
     EXPECT_EQ(o.motion_model.source, MotionModel::Source::Rawlog);

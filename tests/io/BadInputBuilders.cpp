@@ -76,7 +76,7 @@ fs::path writeIni(const fs::path& dir, const std::string& extra, Keys keys, cons
         }
     }
     const std::string out = semloc::test::withKeys(
-        readText(kSrc + "/config/localize/" + name + ".ini"), name + ".ini", std::move(keys));
+        resolvedIni(kSrc + "/config/localize/" + name + ".ini"), name + ".ini", std::move(keys));
     writeText(dir / "loc.ini", out + extra + "\n");
     return dir / "loc.ini";
 }

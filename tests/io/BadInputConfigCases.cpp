@@ -622,7 +622,7 @@ Cases worldContentCases()
              writeText(d / "w.yaml",
                        "name: w\nbounds: {x_min: 0, x_max: 7000, y_min: 0, y_max: "
                        "7000}\nobjects: []\n");
-             std::istringstream in(readText(kSrc + "/config/localize/grid_lf.ini"));
+             std::istringstream in(resolvedIni(kSrc + "/config/localize/grid_lf.ini"));
              std::string ini;
              for (std::string line; std::getline(in, line);)
              {

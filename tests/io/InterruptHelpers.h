@@ -217,7 +217,7 @@ inline void writeDataset(const fs::path& d)
 inline void writeConfig(const fs::path& to, const std::string& name,
                         const std::vector<std::pair<std::string, std::string>>& set)
 {
-    std::istringstream in(readText(kSrc + "/config/localize/" + name));
+    std::istringstream in(resolvedIni(kSrc + "/config/localize/" + name));
     std::ofstream out(to);
     for (std::string line; std::getline(in, line);)
     {

@@ -91,7 +91,7 @@ TEST(LargeWorld, A20kmWorldIsSimulatedAndLocalizedWithinTheMemoryBudget)
     EXPECT_LT(rss, kBudget_MiB);
 #endif
 
-    const std::string semantic = readText(kSrc + "/config/localize/semantic.ini");
+    const std::string semantic = semloc::test::resolvedIni(kSrc + "/config/localize/semantic.ini");
     // Global localization (config/localize/semantic.ini as shipped: 10000 particles uniform over
     // the free space of 400 km2): the first cloud and every free-space test at this scale.
     std::ofstream(d / "global.ini")
