@@ -12,10 +12,9 @@ function(write_ini name jobs extra)
        "[Benchmark]\nruns = 3\nvariants = ${CONFIG_DIR}/semantic.ini, geometric.ini\n"
        "simulate_ini = ${SIMULATE_INI}\noutput_dir = ${dir}/${name}_out\n"
        "jobs = ${jobs}\nmax_steps = 30\nparticles = 300  // few, fast\n${extra}")
-  # `geometric.ini` is resolved next to the benchmark ini.
-  file(COPY ${CONFIG_DIR}/geometric.ini DESTINATION ${dir})
-  file(READ ${dir}/geometric.ini g)
-  string(REPLACE "../../maps/" "${CONFIG_DIR}/../../maps/" g "${g}")
+  # `geometric.ini` is resolved next to the benchmark ini (a copy, its base the shipped one).
+  file(READ ${CONFIG_DIR}/geometric.ini g)
+  string(REPLACE "\nbase = filter.ini\n" "\nbase = ${CONFIG_DIR}/filter.ini\n" g "${g}")
   file(WRITE ${dir}/geometric.ini "${g}")
 endfunction()
 

@@ -320,7 +320,7 @@ TEST(CalibrationLimits, OneScanKeepsTheBasesValues)
     o.simulation.seed = 2;
     const auto t = calibrateTool("one_scan", o);
     ASSERT_EQ(t.status, 0) << t.err;
-    mrpt::config::CConfigFileMemory c(t.iniText), base(readText(kSemanticIni));
+    mrpt::config::CConfigFileMemory c(t.iniText), base(semloc::test::resolvedIni(kSemanticIni));
     for (const char* key : {"sigma_range_m", "sigma_bearing_deg", "p_detect_near", "p_detect_far",
                             "clutter_per_scan", "p_confusion"})
     {
@@ -350,7 +350,7 @@ TEST(CalibrationLimits, OneScanPrintsTheBasesValuesItWritesAndWhy)
     o.simulation.seed = 2;
     const auto t = calibrateTool("one_scan_summary", o);
     ASSERT_EQ(t.status, 0) << t.err;
-    const auto base = semloc::test::iniText(readText(kSemanticIni));
+    const auto base = semloc::test::iniText(semloc::test::resolvedIni(kSemanticIni));
     EXPECT_EQ(printed(t.out, "sigma_range_m"),
               base.read_string(kLik, "sigma_range_m", "?") +
                   " (not fitted, too little data (2 matched range residuals, fewer than the 10 a "
@@ -378,7 +378,7 @@ TEST(CalibrationLimits, StillVehicleKeepsTheBasesMotionModel)
     o.odometry.min_phi_std_deg = 0;
     const auto t = calibrateTool("still", o);
     ASSERT_EQ(t.status, 0) << t.err;
-    mrpt::config::CConfigFileMemory c(t.iniText), base(readText(kSemanticIni));
+    mrpt::config::CConfigFileMemory c(t.iniText), base(semloc::test::resolvedIni(kSemanticIni));
     for (const char* key : {"a1", "a3", "a4", "minStdXY", "minStdPHI"})
     {
         EXPECT_EQ(c.read_double("MotionModel", key, -1), base.read_double("MotionModel", key, -2))
@@ -399,7 +399,7 @@ TEST(CalibrationLimits, BaseThatLocalizeRefusesIsRefusedFirst)
 {
     const fs::path dir = fs::path(SEMLOC_TEST_OUT) / "calibrate_limits_base";
     fs::create_directories(dir);
-    std::string text = readText(kSemanticIni);
+    std::string text = semloc::test::resolvedIni(kSemanticIni);
     text.replace(text.find("\nsigma_range_m "), 15, "\nsigma_rnage_m ");
     {
         std::ofstream(dir / "base.ini") << text;

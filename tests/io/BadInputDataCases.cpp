@@ -498,7 +498,7 @@ std::vector<std::string> calibrate(const fs::path& d, size_t gtRows, const std::
         gt << r.t << " " << r.x << " " << r.y << " " << r.phi << "\n";
     }
     writeText(d / "gt.txt", gt.str());
-    fs::copy_file(kSrc + "/config/localize/" + base + ".ini", d / "base.ini");
+    writeText(d / "base.ini", resolvedIni(kSrc + "/config/localize/" + base + ".ini"));
     return {"semloc-calibrate",
             (d / "data.rawlog").string(),
             "--world",
