@@ -4,6 +4,7 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/io/ProcessControl.h>
 
 #include <cstdint>
 #include <iostream>

@@ -7,7 +7,7 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/format.h>
 #include <semloc/experiment/Benchmark.h>
-#include <semloc/io/Interrupt.h>
+#include <semloc/io/ProcessControl.h>
 #include <unistd.h>
 
 #include <charconv>

@@ -9,8 +9,8 @@
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
-#include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/io/ProcessControl.h>
 #include <semloc/io/StagedDirectory.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>

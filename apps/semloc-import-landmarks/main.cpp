@@ -10,8 +10,8 @@
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/dataset/LandmarkImport.h>
 #include <semloc/io/ErrorMessage.h>
-#include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/io/ProcessControl.h>
 #include <semloc/io/RawlogReader.h>
 #include <semloc/io/RawlogWriter.h>
 #include <semloc/simulator/Simulator.h>

@@ -13,8 +13,8 @@
 #include <mrpt/system/filesystem.h>
 #include <semloc/dataset/DatasetImport.h>
 #include <semloc/dataset/GroundTruthFile.h>
-#include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/io/ProcessControl.h>
 #include <semloc/io/RawlogReader.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>

@@ -6,6 +6,7 @@
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/io/ProcessControl.h>
 
 #include <unistd.h>
 #include <cstdio>

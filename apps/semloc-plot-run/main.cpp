@@ -4,8 +4,8 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
 #include <semloc/experiment/RunPlot.h>
-#include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/io/ProcessControl.h>
 
 #include <algorithm>
 #include <cstdlib>

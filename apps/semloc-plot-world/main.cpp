@@ -3,7 +3,7 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <mrpt/core/exceptions.h>
 #include <semloc/io/ErrorMessage.h>
-#include <semloc/io/Interrupt.h>
+#include <semloc/io/ProcessControl.h>
 #include <semloc/plot/WorldPlot.h>
 
 #include <algorithm>

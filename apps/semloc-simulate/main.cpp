@@ -3,8 +3,8 @@
 #include <mrpt/3rdparty/tclap/CmdLine.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
-#include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/io/ProcessControl.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <iostream>

@@ -5,6 +5,7 @@
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/io/ProcessControl.h>
 #include <semloc/maps/CSemanticMap.h>
 
 #include <cmath>

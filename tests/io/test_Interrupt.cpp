@@ -2,11 +2,12 @@
  * nothing written and no temporary left, no child process left running. The tools are run
  * in their own process group, busy in a long step (MRPT's KLD sampling, a likelihood-field
  * cache, gnuplot drawing a large world), and signalled; the exit must come within
- * kLatency_s of the signal. The watchdog of semloc/Interrupt.h is also tested in-process
+ * kLatency_s of the signal. The watchdog of semloc/io/ProcessControl.h is tested in-process
  * (death tests). */
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/io/ProcessControl.h>
 #include <semloc/simulator/Simulator.h>
 #include <signal.h>
 #include <spawn.h>

@@ -11,8 +11,8 @@
 #include <optional>
 
 #include "filter/WrapToPi.h"
-#include "filter/Ziggurat.h"
 #include "math/FastMath.h"
+#include "math/Ziggurat.h"
 
 namespace semloc::detail
 {

@@ -7,7 +7,7 @@
 #include <cmath>
 #include <type_traits>
 
-#include "filter/ExpFast.h"
+#include "math/ExpFast.h"
 
 namespace semloc::detail
 {

@@ -5,7 +5,6 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/maps/metric_map_types.h>
 #include <mrpt/serialization/CArchive.h>
-#include <semloc/observation/Labels.h>
 
 #include <cstdint>
 #include <cstring>
@@ -13,9 +12,10 @@
 
 namespace semloc::detail
 {
-/** Longest string accepted from an archive (labels, sensor labels, world names): the label
- *  limit, which the writers check. */
-constexpr uint32_t kMaxSerializedString = static_cast<uint32_t>(kMaxLabelLength);
+/** Longest string accepted from an archive (labels, sensor labels, world names). The writers
+ *  check labels against the observation's kMaxLabelLength, which may not exceed it (a
+ *  static_assert in CObservationSemantic.cpp). */
+constexpr uint32_t kMaxSerializedString = 65536;
 
 /** Reads an element count written as uint32 and checks it against `maxCount`; `what` names
  *  the class and the elements in the message. Readers must then grow their containers as

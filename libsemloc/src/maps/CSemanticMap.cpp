@@ -11,6 +11,7 @@
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/maps/CSemanticMap.h>
 #include <semloc/maps/DetectionProbability.h>
+#include <semloc/observation/Labels.h>
 
 #include <algorithm>
 #include <cmath>

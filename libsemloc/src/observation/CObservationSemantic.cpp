@@ -21,6 +21,10 @@ namespace
 constexpr uint32_t kMaxSerializedDetections = 1u << 20;
 }  // namespace
 
+// Every label a writer accepts (labelLengthProblem) is read back (readString).
+static_assert(kMaxLabelLength <= detail::kMaxSerializedString,
+              "the readers must take the longest label the writers write");
+
 uint8_t CObservationSemantic::serializeGetVersion() const
 {
     return 0;
@@ -34,7 +38,7 @@ void CObservationSemantic::serializeTo(mrpt::serialization::CArchive& out) const
         THROW_EXCEPTION_FMT(
             "CObservationSemantic: cannot write a sensor label of %zu bytes (the readers take "
             "at most %zu)",
-            sensorLabel.size(), kMaxLabelLength);
+            sensorLabel.size(), static_cast<size_t>(detail::kMaxSerializedString));
     }
     if (detections.size() > kMaxSerializedDetections)
     {

@@ -5,6 +5,7 @@
 #include <mrpt/core/exceptions.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/io/ProcessControl.h>
 #include <signal.h>
 #include <sys/types.h>
 #include <sys/wait.h>

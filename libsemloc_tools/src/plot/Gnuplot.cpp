@@ -3,6 +3,7 @@
 
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
+#include <semloc/io/ProcessControl.h>
 
 #include <algorithm>
 #include <cmath>

@@ -3,6 +3,7 @@
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/io/ProcessControl.h>
 #include <semloc/plot/PngText.h>
 #include <semloc/plot/WorldPlot.h>
 #include <sys/wait.h>

@@ -120,7 +120,7 @@ public:
 
     /** Does the one-off work of the first multi-threaded evaluate() now (fills the
      *  likelihood-field caches of the occupancy grids), e.g. before timing starts. Throws
-     *  semloc::Interrupted at an interrupt request (semloc/Interrupt.h); a later call goes on
+     *  semloc::Interrupted at an interrupt request (semloc/io/Interrupt.h); a later call goes on
      *  filling the caches. */
     void prepare(const ParallelExecutor& executor);
 

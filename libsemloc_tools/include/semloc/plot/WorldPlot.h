@@ -58,8 +58,8 @@ public:
     /** Renders to `pngPath` (tagged with a `Software` text entry, isSemlocPng): gnuplot (a child
      * process) draws in a temporary directory beside it, and the finished files are renamed into
      * place. Throws with gnuplot's output if gnuplot is missing or fails; throws
-     * semloc::Interrupted at an interrupt request (semloc/Interrupt.h), gnuplot ended. Nothing is
-     * left behind on any error. */
+     * semloc::Interrupted at an interrupt request (semloc/io/Interrupt.h), gnuplot ended. Nothing
+     * is left behind on any error. */
     void savePng(const std::string& pngPath, int widthPx = 900, int heightPx = 900,
                  bool keepScript = false) const;
 

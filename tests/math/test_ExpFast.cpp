@@ -7,7 +7,7 @@
 #include <limits>
 #include <random>
 
-#include "filter/ExpFast.h"
+#include "math/ExpFast.h"
 
 namespace
 {

@@ -3,7 +3,7 @@
 
 #include <fcntl.h>
 #include <mrpt/core/exceptions.h>
-#include <semloc/io/Interrupt.h>
+#include <semloc/io/ProcessControl.h>
 #include <sys/file.h>
 #include <unistd.h>
 

@@ -1,8 +1,8 @@
 /* semloc — StagedDirectory: write beside, rename at the end. */
 #include <fcntl.h>
 #include <mrpt/core/exceptions.h>
-#include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/io/ProcessControl.h>
 #include <semloc/io/StagedDirectory.h>
 #include <sys/file.h>
 #include <sys/stat.h>

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "filter/Ziggurat.h"
+#include "math/Ziggurat.h"
 
 namespace
 {

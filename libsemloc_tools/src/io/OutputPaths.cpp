@@ -4,6 +4,7 @@
 #include <mrpt/core/format.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/OutputPaths.h>
+#include <semloc/io/ProcessControl.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
