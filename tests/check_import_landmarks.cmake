@@ -24,12 +24,9 @@ if(rc EQUAL 0 OR NOT err MATCHES "nope.rawlog" OR EXISTS ${DIR}/nope.rawlog)
 endif()
 # semloc-localize runs on the imported dataset directly.
 if(LOCALIZE AND SEMANTIC_INI)
-  file(READ ${SEMANTIC_INI} ini)
-  string(REGEX REPLACE "\nmap_file[^\n]*" "\nmap_file = conv_world.yaml" ini "${ini}")
-  string(REGEX REPLACE "\nground_truth_path_file[^\n]*" "\nground_truth_path_file = conv_gt.txt" ini "${ini}")
-  string(REGEX REPLACE "\nlogOutput_dir[^\n]*" "\nlogOutput_dir = conv_out" ini "${ini}")
-  string(REGEX REPLACE "\nparticles_count[^\n]*" "\nparticles_count = 3000" ini "${ini}")
-  file(WRITE ${DIR}/conv.ini "${ini}")
+  file(WRITE ${DIR}/conv.ini
+       "base = ${SEMANTIC_INI}\n[LocalizationExperiment]\nmap_file = conv_world.yaml\n"
+       "ground_truth_path_file = conv_gt.txt\nlogOutput_dir = conv_out\nparticles_count = 3000\n")
   file(REMOVE_RECURSE ${DIR}/conv_out)
   execute_process(COMMAND ${LOCALIZE} conv.ini conv.rawlog -q WORKING_DIRECTORY ${DIR}
                   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
