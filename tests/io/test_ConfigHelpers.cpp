@@ -2,6 +2,7 @@
  * skip, keys set twice, the UTF-8 byte-order mark. */
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFile.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/io/CFileGZInputStream.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
@@ -44,6 +45,22 @@ TEST(ConfigHelpers, RefusesALineMrptWouldSkip)
     EXPECT_NE(m.find("config file 'x.ini':2: 'x 1' is neither a [section] nor key = value"),
               std::string::npos)
         << m;
+}
+
+TEST(ConfigHelpers, RefusesAnExpansionMrptWouldNotCloseNamingTheLine)
+{
+    // MRPT's reader throws "Line N: Expected closing `}`" for these, N a line of the text
+    // with its bases resolved, no file named.
+    for (const std::string value : {"${abc", "$env{HOME", "$eval{1+2"})
+    {
+        const std::string m = problem("[A]\nx = 1\ny = " + value + "\n");
+        EXPECT_NE(m.find("config file 'x.ini':3: 'y = " + value + "' opens MRPT's "),
+                  std::string::npos)
+            << m;
+        EXPECT_THROW(mrpt::config::CConfigFileMemory("[A]\ny = " + value + "\n"), std::exception)
+            << "MRPT's reader refuses it too";
+    }
+    EXPECT_EQ(problem("[A]\nx = ${N} $env{HOME} $eval{1+2} cost $5 {a}\n"), "");
 }
 
 TEST(ConfigHelpers, RefusesAKeySetTwiceNamingBothLines)

@@ -200,6 +200,29 @@ void readChoice(const mrpt::config::CConfigFileBase& c, const std::string& secti
     value = s;
 }
 
+namespace
+{
+/** MRPT's reader expands `${VAR}`, `$env{VAR}` and `$eval{EXPR}` and throws, naming neither
+ *  the file nor its line, on one that is not closed on its line: named here. */
+void rejectUnclosedExpansion(const std::string& content, const std::string& file, size_t n)
+{
+    for (size_t p = content.find('$'); p != std::string::npos; p = content.find('$', p + 1))
+    {
+        const auto brace = content.find('{', p);
+        const bool opens = brace != std::string::npos &&
+                           (brace == p + 1 || content.compare(p, brace - p, "$env") == 0 ||
+                            content.compare(p, brace - p, "$eval") == 0);
+        if (opens && content.find('}', brace) == std::string::npos)
+        {
+            THROW_EXCEPTION(mrpt::format(
+                "%s:%zu: '%s' opens MRPT's %s{...} without its closing '}' on the line",
+                file.c_str(), n, shownValue(content).c_str(),
+                content.substr(p, brace - p).c_str()));
+        }
+    }
+}
+}  // namespace
+
 void checkIniText(const std::string& text, const std::string& file)
 {
     // MRPT's ini reader (SimpleIni) matches sections and keys regardless of ASCII case.
@@ -236,6 +259,7 @@ void checkIniText(const std::string& text, const std::string& file)
             THROW_EXCEPTION(mrpt::format("%s:%zu: '%s' is neither a [section] nor key = value",
                                          file.c_str(), n, shownValue(content).c_str()));
         }
+        rejectUnclosedExpansion(content, file, n);
         if (section)
         {
             const std::string name = trim(content.substr(1, content.size() - 2));
