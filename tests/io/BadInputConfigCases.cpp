@@ -88,6 +88,14 @@ Cases iniFileCases()
              writeText(d / "loc.ini", "[PF_options]\nBETA 0.5\n");
              return std::vector<std::string>{"semloc-localize", (d / "loc.ini").string()};
          }},
+        {"ini-unclosed-expansion",  // on a file with a base: MRPT named a line of neither
+         [](const fs::path& d)
+         {
+             writeText(d / "loc.ini", "base = " + kSrc +
+                                          "/config/localize/semantic.ini\n[LocalizationExperiment]"
+                                          "\nvariant = ${NAME\n");
+             return std::vector<std::string>{"semloc-localize", (d / "loc.ini").string()};
+         }},
         {"ini-duplicate-key",  // semantic.ini sets BETA in [PF_options] already
          [](const fs::path& d) { return localizeGood(d, "[PF_options]\nbeta = 0.4"); }},
         {"ini-utf8-bom",  // the mark right before the first section, as an editor writes it
