@@ -30,8 +30,8 @@ const std::string kPaper = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
 std::string smallBase()
 {
     return semloc::test::withKeys(
-        semloc::test::resolvedIni(SEMLOC_SOURCE_DIR "/config/localize/semantic.ini"), "semantic.ini",
-        {{"particles_count", "1000"}});
+        semloc::test::resolvedIni(SEMLOC_SOURCE_DIR "/config/localize/semantic.ini"),
+        "semantic.ini", {{"particles_count", "1000"}});
 }
 
 /** A simulated run of the paper's world, written to `dir`, and its fits. */

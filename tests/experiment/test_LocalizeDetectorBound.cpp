@@ -77,8 +77,8 @@ std::string config(const std::string& world, const std::string& name,
                    std::vector<std::pair<std::string, std::string>> keys = {})
 {
     keys.emplace_back("map_file", world);
-    const std::string out =
-        withKeys(semloc::test::resolvedIni(kConfig + "localize/semantic.ini"), "semantic.ini", keys);
+    const std::string out = withKeys(semloc::test::resolvedIni(kConfig + "localize/semantic.ini"),
+                                     "semantic.ini", keys);
     const auto path = kOut / (name + ".ini");
     std::ofstream(path) << out;
     return path.string();
