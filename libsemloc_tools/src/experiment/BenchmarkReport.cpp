@@ -25,38 +25,41 @@ namespace semloc::detail
 std::vector<TSeriesNote> costlySeries(const std::vector<Benchmark::TRunResult>& runs,
                                       const ActivePolicy::TOptions& policy)
 {
-    std::vector<std::pair<TSeriesNote, TDecisionCost>> series;
-    std::vector<size_t> particles;
+    struct TSeries
+    {
+        TSeriesNote note;
+        TDecisionCost cost;
+        size_t particles = 0;
+    };
+    std::vector<TSeries> series;
     for (const auto& r : runs)
     {
         if (r.control != "active" || r.decisions == 0)
         {
             continue;
         }
-        auto it = std::find_if(
-            series.begin(), series.end(),
-            [&](const auto& s)
-            { return s.first.scenario == r.scenario && s.first.series == r.series(); });
+        auto it =
+            std::find_if(series.begin(), series.end(),
+                         [&](const TSeries& s)
+                         { return s.note.scenario == r.scenario && s.note.series == r.series(); });
         if (it == series.end())
         {
-            series.push_back({TSeriesNote{r.scenario, r.series(), {}}, TDecisionCost{}});
-            particles.push_back(r.particles);
-            it = std::prev(series.end());
+            it = series.insert(series.end(), {{r.scenario, r.series(), {}}, {}, r.particles});
         }
-        auto& c = it->second;
+        auto& c = it->cost;
         c.runs++;
         c.decisions += r.decisions;
         c.filterSteps += r.decisionFilterSteps;
         c.maxFilterSteps = std::max(c.maxFilterSteps, r.maxDecisionFilterSteps);
     }
     std::vector<TSeriesNote> out;
-    for (size_t i = 0; i < series.size(); i++)
+    for (auto& s : series)
     {
-        const auto& c = series[i].second;
-        if (c.filterSteps / static_cast<double>(c.decisions) > ActivePolicy::kBudgetFilterSteps)
+        if (s.cost.filterSteps / static_cast<double>(s.cost.decisions) >
+            ActivePolicy::kBudgetFilterSteps)
         {
-            out.push_back(series[i].first);
-            out.back().text = costlySeriesNote(policy, c, particles[i]);
+            s.note.text = costlySeriesNote(policy, s.cost, s.particles);
+            out.push_back(std::move(s.note));
         }
     }
     return out;
