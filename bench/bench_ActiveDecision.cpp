@@ -12,8 +12,8 @@
 #include <semloc/filter/FreeSpaceSampler.h>
 #include <semloc/filter/ParallelExecutor.h>
 #include <semloc/io/ConfigHelpers.h>
-#include <semloc/maps/CSemanticMap.h>
 #include <semloc/maps/LocalizationMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/Simulator.h>
 

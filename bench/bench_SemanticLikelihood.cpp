@@ -3,7 +3,7 @@
 #include <benchmark/benchmark.h>
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/random/RandomGenerators.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <cmath>
 #include <vector>

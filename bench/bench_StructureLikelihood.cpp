@@ -7,7 +7,7 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/random/RandomGenerators.h>
-#include <semloc/maps/CStructureMap.h>
+#include <semloc/models/structure/CStructureMap.h>
 
 #include <vector>
 

@@ -3,7 +3,7 @@
 
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
-#include <semloc/maps/RayCaster.h>
+#include <semloc/models/structure/RayCaster.h>
 
 #include <cmath>
 #include <cstddef>

@@ -14,7 +14,7 @@
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 

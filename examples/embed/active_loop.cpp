@@ -10,7 +10,7 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <semloc/active/ActivePolicy.h>
 #include <semloc/filter/Localizer.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <algorithm>
 #include <cmath>

@@ -4,8 +4,8 @@
  * semloc object. */
 #include <mrpt/core/initializer.h>
 #include <mrpt/rtti/CObject.h>
-#include <semloc/maps/CSemanticMap.h>
-#include <semloc/maps/CStructureMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
+#include <semloc/models/structure/CStructureMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 MRPT_INITIALIZER(semloc_registerAllClasses)

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 #include <mrpt/math/wrap2pi.h>
 #include <semloc/active/ActivePolicy.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 

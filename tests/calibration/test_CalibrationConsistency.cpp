@@ -4,7 +4,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/dataset/GroundTruthFile.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <filesystem>

@@ -9,7 +9,7 @@
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/experiment/LocalizationExperiment.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/Simulator.h>
 

@@ -6,7 +6,7 @@
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/filter/MotionModel.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <algorithm>

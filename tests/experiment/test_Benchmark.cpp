@@ -6,7 +6,7 @@
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/io/ProcessControl.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <cmath>
 #include <csignal>

@@ -11,7 +11,7 @@
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/FreeSpaceSampler.h>
 #include <semloc/filter/ParallelExecutor.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <cmath>
 #include <functional>

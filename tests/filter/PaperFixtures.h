@@ -3,7 +3,7 @@
 #pragma once
 
 #include <mrpt/maps/CMultiMetricMap.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>
 

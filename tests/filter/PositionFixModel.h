@@ -9,7 +9,7 @@
 #include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3D.h>
-#include <semloc/maps/BatchLikelihood.h>
+#include <semloc/models/BatchLikelihood.h>
 
 #include <atomic>
 #include <cstddef>

@@ -13,7 +13,7 @@
 #include <mrpt/slam/CMonteCarloLocalization2D.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/ParallelExecutor.h>
-#include <semloc/maps/CStructureMap.h>
+#include <semloc/models/structure/CStructureMap.h>
 
 #include <algorithm>
 #include <cmath>

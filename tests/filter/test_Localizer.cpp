@@ -9,7 +9,7 @@
 #include <mrpt/obs/CObservationOdometry.h>
 #include <semloc/filter/Localizer.h>
 #include <semloc/io/ErrorMessage.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/Simulator.h>
 

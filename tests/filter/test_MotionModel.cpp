@@ -9,7 +9,7 @@
 #include <semloc/filter/Localizer.h>
 #include <semloc/filter/MotionModel.h>
 #include <semloc/filter/OdometryDelay.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <cmath>

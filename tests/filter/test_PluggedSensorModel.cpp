@@ -16,8 +16,8 @@
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/ParallelExecutor.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
-#include <semloc/maps/BatchLikelihood.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/BatchLikelihood.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 #include "filter/PositionFixModel.h"

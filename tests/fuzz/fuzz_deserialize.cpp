@@ -9,8 +9,8 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
-#include <semloc/maps/CSemanticMap.h>
-#include <semloc/maps/CStructureMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
+#include <semloc/models/structure/CStructureMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 #include <array>

@@ -4,8 +4,8 @@
  * Usage: fuzz_write_seeds <output directory> */
 #include <mrpt/io/CMemoryStream.h>
 #include <mrpt/serialization/CArchive.h>
-#include <semloc/maps/CSemanticMap.h>
-#include <semloc/maps/CStructureMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
+#include <semloc/models/structure/CStructureMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 

@@ -9,7 +9,7 @@
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/io/RawlogReader.h>
 #include <semloc/io/RawlogWriter.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/observation/Labels.h>
 #include <semloc/plot/PngText.h>

@@ -5,8 +5,8 @@
 #include <mrpt/maps/CBeaconMap.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/obs/CObservationBeaconRanges.h>
-#include <semloc/maps/CSemanticMap.h>
 #include <semloc/maps/LocalizationMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <cmath>
 #include <fstream>

@@ -16,7 +16,7 @@
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/Interrupt.h>
-#include <semloc/maps/CStructureMap.h>
+#include <semloc/models/structure/CStructureMap.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/simulator/TrajectoryFollower.h>
 #include <semloc/simulator/WorldChanges.h>

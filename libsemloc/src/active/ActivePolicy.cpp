@@ -3,8 +3,8 @@
 #include <mrpt/math/wrap2pi.h>
 #include <semloc/active/ActivePolicy.h>
 #include <semloc/filter/ParallelExecutor.h>
-#include <semloc/maps/CSemanticMap.h>
-#include <semloc/maps/DetectionProbability.h>
+#include <semloc/models/semantic/CSemanticMap.h>
+#include <semloc/models/semantic/DetectionProbability.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 

@@ -8,10 +8,10 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/random/RandomGenerators.h>
-#include <semloc/filter/DetectionPoseSampler.h>
 #include <semloc/filter/Localizer.h>
 #include <semloc/filter/ParallelExecutor.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
+#include <semloc/models/semantic/DetectionPoseSampler.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 #include <algorithm>

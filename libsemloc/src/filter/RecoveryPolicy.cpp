@@ -7,7 +7,7 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/FreeSpaceSampler.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 #include <algorithm>

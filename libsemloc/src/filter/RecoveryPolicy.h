@@ -5,7 +5,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <semloc/filter/AugmentedMCL.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
-#include <semloc/filter/DetectionPoseSampler.h>
+#include <semloc/models/semantic/DetectionPoseSampler.h>
 
 #include <memory>
 #include <optional>

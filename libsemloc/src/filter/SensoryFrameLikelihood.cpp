@@ -9,8 +9,8 @@
 #include <semloc/filter/ParallelExecutor.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
 #include <semloc/io/Interrupt.h>
-#include <semloc/maps/BatchLikelihood.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/BatchLikelihood.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 #include <algorithm>
@@ -19,9 +19,9 @@
 #include <limits>
 #include <typeinfo>
 
-#include <semloc/filter/LookAlikeMemory.h>
-#include "filter/DetectorOutage.h"
-#include "maps/BeaconRangeLikelihood.h"
+#include <semloc/models/semantic/LookAlikeMemory.h>
+#include "models/beacon/BeaconRangeLikelihood.h"
+#include "models/semantic/DetectorOutage.h"
 
 namespace semloc
 {

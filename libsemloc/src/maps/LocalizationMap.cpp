@@ -13,9 +13,9 @@
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/InputFile.h>
-#include <semloc/maps/CSemanticMap.h>
-#include <semloc/maps/CStructureMap.h>
 #include <semloc/maps/LocalizationMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
+#include <semloc/models/structure/CStructureMap.h>
 
 #include <algorithm>
 #include <cmath>
@@ -26,7 +26,7 @@
 
 #include "io/ExactConfigWrite.h"
 #include "io/Text.h"
-#include "maps/BeaconMapFromWorld.h"
+#include "models/beacon/BeaconMapFromWorld.h"
 
 namespace semloc
 {

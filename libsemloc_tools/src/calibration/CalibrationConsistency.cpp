@@ -3,7 +3,7 @@
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/filter/MotionModel.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <algorithm>
 #include <cmath>

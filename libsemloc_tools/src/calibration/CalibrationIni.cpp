@@ -5,7 +5,7 @@
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/filter/MotionModel.h>
 #include <semloc/io/ConfigHelpers.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <algorithm>
 #include <cctype>

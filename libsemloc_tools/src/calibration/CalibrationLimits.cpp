@@ -3,7 +3,7 @@
  * value stays); the warnings that say so, and those of a bias and a map offset. */
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/filter/MotionModel.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <algorithm>
 #include <cmath>

@@ -3,7 +3,7 @@
 
 #include <mrpt/poses/CPose2D.h>
 #include <semloc/calibration/SensorCalibration.h>
-#include <semloc/filter/LookAlikeMemory.h>
+#include <semloc/models/semantic/LookAlikeMemory.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 #include <string>

@@ -1,6 +1,6 @@
 /* semloc — semloc-calibrate's fit of the detector's range bias by bearing: robust least
  * squares of the range residuals against a cubic in the bearing over half the view. */
-#include <semloc/maps/DetectionProbability.h>
+#include <semloc/models/semantic/DetectionProbability.h>
 
 #include <Eigen/Dense>
 #include <algorithm>

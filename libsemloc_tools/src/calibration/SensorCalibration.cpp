@@ -10,7 +10,7 @@
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/GroundTruth.h>
 #include <semloc/filter/OdometryDelay.h>
-#include <semloc/maps/DetectionProbability.h>
+#include <semloc/models/semantic/DetectionProbability.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
 

@@ -8,7 +8,7 @@
 #include <semloc/experiment/GroundTruth.h>
 #include <semloc/filter/Localizer.h>
 #include <semloc/io/StagedDirectory.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <algorithm>
 #include <chrono>

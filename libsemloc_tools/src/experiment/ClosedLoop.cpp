@@ -3,7 +3,7 @@
 #include <mrpt/core/format.h>
 #include <mrpt/math/geometry.h>
 #include <mrpt/obs/CSensoryFrame.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/TrajectoryFollower.h>
 

@@ -4,7 +4,7 @@
 
 #include <mrpt/obs/CSensoryFrame.h>
 #include <semloc/filter/StepRecord.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <fstream>
 #include <string>

@@ -3,8 +3,8 @@
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/experiment/IniReference.h>
 #include <semloc/experiment/LocalizationExperiment.h>
-#include <semloc/maps/CSemanticMap.h>
-#include <semloc/maps/CStructureMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
+#include <semloc/models/structure/CStructureMap.h>
 #include <semloc/simulator/Simulator.h>
 
 #include "io/ExactConfigWrite.h"

@@ -11,7 +11,7 @@
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/OutputPaths.h>
 #include <semloc/io/RawlogReader.h>
-#include <semloc/maps/CSemanticMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 
 #include <algorithm>
 #include <filesystem>

@@ -8,8 +8,8 @@
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <semloc/experiment/RunMetrics.h>
 #include <semloc/filter/Localizer.h>
-#include <semloc/maps/CSemanticMap.h>
 #include <semloc/maps/LocalizationMap.h>
+#include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/simulator/DetectorBound.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
 

@@ -4,7 +4,7 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/io/ConfigHelpers.h>
-#include <semloc/maps/DetectionProbability.h>
+#include <semloc/models/semantic/DetectionProbability.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
 
 #include <algorithm>

@@ -6,10 +6,10 @@
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <mrpt/slam/CMonteCarloLocalization2D.h>
 #include <semloc/filter/AugmentedMCL.h>
-#include <semloc/filter/DetectionPoseSampler.h>
 #include <semloc/filter/FreeSpaceSampler.h>
 #include <semloc/filter/ParticleMotionModel.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
+#include <semloc/models/semantic/DetectionPoseSampler.h>
 
 #include <algorithm>
 #include <cstddef>

@@ -5,7 +5,7 @@
 #include <mrpt/math/TPoint2D.h>
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/poses/CPose3D.h>
-#include <semloc/maps/RayCaster.h>
+#include <semloc/models/structure/RayCaster.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 

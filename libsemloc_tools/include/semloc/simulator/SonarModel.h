@@ -5,7 +5,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/poses/CPose3D.h>
-#include <semloc/maps/RayCaster.h>
+#include <semloc/models/structure/RayCaster.h>
 #include <semloc/world/World.h>
 
 #include <string>
