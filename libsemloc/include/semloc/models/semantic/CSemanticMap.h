@@ -1,4 +1,6 @@
-/* semloc — semantic map: labelled objects and the paper's semantic likelihood. */
+/* semloc — the semantic model's map (models/semantic/): labelled objects and the two semantic
+ * likelihoods, the paper's (§III) and the probabilistic one, both stated in the class
+ * documentation. */
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>

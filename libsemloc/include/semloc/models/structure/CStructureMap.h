@@ -1,4 +1,6 @@
-/* semloc — structure map: the world's outlines and the sonar beam-model likelihood. */
+/* semloc — the structure model's map (models/structure/): the world's outlines and the sonar's
+ * beam-model likelihood (Probabilistic Robotics §6.3, eqs. 6.4–6.12, in the class
+ * documentation). */
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
