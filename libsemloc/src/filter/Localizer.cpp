@@ -6,13 +6,10 @@
 #include <mrpt/math/wrap2pi.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/obs/CObservation2DRangeScan.h>
-#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/Localizer.h>
 #include <semloc/filter/ParallelExecutor.h>
-#include <semloc/models/semantic/CSemanticMap.h>
-#include <semloc/models/semantic/DetectionPoseSampler.h>
-#include <semloc/observation/CObservationSemantic.h>
+#include <semloc/models/SensorModelRegistry.h>
 
 #include <algorithm>
 #include <chrono>
@@ -20,6 +17,8 @@
 #include <iostream>
 #include <limits>
 #include <string_view>
+
+#include "filter/SensorModels.h"
 
 namespace semloc
 {
@@ -184,35 +183,43 @@ void toStderr(std::string_view msg, mrpt::system::VerbosityLevel level, std::str
 /** The options that need particular maps in [MetricMap]. */
 void checkAgainstMaps(const Localizer::TOptions& o, const mrpt::maps::CMultiMetricMap& map)
 {
-    if (o.init_PDF_mode == Localizer::InitMode::FromDetections && !map.mapByClass<CSemanticMap>())
+    const auto models = detail::sensorModels(map);
+    if (o.init_PDF_mode == Localizer::InitMode::FromDetections &&
+        std::none_of(models.begin(), models.end(), [](const auto* m) { return m->proposes(); }))
     {
         THROW_EXCEPTION(
             "init_PDF_mode = 3 (from the first detections) needs a semanticMap in "
-            "[MetricMap]");
+            "[MetricMap] (or another map that proposes poses from its observations)");
     }
-    if (o.recovery.trigger == RecoveryTrigger::Evidence && !onlySemanticMaps(map))
+    if (o.recovery.trigger == RecoveryTrigger::Evidence && !weighsWithoutMaps(map))
     {
         THROW_EXCEPTION(
             "[Recovery] trigger = evidence weighs the semantic detections against "
             "the map with no object in view: it needs semantic maps only in [MetricMap] (amcl "
             "works with any map)");
     }
-    if (const auto sem = map.mapByClass<CSemanticMap>();
-        sem && sem->likelihoodOptions.outage_every_s > 0 &&
-        o.pf.PF_algorithm != mrpt::bayes::CParticleFilter::pfStandardProposal)
+    if (o.pf.PF_algorithm != mrpt::bayes::CParticleFilter::pfStandardProposal)
     {
-        THROW_EXCEPTION(
-            "the semantic map's outage_every_s > 0 (detector outage model) needs [PF_options] "
-            "PF_algorithm = 0 (pfStandardProposal)");
+        for (const auto* m : models)
+        {
+            if (const auto why = m->needsStandardProposal(); !why.empty())
+            {
+                THROW_EXCEPTION(why + " needs [PF_options] PF_algorithm = 0 (pfStandardProposal)");
+            }
+        }
     }
 }
 }  // namespace
 
-bool onlySemanticMaps(const mrpt::maps::CMultiMetricMap& map)
+bool weighsWithoutMaps(const mrpt::maps::CMultiMetricMap& map)
 {
-    return !map.maps.empty() &&
-           std::all_of(map.maps.begin(), map.maps.end(),
-                       [](const auto& m) { return dynamic_cast<const CSemanticMap*>(m.get()); });
+    return !map.maps.empty() && std::all_of(map.maps.begin(), map.maps.end(),
+                                            [](const auto& m)
+                                            {
+                                                const auto* model =
+                                                    dynamic_cast<const BatchLikelihood*>(m.get());
+                                                return model && model->weighsWithoutMap();
+                                            });
 }
 
 std::string Localizer::invalidObservation(const mrpt::obs::CObservation& obs,
@@ -236,47 +243,16 @@ std::string Localizer::invalidObservation(const mrpt::obs::CObservation& obs,
             return mrpt::format("its aperture %g is not a finite angle >= 0",
                                 static_cast<double>(scan->aperture));
         }
-        const size_t n = scan->getScanSize();
-        if (n == 0)
+        if (scan->getScanSize() == 0)
         {
             return "it has no beam";
         }
-        const auto* mm = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(&map);
-        const bool grid =
-            mm ? mm->mapByClass<mrpt::maps::COccupancyGridMap2D>() != nullptr
-               : dynamic_cast<const mrpt::maps::COccupancyGridMap2D*>(&map) != nullptr;
-        if (n < 2 && grid)
-        {
-            return "it has 1 beam; MRPT's occupancy grid ([MetricMap] occupancyGrid) needs at "
-                   "least 2";
-        }
     }
-    else if (const auto* lbl = dynamic_cast<const mrpt::obs::CObservationBeaconRanges*>(&obs))
+    for (const auto& kind : SensorModelRegistry::kinds())
     {
-        // MRPT's CBeaconMap throws on the non-finite likelihood such a range gives.
-        for (const auto& m : lbl->sensedData)
+        if (auto why = kind->invalidObservation(obs, map); !why.empty())
         {
-            const auto& at = m.sensorLocationOnRobot;
-            if (!std::isfinite(m.sensedDistance) || !std::isfinite(at.x()) ||
-                !std::isfinite(at.y()) || !std::isfinite(at.z()))
-            {
-                return mrpt::format(
-                    "its range %g to beacon %d (from (%g, %g, %g) on the "
-                    "vehicle) is not finite",
-                    static_cast<double>(m.sensedDistance), static_cast<int>(m.beaconID), at.x(),
-                    at.y(), at.z());
-            }
-        }
-    }
-    else if (const auto* sem = dynamic_cast<const CObservationSemantic*>(&obs))
-    {
-        if (!std::isfinite(sem->maxRange_m) || sem->maxRange_m < 0)
-        {
-            return mrpt::format("its maxRange_m %g is not a finite range >= 0", sem->maxRange_m);
-        }
-        if (!std::isfinite(sem->fov_rad) || sem->fov_rad < 0)
-        {
-            return mrpt::format("its fov_rad %g is not a finite angle >= 0", sem->fov_rad);
+            return why;
         }
     }
     return "";
@@ -457,16 +433,10 @@ double Localizer::headingDriftDegPerMin() const
 void Localizer::seedFromDetections(const mrpt::obs::CActionCollection& action,
                                    const mrpt::obs::CSensoryFrame& sf)
 {
-    const auto semMap = m_map->mapByClass<CSemanticMap>();
-    const auto obs = sf.getObservationByClass<CObservationSemantic>();
-    if (!semMap || !obs)
+    const auto sampler = detail::poseProposal(sf, m_map.get());
+    if (!sampler)
     {
-        return;
-    }
-    const DetectionPoseSampler sampler(*semMap, *obs);
-    if (sampler.empty())
-    {
-        return;  // nothing the map can place: wait for the next frame
+        return;  // nothing the maps can place: wait for the next frame
     }
     m_seededFromDetections = true;
     // A pose q drawn for the detection's time is placed at q (+) increment^-1: this step's
@@ -488,7 +458,7 @@ void Localizer::seedFromDetections(const mrpt::obs::CActionCollection& action,
         }
         for (int tries = 0; tries < 10; tries++)
         {
-            const mrpt::math::TPose2D q = sampler.draw(rng);
+            const mrpt::math::TPose2D q = sampler->draw(rng);
             if (m_initSpace->contains(q.x, q.y))
             {
                 p.d = (mrpt::poses::CPose2D(q) + back).asTPose();
@@ -529,12 +499,9 @@ void Localizer::step(const mrpt::obs::CSensoryFrame& sf)
 size_t Localizer::associationsApproximatedNow() const
 {
     size_t n = 0;
-    for (const auto& m : m_map->maps)
+    for (const auto* m : detail::sensorModels(*m_map))
     {
-        if (const auto* sem = dynamic_cast<const CSemanticMap*>(m.get()))
-        {
-            n += sem->associationsApproximated();
-        }
+        n += m->approximations();
     }
     return n;
 }

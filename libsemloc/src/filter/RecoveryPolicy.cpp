@@ -7,14 +7,13 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/FreeSpaceSampler.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
-#include <semloc/models/semantic/CSemanticMap.h>
-#include <semloc/observation/CObservationSemantic.h>
 
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "filter/Estimate.h"
+#include "filter/SensorModels.h"
 
 namespace semloc::detail
 {
@@ -25,20 +24,6 @@ namespace
 /** Draws from the detections before falling back to a uniform pose: a detection near the
  *  map's border or an object leaves most of its circle in the free space. */
 constexpr int kDetectionTries = 10;
-
-/** The first CSemanticMap of `map` (itself, or in a CMultiMetricMap), else nullptr. */
-const CSemanticMap* semanticMapOf(const mrpt::maps::CMetricMap* map)
-{
-    if (const auto* sem = dynamic_cast<const CSemanticMap*>(map))
-    {
-        return sem;
-    }
-    if (const auto* multi = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(map))
-    {
-        return multi->mapByClass<CSemanticMap>().get();
-    }
-    return nullptr;
-}
 }  // namespace
 
 bool RecoveryPolicy::watches(const SensoryFrameLikelihood& lik) const
@@ -74,7 +59,7 @@ void RecoveryPolicy::startChallengers(const ParticleStore& cloud, double share,
     size_t fromDet = 0;
     for (size_t k = 0; k < K; k++)
     {
-        fromDet += drawRecoveryPose(detections, set.particles[k].d) ? 1 : 0;
+        fromDet += drawRecoveryPose(detections.get(), set.particles[k].d) ? 1 : 0;
         set.particles[k].log_w = 0;
         cloud.copyState(k * M / K, set, k);
     }
@@ -121,7 +106,8 @@ void RecoveryPolicy::reinitialize(ParticleStore& store, const mrpt::obs::CSensor
         const auto detections = detectionSampler(sf, map);
         for (auto& p : store.particles)
         {
-            m_stats.reinitialized_from_detections += drawRecoveryPose(detections, p.d) ? 1 : 0;
+            m_stats.reinitialized_from_detections +=
+                drawRecoveryPose(detections.get(), p.d) ? 1 : 0;
             p.log_w = 0;
         }
     }
@@ -137,27 +123,17 @@ void RecoveryPolicy::reinitialize(ParticleStore& store, const mrpt::obs::CSensor
     m_lastPInject = 0;
 }
 
-std::optional<DetectionPoseSampler> RecoveryPolicy::detectionSampler(
+std::unique_ptr<BatchLikelihood::PoseProposal> RecoveryPolicy::detectionSampler(
     const mrpt::obs::CSensoryFrame& sf, const mrpt::maps::CMetricMap* map) const
 {
-    std::optional<DetectionPoseSampler> out;
     if (m_augmented.options().enabled() && m_augmented.options().from_detections > 0)
     {
-        const auto* semMap = semanticMapOf(map);
-        const auto obs = sf.getObservationByClass<CObservationSemantic>();
-        if (semMap && obs)
-        {
-            out.emplace(*semMap, *obs);
-            if (out->empty())
-            {
-                out.reset();
-            }
-        }
+        return poseProposal(sf, map);
     }
-    return out;
+    return nullptr;
 }
 
-bool RecoveryPolicy::drawRecoveryPose(const std::optional<DetectionPoseSampler>& detections,
+bool RecoveryPolicy::drawRecoveryPose(const BatchLikelihood::PoseProposal* detections,
                                       TPose2D& out) const
 {
     auto& rng = mrpt::random::getRandomGenerator();
@@ -180,7 +156,8 @@ bool RecoveryPolicy::drawRecoveryPose(const std::optional<DetectionPoseSampler>&
 bool RecoveryPolicy::reseedable(const mrpt::obs::CSensoryFrame& sf,
                                 const mrpt::maps::CMetricMap* map) const
 {
-    return m_augmented.options().lost_var_xy_m2 > 0 && m_sampler && detectionSampler(sf, map);
+    return m_augmented.options().lost_var_xy_m2 > 0 && m_sampler &&
+           detectionSampler(sf, map) != nullptr;
 }
 
 bool RecoveryPolicy::spread(const ParticleList& particles, ParallelExecutor& ex) const
@@ -206,7 +183,7 @@ void RecoveryPolicy::inject(ParticleStore& store, double pInject,
         if (rng.drawUniform(0.0, 1.0) < pInject)
         {
             injected++;
-            fromDet += drawRecoveryPose(detections, p.d) ? 1 : 0;
+            fromDet += drawRecoveryPose(detections.get(), p.d) ? 1 : 0;
             p.log_w = logW;  // the resampled ones have 0
         }
     }

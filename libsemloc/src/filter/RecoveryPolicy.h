@@ -5,10 +5,9 @@
 #include <mrpt/math/TPose2D.h>
 #include <semloc/filter/AugmentedMCL.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
-#include <semloc/models/semantic/DetectionPoseSampler.h>
+#include <semloc/models/BatchLikelihood.h>
 
 #include <memory>
-#include <optional>
 
 #include "filter/ChallengerSet.h"
 #include "filter/ParticleStore.h"
@@ -54,7 +53,7 @@ public:
     const std::shared_ptr<const FreeSpaceSampler>& sampler() const { return m_sampler; }
 
     /** True when the planned frame of `lik` feeds the trigger: recovery on, a frame that
-     *  measures something and, for the evidence trigger, holds a semantic detection
+     *  measures something and, for the evidence trigger, holds a reading of the maps
      *  (augmented MCL averages the likelihood of measurements: a frame that measures
      *  nothing would count as a perfect fit). */
     bool watches(const SensoryFrameLikelihood& lik) const;
@@ -105,13 +104,14 @@ public:
     void countOutside(size_t n) { m_stats.outside_free_space += n; }
 
 private:
-    /** The frame's detections to draw recovery poses from (recovery on, from_detections > 0,
-     *  a semantic map and a usable detection), else none. */
-    std::optional<DetectionPoseSampler> detectionSampler(const mrpt::obs::CSensoryFrame& sf,
-                                                         const mrpt::maps::CMetricMap* map) const;
+    /** The poses the frame's observations place, to draw recovery poses from (recovery on,
+     *  from_detections > 0, a sensor model that proposes poses from the frame:
+     *  BatchLikelihood::proposal()), else none. */
+    std::unique_ptr<BatchLikelihood::PoseProposal> detectionSampler(
+        const mrpt::obs::CSensoryFrame& sf, const mrpt::maps::CMetricMap* map) const;
     /** A recovery pose into `out`: with probability from_detections one from `detections`
-     *  in the free space (true), else uniform over the free space (false). */
-    bool drawRecoveryPose(const std::optional<DetectionPoseSampler>& detections,
+     *  (if any) in the free space (true), else uniform over the free space (false). */
+    bool drawRecoveryPose(const BatchLikelihood::PoseProposal* detections,
                           mrpt::math::TPose2D& out) const;
 
     AugmentedMCL m_augmented;

@@ -4,14 +4,11 @@
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimplePointsMap.h>
 #include <mrpt/obs/CObservationBeaconRanges.h>
-#include <mrpt/obs/CObservationBearingRange.h>
 #include <mrpt/poses/CPose3D.h>
 #include <semloc/filter/ParallelExecutor.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/models/BatchLikelihood.h>
-#include <semloc/models/semantic/CSemanticMap.h>
-#include <semloc/observation/CObservationSemantic.h>
 
 #include <algorithm>
 #include <atomic>
@@ -19,9 +16,8 @@
 #include <limits>
 #include <typeinfo>
 
-#include <semloc/models/semantic/LookAlikeMemory.h>
+#include "filter/DetectorOutage.h"
 #include "models/beacon/BeaconRangeLikelihood.h"
-#include "models/semantic/DetectorOutage.h"
 
 namespace semloc
 {
@@ -125,7 +121,7 @@ SensoryFrameLikelihood::Path SensoryFrameLikelihood::choosePath(
     {
         return Path::Zero;  // CMetricMap::computeObservationLikelihood returns 0
     }
-    // A sensor model of its own (CSemanticMap, CStructureMap, a program's): its batch.
+    // A sensor model of its own (semloc's models, a program's): its batch.
     if (const auto* model = dynamic_cast<const BatchLikelihood*>(&map))
     {
         return model->uses(obs) ? Path::Model : Path::Zero;
@@ -216,17 +212,11 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
         {
             continue;
         }
-        bool usable = false, first = true;
-        const CSemanticMap* checkedBy = nullptr;
+        bool usable = false, first = true, checked = false;
         for (const auto* map : m_maps)
         {
             usable = usable || scores(*map, *o);
             Path path = m_enabled ? choosePath(*o, *map) : Path::Zero;
-            if (path == Path::Model && !checkedBy &&
-                dynamic_cast<const CObservationSemantic*>(o.get()))
-            {
-                checkedBy = dynamic_cast<const CSemanticMap*>(map);
-            }
             if (path == Path::Zero)
             {
                 continue;
@@ -235,7 +225,6 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
             t.obs = o.get();
             t.map = map;
             t.model = dynamic_cast<const BatchLikelihood*>(map);
-            t.semantic = path == Path::Model ? dynamic_cast<const CSemanticMap*>(map) : nullptr;
             if (path == Path::Beacons)
             {
                 t.beacons = planBeacons(*o, *map);
@@ -249,21 +238,23 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
                 t.serialIndex = m_nSerial++;
             }
             anyParallelGeneric = anyParallelGeneric || path == Path::GenericParallel;
-            t.lookAlikes =
-                t.semantic && dynamic_cast<const CObservationSemantic*>(o.get()) &&
-                t.semantic->likelihoodOptions.lookalike_persistence > 0 &&
-                t.semantic->likelihoodOptions.model == CSemanticMap::Model::Probabilistic;
-            t.outage = planOutage(t);
-            planWithoutObjects(t);
+            if (path == Path::Model)
+            {
+                const auto plan = t.model->plan(*o);
+                if (plan.checked && !checked)
+                {
+                    checked = true;
+                    m_stats.detections_invalid += plan.invalid;
+                    m_stats.detections_unknown += plan.unknown;
+                }
+                t.remembered = plan.remembered;
+                t.outage = planOutage(plan, *o);
+                m_withoutObjects.logLik += plan.logLikWithoutMap;
+                m_withoutObjects.detections += plan.readingsWithoutMap;
+            }
             m_terms.push_back(t);
         }
         (usable ? m_stats.observations_used : m_stats.observations_skipped)++;
-        if (checkedBy)
-        {
-            const auto c = checkedBy->check(static_cast<const CObservationSemantic&>(*o));
-            m_stats.detections_invalid += c.invalid;
-            m_stats.detections_unknown += c.unknown;
-        }
     }
 
     if (anyParallelGeneric)
@@ -300,62 +291,22 @@ int SensoryFrameLikelihood::planBeacons(const mrpt::obs::CObservation& obs,
     return static_cast<int>(m_nBeaconTerms++);
 }
 
-bool SensoryFrameLikelihood::planOutage(const Term& t)
+bool SensoryFrameLikelihood::planOutage(const BatchLikelihood::TObservationPlan& plan,
+                                        const mrpt::obs::CObservation& obs)
 {
-    const CSemanticMap* semantic = t.semantic;
-    if (!semantic)
+    if (!(plan.outage_every_s > 0))
     {
         return false;
     }
-    const auto& map = *semantic;
-    const auto* detections = dynamic_cast<const CObservationSemantic*>(t.obs);
-    const auto& lo = map.likelihoodOptions;
-    if (!(lo.outage_every_s > 0) || lo.model != CSemanticMap::Model::Probabilistic)
-    {
-        return false;
-    }
-    // Silent: nothing of the map's objects reported. Detections of what the map does not know
-    // (other vehicles, divers) weigh every pose alike, so a frame of them only is, for the
-    // map's objects, an empty one: a view blocked by them is not evidence against the poses
-    // that should see objects, scan after scan.
-    bool silent = false;
-    if (detections)
-    {
-        const auto seen = map.check(*detections);
-        silent = seen.used == 0 && seen.invalid == 0;
-    }
-    else
-    {
-        silent = static_cast<const mrpt::obs::CObservationBearingRange&>(*t.obs).sensedData.empty();
-    }
-    m_outage.silent = m_outage.silent && silent;
+    m_outage.silent = m_outage.silent && plan.silent;
     if (!m_outage.present)
     {
         m_outage.present = true;
-        m_outage.t = t.obs->timestamp;
-        m_outage.every_s = lo.outage_every_s;
-        m_outage.mean_s = lo.outage_mean_s;
+        m_outage.t = obs.timestamp;
+        m_outage.every_s = plan.outage_every_s;
+        m_outage.mean_s = plan.outage_mean_s;
     }
     return true;
-}
-
-void SensoryFrameLikelihood::planWithoutObjects(const Term& t)
-{
-    const CSemanticMap* semantic = t.semantic;
-    if (!semantic)
-    {
-        return;
-    }
-    size_t used = 0;
-    if (const auto* detections = dynamic_cast<const CObservationSemantic*>(t.obs))
-    {
-        m_withoutObjects.logLik += semantic->logLikelihoodWithoutObjects(*detections, &used);
-    }
-    else if (const auto* br = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(t.obs))
-    {
-        m_withoutObjects.logLik += semantic->logLikelihoodWithoutObjects(*br, &used);
-    }
-    m_withoutObjects.detections += used;
 }
 
 void SensoryFrameLikelihood::preEvaluate(const TPose2D* poses, size_t n)
@@ -387,11 +338,10 @@ void SensoryFrameLikelihood::evaluateTerm(const Term& t, const TPose2D* poses, s
     switch (t.path)
     {
         case Path::Model:
-            if (t.clutter >= 0)
+            if (t.context >= 0)
             {
-                t.semantic->computeLogLikelihoods(
-                    static_cast<const CObservationSemantic&>(*t.obs), poses + b, m, term,
-                    m_clutterFactors[static_cast<size_t>(t.clutter)].data());
+                t.model->logLikelihoodsRemembering(
+                    *t.obs, m_contexts[static_cast<size_t>(t.context)], poses + b, m, term);
                 break;
             }
             t.model->logLikelihoods(*t.obs, poses + b, m, term);
@@ -483,34 +433,31 @@ size_t SensoryFrameLikelihood::evaluateChunk(const TPose2D* poses, size_t b, siz
     return nonfinite;
 }
 
-void SensoryFrameLikelihood::noteLookAlikes(const TPose2D& odometry)
+void SensoryFrameLikelihood::remember(const TPose2D& odometry)
 {
     size_t used = 0;
     for (Term& t : m_terms)
     {
-        if (!t.lookAlikes)
+        if (!t.remembered)
         {
             continue;
         }
-        auto it = std::find_if(m_lookAlikes.begin(), m_lookAlikes.end(),
-                               [&](const auto& m) { return m.first == t.semantic; });
-        if (it == m_lookAlikes.end())
+        auto it = std::find_if(m_memories.begin(), m_memories.end(),
+                               [&](const auto& m) { return m.first == t.model; });
+        if (it == m_memories.end())
         {
-            m_lookAlikes.emplace_back(t.semantic, std::make_unique<LookAlikeMemory>());
-            it = std::prev(m_lookAlikes.end());
+            it = m_memories.emplace(m_memories.end(), t.model, t.model->newMemory());
         }
-        if (m_clutterFactors.size() <= used)
+        if (!it->second)
         {
-            m_clutterFactors.resize(used + 1);
+            continue;  // the model said it remembers, and keeps no memory
         }
-        auto& factors = m_clutterFactors[used];
-        it->second->note(static_cast<const CObservationSemantic&>(*t.obs), *t.semantic, odometry,
-                         factors);
-        t.clutter = static_cast<int>(used++);
-        for (const double f : factors)
+        if (m_contexts.size() <= used)
         {
-            m_withoutObjects.logLik += f;  // the same densities with no object in view
+            m_contexts.resize(used + 1);
         }
+        it->second->remember(*t.obs, odometry, m_contexts[used], m_withoutObjects.logLik);
+        t.context = static_cast<int>(used++);
     }
 }
 
@@ -518,7 +465,7 @@ void SensoryFrameLikelihood::beginUpdate(size_t particles, const TPose2D* odomet
 {
     if (odometry)
     {
-        noteLookAlikes(*odometry);
+        remember(*odometry);
     }
     m_outageMixed = false;
     if (!m_outage.present)
@@ -549,7 +496,7 @@ void SensoryFrameLikelihood::resetState()
 {
     m_detectorOutage->reset();
     m_outageMixed = false;
-    m_lookAlikes.clear();
+    m_memories.clear();
 }
 
 void SensoryFrameLikelihood::evaluate(const mrpt::obs::CSensoryFrame& sf, const TPose2D* poses,

@@ -3,7 +3,6 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <mrpt/io/CFileGZInputStream.h>
-#include <mrpt/maps/CBeaconMap.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimpleMap.h>
 #include <mrpt/maps/TMetricMapTypesRegistry.h>
@@ -14,8 +13,7 @@
 #include <semloc/io/ErrorMessage.h>
 #include <semloc/io/InputFile.h>
 #include <semloc/maps/LocalizationMap.h>
-#include <semloc/models/semantic/CSemanticMap.h>
-#include <semloc/models/structure/CStructureMap.h>
+#include <semloc/models/SensorModelRegistry.h>
 
 #include <algorithm>
 #include <cmath>
@@ -24,9 +22,8 @@
 #include <regex>
 #include <set>
 
-#include "io/ExactConfigWrite.h"
 #include "io/Text.h"
-#include "models/beacon/BeaconMapFromWorld.h"
+#include "models/grid/GridCells.h"
 
 namespace semloc
 {
@@ -132,46 +129,6 @@ mrpt::maps::TSetOfMetricMapInitializers loadDefinitions(const mrpt::config::CCon
         out.push_back(mrpt::maps::TMetricMapInitializer::Ptr(def.release()));
     }
     return out;
-}
-
-std::string gridMethodName(const COccupancyGridMap2D& g)
-{
-    switch (g.likelihoodOptions.likelihoodMethod)
-    {
-        case COccupancyGridMap2D::lmMeanInformation:
-            return "grid_mi";
-        case COccupancyGridMap2D::lmRayTracing:
-            return "grid_rt";
-        case COccupancyGridMap2D::lmConsensus:
-            return "grid_consensus";
-        case COccupancyGridMap2D::lmCellsDifference:
-            return "grid_cells";
-        case COccupancyGridMap2D::lmLikelihoodField_Thrun:
-            return "grid_lf";
-        case COccupancyGridMap2D::lmLikelihoodField_II:
-            return "grid_lf2";
-        case COccupancyGridMap2D::lmConsensusOWA:
-            return "grid_owa";
-    }
-    return "grid";
-}
-
-/** Replaces a grid's cells by `cells`, keeping the options the ini gave it. */
-void replaceGridCells(COccupancyGridMap2D& grid, const COccupancyGridMap2D& cells)
-{
-    const auto insertion = grid.insertionOptions;
-    const auto likelihood = grid.likelihoodOptions;
-    const auto generic = grid.genericMapParams;
-    grid = cells;
-    grid.insertionOptions = insertion;
-    grid.likelihoodOptions = likelihood;
-    grid.genericMapParams = generic;
-}
-
-/** A float as text that reads back as the same float. */
-std::string floatText(float v)
-{
-    return mrpt::format("%.9g", static_cast<double>(v));
 }
 
 /** "mrpt::maps::COccupancyGridMap2D" -> "COccupancyGridMap2D". */
@@ -320,7 +277,7 @@ bool loadMapFile(LocalizationMap& lm, const std::string& mapFile, const std::str
         COccupancyGridMap2D cells;
         mrpt::io::CFileGZInputStream f(mapFile);
         mrpt::serialization::archiveFrom(f) >> cells;
-        replaceGridCells(*grid, cells);
+        detail::replaceGridCells(*grid, cells);
     }
     else if (!mapFile.empty())
     {
@@ -331,76 +288,36 @@ bool loadMapFile(LocalizationMap& lm, const std::string& mapFile, const std::str
     return fromWorld;
 }
 
-/** Fills each map of `lm` from its world: a semantic or structure map from the dataset's world
- *  (unless its definition named its own world_file), an occupancy grid rasterized from a world
- *  map file. Returns the world file each map was filled from ("" for the others). */
+/** Fills each map of `lm` by its kind (SensorModelKind::fill(), pass 0 in definition order,
+ *  then pass 1). Returns the world file each map was filled from ("" for none). */
 std::vector<std::string> fillMaps(LocalizationMap& lm,
                                   const std::vector<std::pair<std::string, unsigned>>& aliases,
                                   const std::string& mapFile, const std::string& section,
                                   bool fromWorld)
 {
-    std::vector<std::string> worldFiles;
-    worldFiles.assign(lm.map->maps.size(), "");
-    size_t k = 0;
-    for (const auto& def : lm.definitions)
+    std::vector<std::string> worldFiles(lm.map->maps.size());
+    for (int pass = 0; pass < 2; pass++)
     {
-        auto& m = lm.map->maps[k];
-        const std::string prefix =
-            section + "_" + aliases[k].first + mrpt::format("_%02u", aliases[k].second);
-        // A map of the world's objects: filled from the dataset's world unless its definition
-        // names its own world_file (which it has read), whose world then is the dataset's.
-        auto worldMap = [&](const std::string& worldFile, const char* kind, const auto& load)
+        size_t k = 0;
+        for (const auto& def : lm.definitions)
         {
-            worldFiles[k] = worldFile;
-            if (worldFile.empty() && lm.world)
+            auto& m = *lm.map->maps[k];
+            const auto* kind = SensorModelRegistry::of(m);
+            if (kind && kind->fillPass() == pass)
             {
-                load(*lm.world);
-                worldFiles[k] = mapFile;
+                SensorModelKind::TFill f{
+                    m,
+                    *def,
+                    section + "_" + aliases[k].first + mrpt::format("_%02u", aliases[k].second),
+                    "ini [" + section + "] " + aliases[k].first + "_count: ",
+                    mapFile,
+                    fromWorld,
+                    lm.world};
+                kind->fill(f);
+                worldFiles[k] = f.worldFile;
             }
-            if (!lm.world && !worldFile.empty())
-            {
-                lm.world = World::FromFile(worldFile);
-            }
-            if (m->isEmpty() && worldFile.empty() && !mapFile.empty())
-            {
-                THROW_EXCEPTION("map_file '" + mapFile + "': the world holds no object for the " +
-                                kind + " map of [" + creationSection(prefix) + "]");
-            }
-            if (m->isEmpty())
-            {
-                THROW_EXCEPTION("ini [" + creationSection(prefix) + "] world_file: the " + kind +
-                                " map is empty (set world_file, or a world YAML as map_file)");
-            }
-        };
-        if (const auto* d = dynamic_cast<const CSemanticMap::TMapDefinition*>(def.get()))
-        {
-            auto& sem = dynamic_cast<CSemanticMap&>(*m);
-            worldMap(d->world_file, "semantic", [&](const World& w) { sem.loadFromWorld(w); });
+            k++;
         }
-        else if (const auto* ds = dynamic_cast<const CStructureMap::TMapDefinition*>(def.get()))
-        {
-            auto& st = dynamic_cast<CStructureMap&>(*m);
-            worldMap(ds->world_file, "structure",
-                     [&](const World& w)
-                     { st.loadFromWorld(w, ds->cylinder_tolerance_m, ds->raycast_cell_m); });
-        }
-        else if (const auto* dg =
-                     dynamic_cast<const COccupancyGridMap2D::TMapDefinition*>(def.get());
-                 dg && fromWorld)
-        {
-            COccupancyGridMap2D cells;
-            try
-            {
-                cells = lm.world->makeOccupancyGrid(dg->resolution);
-            }
-            catch (const std::exception& e)
-            {
-                THROW_EXCEPTION("ini [" + creationSection(prefix) +
-                                "] resolution: " + errorMessage(e));
-            }
-            replaceGridCells(dynamic_cast<COccupancyGridMap2D&>(*m), cells);
-        }
-        k++;
     }
     return worldFiles;
 }
@@ -461,8 +378,6 @@ LocalizationMap LocalizationMap::build(const mrpt::config::CConfigFileBase& ini,
 
     const bool fromWorld = loadMapFile(lm, mapFile, section, world);
     lm.m_worldFiles = fillMaps(lm, aliases, mapFile, section, fromWorld);
-    // After the others: a semantic or structure map's own world_file may give the world.
-    detail::fillBeaconMaps(lm, aliases, mapFile, section);
     return lm;
 }
 
@@ -491,22 +406,8 @@ std::string LocalizationMap::variant() const
     std::vector<std::string> kinds;
     for (const auto& m : map->maps)
     {
-        if (dynamic_cast<const CSemanticMap*>(m.get()))
-        {
-            kinds.push_back("semantic");
-        }
-        else if (dynamic_cast<const CStructureMap*>(m.get()))
-        {
-            kinds.push_back("geometric");
-        }
-        else if (const auto* g = dynamic_cast<const COccupancyGridMap2D*>(m.get()))
-        {
-            kinds.push_back(gridMethodName(*g));
-        }
-        else
-        {
-            kinds.push_back(kindOf(*m));
-        }
+        const auto* kind = SensorModelRegistry::of(*m);
+        kinds.push_back(kind ? kind->variant(*m) : kindOf(*m));
     }
     if (kinds.size() == 2 && std::count(kinds.begin(), kinds.end(), "semantic") == 1 &&
         std::count(kinds.begin(), kinds.end(), "geometric") == 1)
@@ -534,33 +435,9 @@ std::string LocalizationMap::effectiveConfig(const mrpt::config::CConfigFileBase
             section + "_" + aliases[k].first + mrpt::format("_%02u", aliases[k].second);
         const std::string sc = creationSection(prefix);
         def->genericMapParams.saveToConfigFile(ours, sc);
-        if (const auto* d = dynamic_cast<const CSemanticMap::TMapDefinition*>(def.get()))
+        if (const auto* kind = SensorModelRegistry::of(*def))
         {
-            ours.write(sc, "world_file", m_worldFiles[k]);
-            d->likelihoodOpts.saveToConfigFile(ours, prefix + "_likelihoodOpts");
-            d->insertionOpts.saveToConfigFile(ours, prefix + "_insertOpts");
-        }
-        else if (const auto* ds = dynamic_cast<const CStructureMap::TMapDefinition*>(def.get()))
-        {
-            ours.write(sc, "world_file", m_worldFiles[k]);
-            detail::writeExact(ours, sc, "cylinder_tolerance_m", ds->cylinder_tolerance_m, "");
-            detail::writeExact(ours, sc, "raycast_cell_m", ds->raycast_cell_m, "");
-            ds->likelihoodOpts.saveToConfigFile(ours, prefix + "_likelihoodOpts");
-        }
-        else if (const auto* dg =
-                     dynamic_cast<const COccupancyGridMap2D::TMapDefinition*>(def.get()))
-        {
-            ours.write(sc, "min_x", floatText(dg->min_x));
-            ours.write(sc, "max_x", floatText(dg->max_x));
-            ours.write(sc, "min_y", floatText(dg->min_y));
-            ours.write(sc, "max_y", floatText(dg->max_y));
-            ours.write(sc, "resolution", floatText(dg->resolution));
-        }
-        else if (const auto* db =
-                     dynamic_cast<const mrpt::maps::CBeaconMap::TMapDefinition*>(def.get()))
-        {
-            detail::writeExact(ours, prefix + "_likelihoodOpts", "rangeStd",
-                               db->likelihoodOpts.rangeStd, "");
+            kind->writeOptions(*def, ours, prefix, m_worldFiles[k]);
         }
         k++;
     }

@@ -87,7 +87,7 @@ namespace
  *  the detector's Cramér–Rao bound bounds. */
 bool detectionsOnly(const LocalizationMap& maps)
 {
-    return maps.map && onlySemanticMaps(*maps.map);
+    return maps.map && weighsWithoutMaps(*maps.map);
 }
 }  // namespace
 

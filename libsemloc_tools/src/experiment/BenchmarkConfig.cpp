@@ -292,7 +292,7 @@ void takeFilterOf(const Options& reference, Variant& v)
     // The evidence trigger weighs the detections alone: a variant with other maps runs
     // without recovery (as the shipped sonar and grid variants do).
     if (v.options.filter.recovery.trigger == RecoveryTrigger::Evidence &&
-        !onlySemanticMaps(*v.maps.map))
+        !weighsWithoutMaps(*v.maps.map))
     {
         v.options.filter.recovery.trigger = RecoveryTrigger::Off;
     }

@@ -3,31 +3,19 @@
 #include <semloc/experiment/Benchmark.h>
 #include <semloc/experiment/IniReference.h>
 #include <semloc/experiment/LocalizationExperiment.h>
-#include <semloc/models/semantic/CSemanticMap.h>
-#include <semloc/models/structure/CStructureMap.h>
+#include <semloc/models/SensorModelRegistry.h>
 #include <semloc/simulator/Simulator.h>
-
-#include "io/ExactConfigWrite.h"
 
 namespace semloc
 {
 std::string iniReference()
 {
     mrpt::config::CConfigFileMemory c;
-    const std::string sm = "MetricMap_semanticMap_00";
-    c.write(sm + "_creationOpts", "world_file", std::string("maps/paper_50x50.yaml"), 24, 24,
-            "world YAML (relative to the cwd, else to the ini)");
-    CSemanticMap::TLikelihoodOptions().saveToConfigFile(c, sm + "_likelihoodOpts");
-    CSemanticMap::TInsertionOptions().saveToConfigFile(c, sm + "_insertOpts");
-    const std::string st = "MetricMap_structureMap_00";
-    const CStructureMap::TMapDefinition sdef;
-    c.write(st + "_creationOpts", "world_file", std::string("maps/paper_50x50.yaml"), 24, 24,
-            "world YAML whose outlines are loaded");
-    detail::writeExact(c, st + "_creationOpts", "cylinder_tolerance_m", sdef.cylinder_tolerance_m,
-                       "max gap between a cylinder and its polygon [m]");
-    detail::writeExact(c, st + "_creationOpts", "raycast_cell_m", sdef.raycast_cell_m,
-                       "ray-casting grid cell [m] (>= 0.01), 0 = automatic");
-    CStructureMap::TLikelihoodOptions().saveToConfigFile(c, st + "_likelihoodOpts");
+    // The map kinds' sections ([MetricMap] <name>_count = 1), semloc's first.
+    for (const auto& kind : SensorModelRegistry::kinds())
+    {
+        kind->writeReference(c, "MetricMap_" + kind->name() + "_00");
+    }
     // semloc-localize: [LocalizationExperiment], [PF_options], [KLD_options],
     // [DummyOdometryParams], [MotionModel]; the maps are the [MetricMap_*] sections above
     LocalizationExperiment::TOptions loc;

@@ -9,7 +9,6 @@
 #include <semloc/filter/FreeSpaceSampler.h>
 #include <semloc/filter/ParticleMotionModel.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
-#include <semloc/models/semantic/DetectionPoseSampler.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -80,10 +79,11 @@ struct WeightRange;
  *  A policy of its own (detail::RecoveryPolicy) decides and draws; the step resamples.
  *  Augmented MCL (AugmentedMCL): when p_inject > 0 the particles are resampled at once
  *  (`resamplingMethod`) and each is replaced, with probability p_inject, by a random pose:
- *  with probability `from_detections` one consistent with a detection of the frame's
- *  CObservationSemantic (DetectionPoseSampler over the first CSemanticMap of
- *  options.metricMap; up to kDetectionTries draws until one lies in the free space), else
- *  (or when no detection is usable, or no draw was free) one from the FreeSpaceSampler.
+ *  with probability `from_detections` one consistent with a detection of the frame (the
+ *  first proposal of the sensor models of options.metricMap, BatchLikelihood::proposal(): the
+ *  semantic map's DetectionPoseSampler; up to kDetectionTries draws until one lies in the
+ *  free space), else (or when no model places the frame, or no draw was free) one from the
+ *  FreeSpaceSampler.
  *  Uniform injection over a 50 x 50 m map almost never lands within a metre and a few degrees
  *  of the truth; a detection of an object at range r leaves a circle of radius r per
  *  candidate object, so after a kidnapping some injected particles start near the truth.
@@ -128,11 +128,12 @@ public:
     {
         /** Updates after which every weight was zero: the particles were re-initialized. */
         size_t reinitializations = 0;
-        /** Particles of re-initializations drawn from a semantic detection (recovery on). */
+        /** Particles of re-initializations drawn from a detection (a model's proposal;
+         *  recovery on). */
         size_t reinitialized_from_detections = 0;
         /** Particles replaced by random poses by the recovery (its trigger, or while lost). */
         size_t injected_particles = 0;
-        /** Of injected_particles, those drawn from a semantic detection. */
+        /** Of injected_particles, those drawn from a detection (a model's proposal). */
         size_t injected_from_detections = 0;
         /** Updates in which the recovery injected particles. */
         size_t injection_steps = 0;
@@ -215,12 +216,13 @@ public:
     /** The evidence trigger's shortfall S [nats] after the last frame (AugmentedMCL; 0 with
      *  another trigger and after resetRecoveryTrigger()). */
     double recoveryShortfall() const;
-    /** The probability that the semantic detector is out after the last frame (the outage
-     *  model, CSemanticMap's outage_every_s > 0; 0 while it has seen no frame). */
+    /** The probability that the detector is out after the last frame (the outage model of
+     *  SensoryFrameLikelihood::outageTerms(): the semantic map's outage_every_s > 0; 0 while
+     *  it has seen no frame). */
     double detectorOutageProbability() const;
     /** Forgets the sensor models' state from frame to frame (a new run): the detector's
-     *  outage probability and the look-alikes' memory (CSemanticMap's
-     *  lookalike_persistence). */
+     *  outage probability and the models' memories (BatchLikelihood::Memory: the semantic
+     *  map's look-alikes). */
     void resetDetectorOutage();
     /** Forgets the recovery trigger's state (a new run): its averages or evidence shortfall,
      *  and a live challenger set; recoveryStats() keeps counting. */

@@ -29,9 +29,10 @@ namespace semloc
 {
 class ParallelExecutor;
 
-/** True when `map` has maps and every one is a semantic map: what the evidence recovery
- *  trigger (recovery_trigger = evidence) needs, as it weighs the detections alone. */
-bool onlySemanticMaps(const mrpt::maps::CMultiMetricMap& map);
+/** True when `map` has maps and every one gives the likelihood with nothing of it in view
+ *  (BatchLikelihood::weighsWithoutMap(): semantic maps): what the evidence recovery trigger
+ *  (recovery_trigger = evidence) needs, as it weighs the frame against it. */
+bool weighsWithoutMaps(const mrpt::maps::CMultiMetricMap& map);
 
 /** A 2D particle-filter localizer: CParallelMonteCarloLocalization2D driven by MRPT's
  *  CParticleFilter over the maps of a CMultiMetricMap (the mix of maps is the variant).
@@ -58,10 +59,11 @@ public:
         Gaussian = 2,
         /** 3: as 0, then, at the first frame with a semantic detection the map can
          *  associate, a share init_PDF_from_detections of the particles drawn from that
-         *  frame's detections (DetectionPoseSampler: poses from which the detection could
-         *  have been seen, placed one odometry increment back so that this step's prediction
-         *  brings them to the detection's time) before the frame weighs them. Needs a
-         *  semantic map. */
+         *  frame's detections (the first sensor model's BatchLikelihood::proposal(), the
+         *  semantic map's DetectionPoseSampler: poses from which the detection could have
+         *  been seen, placed one odometry increment back so that this step's prediction
+         *  brings them to the detection's time) before the frame weighs them. Needs a map
+         *  that proposes poses (a semantic map). */
         FromDetections = 3
     };
 
@@ -184,9 +186,11 @@ public:
     /** Why `obs` cannot be scored at all, as a phrase ("its sensorPose is not finite"), or ""
      *  when it can: a sensorPose with a non-finite component or a position more than
      *  kMaxSensorOffset_m from the vehicle; a range scan with a non-finite or negative
-     *  aperture, without beams, or (when `map` holds an occupancy grid, which MRPT scores
-     *  with at least 2 beams) with one beam; a CObservationSemantic with a non-finite or
-     *  negative maxRange_m or fov_rad. step() skips such observations and counts them
+     *  aperture or without beams; then what a registered kind of map refuses
+     *  (SensorModelKind::invalidObservation(): semloc's refuse a one-beam scan where `map`
+     *  holds an occupancy grid, which MRPT scores with at least 2 beams, a beacon range that
+     *  is not finite, a CObservationSemantic with a non-finite or negative maxRange_m or
+     *  fov_rad). step() skips such observations and counts them
      *  (likelihoodStats().observations_invalid). */
     static std::string invalidObservation(const mrpt::obs::CObservation& obs,
                                           const mrpt::maps::CMetricMap& map);
@@ -298,7 +302,7 @@ private:
     std::optional<mrpt::poses::CPose2D> m_lastOdometry, m_pendingOdometry;
     bool m_seededFromDetections = false;
     size_t m_initializedFromDetections = 0;
-    /** The semantic maps' associationsApproximated() when the particles were last drawn. */
+    /** The sensor models' approximations() when the particles were last drawn. */
     size_t m_approximatedBefore = 0;
     size_t associationsApproximatedNow() const;
     /** init_PDF_mode = 3 at the first frame whose detections the map can place. */

@@ -6,6 +6,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/system/datetime.h>
+#include <semloc/models/BatchLikelihood.h>
 
 #include <cstddef>
 #include <memory>
@@ -24,9 +25,6 @@ class DetectorOutage;
 class BeaconIdIndex;
 class BeaconRangeTerm;
 }  // namespace detail
-class LookAlikeMemory;
-class BatchLikelihood;
-class CSemanticMap;
 class ParallelExecutor;
 
 /** log p(sf | pose) for every particle pose, the sensor model of the filter.
@@ -36,9 +34,10 @@ class ParallelExecutor;
  *  CMetricMap::computeObservationLikelihood (0 for a map or multimap whose
  *  `enableObservationLikelihood` is off), added in the same order. Each (observation, map)
  *  term takes the fastest path that gives the same value:
- *  - a map that is a BatchLikelihood (CSemanticMap, CStructureMap, a program's own sensor
- *    model): BatchLikelihood::logLikelihoods() on each thread's contiguous chunk of poses; 0,
- *    not evaluated, for an observation it does not use;
+ *  - a map that is a BatchLikelihood (semloc's sensor models, a program's own):
+ *    BatchLikelihood::logLikelihoods() on each thread's contiguous chunk of poses; 0, not
+ *    evaluated, for an observation it does not use; its plan() (BatchLikelihood's hooks)
+ *    read once per frame;
  *  - COccupancyGridMap2D with the ray-tracing or Thrun likelihood-field method: the generic
  *    call on every thread (the first pose is evaluated alone first, so the lazy caches of
  *    the observation are built before threads share it; the grid's likelihood-field cache
@@ -65,15 +64,17 @@ public:
         size_t observations_used = 0;
         /** Observations no map can score (ignored, as MRPT does). */
         size_t observations_skipped = 0;
-        /** Semantic detections the semantic map rejected as invalid (NaN, out of range...). */
+        /** Readings a sensor model rejected as invalid (NaN, out of range...: the semantic
+         *  map's detections; BatchLikelihood::TObservationPlan::invalid). */
         size_t detections_invalid = 0;
-        /** Valid semantic detections with a label/id the semantic map does not know. */
+        /** Valid readings of what the model does not know (a semantic detection's label or
+         *  id; TObservationPlan::unknown). */
         size_t detections_unknown = 0;
         /** Particle evaluations that were not finite (set to -inf). */
         size_t nonfinite_likelihoods = 0;
-        /** Particle evaluations of a semantic map with `association = marginal` whose sum
-         *  over associations was approximated (CSemanticMap::associationsApproximated() since
-         *  the Localizer last drew its particles; counted by Localizer, 0 here). */
+        /** Particle evaluations a sensor model approximated (BatchLikelihood::approximations():
+         *  the semantic map's `association = marginal` sums over associations) since the
+         *  Localizer last drew its particles (counted by Localizer, 0 here). */
         size_t associations_approximated = 0;
         /** Range-scan beams flagged valid whose range is NaN, +-inf, negative or beyond the
          *  scan's maxRange: marked invalid before any map sees the scan (counted by
@@ -86,29 +87,28 @@ public:
         size_t observations_invalid = 0;
     };
 
-    /** The terms of the planned frame that a detector outage silences: the semantic maps
-     *  with the outage model on (CSemanticMap's outage_every_s > 0), one detector for the
-     *  filter. */
+    /** The terms of the planned frame that a detector outage silences: those whose model's
+     *  plan gives outage rates (TObservationPlan::outage_every_s > 0: the semantic map's
+     *  outage model), one detector for the filter. */
     struct TOutageTerms
     {
         /** The frame has at least one such term. */
         bool present = false;
-        /** None of their observations holds a detection the map knows (its label or id; an
-         *  invalid reading counts as one): detections of objects unknown to the map only
-         *  leave a frame silent. */
+        /** Every one of their observations is silent (TObservationPlan::silent: for the
+         *  semantic map, no detection it knows, an invalid reading counting as one). */
         bool silent = true;
         /** The first such observation's timestamp. */
         mrpt::Clock::time_point t{};
-        /** The model's rates (the first such map's options) [s]. */
+        /** The model's rates (the first such term's) [s]. */
         double every_s = 0, mean_s = 0;
     };
 
-    /** The frame's likelihood with no semantic object in view (the semantic maps'
-     *  CSemanticMap::logLikelihoodWithoutObjects summed over the frame's semantic terms): the
-     *  reference of the evidence recovery trigger. */
+    /** The frame's likelihood with nothing of the maps in view (TObservationPlan's
+     *  logLikWithoutMap summed over the frame's model terms, with what their memories add):
+     *  the reference of the evidence recovery trigger. */
     struct TWithoutObjects
     {
-        /** Detections the semantic terms use; 0: the frame tells nothing of the objects. */
+        /** Readings the terms use for it; 0: the frame tells nothing of the maps. */
         size_t detections = 0;
         /** log p(z | no object in view) of those terms. */
         double logLik = 0;
@@ -154,20 +154,21 @@ public:
     /** The outage terms of the frame of the last plan(). */
     const TOutageTerms& outageTerms() const { return m_outage; }
 
-    /** @name The sensor models' state from frame to frame: the detector's outages
+    /** @name The sensor models' state from frame to frame: the detector's outages, the
+     *  models' memories
      *  A filter that weighs its particles by the planned frame calls beginUpdate() before
      *  the chunks and endUpdate() with the particles' updated log-weights after: the
-     *  probability that the detector is out (CSemanticMap's outage model, outage_every_s >
-     *  0; one detector for the filter) is carried to the frame's time, a silent frame is
-     *  scored as the mixture pi + (1 - pi) p(z | x) (detail::DetectorOutage), and the
-     *  probability's posterior is taken from the weights. evaluate() leaves the state alone.
+     *  probability that the detector is out (outageTerms(); one detector for the filter) is
+     *  carried to the frame's time, a silent frame is scored as the mixture
+     *  pi + (1 - pi) p(z | x) (detail::DetectorOutage), and the probability's posterior is
+     *  taken from the weights. evaluate() leaves the state alone.
      *  @{ */
     /** Starts weighing `particles` particles by the planned frame. Throws for a frame with
      *  outage terms and no timestamp. With `odometry` (the vehicle's pose by its odometry at
-     *  the frame, any fixed origin), the semantic maps with look-alike persistence
-     *  (CSemanticMap's lookalike_persistence > 0) score their detections with the clutter
-     *  densities the detections of their last scans give (LookAlikeMemory), and
-     *  remember the frame's; withoutObjects() then includes those densities. */
+     *  the frame, any fixed origin), each term its model's plan says `remembered` is
+     *  remembered by the model's Memory (one per model, made at its first such term) and
+     *  scored by BatchLikelihood::logLikelihoodsRemembering() (the semantic map's look-alike
+     *  persistence); withoutObjects() then includes what the memories add. */
     void beginUpdate(size_t particles, const mrpt::math::TPose2D* odometry = nullptr);
     /** True when endUpdate() needs the weights (the frame was scored with the outage
      *  mixture). */
@@ -179,11 +180,11 @@ public:
     /** The probability that the detector is out after the last frame (0 before any frame
      *  with outage terms). */
     double detectorOutageProbability() const;
-    /** Forgets the state (a new run): the outage probability and the look-alikes' memory. */
+    /** Forgets the state (a new run): the outage probability and the models' memories. */
     void resetState();
     /** @} */
 
-    /** The semantic terms of the frame of the last plan() with no object in view. */
+    /** The model terms of the frame of the last plan() with nothing of the maps in view. */
     const TWithoutObjects& withoutObjects() const { return m_withoutObjects; }
 
     /** Counters accumulated over every evaluate() call. */
@@ -213,12 +214,11 @@ private:
         bool firstOfObservation = false;
         /** One of outageTerms(). */
         bool outage = false;
-        /** The map as a CSemanticMap (Path::Model), or nullptr. */
-        const CSemanticMap* semantic = nullptr;
-        /** A semantic observation of a semantic map with look-alike persistence. */
-        bool lookAlikes = false;
-        /** Index into m_clutterFactors of its detections' log clutter factors, or -1. */
-        int clutter = -1;
+        /** Its model's Memory remembers it (TObservationPlan::remembered). */
+        bool remembered = false;
+        /** Index into m_contexts of its Memory's context (remembered by beginUpdate()), or
+         *  -1. */
+        int context = -1;
         /** Index into m_beaconTerms (Path::Beacons), or -1. */
         int beacons = -1;
     };
@@ -230,13 +230,14 @@ private:
     /** Plans the beacon ranges `obs` against the CBeaconMap `map`: the index of its term in
      *  m_beaconTerms, or -1 when MRPT's call must score it (a beacon not Gaussian). */
     int planBeacons(const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map);
-    /** Adds term `t` to m_outage if it is an outage term; true if so. */
-    bool planOutage(const Term& t);
-    /** Adds term `t`'s likelihood without objects to m_withoutObjects if it is semantic. */
-    void planWithoutObjects(const Term& t);
+    /** Adds a model term of `obs` planned as `plan` to m_outage if it is an outage term;
+     *  true if so. */
+    bool planOutage(const BatchLikelihood::TObservationPlan& plan,
+                    const mrpt::obs::CObservation& obs);
     void prepareGridCaches();
-    /** beginUpdate(): the look-alike terms' clutter factors, and their memories updated. */
-    void noteLookAlikes(const mrpt::math::TPose2D& odometry);
+    /** beginUpdate(): the remembered terms noted by their models' memories, their
+     *  contexts set. */
+    void remember(const mrpt::math::TPose2D& odometry);
 
     std::vector<const mrpt::maps::CMetricMap*> m_maps;
     bool m_enabled = true;
@@ -252,10 +253,11 @@ private:
     std::vector<double> m_outageLik;
     double* m_outageOut = nullptr;  ///< m_outageLik's values, written by evaluateChunk()
     TWithoutObjects m_withoutObjects;
-    /** The look-alike memory of each semantic map with lookalike_persistence > 0. */
-    std::vector<std::pair<const CSemanticMap*, std::unique_ptr<LookAlikeMemory>>> m_lookAlikes;
-    /** The planned frame's log clutter factors, one vector per term that has them. */
-    std::vector<std::vector<double>> m_clutterFactors;
+    /** The memory of each model that remembers (nullptr: it keeps none). */
+    std::vector<std::pair<const BatchLikelihood*, std::unique_ptr<BatchLikelihood::Memory>>>
+        m_memories;
+    /** The planned frame's memory contexts, one per remembered term. */
+    std::vector<std::vector<double>> m_contexts;
     std::vector<std::vector<double>> m_serial;
     /** The id index of each CBeaconMap scored so far (rebuilt when its beacons changed). */
     std::vector<std::pair<const mrpt::maps::CBeaconMap*, std::unique_ptr<detail::BeaconIdIndex>>>

@@ -371,6 +371,23 @@ public:
     /** BatchLikelihood: computeLogLikelihoods() of either observation. */
     void logLikelihoods(const mrpt::obs::CObservation& obs, const mrpt::math::TPose2D* poses,
                         size_t n, double* out) const override;
+    /** @name BatchLikelihood's hooks (SemanticFilterHooks.cpp): check()'s counts, the
+     *  detector's outages (outage_every_s, probabilistic model), logLikelihoodWithoutObjects()
+     *  as the likelihood with nothing of the map in view, the look-alike memory
+     *  (lookalike_persistence, probabilistic model) and DetectionPoseSampler's proposals.
+     *  @{ */
+    TObservationPlan plan(const mrpt::obs::CObservation& obs) const override;
+    std::unique_ptr<Memory> newMemory() const override;
+    void logLikelihoodsRemembering(const mrpt::obs::CObservation& obs,
+                                   const std::vector<double>& context,
+                                   const mrpt::math::TPose2D* poses, size_t n,
+                                   double* out) const override;
+    bool proposes() const override { return true; }
+    std::unique_ptr<PoseProposal> proposal(const mrpt::obs::CSensoryFrame& sf) const override;
+    bool weighsWithoutMap() const override { return true; }
+    std::string needsStandardProposal() const override;
+    size_t approximations() const override;
+    /** @} */
     /** computeLogLikelihoods() with detection k of obs.detections at the clutter density
      *  kappa e^clutterLogFactors[k] (>= 0; one per detection of `obs`) instead of kappa
      *  (probabilistic model; the paper model ignores them): the look-alike persistence

@@ -2,15 +2,11 @@
 #pragma once
 
 #include <mrpt/math/TPose2D.h>
+#include <semloc/models/BatchLikelihood.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 #include <cstddef>
 #include <vector>
-
-namespace mrpt::random
-{
-class CRandomGenerator;
-}
 
 namespace semloc
 {
@@ -30,7 +26,7 @@ class CSemanticMap;
  *
  *  so the object is seen at range r' and bearing b' from the sensor; the vehicle pose is that
  *  sensor pose (-) the detector's pose on the vehicle (sensorPose, projected to 2D). */
-class DetectionPoseSampler
+class DetectionPoseSampler final : public BatchLikelihood::PoseProposal
 {
 public:
     /** The (detection, candidate objects) pairs of `obs` against `map`. */
@@ -39,7 +35,7 @@ public:
     /** True if no detection of the observation can be associated with a map object. */
     bool empty() const { return m_detections.empty(); }
     /** One vehicle pose (requires !empty()). */
-    mrpt::math::TPose2D draw(mrpt::random::CRandomGenerator& rng) const;
+    mrpt::math::TPose2D draw(mrpt::random::CRandomGenerator& rng) const override;
 
 private:
     struct Detection

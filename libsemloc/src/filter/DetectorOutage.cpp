@@ -1,5 +1,5 @@
 /* semloc — DetectorOutage: the detector's outages marginalized by the filter. */
-#include "models/semantic/DetectorOutage.h"
+#include "filter/DetectorOutage.h"
 
 #include <mrpt/core/exceptions.h>
 

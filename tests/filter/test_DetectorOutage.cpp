@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "TestHelpers.h"
-#include "models/semantic/DetectorOutage.h"
+#include "filter/DetectorOutage.h"
 
 using mrpt::math::TPose2D;
 using semloc::CParallelMonteCarloLocalization2D;
