@@ -5,7 +5,7 @@
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/dataset/GroundTruthFile.h>
-#include <semloc/filter/MotionModel.h>
+#include <semloc/filter/MotionModelConfig.h>
 #include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/simulator/Simulator.h>
 
@@ -217,7 +217,7 @@ TEST(SensorCalibration, FindsTheDelayOfAnOdometryTheVehicleFollowsLate)
     const std::string ini =
         SensorCalibration::ApplyToIni(readFile(kSemanticIni), "semantic.ini", r);
     mrpt::config::CConfigFileMemory c(ini);
-    semloc::MotionModel::TOptions mm;
+    semloc::MotionModelConfig::TOptions mm;
     mm.loadFromConfigFile(c, "MotionModel");
     EXPECT_NEAR(mm.odometry_delay_s, r.odometry_delay_s.value, 1e-9);
 }
@@ -525,7 +525,7 @@ TEST(SensorCalibration, FindsTheOdometrysHeadingDriftAndTurnsTheDriftStateOn)
             SensorCalibration::ApplyToIni(readFile(kSemanticIni), "semantic.ini", r);
         mrpt::config::CConfigFileMemory c(out);
         EXPECT_EQ(c.read_double("MotionModel", "heading_drift_walk_deg_per_min", 0),
-                  semloc::MotionModel::TOptions::kCalibratedDriftWalkDegPerMin);
+                  semloc::MotionModelConfig::TOptions::kCalibratedDriftWalkDegPerMin);
         EXPECT_EQ(c.read_double("MotionModel", "heading_drift_std_deg_per_min", -1), 0.0);
         EXPECT_NE(out.find("// calibrated: the heading drifts "), std::string::npos);
     }

@@ -9,6 +9,8 @@
 #include <mrpt/obs/CActionRobotMovement2D.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
+#include <semloc/filter/Localizer.h>
+#include <semloc/filter/MotionModelRegistry.h>
 #include <semloc/filter/ParallelExecutor.h>
 #include <semloc/filter/ParticleMotionModel.h>
 
@@ -18,6 +20,7 @@
 #include <memory>
 #include <vector>
 
+#include "TestHelpers.h"
 #include "filter/PositionFixModel.h"
 
 namespace
@@ -224,5 +227,42 @@ TEST(PluggedMotionModel, AParticlePlacedFromOutsideGetsAStateFromThePrior)
     {
         ASSERT_EQ(after[2 * i], states[18]);  // particle 9's
         ASSERT_EQ(after[2 * i + 1], states[19]);
+    }
+}
+
+TEST(PluggedMotionModel, CreatedByNameFromTheMotionModelSection)
+{
+    semloc::MotionModelRegistry::add("water_current", [](const semloc::MotionModelConfig::TOptions&)
+                                     { return std::make_shared<WaterCurrentModel>(); });
+    semloc::Localizer::TOptions o;
+    o.particles_count = 200;
+    o.init_PDF_mode = semloc::Localizer::InitMode::Gaussian;
+    o.motion_model.loadFromConfigFile(
+        semloc::test::iniText("[MotionModel]\nmodel = water_current\n"), "MotionModel");
+    auto multi = mrpt::maps::CMultiMetricMap::Create();
+    multi->maps.push_back(std::make_shared<semloc::test::PositionFixModel>());
+    const semloc::Localizer byName(o, multi);
+    EXPECT_NE(dynamic_cast<const WaterCurrentModel*>(&byName.pdf().motionModel()), nullptr);
+    EXPECT_EQ(byName.pdf().motionStates().size(), 2u * 200u);  // its state, drawn per particle
+
+    // The default is semloc's odometry model; a name nobody registered is refused, by key.
+    o.motion_model = semloc::MotionModelConfig::TOptions();
+    const semloc::Localizer odometry(o, multi);
+    EXPECT_NE(dynamic_cast<const semloc::OdometryMotionModel*>(&odometry.pdf().motionModel()),
+              nullptr);
+    semloc::MotionModelConfig::TOptions bad;
+    try
+    {
+        bad.loadFromConfigFile(semloc::test::iniText("[MotionModel]\nmodel = tide\n"),
+                               "MotionModel");
+        FAIL() << "an unknown motion model was accepted";
+    }
+    catch (const std::exception& e)
+    {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("ini [MotionModel] model: unknown motion model 'tide' (registered: "
+                            "odometry, water_current)"),
+                  std::string::npos)
+            << what;
     }
 }

@@ -42,8 +42,8 @@ using mrpt::poses::CPose2D;
 using semloc::CObservationSemantic;
 using semloc::GroundTruthFile;
 using semloc::GroundTruthRow;
-using semloc::OdometryModel;
 using semloc::SemanticDetectorModel;
+using semloc::SimulatedOdometry;
 using semloc::SimulationResult;
 using semloc::Simulator;
 using semloc::SonarModel;
@@ -711,14 +711,14 @@ objects:
     EXPECT_NEAR(sd, 0.2, kSigmas * 0.2 / std::sqrt(2 * nHits));
 }
 
-TEST(OdometryModel, NoiseIsDrawnFromTheStoredMotionModel)
+TEST(SimulatedOdometry, NoiseIsDrawnFromTheStoredMotionModel)
 {
-    OdometryModel::TOptions o;
+    SimulatedOdometry::TOptions o;
     o.xy_std_per_m = 0.1;
     o.xy_std_m_per_rad = 0.02;
     o.phi_std_deg_per_m = 2;
     o.phi_std_per_rad = 0.1;
-    const OdometryModel odo(o);
+    const SimulatedOdometry odo(o);
     const CPose2D truth(0.5, 0.05, 0.3);
     mrpt::random::CRandomGenerator rng(3);
     const int n = 4000;

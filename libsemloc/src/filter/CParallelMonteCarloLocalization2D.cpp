@@ -132,8 +132,7 @@ CParallelMonteCarloLocalization2D::CParallelMonteCarloLocalization2D(size_t M)
     : CMonteCarloLocalization2D(M),
       m_executor(std::make_shared<ParallelExecutor>(1)),
       m_recovery(std::make_unique<detail::RecoveryPolicy>()),
-      m_odometry(std::make_shared<OdometryMotionModel>()),
-      m_motion(m_odometry),
+      m_motion(std::make_shared<OdometryMotionModel>()),
       m_store(std::make_unique<detail::ParticleStore>()),
       m_systematic(std::make_unique<detail::SystematicResampling>())
 {
@@ -240,7 +239,7 @@ void CParallelMonteCarloLocalization2D::prediction_and_update_pfStandardProposal
     if (actions && mrptKld(PF_options))
     {
         // KLD sampling: MRPT's own implementation (prediction only, no frame).
-        ASSERTMSG_(m_motion == m_odometry && m_store->dim() == 0,
+        ASSERTMSG_(dynamic_cast<const OdometryMotionModel*>(m_motion.get()) && m_store->dim() == 0,
                    "a motion model with a state of its particles (heading drift, a model of "
                    "one's own) needs the filter's prediction: adaptiveSampleSize = 1 only with "
                    "KLD at the resampling steps (setKldAtResampling)");

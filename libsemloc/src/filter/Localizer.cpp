@@ -8,6 +8,7 @@
 #include <mrpt/obs/CObservation2DRangeScan.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/filter/Localizer.h>
+#include <semloc/filter/MotionModelRegistry.h>
 #include <semloc/filter/ParallelExecutor.h>
 #include <semloc/models/SensorModelRegistry.h>
 
@@ -28,7 +29,7 @@ namespace
 {
 mrpt::obs::CActionRobotMovement2D::TMotionModelOptions odometryModel(const Localizer::TOptions& o)
 {
-    const MotionModel model(o.motion_model);
+    const MotionModelConfig model(o.motion_model);
     if (model.rederives())
     {
         return model.gaussian();  // [MotionModel] source = gaussian: every increment's noise
@@ -286,11 +287,8 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
     m_pdf->setRecoveryOptions(o.recovery);
     m_pdf->setFreeSpacePrior(o.free_space_prior);
     m_pdf->setKldAtResampling(o.kld_at_resampling);
-    // [MotionModel] heading_drift_*: deg/min to rad/s; the walk per minute to per sqrt(s).
-    m_pdf->setHeadingDrift(
-        o.motion_model.heading_drift_std_deg_per_min * kRadPerSecondPerDegPerMinute,
-        o.motion_model.heading_drift_walk_deg_per_min * kRadPerSecondPerDegPerMinute /
-            std::sqrt(60.0));
+    // [MotionModel] model, with the section's options (odometry: its heading drift).
+    m_pdf->setMotionModel(MotionModelRegistry::create(o.motion_model));
 
     TSamplingArea area;
     area.x_min = o.init_PDF_min_x;
@@ -399,7 +397,8 @@ void Localizer::step(const mrpt::obs::CActionCollection& action, const mrpt::obs
         withValidObservations(sf, *m_map, checked, m_observationsInvalid, m_beamsInvalid);
     mrpt::obs::CActionCollection rederived, marked, delayed;
     const mrpt::obs::CActionCollection& acts = m_odometryDelay.apply(
-        withUsableMovement(MotionModel(m_options.motion_model).apply(action, rederived), marked),
+        withUsableMovement(MotionModelConfig(m_options.motion_model).apply(action, rederived),
+                           marked),
         sf, delayed);
     m_lastMovement.reset();
     if (const auto move = acts.getBestMovementEstimation())

@@ -409,11 +409,11 @@ void Localizer::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase
     checkParticleFilter(*this, recoveryAt);
     loadKLD(c, kld);
     loadOdometryNoise(c, *this);
-    motion_model.loadFromConfigFile(c, MotionModel::kSection);
+    motion_model.loadFromConfigFile(c, MotionModelConfig::kSection);
     if (motion_model.headingDrift() && (pf.PF_algorithm != CParticleFilter::pfStandardProposal ||
                                         (pf.adaptiveSampleSize && !kld_at_resampling)))
     {
-        bad(MotionModel::kSection, "heading_drift_std_deg_per_min",
+        bad(MotionModelConfig::kSection, "heading_drift_std_deg_per_min",
             "the heading drift state needs [PF_options] PF_algorithm = 0 (pfStandardProposal) "
             "and, with adaptiveSampleSize = 1, kld_at_resampling = 1");
     }
@@ -487,7 +487,7 @@ void Localizer::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
         "0: injected into the cloud; n: a challenger set, at most n frames");
     put(c, kRec, "lost_var_xy_m2", recovery.lost_var_xy_m2,
         "lost above this x-y variance [m^2]: detections re-seed the cloud; 0: off");
-    motion_model.saveToConfigFile(c, MotionModel::kSection);
+    motion_model.saveToConfigFile(c, MotionModelConfig::kSection);
 }
 
 }  // namespace semloc

@@ -22,9 +22,9 @@ void CParallelMonteCarloLocalization2D::setMotionModel(std::shared_ptr<ParticleM
 
 void CParallelMonteCarloLocalization2D::setHeadingDrift(double priorStd, double walkStd)
 {
-    m_odometry->setHeadingDrift(priorStd, walkStd);
-    m_motion = m_odometry;
-    resetMotionState();
+    auto odometry = std::make_shared<OdometryMotionModel>();
+    odometry->setHeadingDrift(priorStd, walkStd);
+    setMotionModel(std::move(odometry));
 }
 
 void CParallelMonteCarloLocalization2D::resetMotionState()
@@ -75,7 +75,8 @@ std::vector<double> CParallelMonteCarloLocalization2D::meanMotionState() const
 
 double CParallelMonteCarloLocalization2D::headingDriftRate() const
 {
-    if (m_motion != m_odometry || !m_odometry->headingDrift())
+    const auto* odometry = dynamic_cast<const OdometryMotionModel*>(m_motion.get());
+    if (!odometry || !odometry->headingDrift())
     {
         return 0;
     }
@@ -85,7 +86,7 @@ double CParallelMonteCarloLocalization2D::headingDriftRate() const
 
 std::vector<double> CParallelMonteCarloLocalization2D::headingDriftRates() const
 {
-    return m_motion == m_odometry && m_odometry->headingDrift() ? motionStates()
-                                                                : std::vector<double>();
+    const auto* odometry = dynamic_cast<const OdometryMotionModel*>(m_motion.get());
+    return odometry && odometry->headingDrift() ? motionStates() : std::vector<double>();
 }
 }  // namespace semloc

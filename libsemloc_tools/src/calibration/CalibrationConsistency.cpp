@@ -2,7 +2,7 @@
  * its noise widened until its pose error is consistent with its spread. */
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/LocalizationExperiment.h>
-#include <semloc/filter/MotionModel.h>
+#include <semloc/filter/MotionModelConfig.h>
 #include <semloc/models/semantic/CSemanticMap.h>
 
 #include <algorithm>
@@ -198,7 +198,7 @@ TCalibrationResult SensorCalibration::Widened(const TCalibrationResult& r, doubl
                                               double motionScale, double temper)
 {
     using L = CSemanticMap::TLikelihoodOptions;
-    using M = MotionModel::TOptions;
+    using M = MotionModelConfig::TOptions;
     TCalibrationResult w = r;
     w.temper = temper;
     widen(w.sigma_range_m, sensorScale, L::range("sigma_range_m"));

@@ -2,7 +2,7 @@
 #include "calibration/CalibrationFits.h"
 
 #include <mrpt/core/bits_math.h>
-#include <semloc/filter/MotionModel.h>
+#include <semloc/filter/MotionModelConfig.h>
 
 #include <Eigen/Dense>
 #include <algorithm>

@@ -3,7 +3,7 @@
 #include <mrpt/config/CConfigFileMemory.h>
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/experiment/LocalizationExperiment.h>
-#include <semloc/filter/MotionModel.h>
+#include <semloc/filter/MotionModelConfig.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/models/semantic/CSemanticMap.h>
 
@@ -238,7 +238,7 @@ public:
     {
         mrpt::config::CConfigFileMemory written;
         CSemanticMap::TLikelihoodOptions().saveToConfigFile(written, kLikelihood);
-        MotionModel::TOptions().saveToConfigFile(written, MotionModel::kSection);
+        MotionModelConfig::TOptions().saveToConfigFile(written, MotionModelConfig::kSection);
         // As text and back: MRPT reads a value written with a comment back as empty from the
         // object it was written to.
         std::string text;
@@ -274,7 +274,7 @@ void setFit(IniText& ini, const BaseValues& base, const char* section, const cha
     // all of them.
     const auto range = std::string(section) == kLikelihood
                            ? CSemanticMap::TLikelihoodOptions::range(key)
-                           : MotionModel::TOptions::range(key);
+                           : MotionModelConfig::TOptions::range(key);
     std::string text = number(f.value);
     if (const double back = std::stod(text); back < range.lo || back > range.hi)
     {
@@ -400,7 +400,7 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
                 "calibrated: the likelihood tempered x" + number(r.temper) +
                     " by the consistency stage (the base's " + number(basePow) + ")");
     }
-    const char* mm = MotionModel::kSection;
+    const char* mm = MotionModelConfig::kSection;
     if (r.a1.status == TCalibrationFit::Status::TooLittleData)
     {
         const std::string why = "semloc-calibrate: not fitted, too little data (" + r.a1.why +
@@ -422,11 +422,11 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
     const std::string measured = number(d.value) + " +/- " + number(d.ci95) + " deg/min";
     ini.set(mm, "heading_drift_std_deg_per_min", "0",
             "calibrated: each particle's drift rate starts at 0");
-    ini.set(mm, "heading_drift_walk_deg_per_min",
-            r.headingDrifts ? number(MotionModel::TOptions::kCalibratedDriftWalkDegPerMin) : "0",
-            r.headingDrifts
-                ? "calibrated: the heading drifts " + measured + ": the drift state on"
-                : "calibrated: no heading drift (" + measured + "): the drift state off");
+    ini.set(
+        mm, "heading_drift_walk_deg_per_min",
+        r.headingDrifts ? number(MotionModelConfig::TOptions::kCalibratedDriftWalkDegPerMin) : "0",
+        r.headingDrifts ? "calibrated: the heading drifts " + measured + ": the drift state on"
+                        : "calibrated: no heading drift (" + measured + "): the drift state off");
     const auto& delay = r.odometry_delay_s;
     const std::string rms = number(r.odomHeadingRms_deg) + " deg RMS per increment";
     ini.set(mm, "odometry_delay_s", number(delay.value),

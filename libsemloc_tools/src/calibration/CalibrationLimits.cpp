@@ -2,7 +2,7 @@
  * range of its key is clamped into it, a fit from too little data is not written (the base's
  * value stays); the warnings that say so, and those of a bias and a map offset. */
 #include <semloc/calibration/SensorCalibration.h>
-#include <semloc/filter/MotionModel.h>
+#include <semloc/filter/MotionModelConfig.h>
 #include <semloc/models/semantic/CSemanticMap.h>
 
 #include <algorithm>
@@ -132,7 +132,7 @@ void limitOdometry(TCalibrationResult& r)
                                    {"minStdXY", &r.minStdXY},
                                    {"minStdPHI", &r.minStdPHI}})
     {
-        limit(*fit, MotionModel::TOptions::range(key), r.movingIncrements, need, still,
+        limit(*fit, MotionModelConfig::TOptions::range(key), r.movingIncrements, need, still,
               "beyond what the filter takes");
     }
     if (r.movingIncrements < need)

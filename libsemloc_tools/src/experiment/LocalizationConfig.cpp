@@ -35,9 +35,10 @@ using detail::writeText;
 const std::string kSection = "LocalizationExperiment";
 
 /** Sections semloc-localize reads; [MetricMap_...] are checked by LocalizationMap. */
-const std::vector<std::string> kSections = {
-    kSection,   "PF_options",          "KLD_options", "DummyOdometryParams",
-    "Recovery", MotionModel::kSection, "MetricMap"};
+const std::vector<std::string> kSections = {kSection,      "PF_options",
+                                            "KLD_options", "DummyOdometryParams",
+                                            "Recovery",    MotionModelConfig::kSection,
+                                            "MetricMap"};
 
 /** pf-localization keys about its 3D display, repetitions or 3D particles: accepted,
  *  carried over to the effective configuration, not used. */

@@ -37,7 +37,7 @@ class RawlogInventory
 {
 public:
     RawlogInventory(const std::string& path, const mrpt::maps::CMetricMap& maps,
-                    const MotionModel& motion)
+                    const MotionModelConfig& motion)
         : m_path(path), m_maps(maps), m_motion(motion)
     {
     }
@@ -59,7 +59,7 @@ private:
 
     const std::string& m_path;
     const mrpt::maps::CMetricMap& m_maps;
-    const MotionModel& m_motion;
+    const MotionModelConfig& m_motion;
     bool m_odometry = false;
     size_t m_observations = 0, m_usable = 0, m_invalid = 0;
     std::string m_firstInvalid;
@@ -178,7 +178,7 @@ size_t checkRawlog(
     const std::function<void(const mrpt::serialization::CSerializable::Ptr&, size_t)>& visit,
     const std::string& path, const mrpt::maps::CMetricMap& maps, const Localizer::TOptions& filter)
 {
-    const MotionModel motion(filter.motion_model);
+    const MotionModelConfig motion(filter.motion_model);
     RawlogInventory inventory(path, maps, motion);
     size_t i = 0;
     for (auto obj = next(); obj; obj = next(), i++)

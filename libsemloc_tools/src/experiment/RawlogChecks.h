@@ -12,7 +12,7 @@
 namespace semloc::detail
 {
 /** Refuses rawlog `path` when its odometry is not finite (mean or covariance), when an action
- *  cannot be re-derived by the filter's [MotionModel] (MotionModel::problem, naming the
+ *  cannot be re-derived by the filter's [MotionModel] (MotionModelConfig::problem, naming the
  *  entry), when it holds no odometry at all (unless the filter's allow_no_odometry), or when
  *  no observation can be scored by `maps` (Localizer::invalidObservation,
  *  canComputeObservationLikelihood). */

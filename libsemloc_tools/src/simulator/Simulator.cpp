@@ -283,7 +283,7 @@ private:
 /** The sensor models of a run. */
 struct Sensors
 {
-    OdometryModel odometry;
+    SimulatedOdometry odometry;
     SonarModel sonar;
     SemanticDetectorModel detector;
     BeaconRangingModel beacons;
@@ -469,7 +469,7 @@ SimulationResult Simulator::simulate(detail::VehicleMotion& vehicleMotion,
     const auto wallStart = std::chrono::steady_clock::now();
     const TSimulatorOptions& o = m_options;
     SimStreams rng(o.simulation.seed);
-    const Sensors sensors{OdometryModel(o.odometry), SonarModel(m_world, o.sonar),
+    const Sensors sensors{SimulatedOdometry(o.odometry), SonarModel(m_world, o.sonar),
                           SemanticDetectorModel(m_world, o.detector),
                           BeaconRangingModel(m_world, o.beacons)};
     const double dt = o.simulation.time_step_s;

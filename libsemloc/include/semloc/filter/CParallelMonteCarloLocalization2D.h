@@ -178,8 +178,8 @@ public:
     /** The odometry's heading drift as a state of every particle (OdometryMotionModel's;
      *  [MotionModel] heading_drift_std_deg_per_min, heading_drift_walk_deg_per_min): each
      *  particle's rate starts from N(0, priorStd²) [rad/s] and walks by N(0, walkStd² dt)
-     *  [rad/s per sqrt(s)]. Both 0: off. Sets the default motion model back (with that
-     *  drift) and resets the particles' states. */
+     *  [rad/s per sqrt(s)]. Both 0: off. Sets a new OdometryMotionModel with that drift
+     *  (setMotionModel()). */
     void setHeadingDrift(double priorStd, double walkStd);
     /** @} */
 
@@ -322,8 +322,7 @@ private:
     std::unique_ptr<detail::RecoveryPolicy> m_recovery;
     bool m_freeSpacePrior = false;
     bool m_kldAtResampling = false;
-    /** The motion model, and the default one (setHeadingDrift's). */
-    std::shared_ptr<OdometryMotionModel> m_odometry;
+    /** The motion model (by default an OdometryMotionModel). */
     std::shared_ptr<ParticleMotionModel> m_motion;
     /** The particles of a step, with their motion states. */
     std::unique_ptr<detail::ParticleStore> m_store;

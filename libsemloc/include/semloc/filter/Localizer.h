@@ -14,7 +14,7 @@
 #include <semloc/filter/AugmentedMCL.h>
 #include <semloc/filter/CParallelMonteCarloLocalization2D.h>
 #include <semloc/filter/FreeSpaceSampler.h>
-#include <semloc/filter/MotionModel.h>
+#include <semloc/filter/MotionModelConfig.h>
 #include <semloc/filter/OdometryDelay.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
 #include <semloc/filter/StepRecord.h>
@@ -149,8 +149,8 @@ public:
         /** [MotionModel]: the odometry's noise as the rawlog carries it (source = rawlog, the
          *  default) or re-derived from every raw increment with MRPT's Gaussian model a1..a4,
          *  minStdXY, minStdPHI (source = gaussian; then the [DummyOdometryParams] noise above
-         *  is not used). See MotionModel. */
-        MotionModel::TOptions motion_model;
+         *  is not used). See MotionModelConfig. */
+        MotionModelConfig::TOptions motion_model;
 
         /** What loadFromConfigFile() found that still works but should change (a key under
          *  its deprecated name): one message per finding, naming the key and its place. */
@@ -227,7 +227,7 @@ public:
      *  (MRPT's CActionCollection::getBestMovementEstimation() ignores one whose covariance
      *  determinant reaches 1e3, and would find no odometry). With [MotionModel] source =
      *  gaussian every CActionRobotMovement2D's Gaussian is first recomputed from its
-     *  rawOdometryIncrementReading (MotionModel::apply; an action it cannot re-derive throws,
+     *  rawOdometryIncrementReading (MotionModelConfig::apply; an action it cannot re-derive throws,
      *  naming why). */
     void step(const mrpt::obs::CActionCollection& action, const mrpt::obs::CSensoryFrame& sf);
     /** Observations-only format: remembers an odometry reading; the next step(sf) moves the

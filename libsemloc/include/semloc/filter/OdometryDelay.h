@@ -26,7 +26,7 @@ namespace semloc
 class OdometryDelay
 {
 public:
-    /** The largest delay [s] (MotionModel's odometry_delay_s). */
+    /** The largest delay [s] (MotionModelConfig's odometry_delay_s). */
     static constexpr double kMaxDelay_s = 5.0;
 
     /** `delay_s` in [0, kMaxDelay_s] (else std::invalid_argument). */

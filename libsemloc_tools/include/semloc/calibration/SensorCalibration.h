@@ -157,7 +157,7 @@ struct TConsistency
 };
 
 /** Every fit semloc-calibrate writes. The keys are those of
- *  [MetricMap_semanticMap_00_likelihoodOpts] and [MotionModel] (MotionModel.h units). */
+ *  [MetricMap_semanticMap_00_likelihoodOpts] and [MotionModel] (MotionModelConfig.h units). */
 struct TCalibrationResult
 {
     TCalibrationFit sigma_range_m, sigma_bearing_deg;
@@ -316,7 +316,7 @@ using CalibrationProgress = std::function<void(const TCalibrationProgress&)>;
  *  localizes).
  *
  *  **Limits.** Every fit is then kept to the range semloc-localize accepts for its key
- *  (CSemanticMap::TLikelihoodOptions::range, MotionModel::TOptions::range): clamped into it,
+ *  (CSemanticMap::TLikelihoodOptions::range, MotionModelConfig::TOptions::range): clamped into it,
  *  or TooLittleData under the kMin* counts of TCalibrationResult (docs/tools.md). */
 class SensorCalibration
 {

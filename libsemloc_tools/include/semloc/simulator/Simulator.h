@@ -6,8 +6,8 @@
 #include <mrpt/obs/CRawlog.h>
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/simulator/BeaconRangingModel.h>
-#include <semloc/simulator/OdometryModel.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
+#include <semloc/simulator/SimulatedOdometry.h>
 #include <semloc/simulator/SonarModel.h>
 #include <semloc/world/World.h>
 
@@ -81,7 +81,7 @@ struct TKidnappingOptions : public mrpt::config::CLoadableOptions
 struct TSimulatorOptions
 {
     TSimulationOptions simulation;             //!< [Simulation]
-    OdometryModel::TOptions odometry;          //!< [Odometry]
+    SimulatedOdometry::TOptions odometry;      //!< [Odometry]
     SonarModel::TOptions sonar;                //!< [Sonar]
     SemanticDetectorModel::TOptions detector;  //!< [SemanticDetector]
     TKidnappingOptions kidnapping;             //!< [Kidnapping]
@@ -135,7 +135,7 @@ struct SimulationResult
  *  TrajectoryFollower) with a time step `time_step_s`; at step k (time start_time_s +
  *  k time_step_s) it
  *  1. moves (step 0: stays at the first waypoint) and reports the odometry of the true
- *     pose increment (OdometryModel, the noise drawn from the motion model it stores);
+ *     pose increment (SimulatedOdometry, the noise drawn from the motion model it stores);
  *  2. if kidnapped at this step, is teleported: the odometry of this step is still the
  *     pre-kidnap motion;
  *  3. takes a sonar scan (SonarModel) and a semantic detection scan (SemanticDetectorModel)

@@ -32,9 +32,11 @@ constexpr double kRadPerSecondPerDegPerMinute = 3.14159265358979323846 / 180.0 /
  *  that struct's documentation and of MRPT's RawLogViewer motion-model dialog (MRPT 2.5 has no
  *  ini loader for it): a2 in m/deg, a3 in deg/m, minStdPHI in deg, as MRPT's ini files give
  *  minStdPHI. */
-class MotionModel
+class MotionModelConfig
 {
 public:
+    /** semloc's motion model's name ([MotionModel] model). */
+    static constexpr const char* kOdometryModel = "odometry";
     /** [MotionModel] source. */
     enum class Source
     {
@@ -47,6 +49,9 @@ public:
     /** The section's keys; the defaults of a1..minStdPHI are MRPT's own. */
     struct TOptions : public mrpt::config::CLoadableOptions
     {
+        /** The prediction's motion model by name (MotionModelRegistry): "odometry"
+         *  (OdometryMotionModel, the default) or one a program registered. */
+        std::string model = kOdometryModel;
         /** source: rawlog | gaussian. */
         Source source = Source::Rawlog;
         /** Position std per metre travelled [m/m]. */
@@ -100,7 +105,7 @@ public:
     /** The section's name. */
     static constexpr const char* kSection = "MotionModel";
 
-    explicit MotionModel(const TOptions& options) : m_options(options) {}
+    explicit MotionModelConfig(const TOptions& options) : m_options(options) {}
 
     /** True when every increment's noise is re-derived (source = gaussian). */
     bool rederives() const { return m_options.source == Source::Gaussian; }

@@ -1,9 +1,9 @@
-/* semloc — OdometryModel: true increment plus noise drawn from MRPT's Gaussian motion model. */
+/* semloc — SimulatedOdometry: true increment plus noise drawn from MRPT's Gaussian motion model. */
 #include <mrpt/core/bits_math.h>
 #include <mrpt/poses/CPosePDF.h>
 #include <mrpt/random/RandomGenerators.h>
 #include <semloc/io/ConfigHelpers.h>
-#include <semloc/simulator/OdometryModel.h>
+#include <semloc/simulator/SimulatedOdometry.h>
 
 #include <Eigen/Eigenvalues>
 
@@ -11,8 +11,8 @@
 
 namespace semloc
 {
-void OdometryModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
-                                                 const std::string& s)
+void SimulatedOdometry::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                                     const std::string& s)
 {
     config::rejectUnknownKeys(c, s, config::keysOf(*this));
     config::readDouble(c, s, "xy_std_per_m", xy_std_per_m, 0, 1e3);
@@ -24,8 +24,8 @@ void OdometryModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFile
     config::readDouble(c, s, "heading_drift_deg_per_min", heading_drift_deg_per_min, -1e4, 1e4);
 }
 
-void OdometryModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
-                                               const std::string& s) const
+void SimulatedOdometry::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                   const std::string& s) const
 {
     using detail::writeExact;
     writeExact(c, s, "xy_std_per_m", xy_std_per_m, "position std per metre travelled [m/m]");
@@ -38,7 +38,8 @@ void OdometryModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                "heading bias unknown to the filter [deg/min]");
 }
 
-mrpt::obs::CActionRobotMovement2D::TMotionModelOptions OdometryModel::TOptions::motionModel() const
+mrpt::obs::CActionRobotMovement2D::TMotionModelOptions SimulatedOdometry::TOptions::motionModel()
+    const
 {
     mrpt::obs::CActionRobotMovement2D::TMotionModelOptions m;
     m.modelSelection = mrpt::obs::CActionRobotMovement2D::mmGaussian;
@@ -51,14 +52,14 @@ mrpt::obs::CActionRobotMovement2D::TMotionModelOptions OdometryModel::TOptions::
     return m;
 }
 
-OdometryModel::OdometryModel(const TOptions& options)
+SimulatedOdometry::SimulatedOdometry(const TOptions& options)
     : m_options(options), m_model(options.motionModel())
 {
 }
 
-mrpt::obs::CActionRobotMovement2D OdometryModel::measure(const mrpt::poses::CPose2D& trueIncrement,
-                                                         mrpt::random::CRandomGenerator& rng,
-                                                         double dt_s) const
+mrpt::obs::CActionRobotMovement2D SimulatedOdometry::measure(
+    const mrpt::poses::CPose2D& trueIncrement, mrpt::random::CRandomGenerator& rng,
+    double dt_s) const
 {
     // The model's covariance at the true increment, computed by MRPT itself.
     mrpt::obs::CActionRobotMovement2D truth;

@@ -3,13 +3,15 @@
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CActionRobotMovement3D.h>
-#include <semloc/filter/MotionModel.h>
+#include <semloc/filter/MotionModelConfig.h>
+#include <semloc/filter/MotionModelRegistry.h>
 #include <semloc/filter/OdometryDelay.h>
 #include <semloc/io/ConfigHelpers.h>
 
 #include <cmath>
 
 #include "io/ExactConfigWrite.h"
+#include "io/Text.h"
 
 namespace semloc
 {
@@ -39,7 +41,7 @@ bool missingRawIncrement(const CActionRobotMovement2D& m)
 }
 }  // namespace
 
-config::TValueRange MotionModel::TOptions::range(const std::string& key)
+config::TValueRange MotionModelConfig::TOptions::range(const std::string& key)
 {
     if (key == "minStdPHI")
     {
@@ -60,14 +62,25 @@ config::TValueRange MotionModel::TOptions::range(const std::string& key)
     THROW_EXCEPTION("[" + std::string(kSection) + "] '" + key + "' is not a numeric key");
 }
 
-void MotionModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
-                                               const std::string& s)
+void MotionModelConfig::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
+                                                     const std::string& s)
 {
     using namespace semloc::config;
     rejectUnknownKeys(
         c, s,
-        {"source", "a1", "a2", "a3", "a4", "minStdXY", "minStdPHI", "heading_drift_std_deg_per_min",
-         "heading_drift_walk_deg_per_min", "odometry_delay_s"});
+        {"model", "source", "a1", "a2", "a3", "a4", "minStdXY", "minStdPHI",
+         "heading_drift_std_deg_per_min", "heading_drift_walk_deg_per_min", "odometry_delay_s"});
+    model = detail::trimValue(c.read_string(s, "model", model));
+    if (!MotionModelRegistry::has(model))
+    {
+        std::string known;
+        for (const auto& n : MotionModelRegistry::names())
+        {
+            known += (known.empty() ? "" : ", ") + n;
+        }
+        THROW_EXCEPTION("ini [" + s + "] model: unknown motion model '" + model +
+                        "' (registered: " + known + ")");
+    }
     std::string src = kSources[static_cast<size_t>(source)];
     readChoice(c, s, "source", src, kSources);
     source = src == "gaussian" ? Source::Gaussian : Source::Rawlog;
@@ -84,9 +97,11 @@ void MotionModel::TOptions::loadFromConfigFile(const mrpt::config::CConfigFileBa
     readDouble(c, s, "odometry_delay_s", odometry_delay_s, range("odometry_delay_s"));
 }
 
-void MotionModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
-                                             const std::string& s) const
+void MotionModelConfig::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
+                                                   const std::string& s) const
 {
+    detail::writeText(c, s, "model", model,
+                      "the prediction's motion model: odometry | a registered one");
     detail::writeText(c, s, "source", kSources[static_cast<size_t>(source)],
                       "rawlog: the rawlog's noise | gaussian: a1..minStdPHI");
     detail::writeExact(c, s, "a1", a1, "position std per metre travelled [m/m]");
@@ -103,7 +118,7 @@ void MotionModel::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                        "how late the vehicle follows its odometry [s]; 0: as it comes");
 }
 
-CActionRobotMovement2D::TMotionModelOptions MotionModel::gaussian() const
+CActionRobotMovement2D::TMotionModelOptions MotionModelConfig::gaussian() const
 {
     // TOptions_GaussianModel holds a2 in m/rad, a3 in rad/m, minStdPHI in rad (its defaults:
     // RAD2DEG(0.001), DEG2RAD(1.0), DEG2RAD(0.2)); MRPT applies a2 and a4 to |phi| in rad.
@@ -118,7 +133,7 @@ CActionRobotMovement2D::TMotionModelOptions MotionModel::gaussian() const
     return m;
 }
 
-std::string MotionModel::problem(const mrpt::obs::CActionCollection& acts) const
+std::string MotionModelConfig::problem(const mrpt::obs::CActionCollection& acts) const
 {
     if (!rederives())
     {
@@ -158,8 +173,8 @@ std::string MotionModel::problem(const mrpt::obs::CActionCollection& acts) const
     return "";
 }
 
-const mrpt::obs::CActionCollection& MotionModel::apply(const mrpt::obs::CActionCollection& acts,
-                                                       mrpt::obs::CActionCollection& copy) const
+const mrpt::obs::CActionCollection& MotionModelConfig::apply(
+    const mrpt::obs::CActionCollection& acts, mrpt::obs::CActionCollection& copy) const
 {
     if (!rederives())
     {

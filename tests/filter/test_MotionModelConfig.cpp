@@ -1,5 +1,6 @@
-/* semloc tests — MotionModel ([MotionModel]): its keys, the re-derived odometry against MRPT's
- * computeFromOdometry, the Localizer's use of it in both rawlog formats, the spread it gives. */
+/* semloc tests — MotionModelConfig ([MotionModel]): its keys, the re-derived odometry against
+ * MRPT's computeFromOdometry, the Localizer's use of it in both rawlog formats, the spread it
+ * gives. */
 #include <gtest/gtest.h>
 #include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
@@ -7,7 +8,7 @@
 #include <mrpt/obs/CObservationOdometry.h>
 #include <mrpt/poses/CPosePDFGaussian.h>
 #include <semloc/filter/Localizer.h>
-#include <semloc/filter/MotionModel.h>
+#include <semloc/filter/MotionModelConfig.h>
 #include <semloc/filter/OdometryDelay.h>
 #include <semloc/models/semantic/CSemanticMap.h>
 #include <semloc/simulator/Simulator.h>
@@ -23,7 +24,7 @@
 using mrpt::obs::CActionCollection;
 using mrpt::obs::CActionRobotMovement2D;
 using semloc::Localizer;
-using semloc::MotionModel;
+using semloc::MotionModelConfig;
 using semloc::test::errorOf;
 
 using semloc::test::iniText;
@@ -35,10 +36,10 @@ namespace
 const std::string kPaperWorld = SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
 
 /** A re-derivation with noise far from the simulator's. */
-MotionModel::TOptions wideModel()
+MotionModelConfig::TOptions wideModel()
 {
-    MotionModel::TOptions m;
-    m.source = MotionModel::Source::Gaussian;
+    MotionModelConfig::TOptions m;
+    m.source = MotionModelConfig::Source::Gaussian;
     m.a1 = 0.2;
     m.a2 = 0.01;
     m.a3 = 3;
@@ -86,25 +87,25 @@ Localizer::TOptions gaussianStart(int particles, double stdXY)
 }
 }  // namespace
 
-TEST(MotionModel, ReadWriteEveryKeyAndRejectMistakes)
+TEST(MotionModelConfig, ReadWriteEveryKeyAndRejectMistakes)
 {
-    MotionModel::TOptions o;
-    EXPECT_EQ(o.source, MotionModel::Source::Rawlog);
+    MotionModelConfig::TOptions o;
+    EXPECT_EQ(o.source, MotionModelConfig::Source::Rawlog);
     o.loadFromConfigFile(iniText("[MotionModel]\nsource = gaussian\na1 = 0.2\na2 = 0.01\na3 = 3\n"
                                  "a4 = 0.3\nminStdXY = 0.05\nminStdPHI = 1.5 // deg\n"),
                          "MotionModel");
-    EXPECT_EQ(o.source, MotionModel::Source::Gaussian);
+    EXPECT_EQ(o.source, MotionModelConfig::Source::Gaussian);
     EXPECT_EQ(o.odometry_delay_s, 0);
     EXPECT_EQ(o.a3, 3);
     EXPECT_EQ(o.minStdPHI, 1.5);
 
     mrpt::config::CConfigFileMemory out, out2;
     o.saveToConfigFile(out, "MotionModel");
-    MotionModel::TOptions back;
+    MotionModelConfig::TOptions back;
     back.loadFromConfigFile(iniText(out.getContent()), "MotionModel");
     back.saveToConfigFile(out2, "MotionModel");
     EXPECT_EQ(out.getContent(), out2.getContent());
-    EXPECT_EQ(back.source, MotionModel::Source::Gaussian);
+    EXPECT_EQ(back.source, MotionModelConfig::Source::Gaussian);
     EXPECT_EQ(back.a2, 0.01);
     o.loadFromConfigFile(iniText("[MotionModel]\nodometry_delay_s = 0.25\n"), "MotionModel");
     EXPECT_EQ(o.odometry_delay_s, 0.25);
@@ -134,16 +135,16 @@ TEST(MotionModel, ReadWriteEveryKeyAndRejectMistakes)
         const std::string err = errorOf(
             [&text]
             {
-                MotionModel::TOptions x;
+                MotionModelConfig::TOptions x;
                 x.loadFromConfigFile(iniText(text), "MotionModel");
             });
         EXPECT_NE(err.find(needle), std::string::npos) << line << ": " << err;
     }
 }
 
-TEST(MotionModel, DefaultsAreMrptsAndUnitsFollowMrpt)
+TEST(MotionModelConfig, DefaultsAreMrptsAndUnitsFollowMrpt)
 {
-    const auto m = MotionModel(MotionModel::TOptions()).gaussian();
+    const auto m = MotionModelConfig(MotionModelConfig::TOptions()).gaussian();
     const CActionRobotMovement2D::TMotionModelOptions mrpt;
     EXPECT_EQ(m.modelSelection, CActionRobotMovement2D::mmGaussian);
     EXPECT_EQ(m.gaussianModel.a1, mrpt.gaussianModel.a1);
@@ -154,10 +155,10 @@ TEST(MotionModel, DefaultsAreMrptsAndUnitsFollowMrpt)
     EXPECT_EQ(m.gaussianModel.minStdPHI, mrpt.gaussianModel.minStdPHI);
 }
 
-TEST(MotionModel, EveryActionGetsMrptsCovarianceOfItsIncrement)
+TEST(MotionModelConfig, EveryActionGetsMrptsCovarianceOfItsIncrement)
 {
     const auto sim = simulate(30);
-    const MotionModel model(wideModel());
+    const MotionModelConfig model(wideModel());
     const auto mrptModel = wideModelMrpt();
     size_t checked = 0;
     for (size_t i = 0; i < sim.rawlog.size(); i += 2)
@@ -190,20 +191,21 @@ TEST(MotionModel, EveryActionGetsMrptsCovarianceOfItsIncrement)
     EXPECT_EQ(checked, sim.steps);
     // source = rawlog: the actions as they are.
     CActionCollection copy;
-    EXPECT_EQ(&MotionModel(MotionModel::TOptions()).apply(*sim.rawlog.getAsAction(0), copy),
-              sim.rawlog.getAsAction(0).get());
+    EXPECT_EQ(
+        &MotionModelConfig(MotionModelConfig::TOptions()).apply(*sim.rawlog.getAsAction(0), copy),
+        sim.rawlog.getAsAction(0).get());
 }
 
-TEST(MotionModel, ActionsItCannotRederiveAreNamed)
+TEST(MotionModelConfig, ActionsItCannotRederiveAreNamed)
 {
-    const MotionModel model(wideModel());
+    const MotionModelConfig model(wideModel());
     CActionRobotMovement2D scan;
     scan.computeFromOdometry(mrpt::poses::CPose2D(1, 0, 0), {});
     scan.estimationMethod = CActionRobotMovement2D::emScan2DMatching;
     CActionCollection a;
     a.insert(scan);
     EXPECT_NE(model.problem(a).find("scan-matching"), std::string::npos);
-    EXPECT_EQ(MotionModel(MotionModel::TOptions()).problem(a), "");  // source = rawlog
+    EXPECT_EQ(MotionModelConfig(MotionModelConfig::TOptions()).problem(a), "");  // source = rawlog
     CActionCollection copy;
     EXPECT_NE(errorOf([&] { model.apply(a, copy); }).find("[MotionModel] source = gaussian"),
               std::string::npos);
@@ -227,7 +229,7 @@ TEST(MotionModel, ActionsItCannotRederiveAreNamed)
     EXPECT_EQ(model.problem(d), "");
 }
 
-TEST(MotionModel, LocalizerUsesTheRederivedOdometryInBothFormats)
+TEST(MotionModelConfig, LocalizerUsesTheRederivedOdometryInBothFormats)
 {
     const auto world = semloc::World::FromFile(kPaperWorld);
     const auto sim = simulate(12);
@@ -287,7 +289,7 @@ TEST(MotionModel, LocalizerUsesTheRederivedOdometryInBothFormats)
     expectSameParticles(obsOnly, pairs);
 }
 
-TEST(MotionModel, LocalizerMovesByTheIncrementsReCutForTheDelay)
+TEST(MotionModelConfig, LocalizerMovesByTheIncrementsReCutForTheDelay)
 {
     // odometry_delay_s: the Localizer moves the particles by each action's increment re-cut
     // by OdometryDelay at the action's time, its covariance kept: the same particles as a
@@ -341,7 +343,7 @@ TEST(MotionModel, LocalizerMovesByTheIncrementsReCutForTheDelay)
     EXPECT_NE(err.find("odometry_delay_s > 0 needs timestamped steps"), std::string::npos) << err;
 }
 
-TEST(MotionModel, SimulatorsModelRederivedChangesNothing)
+TEST(MotionModelConfig, SimulatorsModelRederivedChangesNothing)
 {
     // config/localize/semantic.ini's [MotionModel] values are config/simulate/simulate.ini's
     // [Odometry]: with source = gaussian the filter runs exactly as with the rawlog's own noise.
@@ -351,13 +353,13 @@ TEST(MotionModel, SimulatorsModelRederivedChangesNothing)
     c.setContent(semloc::test::resolvedIni(SEMLOC_SOURCE_DIR "/config/localize/semantic.ini"));
     Localizer::TOptions o = gaussianStart(800, 1.5);
     o.motion_model.loadFromConfigFile(c, "MotionModel");
-    EXPECT_EQ(o.motion_model.source, MotionModel::Source::Rawlog);
+    EXPECT_EQ(o.motion_model.source, MotionModelConfig::Source::Rawlog);
     Localizer own(o, semanticMap(world), &world);
     for (size_t i = 0; i + 1 < sim.rawlog.size(); i += 2)
     {
         own.step(*sim.rawlog.getAsAction(i), *sim.rawlog.getAsObservations(i + 1));
     }
-    o.motion_model.source = MotionModel::Source::Gaussian;
+    o.motion_model.source = MotionModelConfig::Source::Gaussian;
     Localizer rederived(o, semanticMap(world), &world);
     for (size_t i = 0; i + 1 < sim.rawlog.size(); i += 2)
     {
@@ -374,7 +376,7 @@ TEST(MotionModel, SimulatorsModelRederivedChangesNothing)
     EXPECT_NE(own.pdf().m_particles[0].d.x, other.pdf().m_particles[0].d.x);
 }
 
-TEST(MotionModel, LargerCoefficientsSpreadTheParticlesMore)
+TEST(MotionModelConfig, LargerCoefficientsSpreadTheParticlesMore)
 {
     // Every particle at one pose, one step of 2 m turning 20 deg, no observation: the spread
     // after it is the motion model's alone, and grows with a1..a4.
@@ -388,7 +390,7 @@ TEST(MotionModel, LargerCoefficientsSpreadTheParticlesMore)
     for (const double scale : {0.5, 1.0, 2.0, 4.0})
     {
         Localizer::TOptions o = gaussianStart(4000, 0);
-        o.motion_model.source = MotionModel::Source::Gaussian;
+        o.motion_model.source = MotionModelConfig::Source::Gaussian;
         o.motion_model.a1 = 0.05 * scale;
         o.motion_model.a2 = 0.002 * scale;
         o.motion_model.a3 = 1 * scale;
@@ -401,7 +403,7 @@ TEST(MotionModel, LargerCoefficientsSpreadTheParticlesMore)
         // The model's own x-y variance (MRPT's covariance at this increment), within 10 %.
         CActionRobotMovement2D ref;
         ref.computeFromOdometry(mv.rawOdometryIncrementReading,
-                                MotionModel(o.motion_model).gaussian());
+                                MotionModelConfig(o.motion_model).gaussian());
         const auto cov = ref.poseChange->getCovariance();
         EXPECT_NEAR(spread, cov(0, 0) + cov(1, 1), 0.1 * (cov(0, 0) + cov(1, 1))) << scale;
         EXPECT_GT(spread, 1.5 * previous) << scale;

@@ -30,7 +30,7 @@ namespace semloc
  *  measure() builds that covariance at the true increment, draws the noise from it and
  *  stores the noisy reading with computeFromOdometry() and the same parameters, so the
  *  filter's motion model is exactly the one the data was generated with. */
-class OdometryModel
+class SimulatedOdometry
 {
 public:
     /** Section [Odometry]: the motion-model parameters; all >= 0 (0 everywhere: exact). */
@@ -71,7 +71,7 @@ public:
     };
 
     /** A model with the given noise options. */
-    explicit OdometryModel(const TOptions& options);
+    explicit SimulatedOdometry(const TOptions& options);
 
     /** The odometry action of one step whose true pose increment (vehicle frame) is
      *  `trueIncrement`: reading = trueIncrement + noise ~ N(0, Sigma(trueIncrement)),
