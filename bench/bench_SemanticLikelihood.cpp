@@ -109,8 +109,8 @@ void runBatch(benchmark::State& state, CSemanticMap::Model model,
 {
     Setup s =
         makeSetup(static_cast<int>(state.range(0)), static_cast<size_t>(state.range(1)), model);
-    s.map.likelihoodOptions.association = association;
-    s.map.likelihoodOptions.p_range_outlier = pRangeOutlier;
+    s.map.likelihoodOptions.probabilistic.association = association;
+    s.map.likelihoodOptions.detector.p_range_outlier = pRangeOutlier;
     std::vector<double> out(s.particles.size());
     for (auto _ : state)
     {

@@ -92,10 +92,10 @@ int main(int argc, char** argv)
     auto semantic = semloc::CSemanticMap::Create();
     auto& lo = semantic->likelihoodOptions;  // the detector below, as the map models it
     lo.model = semloc::CSemanticMap::Model::Probabilistic;
-    lo.sigma_range_m = 0.2;
-    lo.sigma_bearing_deg = 2;
-    lo.p_detect_near = lo.p_detect_far = 0.9;
-    lo.clutter_per_scan = 0.05;
+    lo.detector.sigma_range_m = 0.2;
+    lo.detector.sigma_bearing_deg = 2;
+    lo.probabilistic.p_detect_near = lo.probabilistic.p_detect_far = 0.9;
+    lo.probabilistic.clutter_per_scan = 0.05;
     semantic->loadFromWorld(world);
     map->maps.push_back(semantic);
 

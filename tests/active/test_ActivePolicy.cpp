@@ -44,11 +44,11 @@ CSemanticMap mapOf(const World& w)
 {
     CSemanticMap m;
     m.likelihoodOptions.model = CSemanticMap::Model::Probabilistic;
-    m.likelihoodOptions.sigma_range_m = 0.3;
-    m.likelihoodOptions.sigma_bearing_deg = 3;
-    m.likelihoodOptions.p_detect_near = 0.95;
-    m.likelihoodOptions.p_detect_far = 0.8;
-    m.likelihoodOptions.clutter_per_scan = 0.1;
+    m.likelihoodOptions.detector.sigma_range_m = 0.3;
+    m.likelihoodOptions.detector.sigma_bearing_deg = 3;
+    m.likelihoodOptions.probabilistic.p_detect_near = 0.95;
+    m.likelihoodOptions.probabilistic.p_detect_far = 0.8;
+    m.likelihoodOptions.probabilistic.clutter_per_scan = 0.1;
     m.loadFromWorld(w);
     return m;
 }

@@ -137,8 +137,8 @@ TEST(SensorCalibration, RecoversARangeBiasByBearing)
     mrpt::config::CConfigFileMemory c(ini);
     semloc::CSemanticMap::TLikelihoodOptions lo;
     lo.loadFromConfigFile(c, "MetricMap_semanticMap_00_likelihoodOpts");
-    ASSERT_EQ(lo.range_bias_m.size(), 4U);
-    EXPECT_NEAR(lo.range_bias_m[0], r.rangeBias_m[0], 1e-3);
+    ASSERT_EQ(lo.detector.range_bias_m.size(), 4U);
+    EXPECT_NEAR(lo.detector.range_bias_m[0], r.rangeBias_m[0], 1e-3);
     EXPECT_NE(ini.find("m on the axis"), std::string::npos);
     EXPECT_NE(SensorCalibration::BiasText(r).find("range bias by bearing"), std::string::npos);
 }

@@ -348,7 +348,7 @@ TEST(Benchmark, ShippedMisreadIniComparesTheGaussianRangeWithTheHeavyTailedOne)
         {
             const auto sem = v.maps.map->mapByClass<semloc::CSemanticMap>();
             ASSERT_TRUE(sem) << v.name();
-            eps.push_back(sem->likelihoodOptions.p_range_outlier);
+            eps.push_back(sem->likelihoodOptions.detector.p_range_outlier);
         }
         EXPECT_EQ(sc.variants()[0].name(), "semantic");
         EXPECT_EQ(sc.variants()[1].name(), "semantic_misread");
@@ -467,13 +467,13 @@ TEST(Benchmark, ScenarioSectionsOverlayTheVariantsOwn)
     ASSERT_EQ(b.scenarios().size(), 13u);
     auto model = [](const semloc::Benchmark& sc, size_t v)
     { return sc.variants()[v].maps.map->mapByClass<semloc::CSemanticMap>()->likelihoodOptions; };
-    EXPECT_EQ(model(b.scenarios()[0], 0).sigma_range_m, 0.5);  // nominal: the file's
+    EXPECT_EQ(model(b.scenarios()[0], 0).detector.sigma_range_m, 0.5);  // nominal: the file's
     EXPECT_EQ(b.scenarios()[1].scenario().name, "sigma_range_m_half");
     for (size_t v = 0; v < 2; v++)
     {
-        EXPECT_EQ(model(b.scenarios()[1], v).sigma_range_m, 0.25) << v;
-        EXPECT_EQ(model(b.scenarios()[1], v).sigma_bearing_deg, 3.0) << v;
-        EXPECT_EQ(model(b.scenarios()[8], v).p_detect_far, 0.2) << v;
+        EXPECT_EQ(model(b.scenarios()[1], v).detector.sigma_range_m, 0.25) << v;
+        EXPECT_EQ(model(b.scenarios()[1], v).detector.sigma_bearing_deg, 3.0) << v;
+        EXPECT_EQ(model(b.scenarios()[8], v).probabilistic.p_detect_far, 0.2) << v;
     }
     // The rest of a variant is its own: semantic_basic runs without recovery, semantic with.
     EXPECT_FALSE(b.scenarios()[1].variants()[0].options.filter.recovery.enabled());
@@ -600,7 +600,7 @@ TEST(Benchmark, ASweepMakesAVariantOfEachValue)
     {
         return b.variants()[k]
             .maps.map->mapByClass<semloc::CSemanticMap>()
-            ->likelihoodOptions.sigma_range_m;
+            ->likelihoodOptions.detector.sigma_range_m;
     };
     EXPECT_EQ(sigma(0), 0.25);
     EXPECT_EQ(sigma(1), 1.5);

@@ -23,8 +23,8 @@ TEST(EndToEnd, MonteCarloLocalization2DWithSemanticMapConverges)
 
     auto sem = semloc::CSemanticMap::Create();
     sem->loadFromWorld(world);
-    sem->likelihoodOptions.sigma_range_m = 0.5;
-    sem->likelihoodOptions.sigma_bearing_deg = 5;
+    sem->likelihoodOptions.detector.sigma_range_m = 0.5;
+    sem->likelihoodOptions.detector.sigma_bearing_deg = 5;
     auto mm = mrpt::maps::CMultiMetricMap::Create();
     mm->maps.push_back(sem);
 

@@ -85,8 +85,8 @@ SilenceRun runSilence(double outageEvery_s, size_t threads, bool unknownInSilenc
     auto sem = CSemanticMap::Create();
     sem->loadFromWorld(world);
     sem->likelihoodOptions.model = CSemanticMap::Model::Probabilistic;
-    sem->likelihoodOptions.outage_every_s = outageEvery_s;
-    sem->likelihoodOptions.outage_mean_s = 60;
+    sem->likelihoodOptions.outage.outage_every_s = outageEvery_s;
+    sem->likelihoodOptions.outage.outage_mean_s = 60;
     auto multi = mrpt::maps::CMultiMetricMap::Create();
     multi->maps.push_back(sem);
 
@@ -229,9 +229,9 @@ TEST(DetectorOutage, OptionsAreReadAndBadValuesRefused)
         return o;
     };
     const auto o = load("outage_every_s = 240\noutage_mean_s = 30\n");
-    EXPECT_EQ(o.outage_every_s, 240);
-    EXPECT_EQ(o.outage_mean_s, 30);
-    EXPECT_EQ(load("").outage_every_s, 0);  // off by default
+    EXPECT_EQ(o.outage.outage_every_s, 240);
+    EXPECT_EQ(o.outage.outage_mean_s, 30);
+    EXPECT_EQ(load("").outage.outage_every_s, 0);  // off by default
     for (const std::string bad :
          {"outage_every_s = -1\n", "outage_mean_s = 0\n", "outage_every_s = nan\n"})
     {

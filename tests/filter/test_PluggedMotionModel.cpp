@@ -238,7 +238,7 @@ TEST(PluggedMotionModel, CreatedByNameFromTheMotionModelSection)
     o.particles_count = 200;
     o.init_PDF_mode = semloc::Localizer::InitMode::Gaussian;
     o.motion_model.loadFromConfigFile(
-        semloc::test::iniText("[MotionModel]\nmodel = water_current\n"), "MotionModel");
+        semloc::test::iniText("[MotionModel]\nkind = water_current\n"), "MotionModel");
     auto multi = mrpt::maps::CMultiMetricMap::Create();
     multi->maps.push_back(std::make_shared<semloc::test::PositionFixModel>());
     const semloc::Localizer byName(o, multi);
@@ -253,14 +253,14 @@ TEST(PluggedMotionModel, CreatedByNameFromTheMotionModelSection)
     semloc::MotionModelConfig::TOptions bad;
     try
     {
-        bad.loadFromConfigFile(semloc::test::iniText("[MotionModel]\nmodel = tide\n"),
+        bad.loadFromConfigFile(semloc::test::iniText("[MotionModel]\nkind = tide\n"),
                                "MotionModel");
         FAIL() << "an unknown motion model was accepted";
     }
     catch (const std::exception& e)
     {
         const std::string what = e.what();
-        EXPECT_NE(what.find("ini [MotionModel] model: unknown motion model 'tide' (registered: "
+        EXPECT_NE(what.find("ini [MotionModel] kind: unknown motion model 'tide' (registered: "
                             "odometry, water_current)"),
                   std::string::npos)
             << what;

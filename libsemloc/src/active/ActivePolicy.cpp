@@ -111,13 +111,15 @@ CObservationSemantic drawScan(const CSemanticMap& map, const std::vector<std::st
         }
         TSemanticDetection d;
         const double v = u[2 * seen.index + 1];
-        d.label = (v < lo.p_confusion && labels.size() > 1) ? pick(v / lo.p_confusion) : o.label;
-        d.range_m =
-            std::clamp(seen.range_m + rangeBias(lo.range_bias_m, seen.bearing_rad, fov), 0.0, R);
+        d.label = (v < lo.probabilistic.p_confusion && labels.size() > 1)
+                      ? pick(v / lo.probabilistic.p_confusion)
+                      : o.label;
+        d.range_m = std::clamp(
+            seen.range_m + rangeBias(lo.detector.range_bias_m, seen.bearing_rad, fov), 0.0, R);
         d.bearing_rad = seen.bearing_rad;
         z.detections.push_back(d);
     }
-    const int clutter = poisson(lo.clutter_per_scan, g);
+    const int clutter = poisson(lo.probabilistic.clutter_per_scan, g);
     for (int k = 0; k < clutter && !labels.empty(); k++)
     {
         TSemanticDetection d;

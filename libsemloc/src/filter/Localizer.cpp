@@ -287,7 +287,7 @@ Localizer::Localizer(const TOptions& options, mrpt::maps::CMultiMetricMap::Ptr m
     m_pdf->setRecoveryOptions(o.recovery);
     m_pdf->setFreeSpacePrior(o.free_space_prior);
     m_pdf->setKldAtResampling(o.kld_at_resampling);
-    // [MotionModel] model, with the section's options (odometry: its heading drift).
+    // [MotionModel] kind, with the section's options (odometry: its heading drift).
     m_pdf->setMotionModel(MotionModelRegistry::create(o.motion_model));
 
     TSamplingArea area;

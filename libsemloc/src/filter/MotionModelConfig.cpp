@@ -68,17 +68,17 @@ void MotionModelConfig::TOptions::loadFromConfigFile(const mrpt::config::CConfig
     using namespace semloc::config;
     rejectUnknownKeys(
         c, s,
-        {"model", "source", "a1", "a2", "a3", "a4", "minStdXY", "minStdPHI",
+        {"kind", "source", "a1", "a2", "a3", "a4", "minStdXY", "minStdPHI",
          "heading_drift_std_deg_per_min", "heading_drift_walk_deg_per_min", "odometry_delay_s"});
-    model = detail::trimValue(c.read_string(s, "model", model));
-    if (!MotionModelRegistry::has(model))
+    kind = detail::trimValue(c.read_string(s, "kind", kind));
+    if (!MotionModelRegistry::has(kind))
     {
         std::string known;
         for (const auto& n : MotionModelRegistry::names())
         {
             known += (known.empty() ? "" : ", ") + n;
         }
-        THROW_EXCEPTION("ini [" + s + "] model: unknown motion model '" + model +
+        THROW_EXCEPTION("ini [" + s + "] kind: unknown motion model '" + kind +
                         "' (registered: " + known + ")");
     }
     std::string src = kSources[static_cast<size_t>(source)];
@@ -100,7 +100,7 @@ void MotionModelConfig::TOptions::loadFromConfigFile(const mrpt::config::CConfig
 void MotionModelConfig::TOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c,
                                                    const std::string& s) const
 {
-    detail::writeText(c, s, "model", model,
+    detail::writeText(c, s, "kind", kind,
                       "the prediction's motion model: odometry | a registered one");
     detail::writeText(c, s, "source", kSources[static_cast<size_t>(source)],
                       "rawlog: the rawlog's noise | gaussian: a1..minStdPHI");

@@ -65,15 +65,15 @@ std::shared_ptr<ParticleMotionModel> MotionModelRegistry::create(
 {
     for (const auto& m : registry())
     {
-        if (m.first == options.model)
+        if (m.first == options.kind)
         {
             auto model = m.second(options);
             ASSERTMSG_(model,
-                       "MotionModelRegistry: the factory of '" + options.model + "' made no model");
+                       "MotionModelRegistry: the factory of '" + options.kind + "' made no model");
             return model;
         }
     }
-    THROW_EXCEPTION("ini [MotionModel] model: unknown motion model '" + options.model + "'");
+    THROW_EXCEPTION("ini [MotionModel] kind: unknown motion model '" + options.kind + "'");
 }
 
 }  // namespace semloc

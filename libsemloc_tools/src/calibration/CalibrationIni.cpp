@@ -354,10 +354,10 @@ void SensorCalibration::ReadBaseOptions(const std::string& baseIni, TOptions& o)
 {
     const mrpt::config::CConfigFileMemory base(baseIni);
     const CSemanticMap::TLikelihoodOptions defaults;
-    o.lookAlikeSpeed_mps =
-        base.read_double(kLikelihood, "lookalike_speed_mps", defaults.lookalike_speed_mps);
+    o.lookAlikeSpeed_mps = base.read_double(kLikelihood, "lookalike_speed_mps",
+                                            defaults.lookalike.lookalike_speed_mps);
     o.lookAlikeWindow_s =
-        base.read_double(kLikelihood, "lookalike_window_s", defaults.lookalike_window_s);
+        base.read_double(kLikelihood, "lookalike_window_s", defaults.lookalike.lookalike_window_s);
 }
 
 void SensorCalibration::CheckBase(const std::string& basePath, const std::string& worldPath)

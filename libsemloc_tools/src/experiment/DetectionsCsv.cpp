@@ -40,7 +40,7 @@ std::string DetectionsCsv::explain(const CObservationSemantic& obs, size_t k,
 {
     const TSemanticDetection& d = obs.detections[k];
     const auto& lo = m_map.likelihoodOptions;
-    const double sr = lo.sigma_range_m, sb = mrpt::DEG2RAD(lo.sigma_bearing_deg);
+    const double sr = lo.detector.sigma_range_m, sb = mrpt::DEG2RAD(lo.detector.sigma_bearing_deg);
     const auto candidates = m_map.candidatesOf(obs, d);
     std::string object;
     double best = std::numeric_limits<double>::infinity();

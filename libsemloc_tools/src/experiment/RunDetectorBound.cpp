@@ -156,8 +156,8 @@ void RunDetectorBound::update(const mrpt::math::TPose2D& pose, const mrpt::obs::
         }
         const double R = opt.maxRange(*obs), fov = opt.fieldOfView(*obs);
         TDetectorBoundSensor sensor;
-        sensor.sigma_range_m = opt.sigma_range_m;
-        sensor.sigma_bearing_rad = mrpt::DEG2RAD(opt.sigma_bearing_deg);
+        sensor.sigma_range_m = opt.detector.sigma_range_m;
+        sensor.sigma_bearing_rad = mrpt::DEG2RAD(opt.detector.sigma_bearing_deg);
         sensor.detectionProbability = [&opt, R, fov](double rho, double theta)
         { return opt.detectionProbability(rho, R, theta, fov); };
         sensor.sensorPose = obs->sensorPose;

@@ -87,7 +87,7 @@ double unbiasedRange(const Options& opt, double rho, double theta, double R, dou
 {
     const double u = std::remainder(theta, 2 * M_PI) / (fov < 2 * M_PI ? fov / 2 : M_PI);
     double bias = 0, power = 1;
-    for (const double c : opt.range_bias_m)
+    for (const double c : opt.detector.range_bias_m)
     {
         bias += c * power;
         power *= u;
@@ -99,8 +99,8 @@ Scan scanOf(const CSemanticMap& map, const CObservationSemantic& obs)
 {
     const Options& opt = map.likelihoodOptions;
     Scan s;
-    s.R = opt.max_range_m > 0 ? opt.max_range_m : obs.maxRange_m;
-    s.fov = opt.fov_deg > 0 ? opt.fov_deg * M_PI / 180 : obs.fov_rad;
+    s.R = opt.detector.max_range_m > 0 ? opt.detector.max_range_m : obs.maxRange_m;
+    s.fov = opt.detector.fov_deg > 0 ? opt.detector.fov_deg * M_PI / 180 : obs.fov_rad;
     s.sx = obs.sensorPose.x();
     s.sy = obs.sensorPose.y();
     s.syaw = obs.sensorPose.yaw();
@@ -113,7 +113,8 @@ Scan scanOf(const CSemanticMap& map, const CObservationSemantic& obs)
     {
         const bool valid = !d.label.empty() && d.range_m >= 0 && d.range_m <= s.R &&
                            d.confidence >= 0 && d.confidence <= 1 &&
-                           d.confidence >= opt.min_confidence && bearingInFov(d.bearing_rad, s.fov);
+                           d.confidence >= opt.detector.min_confidence &&
+                           bearingInFov(d.bearing_rad, s.fov);
         if (!valid)
         {
             continue;
@@ -134,8 +135,8 @@ Scan scanOf(const CSemanticMap& map, const mrpt::obs::CObservationBearingRange& 
 {
     const Options& opt = map.likelihoodOptions;
     Scan s;
-    s.R = opt.max_range_m > 0 ? opt.max_range_m : obs.maxSensorDistance;
-    s.fov = opt.fov_deg > 0 ? opt.fov_deg * M_PI / 180 : obs.fieldOfView_yaw;
+    s.R = opt.detector.max_range_m > 0 ? opt.detector.max_range_m : obs.maxSensorDistance;
+    s.fov = opt.detector.fov_deg > 0 ? opt.detector.fov_deg * M_PI / 180 : obs.fieldOfView_yaw;
     if (s.fov == 0)
     {
         s.fov = 2 * M_PI;  // MRPT leaves it 0 when the sensor has no FOV limit
@@ -253,14 +254,15 @@ std::vector<Pair> associate(std::vector<Pair> pairs)
 double paper(const CSemanticMap& map, const Scan& s, const TPose2D& pose, SemanticTerms& t)
 {
     const Options& opt = map.likelihoodOptions;
-    const double sigmaRho = opt.sigma_range_m, sigmaTheta = opt.sigma_bearing_deg * M_PI / 180;
-    const double logPu = std::log(opt.unmatched_penalty);
+    const double sigmaRho = opt.detector.sigma_range_m,
+                 sigmaTheta = opt.detector.sigma_bearing_deg * M_PI / 180;
+    const double logPu = std::log(opt.paper.unmatched_penalty);
     const double logPo =
-        opt.missed_object_penalty > 0 ? std::log(opt.missed_object_penalty) : logPu;
+        opt.paper.missed_object_penalty > 0 ? std::log(opt.paper.missed_object_penalty) : logPu;
     const std::vector<Predicted> z_k = predict(map, s, pose, t.onEdge);
     const auto& objs = map.objects();
     // With misread ranges (eps > 0) the range factor is (1 - eps) N0 + eps sqrt(2 pi) sigma / R.
-    const double eps = opt.p_range_outlier;
+    const double eps = opt.detector.p_range_outlier;
     const double outlierFactor = eps * std::sqrt(2 * M_PI) * sigmaRho / s.R;
     auto gaussians = [&](const Detection& d, const Predicted& v)
     {
@@ -341,12 +343,13 @@ public:
         : m_opt(map.likelihoodOptions),
           m_s(s),
           m_objs(map.objects()),
-          m_sigmaRho(m_opt.sigma_range_m),
-          m_sigmaTheta(m_opt.sigma_bearing_deg * M_PI / 180),
+          m_sigmaRho(m_opt.detector.sigma_range_m),
+          m_sigmaTheta(m_opt.detector.sigma_bearing_deg * M_PI / 180),
           m_K(std::max<double>(1, static_cast<double>(labelsOf(map).size()))),
-          m_confusion(m_opt.p_confusion > 0 && m_K > 1)
+          m_confusion(m_opt.probabilistic.p_confusion > 0 && m_K > 1)
     {
-        logKappa = std::log(m_opt.clutter_per_scan / (s.R * std::min(s.fov, 2 * M_PI) * m_K));
+        logKappa = std::log(m_opt.probabilistic.clutter_per_scan /
+                            (s.R * std::min(s.fov, 2 * M_PI) * m_K));
     }
     /** log kappa, the clutter density. */
     double logKappa = 0;
@@ -354,11 +357,13 @@ public:
     /** P_D(rho, theta) of the detector times the object's p_exist. */
     double pD(const Predicted& v) const
     {
-        double p = m_opt.p_detect_near + (m_opt.p_detect_far - m_opt.p_detect_near) * v.rho / m_s.R;
-        if (m_opt.p_detect_edge_ratio < 1 && m_s.fov < 2 * M_PI)
+        double p =
+            m_opt.probabilistic.p_detect_near +
+            (m_opt.probabilistic.p_detect_far - m_opt.probabilistic.p_detect_near) * v.rho / m_s.R;
+        if (m_opt.probabilistic.p_detect_edge_ratio < 1 && m_s.fov < 2 * M_PI)
         {
             const double off = std::min(std::abs(v.theta) / (0.5 * m_s.fov), 1.0);
-            p *= 1 - (1 - m_opt.p_detect_edge_ratio) * off;
+            p *= 1 - (1 - m_opt.probabilistic.p_detect_edge_ratio) * off;
         }
         const double exist = m_objs[v.object].p_exist;
         return std::clamp(exist < 1 ? exist * p : p, 1e-6, 1 - 1e-6);
@@ -373,7 +378,7 @@ public:
         const double sRho = std::sqrt(m_sigmaRho * m_sigmaRho + sm * sm);
         const double lateral = sm > 0 ? sm / std::max(v.rho, 2 * sm) : 0.0;
         const double sTheta = std::sqrt(m_sigmaTheta * m_sigmaTheta + lateral * lateral);
-        const double eps = m_opt.p_range_outlier;
+        const double eps = m_opt.detector.p_range_outlier;
         const double range =
             eps > 0 ? std::log((1 - eps) * std::exp(logN(d.rho - v.rho, sRho)) + eps / m_s.R)
                     : logN(d.rho - v.rho, sRho);
@@ -428,8 +433,9 @@ private:
             {
                 pi += label == d.label ? p : 0.0;
             }
-            const double w = pi * (1 - m_opt.p_confusion) +
-                             (1 - pi) * (m_confusion ? m_opt.p_confusion / (m_K - 1) : 0.0);
+            const double w =
+                pi * (1 - m_opt.probabilistic.p_confusion) +
+                (1 - pi) * (m_confusion ? m_opt.probabilistic.p_confusion / (m_K - 1) : 0.0);
             if (w > 0)
             {
                 return std::log(w);
@@ -438,9 +444,9 @@ private:
         }
         if (d.label == m_objs[v.object].label)
         {
-            return std::log(1 - m_opt.p_confusion);
+            return std::log(1 - m_opt.probabilistic.p_confusion);
         }
-        return m_confusion ? std::log(m_opt.p_confusion / (m_K - 1)) : 0.0;
+        return m_confusion ? std::log(m_opt.probabilistic.p_confusion / (m_K - 1)) : 0.0;
     }
 
     const Options& m_opt;
@@ -476,9 +482,10 @@ private:
 double probabilistic(const CSemanticMap& map, const Scan& s, const TPose2D& pose, SemanticTerms& t)
 {
     const ProbabilisticTerms terms(map, s);
-    const double lambda = map.likelihoodOptions.clutter_per_scan;
+    const double lambda = map.likelihoodOptions.probabilistic.clutter_per_scan;
     const std::vector<Predicted> z_k = predict(map, s, pose, t.onEdge);
-    const bool marginal = map.likelihoodOptions.association == CSemanticMap::Association::Marginal;
+    const bool marginal =
+        map.likelihoodOptions.probabilistic.association == CSemanticMap::Association::Marginal;
     const std::vector<Pair> pairs = terms.pairs(z_k, marginal ? kNegligibleLogWeight : 0.0);
     t.l = s.z_r.size();
     t.q = z_k.size();

@@ -107,7 +107,7 @@ TEST(CSemanticMap, CreatedFromIniThroughMultiMetricMap)
     EXPECT_EQ(sm->objects().size(), 12u);
     EXPECT_EQ(sm->labelCount(), 4u);
     EXPECT_EQ(sm->likelihoodOptions.model, CSemanticMap::Model::Probabilistic);
-    EXPECT_DOUBLE_EQ(sm->likelihoodOptions.sigma_range_m, 0.3);
+    EXPECT_DOUBLE_EQ(sm->likelihoodOptions.detector.sigma_range_m, 0.3);
     // The multi-map sums the semantic log-likelihood like any MRPT map's.
     const auto obs = observe(smallWorld(), kTrue);
     const double viaMulti =
@@ -161,12 +161,12 @@ TEST(CSemanticMap, OptionsWrittenToIniReadBackToTheBit)
     // The apps' config.ini must reproduce the run: MRPT's write() of a double keeps 6 decimals.
     CSemanticMap::TLikelihoodOptions a;
     a.model = CSemanticMap::Model::Paper;
-    a.sigma_range_m = 0.123456789012345;
-    a.sigma_bearing_deg = 2.718281828459045;
-    a.p_confusion = 1.2345678901234567e-7;
-    a.p_range_outlier = 0.031415926535897934;
-    a.clutter_per_scan = 1.0 / 3.0;
-    a.range_bias_m = {0.1234567890123, -1.0 / 3.0, 0, 2.5e-7};
+    a.detector.sigma_range_m = 0.123456789012345;
+    a.detector.sigma_bearing_deg = 2.718281828459045;
+    a.probabilistic.p_confusion = 1.2345678901234567e-7;
+    a.detector.p_range_outlier = 0.031415926535897934;
+    a.probabilistic.clutter_per_scan = 1.0 / 3.0;
+    a.detector.range_bias_m = {0.1234567890123, -1.0 / 3.0, 0, 2.5e-7};
     CSemanticMap::TInsertionOptions ia;
     ia.merge_distance_m = 2.0 / 3.0;
     mrpt::config::CConfigFileMemory out;
@@ -178,19 +178,19 @@ TEST(CSemanticMap, OptionsWrittenToIniReadBackToTheBit)
     b.loadFromConfigFile(in, "l");
     ib.loadFromConfigFile(in, "i");
     EXPECT_EQ(b.model, a.model);
-    EXPECT_EQ(b.sigma_range_m, a.sigma_range_m);
-    EXPECT_EQ(b.sigma_bearing_deg, a.sigma_bearing_deg);
-    EXPECT_EQ(b.p_confusion, a.p_confusion);
-    EXPECT_EQ(b.p_range_outlier, a.p_range_outlier);
-    EXPECT_EQ(b.clutter_per_scan, a.clutter_per_scan);
-    EXPECT_EQ(b.p_detect_near, a.p_detect_near);
-    EXPECT_EQ(b.range_bias_m, a.range_bias_m);
+    EXPECT_EQ(b.detector.sigma_range_m, a.detector.sigma_range_m);
+    EXPECT_EQ(b.detector.sigma_bearing_deg, a.detector.sigma_bearing_deg);
+    EXPECT_EQ(b.probabilistic.p_confusion, a.probabilistic.p_confusion);
+    EXPECT_EQ(b.detector.p_range_outlier, a.detector.p_range_outlier);
+    EXPECT_EQ(b.probabilistic.clutter_per_scan, a.probabilistic.clutter_per_scan);
+    EXPECT_EQ(b.probabilistic.p_detect_near, a.probabilistic.p_detect_near);
+    EXPECT_EQ(b.detector.range_bias_m, a.detector.range_bias_m);
     EXPECT_EQ(ib.merge_distance_m, ia.merge_distance_m);
     // No bias is written as 0 and read back as none.
     mrpt::config::CConfigFileMemory none;
     CSemanticMap::TLikelihoodOptions().saveToConfigFile(none, "l");
     b.loadFromConfigFile(mrpt::config::CConfigFileMemory(none.getContent()), "l");
-    EXPECT_TRUE(b.range_bias_m.empty());
+    EXPECT_TRUE(b.detector.range_bias_m.empty());
 }
 
 class BothModels : public ::testing::TestWithParam<CSemanticMap::Model>
@@ -260,7 +260,7 @@ TEST_P(BothModels, UnmatchedObjectsLowerTheLikelihoodMonotonically)
 TEST_P(BothModels, AMisreadRangeCostsAtMostTheUniformsShare)
 {
     CSemanticMap m = smallMap(GetParam());
-    m.likelihoodOptions.sigma_range_m = 0.2;
+    m.likelihoodOptions.detector.sigma_range_m = 0.2;
     const World w = smallWorld();
     mrpt::random::CRandomGenerator rng(11);
     DetectorSim ds;
@@ -268,11 +268,11 @@ TEST_P(BothModels, AMisreadRangeCostsAtMostTheUniformsShare)
     ds.sigma_bearing_rad = 0.01;
     const auto clean = observe(w, kTrue, ds, &rng);
     ASSERT_GE(clean.detections.size(), 3u);
-    const double R = clean.maxRange_m, sr = m.likelihoodOptions.sigma_range_m;
+    const double R = clean.maxRange_m, sr = m.likelihoodOptions.detector.sigma_range_m;
     int checked = 0;
     for (const double eps : {0.01, 0.1, 0.3})
     {
-        m.likelihoodOptions.p_range_outlier = eps;
+        m.likelihoodOptions.detector.p_range_outlier = eps;
         const double lClean = m.computeLogLikelihood(clean, kTrue);
         // Whatever range a detection reports, matching it as a misread costs at most the
         // Gaussian's peak over the uniform's density: (1 - eps) N(0) + eps / R over eps / R.
@@ -315,17 +315,18 @@ TEST(CSemanticMap, PaperFormulaExactly)
     obs.fov_rad = M_PI;
     const double dr = 0.3, db = 2.0 * M_PI / 180;
     obs.detections.push_back(detection("pillar", 5 + dr, db));
-    const double sb = o.sigma_bearing_deg * M_PI / 180;
-    const double expected = -0.5 * std::pow(dr / o.sigma_range_m, 2) - 0.5 * std::pow(db / sb, 2);
+    const double sb = o.detector.sigma_bearing_deg * M_PI / 180;
+    const double expected =
+        -0.5 * std::pow(dr / o.detector.sigma_range_m, 2) - 0.5 * std::pow(db / sb, 2);
     EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), expected, 1e-6);
     // d = q + l - 2m: one more unseen object ahead adds one log(p_u).
     m.addObject({2, "anchor", 7, 1, 0, 0.3, 1});
     EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)),
-                expected + std::log(o.unmatched_penalty), 1e-6);
+                expected + std::log(o.paper.unmatched_penalty), 1e-6);
     // A detection too far off to be worth matching counts as two unmatched objects.
     obs.detections[0].range_m = 9.5;
-    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), 3 * std::log(o.unmatched_penalty),
-                1e-9);
+    EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)),
+                3 * std::log(o.paper.unmatched_penalty), 1e-9);
 }
 
 TEST(CSemanticMap, MisreadRangeMixtureExactly)
@@ -337,13 +338,15 @@ TEST(CSemanticMap, MisreadRangeMixtureExactly)
         m.addObject({1, "pillar", 5, 0, 0, 0.3, 1});
         auto& o = m.likelihoodOptions;
         o.model = model;
-        o.p_range_outlier = 0.2;
-        o.unmatched_penalty = 0.05;  // the misread (d_rho = 4 m) is matched, not left unmatched
+        o.detector.p_range_outlier = 0.2;
+        o.paper.unmatched_penalty =
+            0.05;  // the misread (d_rho = 4 m) is matched, not left unmatched
         CObservationSemantic obs;
         obs.maxRange_m = 10;
         obs.fov_rad = M_PI;
-        const double R = obs.maxRange_m, sr = o.sigma_range_m, eps = o.p_range_outlier;
-        const double sb = o.sigma_bearing_deg * M_PI / 180, db = 2.0 * M_PI / 180;
+        const double R = obs.maxRange_m, sr = o.detector.sigma_range_m,
+                     eps = o.detector.p_range_outlier;
+        const double sb = o.detector.sigma_bearing_deg * M_PI / 180, db = 2.0 * M_PI / 180;
         const double logNr = -std::log(std::sqrt(2 * M_PI) * sr);
         for (const double dr : {0.3, 4.0})
         {
@@ -359,8 +362,11 @@ TEST(CSemanticMap, MisreadRangeMixtureExactly)
             else
             {
                 // -lambda + log P_D + log C + log((1 - eps) N + eps / R) + log N.
-                const double pd = o.p_detect_near + (o.p_detect_far - o.p_detect_near) * 5 / R;
-                expected = -o.clutter_per_scan + std::log(pd) + std::log(1 - o.p_confusion) +
+                const double pd =
+                    o.probabilistic.p_detect_near +
+                    (o.probabilistic.p_detect_far - o.probabilistic.p_detect_near) * 5 / R;
+                expected = -o.probabilistic.clutter_per_scan + std::log(pd) +
+                           std::log(1 - o.probabilistic.p_confusion) +
                            std::log((1 - eps) * std::exp(gauss + logNr) + eps / R) -
                            std::log(std::sqrt(2 * M_PI) * sb) - 0.5 * std::pow(db / sb, 2);
             }
@@ -382,11 +388,14 @@ TEST(CSemanticMap, UncertainObjectFormulaExactly)
     CObservationSemantic obs;
     obs.maxRange_m = 10;
     obs.fov_rad = M_PI;
-    const double R = 10, pc = o.p_confusion, lambda = o.clutter_per_scan;
-    const double pd = 0.6 * (o.p_detect_near + (o.p_detect_far - o.p_detect_near) * 5 / R);
+    const double R = 10, pc = o.probabilistic.p_confusion,
+                 lambda = o.probabilistic.clutter_per_scan;
+    const double pd =
+        0.6 * (o.probabilistic.p_detect_near +
+               (o.probabilistic.p_detect_far - o.probabilistic.p_detect_near) * 5 / R);
     auto logN = [](double d, double var)
     { return -0.5 * d * d / var - 0.5 * std::log(2 * M_PI * var); };
-    const double sr = o.sigma_range_m, sb = o.sigma_bearing_deg * M_PI / 180;
+    const double sr = o.detector.sigma_range_m, sb = o.detector.sigma_bearing_deg * M_PI / 180;
     const double vr = sr * sr + 0.16, vb = sb * sb + 0.16 / 25;  // sigma_m / rho, rho = 5 m
     const double dr = 0.3, db = 2.0 * M_PI / 180;
     // Seen as an anchor: C = 0.3 (1 - p_c) + 0.7 p_c / (K - 1).
@@ -399,7 +408,7 @@ TEST(CSemanticMap, UncertainObjectFormulaExactly)
     EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), -lambda + std::log(1 - pd), 1e-9);
     // A label it cannot be is clutter, unless p_c lets any label be any other.
     m.addObject({2, "wreck", 40, 40, 0, 0.3, 1});
-    o.p_confusion = 0;
+    o.probabilistic.p_confusion = 0;
     obs.detections = {detection("wreck", 5 + dr, db)};
     const double kappa = lambda / (R * M_PI * 3);  // K = 3 labels now
     EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)),
@@ -414,9 +423,9 @@ TEST(CSemanticMap, DetectionProbabilityFallsTowardsTheEdgeOfTheView)
     CSemanticMap m;
     auto& o = m.likelihoodOptions;
     o.model = CSemanticMap::Model::Probabilistic;
-    o.p_detect_near = 0.9;
-    o.p_detect_far = 0.5;
-    o.p_detect_edge_ratio = 0.2;
+    o.probabilistic.p_detect_near = 0.9;
+    o.probabilistic.p_detect_far = 0.5;
+    o.probabilistic.p_detect_edge_ratio = 0.2;
     m.addObject({1, "pillar", 5, 0, 0, 0.3, 1});
     CObservationSemantic obs;
     obs.maxRange_m = 10;
@@ -429,19 +438,21 @@ TEST(CSemanticMap, DetectionProbabilityFallsTowardsTheEdgeOfTheView)
         EXPECT_NEAR(o.detectionProbability(5, 10, b, M_PI / 2), pd, 1e-15) << deg;
         obs.detections.clear();
         const TPose2D pose(0, 0, -b);  // the object at bearing b
-        EXPECT_NEAR(m.computeLogLikelihood(obs, pose), -o.clutter_per_scan + std::log(1 - pd), 1e-6)
+        EXPECT_NEAR(m.computeLogLikelihood(obs, pose),
+                    -o.probabilistic.clutter_per_scan + std::log(1 - pd), 1e-6)
             << deg;
         obs.detections = {detection("pillar", 5, 0)};
         obs.detections[0].bearing_rad = b;
-        const double sb = mrpt::DEG2RAD(o.sigma_bearing_deg);
-        const double expected = -o.clutter_per_scan + std::log(pd) + std::log(1 - o.p_confusion) -
-                                std::log(2 * M_PI * o.sigma_range_m * sb);
+        const double sb = mrpt::DEG2RAD(o.detector.sigma_bearing_deg);
+        const double expected = -o.probabilistic.clutter_per_scan + std::log(pd) +
+                                std::log(1 - o.probabilistic.p_confusion) -
+                                std::log(2 * M_PI * o.detector.sigma_range_m * sb);
         EXPECT_NEAR(m.computeLogLikelihood(obs, pose), expected, 1e-6) << deg;
     }
     // 1: the same across the view; a full circle has no edge.
-    o.p_detect_edge_ratio = 1;
+    o.probabilistic.p_detect_edge_ratio = 1;
     EXPECT_NEAR(o.detectionProbability(5, 10, 0.7, M_PI / 2), onAxis, 1e-15);
-    o.p_detect_edge_ratio = 0.2;
+    o.probabilistic.p_detect_edge_ratio = 0.2;
     EXPECT_NEAR(o.detectionProbability(5, 10, 3.0, 2 * M_PI), onAxis, 1e-15);
 }
 
@@ -458,7 +469,7 @@ TEST(CSemanticMap, RangeBiasIsTakenOffEachDetection)
             m->likelihoodOptions.model = model;
             m->addObject({1, "pillar", 5, 0, 0, 0.3, 1});
         }
-        biased.likelihoodOptions.range_bias_m = {0.2, 0.1, -0.5, 0.05};
+        biased.likelihoodOptions.detector.range_bias_m = {0.2, 0.1, -0.5, 0.05};
         CObservationSemantic obs;
         obs.maxRange_m = 10;
         obs.fov_rad = M_PI / 2;
@@ -466,8 +477,9 @@ TEST(CSemanticMap, RangeBiasIsTakenOffEachDetection)
         {
             const double b = mrpt::DEG2RAD(deg), u = deg / 45;
             const double bias = 0.2 + 0.1 * u - 0.5 * u * u + 0.05 * u * u * u;
-            EXPECT_NEAR(semloc::rangeBias(biased.likelihoodOptions.range_bias_m, b, M_PI / 2), bias,
-                        1e-15);
+            EXPECT_NEAR(
+                semloc::rangeBias(biased.likelihoodOptions.detector.range_bias_m, b, M_PI / 2),
+                bias, 1e-15);
             const TPose2D pose(0, 0, -b);  // the object at bearing b
             obs.detections = {detection("pillar", 5 + bias, 0)};
             obs.detections[0].bearing_rad = b;
@@ -499,7 +511,7 @@ TEST(CSemanticMap, AFullCircleSeesAnObjectStraightBehind)
         m.addObject({1, "pillar", pose.x - r * std::cos(pose.phi), pose.y - r * std::sin(pose.phi),
                      0, 0.3, 1});
         const double ll = m.computeLogLikelihood(obs, pose);
-        EXPECT_NEAR(ll, std::log(m.likelihoodOptions.unmatched_penalty), 1e-12) << k;
+        EXPECT_NEAR(ll, std::log(m.likelihoodOptions.paper.unmatched_penalty), 1e-12) << k;
         counted += ll < 0 ? 1 : 0;
     }
     EXPECT_EQ(counted, 2000u);
@@ -512,15 +524,16 @@ TEST(CSemanticMap, PaperMissedObjectPenaltySplitsTheUnmatchedTerms)
     m.addObject({1, "pillar", 5, 0, 0, 0.3, 1});
     m.addObject({2, "anchor", 7, 1, 0, 0.3, 1});
     auto& o = m.likelihoodOptions;
-    o.missed_object_penalty = 0.9;
+    o.paper.missed_object_penalty = 0.9;
     CObservationSemantic obs;
     obs.maxRange_m = 10;
     obs.fov_rad = M_PI;
     const double dr = 0.3, db = 2.0 * M_PI / 180;
     obs.detections.push_back(detection("pillar", 5 + dr, db));
-    const double sb = o.sigma_bearing_deg * M_PI / 180;
-    const double matched = -0.5 * std::pow(dr / o.sigma_range_m, 2) - 0.5 * std::pow(db / sb, 2);
-    const double logPu = std::log(o.unmatched_penalty), logPo = std::log(0.9);
+    const double sb = o.detector.sigma_bearing_deg * M_PI / 180;
+    const double matched =
+        -0.5 * std::pow(dr / o.detector.sigma_range_m, 2) - 0.5 * std::pow(db / sb, 2);
+    const double logPu = std::log(o.paper.unmatched_penalty), logPo = std::log(0.9);
     // One pair, the anchor missed: (l - m) log p_u + (q - m) log p_o = log p_o.
     EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), matched + logPo, 1e-6);
     // Too far off to match: the detection unmatched, both objects missed.
@@ -529,11 +542,11 @@ TEST(CSemanticMap, PaperMissedObjectPenaltySplitsTheUnmatchedTerms)
     // A pose that predicts nothing no longer beats the true one on an empty scan by p_u per
     // object: with p_o = 1 missing objects costs nothing.
     obs.detections.clear();
-    o.missed_object_penalty = 1;
+    o.paper.missed_object_penalty = 1;
     EXPECT_EQ(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)),
               m.computeLogLikelihood(obs, TPose2D(0, 0, M_PI)));
     // 0: §III's single p_u.
-    o.missed_object_penalty = 0;
+    o.paper.missed_object_penalty = 0;
     EXPECT_NEAR(m.computeLogLikelihood(obs, TPose2D(0, 0, 0)), 2 * logPu, 1e-9);
 }
 
@@ -553,8 +566,8 @@ double probabilisticByHand(const CSemanticMap& m, const CObservationSemantic& ob
         labels.insert(ob.label);
     }
     const double K = static_cast<double>(labels.size());
-    const double sr = o.sigma_range_m, sb = o.sigma_bearing_deg * M_PI / 180;
-    const double logKappa = std::log(o.clutter_per_scan / (R * fov * K));
+    const double sr = o.detector.sigma_range_m, sb = o.detector.sigma_bearing_deg * M_PI / 180;
+    const double logKappa = std::log(o.probabilistic.clutter_per_scan / (R * fov * K));
     auto wrap = [](double a) { return std::remainder(a, 2 * M_PI); };
     struct Visible
     {
@@ -569,11 +582,14 @@ double probabilisticByHand(const CSemanticMap& m, const CObservationSemantic& ob
         if (d <= R && std::abs(b) <= fov / 2)
         {
             const double pd = std::clamp(
-                o.p_detect_near + (o.p_detect_far - o.p_detect_near) * d / R, 1e-6, 1 - 1e-6);
+                o.probabilistic.p_detect_near +
+                    (o.probabilistic.p_detect_far - o.probabilistic.p_detect_near) * d / R,
+                1e-6, 1 - 1e-6);
             vis.push_back({d, b, pd, ob.label});
         }
     }
-    double total = -o.clutter_per_scan + static_cast<double>(obs.detections.size()) * logKappa;
+    double total =
+        -o.probabilistic.clutter_per_scan + static_cast<double>(obs.detections.size()) * logKappa;
     for (const auto& v : vis)
     {
         total += std::log(1 - v.pd);
@@ -590,8 +606,9 @@ double probabilisticByHand(const CSemanticMap& m, const CObservationSemantic& ob
         for (size_t v = 0; v < vis.size(); v++)
         {
             const double dr = d.range_m - vis[v].range, db = wrap(d.bearing_rad - vis[v].bearing);
-            const double logC = d.label == vis[v].label ? std::log(1 - o.p_confusion)
-                                                        : std::log(o.p_confusion / (K - 1));
+            const double logC = d.label == vis[v].label
+                                    ? std::log(1 - o.probabilistic.p_confusion)
+                                    : std::log(o.probabilistic.p_confusion / (K - 1));
             const double gain = std::log(vis[v].pd / (1 - vis[v].pd)) + logC -
                                 std::log(2 * M_PI * sr * sb) - 0.5 * (dr / sr) * (dr / sr) -
                                 0.5 * (db / sb) * (db / sb) - logKappa;
@@ -630,7 +647,7 @@ TEST(CSemanticMap, ProbabilisticEqualsItsFormulaPairByPair)
     {
         CSemanticMap m;
         m.likelihoodOptions.model = CSemanticMap::Model::Probabilistic;
-        m.likelihoodOptions.p_confusion = 0.1;
+        m.likelihoodOptions.probabilistic.p_confusion = 0.1;
         for (int i = 1; i <= 12; i++)
         {
             m.addObject({i, labels[static_cast<size_t>(i) % 3], rng.drawUniform(0.0, 20.0),
@@ -697,7 +714,7 @@ TEST(CSemanticMap, SameLabelAmbiguityIsOneToOne)
     CSemanticMap m;
     m.addObject({1, "pillar", 5, 1, 0, 0.3, 1});
     m.addObject({2, "pillar", 5, -1, 0, 0.3, 1});
-    const double logPu = std::log(m.likelihoodOptions.unmatched_penalty);
+    const double logPu = std::log(m.likelihoodOptions.paper.unmatched_penalty);
     CObservationSemantic obs;
     obs.maxRange_m = 10;
     obs.fov_rad = M_PI;
@@ -1253,9 +1270,9 @@ TEST(CSemanticMap, LikelihoodWithoutObjectsIsEveryDetectionClutter)
         const auto& lo = m.likelihoodOptions;
         const double expected =
             model == CSemanticMap::Model::Paper
-                ? 3 * std::log(lo.unmatched_penalty)
-                : -lo.clutter_per_scan +
-                      3 * std::log(lo.clutter_per_scan /
+                ? 3 * std::log(lo.paper.unmatched_penalty)
+                : -lo.probabilistic.clutter_per_scan +
+                      3 * std::log(lo.probabilistic.clutter_per_scan /
                                    (20 * (M_PI / 2) * static_cast<double>(m.labelCount())));
         EXPECT_NEAR(ref, expected, 1e-12);
         EXPECT_NEAR(ref, m.computeLogLikelihood(obs, nothingInView), 1e-12);

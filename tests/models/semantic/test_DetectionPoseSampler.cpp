@@ -54,8 +54,8 @@ void rangeBearing(const CObservationSemantic& obs, const TPose2D& v, double ox, 
 TEST(DetectionPoseSampler, NoiselessPosesSeeTheObjectAtTheDetectedRangeAndBearing)
 {
     auto map = map3();
-    map.likelihoodOptions.sigma_range_m = 0;
-    map.likelihoodOptions.sigma_bearing_deg = 0;
+    map.likelihoodOptions.detector.sigma_range_m = 0;
+    map.likelihoodOptions.detector.sigma_bearing_deg = 0;
     auto obs = observation();
     obs.detections = {detection("pillar", 6.5, 0.3), detection("anchor", 3.0, -0.5)};
     const DetectionPoseSampler sampler(map, obs);
@@ -98,8 +98,8 @@ TEST(DetectionPoseSampler, NoiselessPosesSeeTheObjectAtTheDetectedRangeAndBearin
 TEST(DetectionPoseSampler, NoiseFollowsTheMapsLikelihoodSigmas)
 {
     auto map = map3();
-    map.likelihoodOptions.sigma_range_m = 0.5;
-    map.likelihoodOptions.sigma_bearing_deg = 3;
+    map.likelihoodOptions.detector.sigma_range_m = 0.5;
+    map.likelihoodOptions.detector.sigma_bearing_deg = 3;
     auto obs = observation();
     obs.detections = {detection("anchor", 8.0, 0.2)};
     const DetectionPoseSampler sampler(map, obs);
@@ -124,8 +124,8 @@ TEST(DetectionPoseSampler, NoiseFollowsTheMapsLikelihoodSigmas)
 TEST(DetectionPoseSampler, IdsAreHonouredAndSkippedDetectionsGiveNothing)
 {
     auto map = map3();
-    map.likelihoodOptions.sigma_range_m = 0;
-    map.likelihoodOptions.sigma_bearing_deg = 0;
+    map.likelihoodOptions.detector.sigma_range_m = 0;
+    map.likelihoodOptions.detector.sigma_bearing_deg = 0;
     auto obs = observation();
     // Unknown label, beyond max range, outside the field of view, NaN: nothing to draw.
     obs.detections = {detection("boulder", 5, 0), detection("pillar", 25, 0),

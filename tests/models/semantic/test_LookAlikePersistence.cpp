@@ -33,13 +33,13 @@ std::shared_ptr<CSemanticMap> pillarMap(double rho = kRho)
     m->addObject({1, "pillar", 5, 0, 0, 0.3, 1});
     auto& lo = m->likelihoodOptions;
     lo.model = CSemanticMap::Model::Probabilistic;
-    lo.sigma_range_m = 0.1;
-    lo.sigma_bearing_deg = 1;
-    lo.clutter_per_scan = 0.3;
-    lo.p_confusion = 0;
-    lo.lookalike_persistence = rho;
-    lo.lookalike_speed_mps = 0.3;
-    lo.lookalike_window_s = 1.0;
+    lo.detector.sigma_range_m = 0.1;
+    lo.detector.sigma_bearing_deg = 1;
+    lo.probabilistic.clutter_per_scan = 0.3;
+    lo.probabilistic.p_confusion = 0;
+    lo.lookalike.lookalike_persistence = rho;
+    lo.lookalike.lookalike_speed_mps = 0.3;
+    lo.lookalike.lookalike_window_s = 1.0;
     return m;
 }
 
@@ -66,11 +66,12 @@ double expectedFactor(const CSemanticMap& m, const CObservationSemantic& o, doub
                       double dist, double dt)
 {
     const auto& lo = m.likelihoodOptions;
-    const double sb = lo.sigma_bearing_deg * M_PI / 180;
-    const double var = 2 * lo.sigma_range_m * lo.sigma_range_m + (r1 * r1 + r2 * r2) * sb * sb +
-                       std::pow(lo.lookalike_speed_mps * dt, 2);
+    const double sb = lo.detector.sigma_bearing_deg * M_PI / 180;
+    const double var = 2 * lo.detector.sigma_range_m * lo.detector.sigma_range_m +
+                       (r1 * r1 + r2 * r2) * sb * sb +
+                       std::pow(lo.lookalike.lookalike_speed_mps * dt, 2);
     const double n = std::exp(-0.5 * dist * dist / var) / (2 * M_PI * var);
-    return std::log1p(lo.lookalike_persistence * r2 * n / m.clutterDensity(o));
+    return std::log1p(lo.lookalike.lookalike_persistence * r2 * n / m.clutterDensity(o));
 }
 }  // namespace
 
@@ -127,9 +128,9 @@ TEST(LookAlikePersistence, OptionsAreReadCheckedAndPaperModelRefused)
     c.write("L", "lookalike_window_s", "2");
     CSemanticMap::TLikelihoodOptions lo;
     lo.loadFromConfigFile(c, "L");
-    EXPECT_EQ(lo.lookalike_persistence, 0.3);
-    EXPECT_EQ(lo.lookalike_speed_mps, 0.5);
-    EXPECT_EQ(lo.lookalike_window_s, 2.0);
+    EXPECT_EQ(lo.lookalike.lookalike_persistence, 0.3);
+    EXPECT_EQ(lo.lookalike.lookalike_speed_mps, 0.5);
+    EXPECT_EQ(lo.lookalike.lookalike_window_s, 2.0);
     c.write("L", "lookalike_persistence", "1.5");
     EXPECT_THROW(lo.loadFromConfigFile(c, "L"), std::exception);
     c.write("L", "lookalike_persistence", "0.3");

@@ -96,18 +96,18 @@ CSemanticMap randomMap(Rng& rng, size_t& nLabels)
     CSemanticMap m;
     auto& o = m.likelihoodOptions;
     o.model = rng.chance(0.5) ? CSemanticMap::Model::Paper : CSemanticMap::Model::Probabilistic;
-    o.sigma_range_m = rng.uniform(0.2, 2.0);
-    o.sigma_bearing_deg = rng.uniform(1.0, 10.0);
-    o.unmatched_penalty = rng.uniform(0.02, 0.6);
-    o.missed_object_penalty = rng.pick<double>({0.0, 0.0, 0.3, 0.9, 1.0});
-    o.p_detect_near = rng.uniform(0.3, 0.99);
-    o.p_detect_far = rng.uniform(0.1, 0.99);
-    o.clutter_per_scan = rng.uniform(0.05, 3.0);
-    o.p_confusion = rng.pick<double>({0.0, 0.05, 0.3});
-    o.p_range_outlier = rng.pick<double>({0.0, 0.0, 0.02, 0.3});
-    o.min_confidence = rng.pick<double>({0.0, 0.0, 0.5});
-    o.max_range_m = rng.chance(0.2) ? rng.uniform(5.0, 25.0) : 0.0;
-    o.fov_deg = rng.chance(0.2) ? rng.uniform(20.0, 360.0) : 0.0;
+    o.detector.sigma_range_m = rng.uniform(0.2, 2.0);
+    o.detector.sigma_bearing_deg = rng.uniform(1.0, 10.0);
+    o.paper.unmatched_penalty = rng.uniform(0.02, 0.6);
+    o.paper.missed_object_penalty = rng.pick<double>({0.0, 0.0, 0.3, 0.9, 1.0});
+    o.probabilistic.p_detect_near = rng.uniform(0.3, 0.99);
+    o.probabilistic.p_detect_far = rng.uniform(0.1, 0.99);
+    o.probabilistic.clutter_per_scan = rng.uniform(0.05, 3.0);
+    o.probabilistic.p_confusion = rng.pick<double>({0.0, 0.05, 0.3});
+    o.detector.p_range_outlier = rng.pick<double>({0.0, 0.0, 0.02, 0.3});
+    o.detector.min_confidence = rng.pick<double>({0.0, 0.0, 0.5});
+    o.detector.max_range_m = rng.chance(0.2) ? rng.uniform(5.0, 25.0) : 0.0;
+    o.detector.fov_deg = rng.chance(0.2) ? rng.uniform(20.0, 360.0) : 0.0;
     o.index_cell_m = rng.pick<double>({2.0, 5.0, 3.7});
     nLabels = 1 + rng.index(4);
     const bool uncertain = rng.chance(0.33);
@@ -136,9 +136,10 @@ CSemanticMap randomMap(Rng& rng, size_t& nLabels)
     // In turn, not drawn: the scenes' random streams stay those the coverage counts are for.
     static size_t turn = 0;
     const size_t k = turn++;
-    o.p_detect_edge_ratio = std::array<double, 4>{1.0, 0.3, 1.0, 0.0}[k % 4];
+    o.probabilistic.p_detect_edge_ratio = std::array<double, 4>{1.0, 0.3, 1.0, 0.0}[k % 4];
     // Every third scene's detector reads its ranges with a bias by bearing.
-    o.range_bias_m = k % 3 == 1 ? std::vector<double>{0.4, -0.3, -1.2, 0.5} : std::vector<double>{};
+    o.detector.range_bias_m =
+        k % 3 == 1 ? std::vector<double>{0.4, -0.3, -1.2, 0.5} : std::vector<double>{};
     return m;
 }
 
@@ -277,7 +278,9 @@ std::vector<TPose2D> poses(Rng& rng, const CSemanticMap& m, const Sensor& s, con
         }
     }
     const double cell = m.likelihoodOptions.index_cell_m;
-    const double R = m.likelihoodOptions.max_range_m > 0 ? m.likelihoodOptions.max_range_m : s.R;
+    const double R = m.likelihoodOptions.detector.max_range_m > 0
+                         ? m.likelihoodOptions.detector.max_range_m
+                         : s.R;
     const double side = R / 10;
     std::vector<TPose2D> p;
     p.push_back(truth);
@@ -434,7 +437,7 @@ void compare(const CSemanticMap& m, const OBS& obs, const std::vector<TPose2D>& 
         cov.matched += t.m > 0 ? 1 : 0;
         cov.severalMatched += t.m >= 2 ? 1 : 0;
         cov.contested += t.l > t.m && t.q > t.m && t.m > 0 ? 1 : 0;
-        cov.misreadModel += m.likelihoodOptions.p_range_outlier > 0 && t.m > 0 ? 1 : 0;
+        cov.misreadModel += m.likelihoodOptions.detector.p_range_outlier > 0 && t.m > 0 ? 1 : 0;
         cov.uncertainMap += !paper && uncertainMap(m) && t.m > 0 ? 1 : 0;
         (paper ? cov.paper : cov.probabilistic)++;
     }
@@ -518,15 +521,15 @@ CSemanticMap smallMap(Rng& rng, size_t& nLabels, CSemanticMap::Association assoc
     CSemanticMap m;
     auto& o = m.likelihoodOptions;
     o.model = CSemanticMap::Model::Probabilistic;
-    o.association = association;
-    o.sigma_range_m = rng.uniform(0.2, 2.0);
-    o.sigma_bearing_deg = rng.uniform(1.0, 15.0);
-    o.p_detect_near = rng.uniform(0.3, 0.99);
-    o.p_detect_far = rng.uniform(0.1, 0.99);
-    o.p_detect_edge_ratio = rng.pick<double>({1.0, 1.0, 0.3, 0.0});
-    o.clutter_per_scan = rng.uniform(0.05, 3.0);
-    o.p_confusion = rng.pick<double>({0.0, 0.05, 0.3});
-    o.p_range_outlier = rng.pick<double>({0.0, 0.0, 0.02, 0.3});
+    o.probabilistic.association = association;
+    o.detector.sigma_range_m = rng.uniform(0.2, 2.0);
+    o.detector.sigma_bearing_deg = rng.uniform(1.0, 15.0);
+    o.probabilistic.p_detect_near = rng.uniform(0.3, 0.99);
+    o.probabilistic.p_detect_far = rng.uniform(0.1, 0.99);
+    o.probabilistic.p_detect_edge_ratio = rng.pick<double>({1.0, 1.0, 0.3, 0.0});
+    o.probabilistic.clutter_per_scan = rng.uniform(0.05, 3.0);
+    o.probabilistic.p_confusion = rng.pick<double>({0.0, 0.05, 0.3});
+    o.detector.p_range_outlier = rng.pick<double>({0.0, 0.0, 0.02, 0.3});
     nLabels = 1 + rng.index(2);
     const size_t n = 2 + rng.index(4);
     for (size_t i = 0; i < n; i++)
@@ -659,10 +662,10 @@ TEST(SemanticLikelihoodReference, MarginalAssociationBeyondItsBudgetIsALowerBoun
     CSemanticMap m;
     auto& o = m.likelihoodOptions;
     o.model = CSemanticMap::Model::Probabilistic;
-    o.association = CSemanticMap::Association::Marginal;
-    o.sigma_range_m = 3.0;
-    o.sigma_bearing_deg = 30.0;
-    o.p_confusion = 0;
+    o.probabilistic.association = CSemanticMap::Association::Marginal;
+    o.detector.sigma_range_m = 3.0;
+    o.detector.sigma_bearing_deg = 30.0;
+    o.probabilistic.p_confusion = 0;
     const size_t n = 14;
     for (size_t i = 0; i < n; i++)
     {
@@ -687,23 +690,25 @@ TEST(SemanticLikelihoodReference, MarginalAssociationBeyondItsBudgetIsALowerBoun
     const TPose2D pose{0, 0, 0};
     // The exact value: the model's terms as the reference writes them, summed by denseLogSum.
     const double R = 30, fov = M_PI;
-    const double logKappa = std::log(o.clutter_per_scan / (R * fov));
-    const double sr = o.sigma_range_m, sb = o.sigma_bearing_deg * M_PI / 180;
-    double base = -o.clutter_per_scan + static_cast<double>(n) * logKappa;
+    const double logKappa = std::log(o.probabilistic.clutter_per_scan / (R * fov));
+    const double sr = o.detector.sigma_range_m, sb = o.detector.sigma_bearing_deg * M_PI / 180;
+    double base = -o.probabilistic.clutter_per_scan + static_cast<double>(n) * logKappa;
     std::vector<std::vector<double>> logW(n, std::vector<double>(n));
     for (size_t v = 0; v < n; v++)
     {
         const auto& ob = m.objects()[v];
         const double rho = std::hypot(ob.x, ob.y), theta = std::atan2(ob.y, ob.x);
-        const double pd = std::clamp(o.p_detect_near + (o.p_detect_far - o.p_detect_near) * rho / R,
-                                     1e-6, 1 - 1e-6);
+        const double pd =
+            std::clamp(o.probabilistic.p_detect_near +
+                           (o.probabilistic.p_detect_far - o.probabilistic.p_detect_near) * rho / R,
+                       1e-6, 1 - 1e-6);
         base += std::log(1 - pd);
         for (size_t j = 0; j < n; j++)
         {
             const auto& d = obs.detections[j];
             const double dr = (d.range_m - rho) / sr, db = (d.bearing_rad - theta) / sb;
-            logW[j][v] = std::log(pd / (1 - pd)) + std::log(1 - o.p_confusion) - 0.5 * dr * dr -
-                         0.5 * db * db - std::log(2 * M_PI * sr * sb) - logKappa;
+            logW[j][v] = std::log(pd / (1 - pd)) + std::log(1 - o.probabilistic.p_confusion) -
+                         0.5 * dr * dr - 0.5 * db * db - std::log(2 * M_PI * sr * sb) - logKappa;
         }
     }
     const double exact = base + denseLogSum(logW);

@@ -35,7 +35,7 @@ constexpr double kRadPerSecondPerDegPerMinute = 3.14159265358979323846 / 180.0 /
 class MotionModelConfig
 {
 public:
-    /** semloc's motion model's name ([MotionModel] model). */
+    /** semloc's motion model's name ([MotionModel] kind). */
     static constexpr const char* kOdometryModel = "odometry";
     /** [MotionModel] source. */
     enum class Source
@@ -49,9 +49,9 @@ public:
     /** The section's keys; the defaults of a1..minStdPHI are MRPT's own. */
     struct TOptions : public mrpt::config::CLoadableOptions
     {
-        /** The prediction's motion model by name (MotionModelRegistry): "odometry"
+        /** kind: the prediction's motion model by name (MotionModelRegistry): "odometry"
          *  (OdometryMotionModel, the default) or one a program registered. */
-        std::string model = kOdometryModel;
+        std::string kind = kOdometryModel;
         /** source: rawlog | gaussian. */
         Source source = Source::Rawlog;
         /** Position std per metre travelled [m/m]. */

@@ -1,4 +1,4 @@
-/* semloc — the motion models of the filter's prediction by name ([MotionModel] model). */
+/* semloc — the motion models of the filter's prediction by name ([MotionModel] kind). */
 #pragma once
 
 #include <semloc/filter/MotionModelConfig.h>
@@ -11,7 +11,7 @@
 
 namespace semloc
 {
-/** The prediction's motion models, each created by name from `[MotionModel] model = <name>`
+/** The prediction's motion models, each created by name from `[MotionModel] kind = <name>`
  *  with the section's options (MotionModelConfig::TOptions). semloc's "odometry" (the
  *  default: OdometryMotionModel with the section's heading drift) is registered when the
  *  registry is first used; a program (or a test) registers its own with add() before it
@@ -30,7 +30,7 @@ public:
     static bool has(const std::string& name);
     /** The registered names, "odometry" first, then in registration order. */
     static std::vector<std::string> names();
-    /** The model `options.model` names, made by its factory (throws for an unknown name). */
+    /** The model `options.kind` names, made by its factory (throws for an unknown name). */
     static std::shared_ptr<ParticleMotionModel> create(const MotionModelConfig::TOptions& options);
 };
 

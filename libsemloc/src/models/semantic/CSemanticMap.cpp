@@ -152,7 +152,7 @@ config::TValueRange CSemanticMap::TLikelihoodOptions::range(const std::string& k
 double CSemanticMap::TLikelihoodOptions::correctedRange(double rho, double theta, double R,
                                                         double fov) const
 {
-    return rangeLessBias(range_bias_m, rho, theta, R, fov);
+    return rangeLessBias(detector.range_bias_m, rho, theta, R, fov);
 }
 
 void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
@@ -162,59 +162,64 @@ void CSemanticMap::TLikelihoodOptions::loadFromConfigFile(const mrpt::config::CC
     std::string m = modelName(model);
     config::readChoice(c, s, "model", m, {"paper", "probabilistic"});
     model = (m == "paper") ? Model::Paper : Model::Probabilistic;
-    std::string a = association == Association::Marginal ? "marginal" : "greedy";
+    std::string a = probabilistic.association == Association::Marginal ? "marginal" : "greedy";
     config::readChoice(c, s, "association", a, {"greedy", "marginal"});
-    association = (a == "marginal") ? Association::Marginal : Association::Greedy;
-    if (association == Association::Marginal && model != Model::Probabilistic)
+    probabilistic.association = (a == "marginal") ? Association::Marginal : Association::Greedy;
+    if (probabilistic.association == Association::Marginal && model != Model::Probabilistic)
     {
         THROW_EXCEPTION(
             "ini [" + s +
             "] association: 'marginal' sums the probabilistic model over every "
             "association; set model = probabilistic (the paper model matches greedily)");
     }
-    config::readDouble(c, s, "sigma_range_m", sigma_range_m, range("sigma_range_m"));
-    config::readDouble(c, s, "sigma_bearing_deg", sigma_bearing_deg, range("sigma_bearing_deg"));
-    config::readDouble(c, s, "p_range_outlier", p_range_outlier, range("p_range_outlier"));
-    config::readDouble(c, s, "unmatched_penalty", unmatched_penalty, range("unmatched_penalty"));
-    config::readDouble(c, s, "missed_object_penalty", missed_object_penalty,
+    config::readDouble(c, s, "sigma_range_m", detector.sigma_range_m, range("sigma_range_m"));
+    config::readDouble(c, s, "sigma_bearing_deg", detector.sigma_bearing_deg,
+                       range("sigma_bearing_deg"));
+    config::readDouble(c, s, "p_range_outlier", detector.p_range_outlier, range("p_range_outlier"));
+    config::readDouble(c, s, "unmatched_penalty", paper.unmatched_penalty,
+                       range("unmatched_penalty"));
+    config::readDouble(c, s, "missed_object_penalty", paper.missed_object_penalty,
                        range("missed_object_penalty"));
-    if (missed_object_penalty > 0 && missed_object_penalty < 1e-12)
+    if (paper.missed_object_penalty > 0 && paper.missed_object_penalty < 1e-12)
     {
         THROW_EXCEPTION("ini [" + s +
                         "] missed_object_penalty: must be 0 (unmatched_penalty) or "
                         "at least 1e-12");
     }
-    config::readDouble(c, s, "p_detect_near", p_detect_near, range("p_detect_near"));
-    config::readDouble(c, s, "p_detect_far", p_detect_far, range("p_detect_far"));
-    config::readDouble(c, s, "p_detect_edge_ratio", p_detect_edge_ratio,
+    config::readDouble(c, s, "p_detect_near", probabilistic.p_detect_near, range("p_detect_near"));
+    config::readDouble(c, s, "p_detect_far", probabilistic.p_detect_far, range("p_detect_far"));
+    config::readDouble(c, s, "p_detect_edge_ratio", probabilistic.p_detect_edge_ratio,
                        range("p_detect_edge_ratio"));
-    config::readDoubles(c, s, "range_bias_m", range_bias_m, kRangeBiasTerms, -kMaxRangeBias_m,
-                        kMaxRangeBias_m);
-    if (std::all_of(range_bias_m.begin(), range_bias_m.end(), [](double b) { return b == 0; }))
+    config::readDoubles(c, s, "range_bias_m", detector.range_bias_m, kRangeBiasTerms,
+                        -kMaxRangeBias_m, kMaxRangeBias_m);
+    if (std::all_of(detector.range_bias_m.begin(), detector.range_bias_m.end(),
+                    [](double b) { return b == 0; }))
     {
-        range_bias_m.clear();  // none
+        detector.range_bias_m.clear();  // none
     }
-    config::readDouble(c, s, "clutter_per_scan", clutter_per_scan, range("clutter_per_scan"));
-    config::readDouble(c, s, "p_confusion", p_confusion, range("p_confusion"));
-    config::readDouble(c, s, "min_confidence", min_confidence, range("min_confidence"));
-    config::readDouble(c, s, "max_range_m", max_range_m, range("max_range_m"));
-    config::readDouble(c, s, "fov_deg", fov_deg, range("fov_deg"));
+    config::readDouble(c, s, "clutter_per_scan", probabilistic.clutter_per_scan,
+                       range("clutter_per_scan"));
+    config::readDouble(c, s, "p_confusion", probabilistic.p_confusion, range("p_confusion"));
+    config::readDouble(c, s, "min_confidence", detector.min_confidence, range("min_confidence"));
+    config::readDouble(c, s, "max_range_m", detector.max_range_m, range("max_range_m"));
+    config::readDouble(c, s, "fov_deg", detector.fov_deg, range("fov_deg"));
     config::readDouble(c, s, "index_cell_m", index_cell_m, range("index_cell_m"));
-    config::readDouble(c, s, "outage_every_s", outage_every_s, range("outage_every_s"));
-    config::readDouble(c, s, "outage_mean_s", outage_mean_s, range("outage_mean_s"));
-    config::readDouble(c, s, "lookalike_persistence", lookalike_persistence,
+    config::readDouble(c, s, "outage_every_s", outage.outage_every_s, range("outage_every_s"));
+    config::readDouble(c, s, "outage_mean_s", outage.outage_mean_s, range("outage_mean_s"));
+    config::readDouble(c, s, "lookalike_persistence", lookalike.lookalike_persistence,
                        range("lookalike_persistence"));
-    config::readDouble(c, s, "lookalike_speed_mps", lookalike_speed_mps,
+    config::readDouble(c, s, "lookalike_speed_mps", lookalike.lookalike_speed_mps,
                        range("lookalike_speed_mps"));
-    config::readDouble(c, s, "lookalike_window_s", lookalike_window_s, range("lookalike_window_s"));
-    if (lookalike_persistence > 0 && model != Model::Probabilistic)
+    config::readDouble(c, s, "lookalike_window_s", lookalike.lookalike_window_s,
+                       range("lookalike_window_s"));
+    if (lookalike.lookalike_persistence > 0 && model != Model::Probabilistic)
     {
         THROW_EXCEPTION("ini [" + s +
                         "] lookalike_persistence: the look-alike model is part of the "
                         "probabilistic model; set model = probabilistic or "
                         "lookalike_persistence = 0");
     }
-    if (outage_every_s > 0 && model != Model::Probabilistic)
+    if (outage.outage_every_s > 0 && model != Model::Probabilistic)
     {
         THROW_EXCEPTION("ini [" + s +
                         "] outage_every_s: the detector outage model is part of the "
@@ -227,40 +232,45 @@ void CSemanticMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFil
 {
     c.write(s, "model", std::string(modelName(model)), 24, 24, "paper | probabilistic");
     c.write(s, "association",
-            std::string(association == Association::Marginal ? "marginal" : "greedy"), 24, 24,
-            "probabilistic: greedy (best association) | marginal (sum over all)");
-    detail::writeExact(c, s, "sigma_range_m", sigma_range_m, "range noise sigma_rho [m]");
-    detail::writeExact(c, s, "sigma_bearing_deg", sigma_bearing_deg,
+            std::string(probabilistic.association == Association::Marginal ? "marginal" : "greedy"),
+            24, 24, "probabilistic: greedy (best association) | marginal (sum over all)");
+    detail::writeExact(c, s, "sigma_range_m", detector.sigma_range_m, "range noise sigma_rho [m]");
+    detail::writeExact(c, s, "sigma_bearing_deg", detector.sigma_bearing_deg,
                        "bearing noise sigma_theta [deg]");
-    detail::writeExact(c, s, "p_range_outlier", p_range_outlier,
+    detail::writeExact(c, s, "p_range_outlier", detector.p_range_outlier,
                        "P(range misread: uniform over [0, max range]), [0,1)");
-    detail::writeExact(c, s, "unmatched_penalty", unmatched_penalty,
+    detail::writeExact(c, s, "unmatched_penalty", paper.unmatched_penalty,
                        "paper: factor per object in one observation only, (0,1)");
-    detail::writeExact(c, s, "missed_object_penalty", missed_object_penalty,
+    detail::writeExact(c, s, "missed_object_penalty", paper.missed_object_penalty,
                        "paper: factor per predicted object not detected; 0: unmatched_penalty");
-    detail::writeExact(c, s, "p_detect_near", p_detect_near, "probabilistic: P_D at range 0");
-    detail::writeExact(c, s, "p_detect_far", p_detect_far, "probabilistic: P_D at max range");
-    detail::writeExact(c, s, "p_detect_edge_ratio", p_detect_edge_ratio,
+    detail::writeExact(c, s, "p_detect_near", probabilistic.p_detect_near,
+                       "probabilistic: P_D at range 0");
+    detail::writeExact(c, s, "p_detect_far", probabilistic.p_detect_far,
+                       "probabilistic: P_D at max range");
+    detail::writeExact(c, s, "p_detect_edge_ratio", probabilistic.p_detect_edge_ratio,
                        "probabilistic: P_D at the edge of the view / on its axis");
-    detail::writeExactList(c, s, "range_bias_m", range_bias_m,
+    detail::writeExactList(c, s, "range_bias_m", detector.range_bias_m,
                            "range bias c0, c1, c2, c3 [m] in bearing / half the view");
-    detail::writeExact(c, s, "clutter_per_scan", clutter_per_scan,
+    detail::writeExact(c, s, "clutter_per_scan", probabilistic.clutter_per_scan,
                        "probabilistic: mean false positives per scan");
-    detail::writeExact(c, s, "p_confusion", p_confusion, "probabilistic: P(wrong label)");
-    detail::writeExact(c, s, "min_confidence", min_confidence, "ignore detections below this");
-    detail::writeExact(c, s, "max_range_m", max_range_m,
+    detail::writeExact(c, s, "p_confusion", probabilistic.p_confusion,
+                       "probabilistic: P(wrong label)");
+    detail::writeExact(c, s, "min_confidence", detector.min_confidence,
+                       "ignore detections below this");
+    detail::writeExact(c, s, "max_range_m", detector.max_range_m,
                        ">0 overrides the observation's max range");
-    detail::writeExact(c, s, "fov_deg", fov_deg, ">0 overrides the observation's field of view");
+    detail::writeExact(c, s, "fov_deg", detector.fov_deg,
+                       ">0 overrides the observation's field of view");
     detail::writeExact(c, s, "index_cell_m", index_cell_m, "cell of the object index [m]");
-    detail::writeExact(c, s, "outage_every_s", outage_every_s,
+    detail::writeExact(c, s, "outage_every_s", outage.outage_every_s,
                        "probabilistic: mean time between detector outages [s], 0 = none");
-    detail::writeExact(c, s, "outage_mean_s", outage_mean_s,
+    detail::writeExact(c, s, "outage_mean_s", outage.outage_mean_s,
                        "probabilistic: mean length of an outage [s]");
-    detail::writeExact(c, s, "lookalike_persistence", lookalike_persistence,
+    detail::writeExact(c, s, "lookalike_persistence", lookalike.lookalike_persistence,
                        "probabilistic: look-alikes' detections per scan after one, 0 = none");
-    detail::writeExact(c, s, "lookalike_speed_mps", lookalike_speed_mps,
+    detail::writeExact(c, s, "lookalike_speed_mps", lookalike.lookalike_speed_mps,
                        "probabilistic: look-alikes' largest speed [m/s]");
-    detail::writeExact(c, s, "lookalike_window_s", lookalike_window_s,
+    detail::writeExact(c, s, "lookalike_window_s", lookalike.lookalike_window_s,
                        "probabilistic: look-alikes' earlier detections kept [s]");
 }
 

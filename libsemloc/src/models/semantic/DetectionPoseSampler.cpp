@@ -25,8 +25,8 @@ DetectionPoseSampler::DetectionPoseSampler(const CSemanticMap& map, const CObser
       m_sensorX(obs.sensorPose.x()),
       m_sensorY(obs.sensorPose.y()),
       m_sensorYaw(obs.sensorPose.yaw()),
-      m_sigmaRange(map.likelihoodOptions.sigma_range_m),
-      m_sigmaBearing(mrpt::DEG2RAD(map.likelihoodOptions.sigma_bearing_deg))
+      m_sigmaRange(map.likelihoodOptions.detector.sigma_range_m),
+      m_sigmaBearing(mrpt::DEG2RAD(map.likelihoodOptions.detector.sigma_bearing_deg))
 {
     for (const auto& d : obs.detections)
     {

@@ -23,12 +23,12 @@ void LookAlikeMemory::note(const CObservationSemantic& obs, const CSemanticMap& 
             "time between scans (set the timestamps, or lookalike_persistence = 0)");
     }
     const double t = mrpt::Clock::toDouble(obs.timestamp);
-    forget(t, lo.lookalike_window_s);
+    forget(t, lo.lookalike.lookalike_window_s);
     const double kappa = map.clutterDensity(obs);
     const double R = lo.maxRange(obs), fov = lo.fieldOfView(obs);
-    const double sb = lo.sigma_bearing_deg * M_PI / 180.0;
-    const double sr2 = lo.sigma_range_m * lo.sigma_range_m;
-    const double u = lo.lookalike_speed_mps;
+    const double sb = lo.detector.sigma_bearing_deg * M_PI / 180.0;
+    const double sr2 = lo.detector.sigma_range_m * lo.detector.sigma_range_m;
+    const double u = lo.lookalike.lookalike_speed_mps;
     // The detector's pose in the odometry frame.
     const auto& sp = obs.sensorPose;
     const double c = std::cos(odometry.phi), s = std::sin(odometry.phi);
@@ -52,7 +52,7 @@ void LookAlikeMemory::note(const CObservationSemantic& obs, const CSemanticMap& 
         const double best = nearestDensity(p, u);
         if (kappa > 0)
         {
-            factors[k] = std::log1p(lo.lookalike_persistence * r * best / kappa);
+            factors[k] = std::log1p(lo.lookalike.lookalike_persistence * r * best / kappa);
         }
         remember(std::move(p));
     }

@@ -85,12 +85,13 @@ void rangesBlock(const CSemanticMap::Index& ix, Scratch& sc, size_t ne,
     const double* LY = sc.bLy.data();
     double* RR = sc.bR.data();
     double* PD = sc.bPd.data();
-    const double pNear = opt.p_detect_near, slope = opt.p_detect_far - opt.p_detect_near;
+    const double pNear = opt.probabilistic.p_detect_near,
+                 slope = opt.probabilistic.p_detect_far - opt.probabilistic.p_detect_near;
     const Vec2 vnear{pNear, pNear}, vslope{slope, slope}, vR{R, R};
     const Vec2 lo{1e-6, 1e-6}, hi{1 - 1e-6, 1 - 1e-6};
-    const bool taper = opt.p_detect_edge_ratio < 1 && fov < 2 * M_PI;
+    const bool taper = opt.probabilistic.p_detect_edge_ratio < 1 && fov < 2 * M_PI;
     // P_D times 1 - drop min(|theta| / half, 1)
-    const double drop = 1 - opt.p_detect_edge_ratio, perRad = taper ? 2 / fov : 0.0;
+    const double drop = 1 - opt.probabilistic.p_detect_edge_ratio, perRad = taper ? 2 / fov : 0.0;
     const Vec2 vdrop{drop, drop}, vperRad{perRad, perRad}, one{1.0, 1.0};
     for (size_t e = 0; e < ne; e += 2)
     {

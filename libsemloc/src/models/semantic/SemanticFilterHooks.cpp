@@ -57,17 +57,17 @@ BatchLikelihood::TObservationPlan CSemanticMap::plan(const mrpt::obs::CObservati
         // the poses that should see objects, scan after scan.
         p.silent = c.used == 0 && c.invalid == 0;
         p.logLikWithoutMap = logLikelihoodWithoutObjects(*detections, &p.readingsWithoutMap);
-        p.remembered = lo.lookalike_persistence > 0 && probabilistic(*this);
+        p.remembered = lo.lookalike.lookalike_persistence > 0 && probabilistic(*this);
     }
     else if (const auto* br = dynamic_cast<const mrpt::obs::CObservationBearingRange*>(&obs))
     {
         p.silent = br->sensedData.empty();
         p.logLikWithoutMap = logLikelihoodWithoutObjects(*br, &p.readingsWithoutMap);
     }
-    if (lo.outage_every_s > 0 && probabilistic(*this))
+    if (lo.outage.outage_every_s > 0 && probabilistic(*this))
     {
-        p.outage_every_s = lo.outage_every_s;
-        p.outage_mean_s = lo.outage_mean_s;
+        p.outage_every_s = lo.outage.outage_every_s;
+        p.outage_mean_s = lo.outage.outage_mean_s;
     }
     return p;
 }
@@ -104,7 +104,7 @@ std::unique_ptr<BatchLikelihood::PoseProposal> CSemanticMap::proposal(
 
 std::string CSemanticMap::needsStandardProposal() const
 {
-    return likelihoodOptions.outage_every_s > 0
+    return likelihoodOptions.outage.outage_every_s > 0
                ? "the semantic map's outage_every_s > 0 (detector outage model)"
                : "";
 }

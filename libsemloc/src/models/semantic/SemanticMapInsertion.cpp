@@ -39,7 +39,7 @@ std::vector<NewDetection> inWorld(const CObservationSemantic& o,
                                   const mrpt::poses::CPose3D& vehicle,
                                   const CSemanticMap::TLikelihoodOptions& opt)
 {
-    const double minConfidence = opt.min_confidence;
+    const double minConfidence = opt.detector.min_confidence;
     const double R = opt.maxRange(o);
     const double fov = opt.fieldOfView(o);
     std::vector<NewDetection> news;
@@ -157,9 +157,10 @@ void updateSurety(CSemanticMap::TObject& ob, double sigmaRange)
 double CSemanticMap::TLikelihoodOptions::detectionProbability(double rho, double R, double theta,
                                                               double fov) const
 {
-    return std::clamp(semloc::detectionProbability(p_detect_near, p_detect_far, p_detect_edge_ratio,
-                                                   rho, R, theta, fov),
-                      1e-6, 1.0);
+    return std::clamp(
+        semloc::detectionProbability(probabilistic.p_detect_near, probabilistic.p_detect_far,
+                                     probabilistic.p_detect_edge_ratio, rho, R, theta, fov),
+        1e-6, 1.0);
 }
 
 std::vector<CSemanticMap::TObjectInView> CSemanticMap::objectsInView(
@@ -224,7 +225,7 @@ bool CSemanticMap::internal_insertObservation(
     }
     for (auto& ob : m_objects)
     {
-        updateSurety(ob, likelihoodOptions.sigma_range_m);
+        updateSurety(ob, likelihoodOptions.detector.sigma_range_m);
     }
     rebuildIndex();
     return !news.empty();

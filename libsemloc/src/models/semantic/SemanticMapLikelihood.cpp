@@ -64,8 +64,8 @@ Sensor prepare(const CObservationSemantic& obs, const CSemanticMap::TLikelihoodO
                const CSemanticMap::Index& ix, const LabelIndex& labels, Scratch& sc,
                const double* clutterLogFactors = nullptr)
 {
-    const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxRange_m;
-    const double fov = lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : obs.fov_rad;
+    const double R = lo.detector.max_range_m > 0 ? lo.detector.max_range_m : obs.maxRange_m;
+    const double fov = lo.detector.fov_deg > 0 ? lo.detector.fov_deg * M_PI / 180.0 : obs.fov_rad;
     const Sensor s = sensorOf(R, fov, obs.sensorPose);
     sc.dets.clear();
     if (!s.usable)
@@ -74,7 +74,7 @@ Sensor prepare(const CObservationSemantic& obs, const CSemanticMap::TLikelihoodO
     }
     for (const auto& d : obs.detections)
     {
-        if (!CObservationSemantic::isValid(d, R, fov) || d.confidence < lo.min_confidence)
+        if (!CObservationSemantic::isValid(d, R, fov) || d.confidence < lo.detector.min_confidence)
         {
             continue;
         }
@@ -105,9 +105,9 @@ Sensor prepare(const mrpt::obs::CObservationBearingRange& obs,
                const LabelIndex& /*labels*/, Scratch& sc,
                const double* /*clutterLogFactors*/ = nullptr)
 {
-    const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxSensorDistance;
-    double fov =
-        lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : static_cast<double>(obs.fieldOfView_yaw);
+    const double R = lo.detector.max_range_m > 0 ? lo.detector.max_range_m : obs.maxSensorDistance;
+    double fov = lo.detector.fov_deg > 0 ? lo.detector.fov_deg * M_PI / 180.0
+                                         : static_cast<double>(obs.fieldOfView_yaw);
     if (fov == 0)
     {
         fov = 2 * M_PI;  // MRPT leaves it 0 when the sensor has no FOV limit
@@ -263,7 +263,8 @@ double CSemanticMap::clutterDensity(const CObservationSemantic& obs) const
     const double R = likelihoodOptions.maxRange(obs);
     const double fov = std::min(likelihoodOptions.fieldOfView(obs), 2 * M_PI);
     const double labels = static_cast<double>(std::max<size_t>(1, m_labels->size()));
-    return R > 0 && fov > 0 ? likelihoodOptions.clutter_per_scan / (R * fov * labels) : 0.0;
+    return R > 0 && fov > 0 ? likelihoodOptions.probabilistic.clutter_per_scan / (R * fov * labels)
+                            : 0.0;
 }
 
 void CSemanticMap::computeLogLikelihoods(const mrpt::obs::CObservationBearingRange& obs,
@@ -320,9 +321,9 @@ CSemanticMap::TObservationCheck CSemanticMap::check(const CObservationSemantic& 
 bool CSemanticMap::isUsable(const CObservationSemantic& obs, const TSemanticDetection& d) const
 {
     const auto& lo = likelihoodOptions;
-    const double R = lo.max_range_m > 0 ? lo.max_range_m : obs.maxRange_m;
-    const double fov = lo.fov_deg > 0 ? lo.fov_deg * M_PI / 180.0 : obs.fov_rad;
-    return CObservationSemantic::isValid(d, R, fov) && d.confidence >= lo.min_confidence;
+    const double R = lo.detector.max_range_m > 0 ? lo.detector.max_range_m : obs.maxRange_m;
+    const double fov = lo.detector.fov_deg > 0 ? lo.detector.fov_deg * M_PI / 180.0 : obs.fov_rad;
+    return CObservationSemantic::isValid(d, R, fov) && d.confidence >= lo.detector.min_confidence;
 }
 
 std::vector<size_t> CSemanticMap::candidatesOf(const CObservationSemantic& obs,

@@ -183,13 +183,9 @@ public:
      *  linked detections and objects keeps; beyond, the heaviest are kept. */
     static constexpr size_t kMarginalMaxStates = 4096;
 
-    /** Parameters of the likelihood models; defaults are the documented ones. */
-    struct TLikelihoodOptions : public mrpt::config::CLoadableOptions
+    /** The detector's noise and coverage, read by both likelihoods. */
+    struct TDetectorParam
     {
-        /** "paper" or "probabilistic". */
-        Model model = Model::Paper;
-        /** "greedy" or "marginal" (probabilistic model only). */
-        Association association = Association::Greedy;
         /** Range noise of a detection, sigma_rho [m]. */
         double sigma_range_m = 0.5;
         /** Bearing noise of a detection, sigma_theta [deg]. */
@@ -198,60 +194,93 @@ public:
          *  object): uniform over [0, max range] instead of Gaussian around the object's, its
          *  bearing still Gaussian (see the class documentation); in [0, 1), 0: none. */
         double p_range_outlier = 0.0;
-        /** paper: factor p_u in (0, 1] per object present in one observation only. */
-        double unmatched_penalty = 0.2;
-        /** paper: the factor per predicted object no detection matched, in [0, 1]; 0: the
-         *  same as unmatched_penalty (§III's single p_u). 1: a missed object costs nothing,
-         *  so a pose that predicts objects the detector missed no longer loses to poses that
-         *  predict fewer (a detector that misses objects; docs/design.md). */
-        double missed_object_penalty = 0.0;
-        /** probabilistic: detection probability of an object at zero range. */
-        double p_detect_near = 0.95;
-        /** probabilistic: detection probability of an object at max range. */
-        double p_detect_far = 0.6;
-        /** probabilistic: P_D of an object at the edge of the field of view over P_D of one on
-         *  its axis at the same range, linear in |bearing| between, in [0, 1]; 1: the same
-         *  across the field of view (a camera that misses objects near its image's border). */
-        double p_detect_edge_ratio = 1.0;
         /** The detector's range bias by bearing [m]: up to 4 coefficients of rangeBias()
          *  (DetectionProbability.h), c0 + c1 u + c2 u^2 + c3 u^3 with u the bearing over half
          *  the field of view; each detection's range is read less it (at least 0) by both
          *  models. Empty (default) or zeros: none. */
         std::vector<double> range_bias_m;
-        /** probabilistic: expected false positives per scan (Poisson mean). */
-        double clutter_per_scan = 0.2;
-        /** probabilistic: probability a detection carries a wrong label. */
-        double p_confusion = 0.05;
         /** Detections with lower confidence are ignored. */
         double min_confidence = 0.0;
         /** Overrides the observation's max range when > 0 [m]. */
         double max_range_m = 0.0;
         /** Overrides the observation's field of view when > 0 [deg]. */
         double fov_deg = 0.0;
-        /** Cell size of the object index [m]; a quarter of the detector range is about best. */
-        double index_cell_m = 5.0;
-        /** probabilistic: mean time between detector outages [s] (spells in which the
-         *  detector reports nothing at all, whatever is in view); 0: no outage model. The
-         *  filter (CParallelMonteCarloLocalization2D) keeps the probability of an outage. */
+    };
+
+    /** The paper's likelihood (model = paper). */
+    struct TPaperParam
+    {
+        /** Factor p_u in (0, 1] per object present in one observation only. */
+        double unmatched_penalty = 0.2;
+        /** The factor per predicted object no detection matched, in [0, 1]; 0: the same as
+         *  unmatched_penalty (§III's single p_u). 1: a missed object costs nothing, so a pose
+         *  that predicts objects the detector missed no longer loses to poses that predict
+         *  fewer (a detector that misses objects; docs/design.md). */
+        double missed_object_penalty = 0.0;
+    };
+
+    /** The probabilistic likelihood (model = probabilistic). */
+    struct TProbabilisticParam
+    {
+        /** "greedy" or "marginal". */
+        Association association = Association::Greedy;
+        /** Detection probability of an object at zero range. */
+        double p_detect_near = 0.95;
+        /** Detection probability of an object at max range. */
+        double p_detect_far = 0.6;
+        /** P_D of an object at the edge of the field of view over P_D of one on its axis at
+         *  the same range, linear in |bearing| between, in [0, 1]; 1: the same across the
+         *  field of view (a camera that misses objects near its image's border). */
+        double p_detect_edge_ratio = 1.0;
+        /** Expected false positives per scan (Poisson mean). */
+        double clutter_per_scan = 0.2;
+        /** Probability a detection carries a wrong label. */
+        double p_confusion = 0.05;
+    };
+
+    /** The detector's outages (probabilistic model). */
+    struct TOutageParam
+    {
+        /** Mean time between detector outages [s] (spells in which the detector reports
+         *  nothing at all, whatever is in view); 0: no outage model. The filter
+         *  (CParallelMonteCarloLocalization2D) keeps the probability of an outage. */
         double outage_every_s = 0.0;
-        /** probabilistic: mean length of an outage [s] (with outage_every_s > 0). */
+        /** Mean length of an outage [s] (with outage_every_s > 0). */
         double outage_mean_s = 60.0;
-        /** probabilistic: look-alikes that persist, rho in [0, 1]: the expected detections,
-         *  per scan, of an unmapped object (another vehicle, a diver) detected under a
-         *  map label in an earlier scan of the last lookalike_window_s. A detection near
-         *  such an earlier one (in the vehicle's odometry frame, same label) gets the
-         *  clutter density kappa + rho N(its position; the earlier one's, the two
-         *  detections' noise and lookalike_speed_mps dt) instead of kappa: a look-alike
-         *  seen scan after scan costs the poses that cannot explain it once, not every
-         *  scan. 0: clutter uniform and independent from scan to scan. Needs the filter's
-         *  frame-to-frame state (CParallelMonteCarloLocalization2D); a generic
+    };
+
+    /** Look-alikes that persist (probabilistic model). */
+    struct TLookAlikeParam
+    {
+        /** rho in [0, 1]: the expected detections, per scan, of an unmapped object (another
+         *  vehicle, a diver) detected under a map label in an earlier scan of the last
+         *  lookalike_window_s. A detection near such an earlier one (in the vehicle's odometry
+         *  frame, same label) gets the clutter density kappa + rho N(its position; the earlier
+         *  one's, the two detections' noise and lookalike_speed_mps dt) instead of kappa: a
+         *  look-alike seen scan after scan costs the poses that cannot explain it once, not
+         *  every scan. 0: clutter uniform and independent from scan to scan. Needs the
+         *  filter's frame-to-frame state (CParallelMonteCarloLocalization2D); a generic
          *  computeObservationLikelihood() call leaves it out. */
         double lookalike_persistence = 0.0;
-        /** probabilistic: how fast a look-alike may move [m/s] (lookalike_persistence). */
+        /** How fast a look-alike may move [m/s]. */
         double lookalike_speed_mps = 0.3;
-        /** probabilistic: how far back earlier detections are remembered [s]
-         *  (lookalike_persistence). */
+        /** How far back earlier detections are remembered [s]. */
         double lookalike_window_s = 1.0;
+    };
+
+    /** Parameters of the likelihood models, one `[..._likelihoodOpts]` section (its keys flat,
+     *  as they always were); defaults are the documented ones. */
+    struct TLikelihoodOptions : public mrpt::config::CLoadableOptions
+    {
+        /** "paper" or "probabilistic". */
+        Model model = Model::Paper;
+        /** Cell size of the object index [m]; a quarter of the detector range is about best. */
+        double index_cell_m = 5.0;
+        TDetectorParam detector;
+        TPaperParam paper;
+        TProbabilisticParam probabilistic;
+        TOutageParam outage;
+        TLookAlikeParam lookalike;
 
         /** The values loadFromConfigFile() accepts for the numeric key `key` (throws for a
          *  key that is not a number): what a tool writing the key must keep to. */
@@ -261,13 +290,13 @@ public:
          *  observation's. */
         double maxRange(const CObservationSemantic& obs) const
         {
-            return max_range_m > 0 ? max_range_m : obs.maxRange_m;
+            return detector.max_range_m > 0 ? detector.max_range_m : obs.maxRange_m;
         }
         /** The detector's field of view for `obs` [rad]: fov_deg if > 0, else the
          *  observation's. */
         double fieldOfView(const CObservationSemantic& obs) const
         {
-            return fov_deg > 0 ? fov_deg * M_PI / 180 : obs.fov_rad;
+            return detector.fov_deg > 0 ? detector.fov_deg * M_PI / 180 : obs.fov_rad;
         }
         /** P_D(rho, theta) of the probabilistic model for a detector of max range `R` and
          *  field of view `fov` [rad], for an object at range `rho` [m] and bearing `theta`
