@@ -1,14 +1,13 @@
 /* semloc — SensoryFrameLikelihood: MRPT's per-particle observation likelihood, per chunk. */
-#include <mrpt/maps/CBeaconMap.h>
 #include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/maps/COccupancyGridMap2D.h>
 #include <mrpt/maps/CSimplePointsMap.h>
-#include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/poses/CPose3D.h>
 #include <semloc/filter/ParallelExecutor.h>
 #include <semloc/filter/SensoryFrameLikelihood.h>
 #include <semloc/io/Interrupt.h>
 #include <semloc/models/BatchLikelihood.h>
+#include <semloc/models/SensorModelRegistry.h>
 
 #include <algorithm>
 #include <atomic>
@@ -17,7 +16,6 @@
 #include <typeinfo>
 
 #include "filter/DetectorOutage.h"
-#include "models/beacon/BeaconRangeLikelihood.h"
 
 namespace semloc
 {
@@ -69,22 +67,6 @@ size_t addObservation(double* out, const double* v, size_t m, bool first, bool l
                 : addObservationAs<false, false>(out, v, m);
 }
 
-bool isBeaconRanges(const mrpt::obs::CObservation& obs)
-{
-    return typeid(obs) == typeid(mrpt::obs::CObservationBeaconRanges);
-}
-
-/** Whether `map` scores `obs` at all: CBeaconMap says it can score any observation, and
- *  scores (adds anything but 0 for) beacon ranges only. */
-bool scores(const mrpt::maps::CMetricMap& map, const mrpt::obs::CObservation& obs)
-{
-    if (typeid(map) == typeid(mrpt::maps::CBeaconMap))
-    {
-        return isBeaconRanges(obs);
-    }
-    return map.canComputeObservationLikelihood(obs);
-}
-
 bool isThreadSafeGrid(const COccupancyGridMap2D& g)
 {
     // These two methods only read the grid (the likelihood field through its cache, filled
@@ -110,31 +92,48 @@ SensoryFrameLikelihood::SensoryFrameLikelihood(const mrpt::maps::CMetricMap& map
     {
         m_maps.push_back(&map);
     }
+    // Each map's sensor model: the map itself, or what its kind evaluates it by in blocks
+    // (MRPT's CBeaconMap), else none (MRPT's generic call).
+    for (const auto* m : m_maps)
+    {
+        const auto* model = dynamic_cast<const BatchLikelihood*>(m);
+        if (!model)
+        {
+            if (const auto* kind = SensorModelRegistry::of(*m))
+            {
+                if (auto batch = kind->batchOf(*m))
+                {
+                    model = batch.get();
+                    m_adapters.push_back(std::move(batch));
+                }
+            }
+            m_adapted.push_back(model != nullptr);
+        }
+        else
+        {
+            m_adapted.push_back(false);
+        }
+        m_models.push_back(model);
+    }
 }
 
 SensoryFrameLikelihood::~SensoryFrameLikelihood() = default;
 
-SensoryFrameLikelihood::Path SensoryFrameLikelihood::choosePath(
-    const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map) const
+SensoryFrameLikelihood::Path SensoryFrameLikelihood::choosePath(const mrpt::obs::CObservation& obs,
+                                                                const mrpt::maps::CMetricMap& map,
+                                                                const BatchLikelihood* model) const
 {
     if (!map.genericMapParams.enableObservationLikelihood)
     {
         return Path::Zero;  // CMetricMap::computeObservationLikelihood returns 0
     }
-    // A sensor model of its own (semloc's models, a program's): its batch.
-    if (const auto* model = dynamic_cast<const BatchLikelihood*>(&map))
+    // A sensor model (semloc's, a program's, or the batch of an MRPT map's kind): its batch.
+    if (model)
     {
         return model->uses(obs) ? Path::Model : Path::Zero;
     }
-    // MRPT's maps: the generic call, in parallel where it only reads the map and the
-    // observation. CBeaconMap (range-only acoustic beacons, LBL) scores
-    // CObservationBeaconRanges only (0 for any other observation, as it returns), by its own
-    // terms with each range's beacon looked up once per frame (detail::BeaconRangeTerm);
-    // exact types, as a subclass may keep state of its own.
-    if (typeid(map) == typeid(mrpt::maps::CBeaconMap))
-    {
-        return isBeaconRanges(obs) ? Path::Beacons : Path::Zero;
-    }
+    // MRPT's other maps: the generic call, in parallel where it only reads the map and the
+    // observation.
     if (const auto* grid = dynamic_cast<const COccupancyGridMap2D*>(&map);
         grid && isThreadSafeGrid(*grid))
     {
@@ -204,7 +203,6 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
     m_outage = TOutageTerms();
     m_outageMixed = false;
     m_withoutObjects = TWithoutObjects();
-    m_nBeaconTerms = 0;
     bool anyParallelGeneric = false;
     for (const auto& o : sf)
     {
@@ -213,10 +211,15 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
             continue;
         }
         bool usable = false, first = true, checked = false;
-        for (const auto* map : m_maps)
+        for (size_t k = 0; k < m_maps.size(); k++)
         {
-            usable = usable || scores(*map, *o);
-            Path path = m_enabled ? choosePath(*o, *map) : Path::Zero;
+            const auto* map = m_maps[k];
+            const auto* model = m_models[k];
+            // An MRPT map evaluated by its kind's batch scores what the batch uses (CBeaconMap
+            // says it can score any observation, and adds 0 for any but beacon ranges).
+            usable = usable ||
+                     (m_adapted[k] ? model->uses(*o) : map->canComputeObservationLikelihood(*o));
+            const Path path = m_enabled ? choosePath(*o, *map, model) : Path::Zero;
             if (path == Path::Zero)
             {
                 continue;
@@ -224,12 +227,7 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
             Term t;
             t.obs = o.get();
             t.map = map;
-            t.model = dynamic_cast<const BatchLikelihood*>(map);
-            if (path == Path::Beacons)
-            {
-                t.beacons = planBeacons(*o, *map);
-                path = t.beacons < 0 ? Path::GenericParallel : path;
-            }
+            t.model = model;
             t.path = path;
             t.firstOfObservation = first;
             first = false;
@@ -251,6 +249,10 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
                 t.outage = planOutage(plan, *o);
                 m_withoutObjects.logLik += plan.logLikWithoutMap;
                 m_withoutObjects.detections += plan.readingsWithoutMap;
+                if (!t.remembered)
+                {
+                    t.prepared = t.model->prepareObservation(*o);
+                }
             }
             m_terms.push_back(t);
         }
@@ -262,33 +264,6 @@ bool SensoryFrameLikelihood::plan(const mrpt::obs::CSensoryFrame& sf, ParallelEx
         prepare(executor);
     }
     return m_nSerial == 0 && !anyParallelGeneric;
-}
-
-int SensoryFrameLikelihood::planBeacons(const mrpt::obs::CObservation& obs,
-                                        const mrpt::maps::CMetricMap& map)
-{
-    const auto& beacons = static_cast<const mrpt::maps::CBeaconMap&>(map);
-    auto it = std::find_if(m_beaconIndexes.begin(), m_beaconIndexes.end(),
-                           [&](const auto& m) { return m.first == &beacons; });
-    if (it == m_beaconIndexes.end())
-    {
-        it = m_beaconIndexes.emplace(m_beaconIndexes.end(), &beacons, nullptr);
-    }
-    if (!it->second || !it->second->matches(beacons))
-    {
-        it->second = std::make_unique<detail::BeaconIdIndex>(beacons);  // built, or rebuilt
-    }
-    if (m_beaconTerms.size() <= m_nBeaconTerms)
-    {
-        m_beaconTerms.push_back(std::make_unique<detail::BeaconRangeTerm>());
-    }
-    auto& term = *m_beaconTerms[m_nBeaconTerms];
-    if (!term.plan(beacons, *it->second,
-                   static_cast<const mrpt::obs::CObservationBeaconRanges&>(obs)))
-    {
-        return -1;
-    }
-    return static_cast<int>(m_nBeaconTerms++);
 }
 
 bool SensoryFrameLikelihood::planOutage(const BatchLikelihood::TObservationPlan& plan,
@@ -338,6 +313,11 @@ void SensoryFrameLikelihood::evaluateTerm(const Term& t, const TPose2D* poses, s
     switch (t.path)
     {
         case Path::Model:
+            if (t.prepared)
+            {
+                t.prepared->logLikelihoods(poses + b, m, term);
+                break;
+            }
             if (t.context >= 0)
             {
                 t.model->logLikelihoodsRemembering(
@@ -346,15 +326,6 @@ void SensoryFrameLikelihood::evaluateTerm(const Term& t, const TPose2D* poses, s
             }
             t.model->logLikelihoods(*t.obs, poses + b, m, term);
             break;
-        case Path::Beacons:
-        {
-            const auto& beacons = *m_beaconTerms[static_cast<size_t>(t.beacons)];
-            for (size_t i = 0; i < m; i++)
-            {
-                term[i] = beacons.logLikelihood(mrptPose(poses[b + i]));
-            }
-            break;
-        }
         case Path::GenericParallel:
             for (size_t i = 0; i < m; i++)
             {

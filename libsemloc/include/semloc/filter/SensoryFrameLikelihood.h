@@ -12,18 +12,11 @@
 #include <memory>
 #include <vector>
 
-namespace mrpt::maps
-{
-class CBeaconMap;
-}  // namespace mrpt::maps
-
 namespace semloc
 {
 namespace detail
 {
 class DetectorOutage;
-class BeaconIdIndex;
-class BeaconRangeTerm;
 }  // namespace detail
 class ParallelExecutor;
 
@@ -34,20 +27,17 @@ class ParallelExecutor;
  *  CMetricMap::computeObservationLikelihood (0 for a map or multimap whose
  *  `enableObservationLikelihood` is off), added in the same order. Each (observation, map)
  *  term takes the fastest path that gives the same value:
- *  - a map that is a BatchLikelihood (semloc's sensor models, a program's own):
- *    BatchLikelihood::logLikelihoods() on each thread's contiguous chunk of poses; 0, not
- *    evaluated, for an observation it does not use; its plan() (BatchLikelihood's hooks)
- *    read once per frame;
+ *  - a map that is a BatchLikelihood (semloc's sensor models, a program's own), or that its
+ *    kind evaluates by one (SensorModelKind::batchOf(): MRPT's CBeaconMap, each range's
+ *    beacon found once per frame through an index of the map's ids, so a pose costs the
+ *    observation's ranges alone, however many beacons the map holds):
+ *    BatchLikelihood::logLikelihoods() (or its prepareObservation()s) on each thread's
+ *    contiguous chunk of poses; 0, not evaluated, for an observation it does not use; its
+ *    plan() and prepareObservation() (BatchLikelihood's hooks) called once per frame;
  *  - COccupancyGridMap2D with the ray-tracing or Thrun likelihood-field method: the generic
  *    call on every thread (the first pose is evaluated alone first, so the lazy caches of
  *    the observation are built before threads share it; the grid's likelihood-field cache
  *    is filled completely before the first multi-threaded use);
- *  - CBeaconMap with CObservationBeaconRanges: CBeaconMap's terms on every thread, each
- *    range's beacon found once per frame through an index of the map's ids (MRPT looks
- *    through every beacon of the map for each range at each pose), so a pose costs the
- *    observation's ranges alone, however many beacons the map holds; MRPT's call for an
- *    observation with a beacon whose position is not a Gaussian; CBeaconMap with any other
- *    observation: 0, not evaluated;
  *  - any other map: the generic call, for every pose on the calling thread (MRPT's other
  *    maps keep mutable caches that are not safe to share).
  *
@@ -60,7 +50,8 @@ public:
     struct TStats
     {
         /** Observations at least one map can score (canComputeObservationLikelihood; for
-         *  a CBeaconMap, beacon ranges only: it adds 0 for any other observation). */
+         *  a map its kind evaluates in blocks, what the batch uses: a CBeaconMap's beacon
+         *  ranges only, as it adds 0 for any other observation). */
         size_t observations_used = 0;
         /** Observations no map can score (ignored, as MRPT does). */
         size_t observations_skipped = 0;
@@ -194,20 +185,20 @@ private:
     enum class Path
     {
         Zero,
-        /** A BatchLikelihood map. */
+        /** A BatchLikelihood map, or a map its kind evaluates by one. */
         Model,
         GenericParallel,
-        GenericSerial,
-        /** MRPT's CBeaconMap with beacon ranges, by detail::BeaconRangeTerm. */
-        Beacons
+        GenericSerial
     };
     struct Term
     {
         const mrpt::obs::CObservation* obs = nullptr;
         const mrpt::maps::CMetricMap* map = nullptr;
-        /** The map as a BatchLikelihood (Path::Model). */
+        /** The map's BatchLikelihood (Path::Model): itself, or its kind's batch. */
         const BatchLikelihood* model = nullptr;
         Path path = Path::Zero;
+        /** The model's prepareObservation() (Path::Model), or nullptr. */
+        std::shared_ptr<const BatchLikelihood::Prepared> prepared;
         /** Index into m_serial for GenericSerial. */
         size_t serialIndex = 0;
         /** First term of a new observation (the per-observation sum restarts). */
@@ -219,17 +210,14 @@ private:
         /** Index into m_contexts of its Memory's context (remembered by beginUpdate()), or
          *  -1. */
         int context = -1;
-        /** Index into m_beaconTerms (Path::Beacons), or -1. */
-        int beacons = -1;
     };
 
-    Path choosePath(const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map) const;
+    /** The path of `obs` against `map`, whose BatchLikelihood is `model` (or nullptr). */
+    Path choosePath(const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map,
+                    const BatchLikelihood* model) const;
     /** term[0..m) = term `t` at poses[b..b+m). */
     void evaluateTerm(const Term& t, const mrpt::math::TPose2D* poses, size_t b, size_t m,
                       double* term) const;
-    /** Plans the beacon ranges `obs` against the CBeaconMap `map`: the index of its term in
-     *  m_beaconTerms, or -1 when MRPT's call must score it (a beacon not Gaussian). */
-    int planBeacons(const mrpt::obs::CObservation& obs, const mrpt::maps::CMetricMap& map);
     /** Adds a model term of `obs` planned as `plan` to m_outage if it is an outage term;
      *  true if so. */
     bool planOutage(const BatchLikelihood::TObservationPlan& plan,
@@ -240,6 +228,11 @@ private:
     void remember(const mrpt::math::TPose2D& odometry);
 
     std::vector<const mrpt::maps::CMetricMap*> m_maps;
+    /** Each map's BatchLikelihood (itself, its kind's batch, or nullptr), and whether it is
+     *  its kind's batch (owned in m_adapters). */
+    std::vector<const BatchLikelihood*> m_models;
+    std::vector<bool> m_adapted;
+    std::vector<std::unique_ptr<BatchLikelihood>> m_adapters;
     bool m_enabled = true;
     bool m_gridCachesReady = false;
     std::vector<Term> m_terms;
@@ -259,13 +252,6 @@ private:
     /** The planned frame's memory contexts, one per remembered term. */
     std::vector<std::vector<double>> m_contexts;
     std::vector<std::vector<double>> m_serial;
-    /** The id index of each CBeaconMap scored so far (rebuilt when its beacons changed). */
-    std::vector<std::pair<const mrpt::maps::CBeaconMap*, std::unique_ptr<detail::BeaconIdIndex>>>
-        m_beaconIndexes;
-    /** The planned frame's beacon terms: the first m_nBeaconTerms (kept to reuse their
-     *  storage). */
-    std::vector<std::unique_ptr<detail::BeaconRangeTerm>> m_beaconTerms;
-    size_t m_nBeaconTerms = 0;
     TStats m_stats;
 };
 

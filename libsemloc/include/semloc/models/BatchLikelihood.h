@@ -91,6 +91,31 @@ public:
         return {};
     }
 
+    /** An observation prepared once per frame for its evaluations (what every pose shares). */
+    class Prepared
+    {
+    public:
+        virtual ~Prepared() = default;
+        /** out[i] = log p(obs | poses[i]) for i in [0, n); safe from several threads at
+         *  once, as logLikelihoods(). */
+        virtual void logLikelihoods(const mrpt::math::TPose2D* poses, size_t n,
+                                    double* out) const = 0;
+
+    protected:
+        Prepared() = default;
+        Prepared(const Prepared&) = default;
+        Prepared& operator=(const Prepared&) = default;
+    };
+    /** `obs` prepared for this frame's evaluations, or nullptr (the default): the filter then
+     *  calls logLikelihoods(obs, ...). Called on one thread, once per frame and used
+     *  observation, after plan(); the model may keep caches across frames there (it is the
+     *  one call that may change them). Not with a remembered observation. */
+    virtual std::unique_ptr<Prepared> prepareObservation(const mrpt::obs::CObservation& obs) const
+    {
+        (void)obs;
+        return nullptr;
+    }
+
     /** The model's state from frame to frame, kept by the filter (one per model and filter,
      *  made by newMemory(), dropped with a new run). */
     class Memory

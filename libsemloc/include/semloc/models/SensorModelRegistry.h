@@ -7,6 +7,7 @@
 #include <mrpt/maps/TMetricMapInitializer.h>
 #include <mrpt/obs/CObservation.h>
 #include <mrpt/rtti/CObject.h>
+#include <semloc/models/BatchLikelihood.h>
 #include <semloc/world/World.h>
 
 #include <memory>
@@ -60,6 +61,16 @@ public:
         /** Out: the world file the map was filled from ("" for none), for effectiveConfig. */
         std::string worldFile{};
     };
+    /** A BatchLikelihood that evaluates `map` (one of this kind's maps that is not a
+     *  BatchLikelihood itself: MRPT's) on blocks of poses with the same values as its
+     *  generic call, or nullptr (the default: the filter makes the generic call). It must
+     *  not outlive `map`; one per map and filter. */
+    virtual std::unique_ptr<BatchLikelihood> batchOf(const mrpt::maps::CMetricMap& map) const
+    {
+        (void)map;
+        return nullptr;
+    }
+
     /** Which pass fills the map: 0 (the default) in definition order, then 1 (a map that
      *  takes its contents from the world another map's options may have named). */
     virtual int fillPass() const { return 0; }

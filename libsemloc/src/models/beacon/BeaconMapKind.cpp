@@ -7,9 +7,11 @@
 #include <mrpt/poses/CPoint3D.h>
 
 #include <cmath>
+#include <typeinfo>
 
 #include "io/ExactConfigWrite.h"
 #include "models/BuiltinKinds.h"
+#include "models/beacon/BeaconRangeLikelihood.h"
 
 namespace semloc::detail
 {
@@ -53,6 +55,16 @@ public:
         return CLASS_ID(mrpt::maps::CBeaconMap);
     }
     int fillPass() const override { return 1; }
+
+    /** The exact class only (a subclass may keep state of its own). */
+    std::unique_ptr<BatchLikelihood> batchOf(const mrpt::maps::CMetricMap& map) const override
+    {
+        if (typeid(map) != typeid(mrpt::maps::CBeaconMap))
+        {
+            return nullptr;
+        }
+        return std::make_unique<BeaconMapBatch>(static_cast<const mrpt::maps::CBeaconMap&>(map));
+    }
 
     void fill(TFill& f) const override
     {

@@ -9,6 +9,7 @@
 #include <Eigen/Dense>
 
 #include <cmath>
+#include <typeinfo>
 
 namespace semloc::detail
 {
@@ -106,5 +107,62 @@ double BeaconRangeTerm::logLikelihood(const mrpt::poses::CPose3D& robotPose3D) c
         return m_map->computeObservationLikelihood(*m_obs, robotPose3D);  // throws as it did
     }
     return ret;
+}
+
+namespace
+{
+/** The pose MRPT hands to CMetricMap::computeObservationLikelihood for a 2D particle. */
+mrpt::poses::CPose3D mrptPose(const mrpt::math::TPose2D& p)
+{
+    return mrpt::poses::CPose3D(mrpt::math::TPose3D(p));
+}
+
+/** A frame's beacon ranges, their beacons found. */
+class PreparedRanges final : public BatchLikelihood::Prepared
+{
+public:
+    BeaconRangeTerm term;
+    void logLikelihoods(const mrpt::math::TPose2D* poses, size_t n, double* out) const override
+    {
+        for (size_t i = 0; i < n; i++)
+        {
+            out[i] = term.logLikelihood(mrptPose(poses[i]));
+        }
+    }
+};
+}  // namespace
+
+BeaconMapBatch::BeaconMapBatch(const CBeaconMap& map) : m_map(map) {}
+
+BeaconMapBatch::~BeaconMapBatch() = default;
+
+bool BeaconMapBatch::uses(const mrpt::obs::CObservation& obs) const
+{
+    return typeid(obs) == typeid(mrpt::obs::CObservationBeaconRanges);
+}
+
+void BeaconMapBatch::logLikelihoods(const mrpt::obs::CObservation& obs,
+                                    const mrpt::math::TPose2D* poses, size_t n, double* out) const
+{
+    for (size_t i = 0; i < n; i++)
+    {
+        out[i] = m_map.computeObservationLikelihood(obs, mrptPose(poses[i]));
+    }
+}
+
+std::unique_ptr<BatchLikelihood::Prepared> BeaconMapBatch::prepareObservation(
+    const mrpt::obs::CObservation& obs) const
+{
+    if (!m_index || !m_index->matches(m_map))
+    {
+        m_index = std::make_unique<BeaconIdIndex>(m_map);  // built, or rebuilt
+    }
+    auto prepared = std::make_unique<PreparedRanges>();
+    if (!prepared->term.plan(m_map, *m_index,
+                             static_cast<const mrpt::obs::CObservationBeaconRanges&>(obs)))
+    {
+        return nullptr;  // a beacon that is not a Gaussian: MRPT's call
+    }
+    return prepared;
 }
 }  // namespace semloc::detail

@@ -6,6 +6,7 @@
 #include <mrpt/obs/CObservationBeaconRanges.h>
 #include <mrpt/poses/CPoint3D.h>
 #include <mrpt/poses/CPose3D.h>
+#include <semloc/models/BatchLikelihood.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -74,5 +75,29 @@ private:
     const mrpt::obs::CObservationBeaconRanges* m_obs = nullptr;
     std::vector<Range> m_ranges;
     size_t m_beaconsScored = 0;
+};
+/** MRPT's CBeaconMap evaluated in blocks (its kind's SensorModelKind::batchOf(), for the map
+ *  of that exact class: a subclass may keep state of its own): beacon ranges only (CBeaconMap
+ *  adds 0 for any other observation), each range's beacon found once per frame through an
+ *  index of the map's ids (rebuilt when its beacons change), then BeaconRangeTerm's terms, bit
+ *  for bit MRPT's value; MRPT's call, pose by pose, for an observation with a beacon whose
+ *  position is not a Gaussian. */
+class BeaconMapBatch final : public BatchLikelihood
+{
+public:
+    explicit BeaconMapBatch(const mrpt::maps::CBeaconMap& map);
+    ~BeaconMapBatch() override;
+    bool uses(const mrpt::obs::CObservation& obs) const override;
+    /** MRPT's call at every pose (the observations prepareObservation() cannot plan). */
+    void logLikelihoods(const mrpt::obs::CObservation& obs, const mrpt::math::TPose2D* poses,
+                        size_t n, double* out) const override;
+    /** The ranges' beacons found (BeaconRangeTerm::plan), or nullptr when one is not a
+     *  Gaussian. */
+    std::unique_ptr<Prepared> prepareObservation(const mrpt::obs::CObservation& obs) const override;
+
+private:
+    const mrpt::maps::CBeaconMap& m_map;
+    /** The map's id index (built, or rebuilt, by prepareObservation(), on one thread). */
+    mutable std::unique_ptr<BeaconIdIndex> m_index;
 };
 }  // namespace semloc::detail
