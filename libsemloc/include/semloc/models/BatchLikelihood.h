@@ -46,11 +46,12 @@ namespace semloc
  *
  *  The hooks below are optional (their defaults say and do nothing): through them a model asks
  *  the filter for what it cannot do from inside one evaluation, and the filter names no
- *  model. The semantic model uses them all (models/semantic/): plan() for its detection
- *  counts, its detector's outages and its likelihood with no object in view (the evidence
- *  recovery trigger's reference), newMemory() for its look-alike memory, proposal() for the
- *  poses recovery and start-up draw from a detection, approximations() for its marginal
- *  association's count. */
+ *  model. The semantic model (models/semantic/) uses plan() for its detection counts, its
+ *  detector's outages and its likelihood with no object in view (the evidence recovery
+ *  trigger's reference), newMemory() for its look-alike memory, proposal() for the poses
+ *  recovery and start-up draw from a detection, approximations() for its marginal
+ *  association's count; MRPT's beacon map's batch (models/beacon/) prepareObservation() for
+ *  each frame's ranges matched to their beacons. */
 class BatchLikelihood
 {
 public:
