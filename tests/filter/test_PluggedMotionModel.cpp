@@ -261,7 +261,7 @@ TEST(PluggedMotionModel, CreatedByNameFromTheMotionModelSection)
     {
         const std::string what = e.what();
         EXPECT_NE(what.find("ini [MotionModel] kind: unknown motion model 'tide' (registered: "
-                            "odometry, water_current)"),
+                            "odometry, dvl, water_current)"),
                   std::string::npos)
             << what;
     }

@@ -1,5 +1,6 @@
 /* semloc — MotionModelRegistry: the prediction's motion models by name. */
 #include <mrpt/core/exceptions.h>
+#include <semloc/filter/DvlMotionModel.h>
 #include <semloc/filter/MotionModelRegistry.h>
 
 #include <algorithm>
@@ -21,10 +22,28 @@ std::shared_ptr<ParticleMotionModel> odometryModel(const MotionModelConfig::TOpt
     return m;
 }
 
+/** The DVL's body-frame model with the section's a1, a3, a4, minStdXY, minStdPHI. */
+std::shared_ptr<ParticleMotionModel> dvlModel(const MotionModelConfig::TOptions& o)
+{
+    if (o.headingDrift() || o.odometry_delay_s != 0)
+    {
+        THROW_EXCEPTION(
+            "[MotionModel] kind = dvl: heading_drift_* and odometry_delay_s are the odometry "
+            "model's (kind = odometry); a compass (compassMap) holds a DVL's heading");
+    }
+    DvlMotionModel::TNoise noise;
+    noise.a1 = o.a1;
+    noise.a3_deg = o.a3;
+    noise.a4 = o.a4;
+    noise.minStdXY = o.minStdXY;
+    noise.minStdPHI_deg = o.minStdPHI;
+    return std::make_shared<DvlMotionModel>(noise);
+}
+
 std::vector<std::pair<std::string, MotionModelRegistry::Factory>>& registry()
 {
     static std::vector<std::pair<std::string, MotionModelRegistry::Factory>> models = {
-        {MotionModelConfig::kOdometryModel, odometryModel}};
+        {MotionModelConfig::kOdometryModel, odometryModel}, {"dvl", dvlModel}};
     return models;
 }
 }  // namespace

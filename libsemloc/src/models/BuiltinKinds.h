@@ -15,4 +15,14 @@ std::shared_ptr<const SensorModelKind> structureMapKind();
 std::shared_ptr<const SensorModelKind> occupancyGridKind();
 /** MRPT's beaconMap (models/beacon/BeaconMapKind.cpp). */
 std::shared_ptr<const SensorModelKind> beaconMapKind();
+/** sideScanMap (models/sidescan/CSideScanMap.cpp). */
+std::shared_ptr<const SensorModelKind> sideScanMapKind();
+/** forwardSonarMap (models/forwardsonar/CForwardSonarMap.cpp). */
+std::shared_ptr<const SensorModelKind> forwardSonarMapKind();
+/** bearingCameraMap (models/camera/CBearingCameraMap.cpp). */
+std::shared_ptr<const SensorModelKind> bearingCameraMapKind();
+/** compassMap (models/compass/CCompassMap.cpp). */
+std::shared_ptr<const SensorModelKind> compassMapKind();
+/** poseFixMap (models/fix/CPoseFixMap.cpp). */
+std::shared_ptr<const SensorModelKind> poseFixMapKind();
 }  // namespace semloc::detail

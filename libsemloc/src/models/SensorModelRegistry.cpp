@@ -12,8 +12,9 @@ namespace
 std::vector<std::shared_ptr<const SensorModelKind>>& registry()
 {
     static std::vector<std::shared_ptr<const SensorModelKind>> kinds = {
-        detail::semanticMapKind(), detail::structureMapKind(), detail::occupancyGridKind(),
-        detail::beaconMapKind()};
+        detail::semanticMapKind(),      detail::structureMapKind(), detail::occupancyGridKind(),
+        detail::beaconMapKind(),        detail::sideScanMapKind(),  detail::forwardSonarMapKind(),
+        detail::bearingCameraMapKind(), detail::compassMapKind(),   detail::poseFixMapKind()};
     return kinds;
 }
 

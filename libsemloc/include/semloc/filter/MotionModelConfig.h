@@ -50,7 +50,8 @@ public:
     struct TOptions : public mrpt::config::CLoadableOptions
     {
         /** kind: the prediction's motion model by name (MotionModelRegistry): "odometry"
-         *  (OdometryMotionModel, the default) or one a program registered. */
+         *  (OdometryMotionModel, the default), "dvl" (DvlMotionModel) or one a program
+         *  registered. */
         std::string kind = kOdometryModel;
         /** source: rawlog | gaussian. */
         Source source = Source::Rawlog;

@@ -13,8 +13,9 @@ namespace semloc
 {
 /** The prediction's motion models, each created by name from `[MotionModel] kind = <name>`
  *  with the section's options (MotionModelConfig::TOptions). semloc's "odometry" (the
- *  default: OdometryMotionModel with the section's heading drift) is registered when the
- *  registry is first used; a program (or a test) registers its own with add() before it
+ *  default: OdometryMotionModel with the section's heading drift) and "dvl" (DvlMotionModel
+ *  with the section's a1, a3, a4, minStdXY, minStdPHI) are registered when the registry is
+ *  first used; a program (or a test) registers its own with add() before it
  *  loads an ini (not safe against add() from another thread). */
 class MotionModelRegistry
 {
@@ -28,7 +29,8 @@ public:
     static void add(const std::string& name, Factory factory);
     /** True when `name` is registered. */
     static bool has(const std::string& name);
-    /** The registered names, "odometry" first, then in registration order. */
+    /** The registered names, semloc's first ("odometry", "dvl"), then in registration
+     *  order. */
     static std::vector<std::string> names();
     /** The model `options.kind` names, made by its factory (throws for an unknown name). */
     static std::shared_ptr<ParticleMotionModel> create(const MotionModelConfig::TOptions& options);
