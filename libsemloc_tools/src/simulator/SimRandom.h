@@ -19,7 +19,14 @@ enum class SimStream : uint64_t
     Kidnapping = 4,
     DetectorGaps = 5,
     Distractors = 6,
-    BeaconRanging = 7
+    BeaconRanging = 7,
+    Depth = 8,
+    Compass = 9,
+    Usbl = 10,
+    Dvl = 11,
+    SideScan = 12,
+    ForwardSonar = 13,
+    Camera = 14
 };
 
 /** 32-bit MT19937 seed of a stream: the splitmix64 finalizer (Steele, Lea & Flood 2014) of

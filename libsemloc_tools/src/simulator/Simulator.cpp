@@ -34,7 +34,9 @@
 #include "io/ExactConfigWrite.h"
 #include "io/Text.h"
 #include "io/TextFiles.h"
+#include "simulator/AuvSensors.h"
 #include "simulator/Distractors.h"
+#include "simulator/Silences.h"
 #include "simulator/SimRandom.h"
 
 namespace semloc
@@ -142,6 +144,7 @@ void TSimulatorOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& 
     detector.loadFromConfigFile(c, kDetector);
     kidnapping.loadFromConfigFile(c, kKidnapping);
     beacons.loadFromConfigFile(c, kBeaconRanging);
+    auv.loadFromConfigFile(c);
 }
 
 void TSimulatorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
@@ -152,6 +155,7 @@ void TSimulatorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& c) const
     detector.saveToConfigFile(c, kDetector);
     kidnapping.saveToConfigFile(c, kKidnapping);
     beacons.saveToConfigFile(c, kBeaconRanging);
+    auv.saveToConfigFile(c);
 }
 
 TSimulatorOptions TSimulatorOptions::FromConfigFile(const std::string& iniPath)
@@ -228,6 +232,7 @@ namespace
 struct SimStreams
 {
     mrpt::random::CRandomGenerator odometry, sonar, detector, kidnap, gaps, distractors, beacons;
+    detail::AuvStreams auv;
 
     explicit SimStreams(uint32_t seed)
         : odometry(detail::streamSeed(seed, detail::SimStream::Odometry)),
@@ -236,48 +241,10 @@ struct SimStreams
           kidnap(detail::streamSeed(seed, detail::SimStream::Kidnapping)),
           gaps(detail::streamSeed(seed, detail::SimStream::DetectorGaps)),
           distractors(detail::streamSeed(seed, detail::SimStream::Distractors)),
-          beacons(detail::streamSeed(seed, detail::SimStream::BeaconRanging))
+          beacons(detail::streamSeed(seed, detail::SimStream::BeaconRanging)),
+          auv(seed)
     {
     }
-};
-
-/** The detector's silences ([SemanticDetector] gap_every_s, gap_min_s, gap_max_s): starts
- *  an exponential time apart (from the end of the previous one), lengths uniform. */
-class Silences
-{
-public:
-    Silences(const SemanticDetectorModel::TOptions& o, double t0,
-             mrpt::random::CRandomGenerator& rng)
-        : m_o(o), m_rng(rng)
-    {
-        m_start = m_end = t0;
-        next();
-    }
-    /** True if the detector is silent at time t (times must not decrease). */
-    bool silent(double t)
-    {
-        while (m_o.gap_every_s > 0 && t >= m_end)
-        {
-            next();
-        }
-        return m_o.gap_every_s > 0 && t >= m_start && t < m_end;
-    }
-
-private:
-    void next()
-    {
-        if (m_o.gap_every_s <= 0)
-        {
-            return;
-        }
-        const double wait = -m_o.gap_every_s * std::log(1.0 - detail::uniform01(m_rng));
-        m_start = m_end + wait;
-        m_end =
-            m_start + m_o.gap_min_s + (m_o.gap_max_s - m_o.gap_min_s) * detail::uniform01(m_rng);
-    }
-    const SemanticDetectorModel::TOptions& m_o;
-    mrpt::random::CRandomGenerator& m_rng;
-    double m_start = 0, m_end = 0;
 };
 
 /** The sensor models of a run. */
@@ -287,6 +254,7 @@ struct Sensors
     SonarModel sonar;
     SemanticDetectorModel detector;
     BeaconRangingModel beacons;
+    detail::AuvSensors auv;
 };
 
 /** What the steps of a run add up to, for the summary. */
@@ -300,11 +268,12 @@ struct StepCounts
  *  appended to the rawlog with the pose as ground truth. Draws odometry, sonar, detector and
  *  beacon noise, each from its own stream. */
 void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPose2D& increment,
-                const mrpt::math::TPose2D& pose, mrpt::Clock::time_point stamp, double dt,
+                const mrpt::math::TPose2D& pose, size_t k, mrpt::Clock::time_point stamp, double dt,
                 bool silent, bool ping, const detail::Distractors& distractors,
                 SimulationResult& res, StepCounts& counts)
 {
-    auto action = sensors.odometry.measure(increment, rng.odometry, dt);
+    auto action = sensors.auv.dvl() ? sensors.auv.measureDvl(increment, rng.auv.dvl)
+                                    : sensors.odometry.measure(increment, rng.odometry, dt);
     action.timestamp = stamp;
     auto actions = mrpt::obs::CActionCollection::Create();
     actions->insert(action);
@@ -331,8 +300,9 @@ void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPos
         ranges->timestamp = stamp;
         counts.pings++;
         counts.beaconRanges += ranges->sensedData.size();
-        frame->insert(ranges);  // last: the other observations are those of a run without it
+        frame->insert(ranges);  // after the others: they are those of a run without it
     }
+    counts.detections += sensors.auv.measure(k, pose, stamp, rng.auv, *frame);
 
     res.rawlog.insert(actions);
     res.rawlog.insert(frame);
@@ -471,7 +441,8 @@ SimulationResult Simulator::simulate(detail::VehicleMotion& vehicleMotion,
     SimStreams rng(o.simulation.seed);
     const Sensors sensors{SimulatedOdometry(o.odometry), SonarModel(m_world, o.sonar),
                           SemanticDetectorModel(m_world, o.detector),
-                          BeaconRangingModel(m_world, o.beacons)};
+                          BeaconRangingModel(m_world, o.beacons),
+                          detail::AuvSensors(m_world, o.auv)};
     const double dt = o.simulation.time_step_s;
     const auto& kidnap = o.kidnapping;
 
@@ -479,7 +450,7 @@ SimulationResult Simulator::simulate(detail::VehicleMotion& vehicleMotion,
     res.beamsPerScan = static_cast<size_t>(o.sonar.beam_count);
     StepCounts counts;
     bool kidnapped = false;
-    Silences silences(o.detector, o.simulation.start_time_s, rng.gaps);
+    detail::Silences silences(o.detector, o.simulation.start_time_s, rng.gaps);
     detail::Distractors distractors(m_world, sensors.detector, rng.distractors);
     mrpt::math::TPose2D pose = start;
     mrpt::poses::CPose2D previous(pose);
@@ -505,7 +476,7 @@ SimulationResult Simulator::simulate(detail::VehicleMotion& vehicleMotion,
         const auto stamp =
             mrpt::Clock::fromDouble(o.simulation.start_time_s + static_cast<double>(k) * dt);
         const double t = o.simulation.start_time_s + static_cast<double>(k) * dt;
-        recordStep(sensors, rng, increment, pose, stamp, k > 0 ? dt : 0.0, silences.silent(t),
+        recordStep(sensors, rng, increment, pose, k, stamp, k > 0 ? dt : 0.0, silences.silent(t),
                    sensors.beacons.pingsAt(k), distractors, res, counts);
         previous = mrpt::poses::CPose2D(pose);
         if (vehicleMotion.finished() || (maxSteps > 0 && k + 1 >= maxSteps))

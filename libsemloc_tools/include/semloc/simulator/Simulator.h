@@ -5,6 +5,7 @@
 #include <mrpt/math/TPose2D.h>
 #include <mrpt/obs/CRawlog.h>
 #include <semloc/dataset/GroundTruthFile.h>
+#include <semloc/simulator/AuvSensorModels.h>
 #include <semloc/simulator/BeaconRangingModel.h>
 #include <semloc/simulator/SemanticDetectorModel.h>
 #include <semloc/simulator/SimulatedOdometry.h>
@@ -86,12 +87,14 @@ struct TSimulatorOptions
     SemanticDetectorModel::TOptions detector;  //!< [SemanticDetector]
     TKidnappingOptions kidnapping;             //!< [Kidnapping]
     BeaconRangingModel::TOptions beacons;      //!< [BeaconRanging]
+    /** [Depth], [Compass], [USBL], [DVL], [SideScan], [ForwardSonar], [Camera]. */
+    TAuvSensorOptions auv;
 
-    /** Reads the six sections (absent keys keep their defaults; unknown keys, bad values
+    /** Reads the sections (absent keys keep their defaults; unknown keys, bad values
      *  and a world_file that does not exist are errors naming [section] key). Other
      *  sections are ignored, so one ini may also configure other tools. */
     void loadFromConfigFile(const mrpt::config::CConfigFileBase& source);
-    /** Writes every key of the six sections (the effective configuration). */
+    /** Writes every key of the sections (the effective configuration). */
     void saveToConfigFile(mrpt::config::CConfigFileBase& target) const;
     /** Loads an ini file. Throws if it cannot be read or on any bad key. */
     static TSimulatorOptions FromConfigFile(const std::string& iniPath);
