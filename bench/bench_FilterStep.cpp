@@ -29,14 +29,42 @@ constexpr size_t kStep = 20;
  *  ~5 here). The semantic likelihood's cost grows with those counts. */
 constexpr size_t kBusyStep = 270;
 
-/** The paper dataset (config/simulate/simulate.ini), simulated once. */
-const semloc::SimulationResult& dataset()
+/** True for the AUV survey's variants (config/localize/auv/<name>.ini). */
+bool auvVariant(const std::string& variant)
 {
-    static const semloc::SimulationResult sim =
+    return variant.rfind("auv/", 0) == 0;
+}
+
+/** The paper dataset (config/simulate/simulate.ini), or for an AUV variant the seabed survey
+ *  (config/simulate/simulate_auv.ini), simulated once. */
+const semloc::SimulationResult& dataset(const std::string& variant)
+{
+    static const semloc::SimulationResult paper =
         semloc::Simulator(semloc::TSimulatorOptions::FromConfigFile(
                               SEMLOC_SOURCE_DIR "/config/simulate/simulate.ini"))
             .run();
-    return sim;
+    static const semloc::SimulationResult auv =
+        semloc::Simulator(semloc::TSimulatorOptions::FromConfigFile(
+                              SEMLOC_SOURCE_DIR "/config/simulate/simulate_auv.ini"))
+            .run();
+    return auvVariant(variant) ? auv : paper;
+}
+
+/** The first step from `from` on whose side-scan reports 2 objects or more. */
+size_t sideScanStep(const semloc::SimulationResult& sim, size_t from)
+{
+    for (size_t k = from; 2 * k + 1 < sim.rawlog.size(); k++)
+    {
+        for (const auto& o : *sim.rawlog.getAsObservations(2 * k + 1))
+        {
+            const auto* scan = dynamic_cast<const semloc::CObservationSemantic*>(o.get());
+            if (scan && scan->sensorLabel == "sidescan" && scan->detections.size() >= 2)
+            {
+                return k;
+            }
+        }
+    }
+    return from;
 }
 
 /** The maps of config/<variant>.ini, built once; "semantic_paper" is semantic.ini with the
@@ -51,10 +79,10 @@ const semloc::LocalizationMap& maps(const std::string& variant)
         const semloc::config::IniFileInMemory ini(SEMLOC_SOURCE_DIR "/config/localize/" +
                                                   (paper ? std::string("semantic") : variant) +
                                                   ".ini");
-        it = cache
-                 .emplace(variant, semloc::LocalizationMap::FromConfig(
-                                       ini, SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml"))
-                 .first;
+        const std::string world = auvVariant(variant) ? SEMLOC_SOURCE_DIR
+                                      "/maps/seabed_200x200.yaml"
+                                                      : SEMLOC_SOURCE_DIR "/maps/paper_50x50.yaml";
+        it = cache.emplace(variant, semloc::LocalizationMap::FromConfig(ini, world)).first;
         if (paper)
         {
             it->second.map->mapByClass<semloc::CSemanticMap>()->likelihoodOptions.model =
@@ -66,23 +94,28 @@ const semloc::LocalizationMap& maps(const std::string& variant)
 
 /** One CParticleFilter::executeOn with the action and frame of step `step`, from the same
  *  cloud every time: 10 000 particles around the true pose (1 m, 6 deg), resampled at each
- *  step (BETA = 1), with the free-space prior on as in every config/<variant>.ini. Time =
+ *  step (BETA = 1), with the free-space prior on as in config/localize/<variant>.ini (off for
+ *  the AUV, which flies over its objects). Time =
  *  wall time of the step. */
 void BM_FilterStep(benchmark::State& state, const std::string& variant, size_t step)
 {
-    const auto& sim = dataset();
+    const auto& sim = dataset(variant);
     const auto& lm = maps(variant);
+    if (auvVariant(variant))
+    {
+        step = sideScanStep(sim, step);
+    }
     const auto action = sim.rawlog.getAsAction(2 * step);
     const auto frame = sim.rawlog.getAsObservations(2 * step + 1);
     const auto truth = sim.groundTruth[step - 1].pose();
 
     semloc::CParallelMonteCarloLocalization2D pdf;
     pdf.options.metricMap = lm.map;
-    // As semloc-localize with the variant's ini: free_space_prior = 1 (every
-    // config/localize/*.ini).
+    // As semloc-localize with the variant's ini: free_space_prior = 1 (config/localize/*.ini;
+    // 0 in config/localize/auv/).
     pdf.setFreeSpaceSampler(
         std::make_shared<semloc::FreeSpaceSampler>(semloc::FreeSpaceSampler::FromWorld(*lm.world)));
-    pdf.setFreeSpacePrior(true);
+    pdf.setFreeSpacePrior(!auvVariant(variant));  // the AUV flies over its objects
     pdf.setExecutor(
         std::make_shared<semloc::ParallelExecutor>(static_cast<size_t>(state.range(0))));
     auto& rng = mrpt::random::getRandomGenerator();
@@ -111,10 +144,16 @@ void BM_FilterStep(benchmark::State& state, const std::string& variant, size_t s
         pf.executeOn(pdf, action.get(), frame.get());
     }
     state.counters["particles"] = static_cast<double>(nParticles);
-    if (const auto obs = frame->getObservationByClass<semloc::CObservationSemantic>())
+    size_t detections = 0;
+    for (const auto& o : *frame)
     {
-        state.counters["detections"] = static_cast<double>(obs->detections.size());
+        if (const auto* scan = dynamic_cast<const semloc::CObservationSemantic*>(o.get());
+            scan && scan->sensorLabel != (auvVariant(variant) ? "SEMANTIC" : ""))
+        {
+            detections += scan->detections.size();  // the AUV's: its side-scan's
+        }
     }
+    state.counters["detections"] = static_cast<double>(detections);
     state.counters["us_per_particle"] = benchmark::Counter(
         static_cast<double>(state.iterations()) * static_cast<double>(nParticles) * 1e-6,
         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
@@ -136,6 +175,10 @@ SEMLOC_FILTER_STEP(grid_lf);
 SEMLOC_FILTER_STEP(grid_rt);
 SEMLOC_FILTER_STEP(fused);
 SEMLOC_FILTER_STEP_AT(semantic_busy, semantic, kBusyStep);
+/** The side-scan survey (config/localize/auv/sidescan.ini) at the first step from 40 on where
+ *  the side-scan reports 2 objects or more. */
+constexpr size_t kSideScanStep = 40;
+SEMLOC_FILTER_STEP_AT(sidescan, auv / sidescan, kSideScanStep);
 
 /** getCovarianceAndMean() of 10 000 particles around the true pose of step kStep (as
  *  BM_FilterStep's cloud), by MRPT's CPosePDFParticles or by CParallelMonteCarloLocalization2D
@@ -144,7 +187,7 @@ SEMLOC_FILTER_STEP_AT(semantic_busy, semantic, kBusyStep);
 template <typename Pdf>
 void BM_Estimate(benchmark::State& state, bool equalWeights, Pdf& pdf)
 {
-    const auto truth = dataset().groundTruth[kStep - 1].pose();
+    const auto truth = dataset("semantic").groundTruth[kStep - 1].pose();
     auto& rng = mrpt::random::getRandomGenerator();
     rng.randomize(1);
     pdf.m_particles.resize(10000);
