@@ -29,10 +29,10 @@ constexpr size_t kStep = 20;
  *  ~5 here). The semantic likelihood's cost grows with those counts. */
 constexpr size_t kBusyStep = 270;
 
-/** True for the AUV survey's variants (config/localize/auv/<name>.ini). */
+/** True for the AUV survey's variants, "auv_<name>": config/localize/auv/<name>.ini. */
 bool auvVariant(const std::string& variant)
 {
-    return variant.rfind("auv/", 0) == 0;
+    return variant.rfind("auv_", 0) == 0;
 }
 
 /** The paper dataset (config/simulate/simulate.ini), or for an AUV variant the seabed survey
@@ -76,8 +76,10 @@ const semloc::LocalizationMap& maps(const std::string& variant)
     if (it == cache.end())
     {
         const bool paper = variant == "semantic_paper";
-        const semloc::config::IniFileInMemory ini(SEMLOC_SOURCE_DIR "/config/localize/" +
-                                                  (paper ? std::string("semantic") : variant) +
+        const std::string file = paper                 ? std::string("semantic")
+                                 : auvVariant(variant) ? "auv/" + variant.substr(4)
+                                                       : variant;
+        const semloc::config::IniFileInMemory ini(SEMLOC_SOURCE_DIR "/config/localize/" + file +
                                                   ".ini");
         const std::string world = auvVariant(variant) ? SEMLOC_SOURCE_DIR
                                       "/maps/seabed_200x200.yaml"
@@ -178,7 +180,7 @@ SEMLOC_FILTER_STEP_AT(semantic_busy, semantic, kBusyStep);
 /** The side-scan survey (config/localize/auv/sidescan.ini) at the first step from 40 on where
  *  the side-scan reports 2 objects or more. */
 constexpr size_t kSideScanStep = 40;
-SEMLOC_FILTER_STEP_AT(sidescan, auv / sidescan, kSideScanStep);
+SEMLOC_FILTER_STEP_AT(sidescan, auv_sidescan, kSideScanStep);
 
 /** getCovarianceAndMean() of 10 000 particles around the true pose of step kStep (as
  *  BM_FilterStep's cloud), by MRPT's CPosePDFParticles or by CParallelMonteCarloLocalization2D
