@@ -57,19 +57,27 @@ void DvlMotionModel::prepare(const TMotionStep& step, mrpt::random::CRandomGener
     m_prepared = true;
 }
 
+namespace
+{
+/** The step's increment with its noise, drawn from a particle's normals (movePoses). */
+struct BodyFrameDrawer
+{
+    mrpt::math::TPose2D increment;
+    double sigmaXY, sigmaPhi;
+
+    mrpt::math::TPose2D draw(detail::ParticleNormals& normals) const
+    {
+        const double n0 = normals(), n1 = normals(), n2 = normals();
+        return {increment.x + sigmaXY * n0, increment.y + sigmaXY * n1,
+                increment.phi + sigmaPhi * n2};
+    }
+};
+}  // namespace
+
 void DvlMotionModel::move(size_t i0, size_t n, mrpt::math::TPose2D* poses, double*) const
 {
     ASSERTMSG_(m_prepared, "DvlMotionModel::move() without prepare()");
-    for (size_t k = 0; k < n; k++)
-    {
-        detail::ParticleNormals normals(m_key, i0 + k);
-        const double n0 = normals(), n1 = normals(), n2 = normals();
-        const mrpt::math::TPose2D u(m_increment.x + m_sigmaXY * n0, m_increment.y + m_sigmaXY * n1,
-                                    m_increment.phi + m_sigmaPhi * n2);
-        auto& p = poses[k];
-        const double c = std::cos(p.phi), s = std::sin(p.phi);
-        p = detail::compose(p, s, c, u);
-    }
+    detail::movePoses(BodyFrameDrawer{m_increment, m_sigmaXY, m_sigmaPhi}, m_key, poses, i0, n);
 }
 
 }  // namespace semloc

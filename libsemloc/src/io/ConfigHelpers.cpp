@@ -16,6 +16,7 @@
 #include <mutex>
 #include <sstream>
 #include <typeindex>
+#include <utility>
 
 #include "io/Text.h"
 
@@ -380,13 +381,15 @@ std::string missingFileMessage(const mrpt::config::CConfigFileBase& source,
     return m;
 }
 
-std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o)
+std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o, const std::string& variant)
 {
-    // Once per class: saving the options to list their keys costs more than the rest of a load.
+    // Once per class and variant: saving the options to list their keys costs more than the
+    // rest of a load.
     static std::mutex mutex;
-    static std::map<std::type_index, std::vector<std::string>> known;
+    static std::map<std::pair<std::type_index, std::string>, std::vector<std::string>> known;
     const std::lock_guard<std::mutex> lock(mutex);
-    if (const auto it = known.find(typeid(o)); it != known.end())
+    const auto id = std::make_pair(std::type_index(typeid(o)), variant);
+    if (const auto it = known.find(id); it != known.end())
     {
         return it->second;
     }
@@ -398,7 +401,7 @@ std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o)
     {
         k = trim(k);  // MRPT pads keys to align the written columns
     }
-    known.emplace(typeid(o), keys);
+    known.emplace(id, keys);
     return keys;
 }
 

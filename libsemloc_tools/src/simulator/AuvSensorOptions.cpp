@@ -1,10 +1,10 @@
 /* semloc — the AUV sensors' sections of a simulation ini: read strictly, written whole. */
-#include <mrpt/config/CConfigFileMemory.h>
 #include <mrpt/core/exceptions.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/simulator/AuvSensorModels.h>
 
 #include <climits>
+#include <string>
 
 #include "io/ExactConfigWrite.h"
 
@@ -138,16 +138,7 @@ TObjectDetectorSimOptions::TObjectDetectorSimOptions(Kind k) : kind(k)
 void TObjectDetectorSimOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& c,
                                                    const std::string& s)
 {
-    // The keys of this kind (config::keysOf() keeps one list per class).
-    mrpt::config::CConfigFileMemory own;
-    saveToConfigFile(own, "s");
-    std::vector<std::string> keys;
-    own.getAllKeys("s", keys);
-    for (auto& k : keys)
-    {
-        k.erase(k.find_last_not_of(' ') + 1);
-    }
-    config::rejectUnknownKeys(c, s, keys);
+    config::rejectUnknownKeys(c, s, config::keysOf(*this, std::to_string(static_cast<int>(kind))));
     config::readBool(c, s, "enabled", enabled);
     sensor_label = c.read_string(s, "sensor_label", sensor_label);
     config::readDouble(c, s, "min_range_m", min_range_m, 0, 1e6);

@@ -132,7 +132,9 @@ std::string missingFileMessage(const mrpt::config::CConfigFileBase& source,
 std::string resolveNextToIni(const mrpt::config::CConfigFileBase& source, const std::string& file);
 
 /** The keys an options struct writes in saveToConfigFile (its complete key set), computed once
- *  per class: the keys a class writes must not depend on its values. */
-std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o);
+ *  per class and `variant`: the keys a class writes must not depend on its values, but may on
+ *  a variant the struct names (the simulator's detectors: one struct, a key set per kind). */
+std::vector<std::string> keysOf(const mrpt::config::CLoadableOptions& o,
+                                const std::string& variant = {});
 
 }  // namespace semloc::config

@@ -36,27 +36,13 @@ struct CameraGeometry
 };
 }  // namespace
 
-CBearingCameraMap::TLikelihoodOptions::TLikelihoodOptions()
+CBearingCameraMap::TLikelihoodOptions::TLikelihoodOptions() : TFanDetectorOptions(false)
 {
     detector.max_range_m = 8;
     detector.p_detect_near = 0.9;
     detector.p_detect_far = 0.5;
     fan.fov_deg = 60;
     fan.sigma_bearing_deg = 1;
-}
-
-void CBearingCameraMap::TLikelihoodOptions::loadFromConfigFile(
-    const mrpt::config::CConfigFileBase& source, const std::string& section)
-{
-    detector.load(source, section, TFanParam::keys(), false);
-    fan.load(source, section);
-}
-
-void CBearingCameraMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& target,
-                                                             const std::string& section) const
-{
-    detector.save(target, section, false);
-    fan.save(target, section);
 }
 
 bool CBearingCameraMap::validDetection(const TSemanticDetection& d) const

@@ -1,7 +1,6 @@
 /* semloc — CObjectDetectorMap: the objects, their grid, the water column and a scan's shared
  * part; the kinds' geometries are in their rooms. */
 #include <mrpt/core/format.h>
-#include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/models/detector/CObjectDetectorMap.h>
@@ -213,13 +212,18 @@ CObjectDetectorMap::TScan CObjectDetectorMap::scan(const CObservationSemantic& o
     }
     std::stable_sort(s.detections.begin(), s.detections.end(),
                      [](const auto& a, const auto& b) { return a.label < b.label; });
+    // labelBegin[k]: the detections of labels below k (the unknown label, nLabels, last).
     s.labelBegin.assign(nLabels + 1, 0);
     for (const auto& d : s.detections)
     {
-        for (uint32_t k = d.label + 1; k <= nLabels; k++)
+        if (d.label < nLabels)
         {
-            s.labelBegin[k]++;
+            s.labelBegin[d.label + 1]++;
         }
+    }
+    for (uint32_t k = 1; k <= nLabels; k++)
+    {
+        s.labelBegin[k] += s.labelBegin[k - 1];
     }
     const auto& p = detectorParam();
     s.minusLambda = -p.clutter_per_scan;
@@ -363,25 +367,6 @@ void CObjectDetectorMap::readObjects(mrpt::serialization::CArchive& in)
     buildIndex();
 }
 
-namespace detail
-{
-bool holdsDetectorMap(const mrpt::maps::CMetricMap& map)
-{
-    if (dynamic_cast<const CObjectDetectorMap*>(&map))
-    {
-        return true;
-    }
-    const auto* multi = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(&map);
-    if (!multi)
-    {
-        return false;
-    }
-    return std::any_of(multi->maps.begin(), multi->maps.end(),
-                       [](const auto& m)
-                       { return dynamic_cast<const CObjectDetectorMap*>(m.get()) != nullptr; });
-}
-}  // namespace detail
-
 }  // namespace semloc
 
 namespace semloc
@@ -401,5 +386,19 @@ void TFanParam::save(mrpt::config::CConfigFileBase& c, const std::string& s) con
     writeDouble(c, s, "tilt_deg", tilt_deg, "the fan's depression below the horizontal [deg]");
     writeDouble(c, s, "vertical_fov_deg", vertical_fov_deg,
                 "vertical field of view [deg] (180: no limit)");
+}
+
+void TFanDetectorOptions::loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                                             const std::string& section)
+{
+    detector.load(source, section, TFanParam::keys(), m_measuresRange);
+    fan.load(source, section);
+}
+
+void TFanDetectorOptions::saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                                           const std::string& section) const
+{
+    detector.save(target, section, m_measuresRange);
+    fan.save(target, section);
 }
 }  // namespace semloc

@@ -10,13 +10,11 @@
 
 #include <string>
 
+#include "models/MapOfClass.h"
 #include "models/WorldMapFill.h"
 
 namespace semloc::detail
 {
-/** True when `map` is, or (a CMultiMetricMap) holds, a detector map. */
-bool holdsDetectorMap(const mrpt::maps::CMetricMap& map);
-
 /** Reads a detector map's `_creationOpts` (world_file) and `_likelihoodOpts` sections. */
 template <typename Definition>
 void loadDetectorDefinition(Definition& d, const mrpt::config::CConfigFileBase& source,
@@ -72,7 +70,7 @@ public:
                                    const mrpt::maps::CMetricMap& map) const override
     {
         const auto* depth = dynamic_cast<const CObservationDepth*>(&obs);
-        if (!depth || !holdsDetectorMap(map))
+        if (!depth || !mapOfClass<CObjectDetectorMap>(map))
         {
             return {};
         }

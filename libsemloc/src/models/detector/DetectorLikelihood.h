@@ -64,6 +64,9 @@ void detectorLogLikelihoods(const CObjectDetectorMap& map, const Geometry& g,
     const size_t l = scan.detections.size();
     const double kappa = std::exp(scan.logKappa);
     const size_t nLabels = map.labels().size();
+    // The sensor's heading phi + mount yaw by the sum's formulas (the same bits as its own
+    // cosine and sine for a mount along the vehicle's axis, yaw 0).
+    const double cm = std::cos(scan.mountYaw), sm = std::sin(scan.mountYaw);
     thread_local std::vector<double> acc;
     acc.resize(l);
     for (size_t i = 0; i < n; i++)
@@ -72,8 +75,7 @@ void detectorLogLikelihoods(const CObjectDetectorMap& map, const Geometry& g,
         const double c = std::cos(pose.phi), s = std::sin(pose.phi);
         const double sx = pose.x + c * scan.mountX - s * scan.mountY;
         const double sy = pose.y + s * scan.mountX + c * scan.mountY;
-        const double heading = pose.phi + scan.mountYaw;
-        const double ch = std::cos(heading), sh = std::sin(heading);
+        const double ch = c * cm - s * sm, sh = s * cm + c * sm;
         std::fill(acc.begin(), acc.end(), kappa);
         double missed = 0;
         map.forEachCellNear(sx, sy, p.max_range_m,

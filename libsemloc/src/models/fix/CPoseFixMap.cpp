@@ -1,6 +1,5 @@
 /* semloc — CPoseFixMap: a fix's likelihood, its options and its kind. */
 #include <mrpt/core/format.h>
-#include <mrpt/maps/CMultiMetricMap.h>
 #include <mrpt/serialization/CArchive.h>
 #include <semloc/io/ConfigHelpers.h>
 #include <semloc/models/fix/CPoseFixMap.h>
@@ -8,6 +7,7 @@
 #include <cmath>
 
 #include "models/BuiltinKinds.h"
+#include "models/MapOfClass.h"
 
 MAP_DEFINITION_REGISTER("poseFixMap,semloc::CPoseFixMap", semloc::CPoseFixMap)
 IMPLEMENTS_SERIALIZABLE(CPoseFixMap, CMetricMap, semloc)
@@ -145,26 +145,6 @@ namespace detail
 {
 namespace
 {
-/** The fix map `map` is or holds, or nullptr. */
-const CPoseFixMap* fixMapIn(const mrpt::maps::CMetricMap& map)
-{
-    if (const auto* m = dynamic_cast<const CPoseFixMap*>(&map))
-    {
-        return m;
-    }
-    if (const auto* multi = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(&map))
-    {
-        for (const auto& m : multi->maps)
-        {
-            if (const auto* f = dynamic_cast<const CPoseFixMap*>(m.get()))
-            {
-                return f;
-            }
-        }
-    }
-    return nullptr;
-}
-
 /** Where the filter holds a fix map, a fix it scores whose position is not finite, or whose
  *  covariance it would use is not positive definite, is refused. */
 class PoseFixKind final : public SensorModelKind
@@ -189,7 +169,7 @@ public:
                                    const mrpt::maps::CMetricMap& map) const override
     {
         const auto* fix = dynamic_cast<const mrpt::obs::CObservationRobotPose*>(&obs);
-        const CPoseFixMap* model = fix ? fixMapIn(map) : nullptr;
+        const CPoseFixMap* model = fix ? mapOfClass<CPoseFixMap>(map) : nullptr;
         if (!model || !model->uses(obs))
         {
             return {};

@@ -37,7 +37,7 @@ struct ForwardSonarGeometry
 };
 }  // namespace
 
-CForwardSonarMap::TLikelihoodOptions::TLikelihoodOptions()
+CForwardSonarMap::TLikelihoodOptions::TLikelihoodOptions() : TFanDetectorOptions(true)
 {
     detector.max_range_m = 60;
     detector.p_detect_near = 0.8;
@@ -45,20 +45,6 @@ CForwardSonarMap::TLikelihoodOptions::TLikelihoodOptions()
     detector.sigma_range_m = 0.3;
     fan.fov_deg = 130;
     fan.sigma_bearing_deg = 1;
-}
-
-void CForwardSonarMap::TLikelihoodOptions::loadFromConfigFile(
-    const mrpt::config::CConfigFileBase& source, const std::string& section)
-{
-    detector.load(source, section, TFanParam::keys(), true);
-    fan.load(source, section);
-}
-
-void CForwardSonarMap::TLikelihoodOptions::saveToConfigFile(mrpt::config::CConfigFileBase& target,
-                                                            const std::string& section) const
-{
-    detector.save(target, section, true);
-    fan.save(target, section);
 }
 
 bool CForwardSonarMap::validDetection(const TSemanticDetection& d) const

@@ -8,6 +8,7 @@
 #include <semloc/io/ErrorMessage.h>
 
 #include "models/BuiltinKinds.h"
+#include "models/MapOfClass.h"
 #include "models/grid/GridCells.h"
 
 namespace semloc::detail
@@ -46,9 +47,7 @@ std::string floatText(float v)
 
 bool holdsGrid(const mrpt::maps::CMetricMap& map)
 {
-    const auto* mm = dynamic_cast<const mrpt::maps::CMultiMetricMap*>(&map);
-    return mm ? mm->mapByClass<COccupancyGridMap2D>() != nullptr
-              : dynamic_cast<const COccupancyGridMap2D*>(&map) != nullptr;
+    return mapOfClass<COccupancyGridMap2D>(map) != nullptr;
 }
 
 class OccupancyGridKind final : public SensorModelKind

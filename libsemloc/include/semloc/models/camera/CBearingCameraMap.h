@@ -2,7 +2,6 @@
  * (docs/design.md, "The detector models"). */
 #pragma once
 
-#include <mrpt/config/CLoadableOptions.h>
 #include <semloc/models/detector/CObjectDetectorMap.h>
 #include <semloc/models/detector/FanOptions.h>
 
@@ -19,17 +18,10 @@ class CBearingCameraMap : public CObjectDetectorMap
     DEFINE_SERIALIZABLE(CBearingCameraMap, semloc)
 
 public:
-    struct TLikelihoodOptions : public mrpt::config::CLoadableOptions
+    /** The shared keys and the fan's, with this kind's defaults. */
+    struct TLikelihoodOptions : public TFanDetectorOptions
     {
         TLikelihoodOptions();
-        /** The keys every detector kind shares. */
-        TDetectorParam detector;
-        /** Its fan and its bearings' noise. */
-        TFanParam fan;
-        void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
-                                const std::string& section) override;
-        void saveToConfigFile(mrpt::config::CConfigFileBase& target,
-                              const std::string& section) const override;
     };
     TLikelihoodOptions likelihoodOptions;
 

@@ -3,8 +3,7 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
-#include <mrpt/maps/CMetricMap.h>
-#include <semloc/models/BatchLikelihood.h>
+#include <semloc/models/CSensorModelMap.h>
 
 #include <string>
 
@@ -19,7 +18,7 @@ namespace semloc
  *  sigma `sigma_deg`, eps `p_outlier` (a heading disturbed near a wreck's steel: uniform).
  *  An IMU reading without a yaw is not used. It holds nothing: a map only to be one of
  *  MRPT's registry. */
-class CCompassMap : public mrpt::maps::CMetricMap, public BatchLikelihood
+class CCompassMap : public CSensorModelMap
 {
     DEFINE_SERIALIZABLE(CCompassMap, semloc)
 
@@ -48,26 +47,13 @@ public:
                         size_t n, double* out) const override;
 
     // CMetricMap
-    bool isEmpty() const override { return false; }
-    void saveMetricMapRepresentationToFile(const std::string&) const override {}
     std::string asString() const override { return "compass"; }
-    void getVisualizationInto(mrpt::opengl::CSetOfObjects&) const override {}
 
     MAP_DEFINITION_START(CCompassMap)
     TLikelihoodOptions likelihoodOpts;
     MAP_DEFINITION_END(CCompassMap)
 
 private:
-    void internal_clear() override {}
-    bool internal_insertObservation(const mrpt::obs::CObservation&,
-                                    const std::optional<const mrpt::poses::CPose3D>&) override
-    {
-        return false;
-    }
-    bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override
-    {
-        return uses(obs);
-    }
     double internal_computeObservationLikelihood(
         const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
 };

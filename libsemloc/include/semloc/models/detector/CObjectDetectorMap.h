@@ -4,9 +4,8 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
-#include <mrpt/maps/CMetricMap.h>
 #include <mrpt/math/TPose2D.h>
-#include <semloc/models/BatchLikelihood.h>
+#include <semloc/models/CSensorModelMap.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/world/World.h>
 
@@ -42,7 +41,7 @@ namespace semloc
  *  observations to prepareObservation() in the frame's order before it evaluates any, and
  *  MRPT's per-pose call sees them in the same order, so a depth reading placed before the
  *  detections of its frame applies to them in both (0 before any reading). */
-class CObjectDetectorMap : public mrpt::maps::CMetricMap, public BatchLikelihood
+class CObjectDetectorMap : public CSensorModelMap
 {
 public:
     /** One object as the detector sees it. */
@@ -133,9 +132,7 @@ public:
 
     // CMetricMap
     bool isEmpty() const override { return m_objects.empty(); }
-    void saveMetricMapRepresentationToFile(const std::string&) const override {}
     std::string asString() const override;
-    void getVisualizationInto(mrpt::opengl::CSetOfObjects&) const override {}
 
     /** The objects whose horizontal distance to (x, y) may be within r: a superset, in
      *  index order, as [begin, end) ranges of cellObjects() through visit(begin, end). */
@@ -153,15 +150,6 @@ protected:
     virtual double measurementVolume() const = 0;
 
     void internal_clear() override;
-    bool internal_insertObservation(const mrpt::obs::CObservation&,
-                                    const std::optional<const mrpt::poses::CPose3D>&) override
-    {
-        return false;
-    }
-    bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override
-    {
-        return uses(obs);
-    }
     double internal_computeObservationLikelihood(
         const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
 

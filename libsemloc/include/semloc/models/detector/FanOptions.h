@@ -3,6 +3,8 @@
 #pragma once
 
 #include <mrpt/config/CConfigFileBase.h>
+#include <mrpt/config/CLoadableOptions.h>
+#include <semloc/models/detector/CObjectDetectorMap.h>
 
 #include <string>
 #include <vector>
@@ -27,5 +29,27 @@ struct TFanParam
     }
     void load(const mrpt::config::CConfigFileBase& source, const std::string& section);
     void save(mrpt::config::CConfigFileBase& target, const std::string& section) const;
+};
+
+/** The `likelihoodOpts` of a detector that looks ahead in a fan: the shared keys and the fan's
+ *  (CForwardSonarMap, CBearingCameraMap; the kinds set their defaults). */
+struct TFanDetectorOptions : public mrpt::config::CLoadableOptions
+{
+    /** The keys every detector kind shares. */
+    CObjectDetectorMap::TDetectorParam detector;
+    /** Its fan and its bearings' noise. */
+    TFanParam fan;
+    void loadFromConfigFile(const mrpt::config::CConfigFileBase& source,
+                            const std::string& section) override;
+    void saveToConfigFile(mrpt::config::CConfigFileBase& target,
+                          const std::string& section) const override;
+
+protected:
+    /** `measuresRange`: the detections carry a range (its keys sigma_range_m and
+     *  p_range_outlier are read). */
+    explicit TFanDetectorOptions(bool measuresRange) : m_measuresRange(measuresRange) {}
+
+private:
+    bool m_measuresRange;
 };
 }  // namespace semloc

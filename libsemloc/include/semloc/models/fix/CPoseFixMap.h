@@ -3,9 +3,8 @@
 #pragma once
 
 #include <mrpt/config/CLoadableOptions.h>
-#include <mrpt/maps/CMetricMap.h>
 #include <mrpt/obs/CObservationRobotPose.h>
-#include <semloc/models/BatchLikelihood.h>
+#include <semloc/models/CSensorModelMap.h>
 
 #include <string>
 
@@ -20,7 +19,7 @@ namespace semloc
  *      log((1 - eps) N(d; C) + eps N(d; outlier_sigma_m^2 I)),  d = fix - (x, y)
  *
  *  The fix's heading is not used (a USBL fix has none; a compass scores headings). */
-class CPoseFixMap : public mrpt::maps::CMetricMap, public BatchLikelihood
+class CPoseFixMap : public CSensorModelMap
 {
     DEFINE_SERIALIZABLE(CPoseFixMap, semloc)
 
@@ -55,26 +54,13 @@ public:
                         size_t n, double* out) const override;
 
     // CMetricMap
-    bool isEmpty() const override { return false; }
-    void saveMetricMapRepresentationToFile(const std::string&) const override {}
     std::string asString() const override { return "position fixes"; }
-    void getVisualizationInto(mrpt::opengl::CSetOfObjects&) const override {}
 
     MAP_DEFINITION_START(CPoseFixMap)
     TLikelihoodOptions likelihoodOpts;
     MAP_DEFINITION_END(CPoseFixMap)
 
 private:
-    void internal_clear() override {}
-    bool internal_insertObservation(const mrpt::obs::CObservation&,
-                                    const std::optional<const mrpt::poses::CPose3D>&) override
-    {
-        return false;
-    }
-    bool internal_canComputeObservationLikelihood(const mrpt::obs::CObservation& obs) const override
-    {
-        return uses(obs);
-    }
     double internal_computeObservationLikelihood(
         const mrpt::obs::CObservation& obs, const mrpt::poses::CPose3D& takenFrom) const override;
 };
