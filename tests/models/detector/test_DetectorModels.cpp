@@ -85,6 +85,48 @@ struct Reference
         return std::exp(-0.5L * (d / s) * (d / s)) / (std::sqrt(2 * M_PIl) * s);
     }
 
+    /** An object the sensor sees: its index in the world, range, bearing and side. */
+    struct Seen
+    {
+        size_t index;
+        double range, bearing;
+        int side;
+    };
+    std::vector<Seen> seen(const semloc::World& world, const CObservationSemantic& obs,
+                           double depth, const TPose2D& pose) const
+    {
+        const double fov = fan.fov_deg * kDeg;
+        const CPose3D sensor = CPose3D(pose.x, pose.y, -depth, pose.phi, 0, 0) + obs.sensorPose;
+        std::vector<Seen> out;
+        for (size_t k = 0; k < world.objects.size(); k++)
+        {
+            const auto& o = world.objects[k];
+            double u, w, dz;
+            sensor.inverseComposePoint(o.center.x, o.center.y, o.z, u, w, dz);
+            const double ground = std::hypot(u, w), slant = std::sqrt(u * u + w * w + dz * dz);
+            const double r = p.slant ? slant : ground;
+            bool in = r >= p.min_range_m && r <= p.max_range_m;
+            const double bearing = std::atan2(w, u);
+            if (kind == Kind::SideScan)
+            {
+                in = in && std::abs(w) >= nadir_m &&
+                     std::abs(std::asin(u / slant)) <= 0.5 * beam_deg * kDeg;
+            }
+            else
+            {
+                in = in && std::abs(bearing) <= 0.5 * fov &&
+                     (fan.vertical_fov_deg >= 180 ||
+                      std::abs(std::atan2(-dz, ground) - fan.tilt_deg * kDeg) <=
+                          0.5 * fan.vertical_fov_deg * kDeg);
+            }
+            if (in)
+            {
+                out.push_back({k, r, bearing, kind == Kind::SideScan ? (w >= 0 ? 1 : -1) : 0});
+            }
+        }
+        return out;
+    }
+
     double operator()(const semloc::World& world, const CObservationSemantic& obs, double depth,
                       const TPose2D& pose) const
     {
@@ -101,7 +143,6 @@ struct Reference
                               : kind == Kind::Forward ? (p.max_range_m - p.min_range_m) * fov
                                                       : fov;
         const long double kappa = p.clutter_per_scan / (volume * labels.size());
-        const CPose3D sensor = CPose3D(pose.x, pose.y, -depth, pose.phi, 0, 0) + obs.sensorPose;
         std::vector<TSemanticDetection> dets;
         for (const auto& d : obs.detections)
         {
@@ -119,30 +160,10 @@ struct Reference
         }
         std::vector<long double> acc(dets.size(), kappa);
         long double missed = 1;
-        for (const auto& o : world.objects)
+        for (const auto& v : seen(world, obs, depth, pose))
         {
-            double u, w, dz;
-            sensor.inverseComposePoint(o.center.x, o.center.y, o.z, u, w, dz);
-            const double ground = std::hypot(u, w), slant = std::sqrt(u * u + w * w + dz * dz);
-            const double r = p.slant ? slant : ground;
-            bool seen = r >= p.min_range_m && r <= p.max_range_m;
-            const double bearing = std::atan2(w, u);
-            if (kind == Kind::SideScan)
-            {
-                seen = seen && std::abs(w) >= nadir_m &&
-                       std::abs(std::asin(u / slant)) <= 0.5 * beam_deg * kDeg;
-            }
-            else
-            {
-                seen = seen && std::abs(bearing) <= 0.5 * fov &&
-                       (fan.vertical_fov_deg >= 180 ||
-                        std::abs(std::atan2(-dz, ground) - fan.tilt_deg * kDeg) <=
-                            0.5 * fan.vertical_fov_deg * kDeg);
-            }
-            if (!seen)
-            {
-                continue;
-            }
+            const auto& o = world.objects[v.index];
+            const double r = v.range, bearing = v.bearing;
             const double pd = p.p_detect_near +
                               (p.p_detect_far - p.p_detect_near) * std::min(r / p.max_range_m, 1.0);
             missed *= 1 - pd;
@@ -156,8 +177,9 @@ struct Reference
                 const double db = std::remainder(dets[j].bearing_rad - bearing, 2 * M_PI);
                 if (kind == Kind::SideScan)
                 {
-                    g = (dets[j].bearing_rad > 0) == (w >= 0) ? rangeDensity(dets[j].range_m - r)
-                                                              : 0;
+                    g = (dets[j].bearing_rad > 0) == (v.side > 0)
+                            ? rangeDensity(dets[j].range_m - r)
+                            : 0;
                 }
                 else if (kind == Kind::Forward)
                 {
@@ -354,6 +376,20 @@ void checkAgainstReference(Reference ref)
                     *obs, CPose3D(poses[i].x, poses[i].y, 0, poses[i].phi, 0, 0));
                 // MRPT's pose holds the heading as a rotation matrix: its yaw within an ulp.
                 EXPECT_NEAR(mrpt, out[i], 1e-9 * std::max(1.0, std::abs(want)));
+                // What calibration matches against: the objects the reference sees.
+                const auto view = map->inView(map->scan(*obs), poses[i]);
+                const auto refView = ref.seen(world, *obs, depth, poses[i]);
+                ASSERT_EQ(view.size(), refView.size()) << "scan " << k << " pose " << i;
+                for (size_t v = 0; v < view.size(); v++)
+                {
+                    EXPECT_EQ(view[v].object, refView[v].index);
+                    EXPECT_NEAR(view[v].range_m, refView[v].range, 1e-9);
+                    EXPECT_EQ(view[v].side, refView[v].side);
+                    if (map->measuresBearing())
+                    {
+                        EXPECT_NEAR(view[v].bearing_rad, refView[v].bearing, 1e-9);
+                    }
+                }
             }
             seenAny += obs->detections.size() > 3 ? 1 : 0;
         }

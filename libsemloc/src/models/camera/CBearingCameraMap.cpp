@@ -58,14 +58,27 @@ double CBearingCameraMap::measurementVolume() const
     return likelihoodOptions.fan.fov_deg * kDeg;
 }
 
+namespace
+{
+CameraGeometry geometryOf(const CBearingCameraMap::TLikelihoodOptions& likelihoodOptions)
+{
+    const auto& f = likelihoodOptions.fan;
+    return CameraGeometry{{likelihoodOptions.detector, 0.5 * f.fov_deg * kDeg, f.tilt_deg * kDeg,
+                           0.5 * f.vertical_fov_deg * kDeg},
+                          f.sigma_bearing_deg * kDeg};
+}
+}  // namespace
+
 void CBearingCameraMap::scoreScan(const TScan& scan, const mrpt::math::TPose2D* poses, size_t n,
                                   double* out) const
 {
-    const auto& f = likelihoodOptions.fan;
-    const CameraGeometry g{{likelihoodOptions.detector, 0.5 * f.fov_deg * kDeg, f.tilt_deg * kDeg,
-                            0.5 * f.vertical_fov_deg * kDeg},
-                           f.sigma_bearing_deg * kDeg};
-    detail::detectorLogLikelihoods(*this, g, scan, poses, n, out);
+    detail::detectorLogLikelihoods(*this, geometryOf(likelihoodOptions), scan, poses, n, out);
+}
+
+std::vector<CObjectDetectorMap::TInView> CBearingCameraMap::inView(
+    const TScan& scan, const mrpt::math::TPose2D& pose) const
+{
+    return detail::detectorInView(*this, geometryOf(likelihoodOptions), scan, pose);
 }
 
 CBearingCameraMap::TMapDefinition::TMapDefinition() = default;

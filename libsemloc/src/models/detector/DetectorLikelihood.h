@@ -49,6 +49,61 @@ inline double rangeDensity(const CObjectDetectorMap::TDetectorParam& p, double d
            p.p_range_outlier / std::max(p.max_range_m - p.min_range_m, 1e-9);
 }
 
+/** The sensor in the world for the vehicle at `pose`: its position and heading's cosine and
+ *  sine (phi + mount yaw by the sum's formulas: the same bits as its own cosine and sine for a
+ *  mount along the vehicle's axis, yaw 0). */
+struct SensorInWorld
+{
+    double x, y, c, s;
+
+    SensorInWorld(const CObjectDetectorMap::TScan& scan, const mrpt::math::TPose2D& pose, double cm,
+                  double sm)
+    {
+        const double cp = std::cos(pose.phi), sp = std::sin(pose.phi);
+        x = pose.x + cp * scan.mountX - sp * scan.mountY;
+        y = pose.y + sp * scan.mountX + cp * scan.mountY;
+        c = cp * cm - sp * sm;
+        s = sp * cm + cp * sm;
+    }
+    /** Object `o` in the sensor's horizontal frame: (u, w), x ahead, y to port. */
+    void toSensor(const CObjectDetectorMap::TObject& o, double& u, double& w) const
+    {
+        const double dx = o.x - x, dy = o.y - y;
+        u = c * dx + s * dy;
+        w = -s * dx + c * dy;
+    }
+};
+
+/** CObjectDetectorMap::inView() for Geometry `g` (detectorLogLikelihoods()'s). */
+template <typename Geometry>
+std::vector<CObjectDetectorMap::TInView> detectorInView(const CObjectDetectorMap& map,
+                                                        const Geometry& g,
+                                                        const CObjectDetectorMap::TScan& scan,
+                                                        const mrpt::math::TPose2D& pose)
+{
+    const SensorInWorld sensor(scan, pose, std::cos(scan.mountYaw), std::sin(scan.mountYaw));
+    std::vector<CObjectDetectorMap::TInView> out;
+    map.forEachCellNear(sensor.x, sensor.y, map.detectorParam().max_range_m,
+                        [&](uint32_t b, uint32_t e)
+                        {
+                            for (uint32_t k = b; k < e; k++)
+                            {
+                                const uint32_t idx = map.cellObjects()[k];
+                                const auto& o = map.objects()[idx];
+                                double u = 0, w = 0;
+                                sensor.toSensor(o, u, w);
+                                TSeen seen;
+                                if (g.see(u, w, o.z - scan.sensorZ, seen))
+                                {
+                                    out.push_back({idx, seen.range, seen.bearing, seen.side});
+                                }
+                            }
+                        });
+    std::sort(out.begin(), out.end(),
+              [](const auto& a, const auto& b) { return a.object < b.object; });
+    return out;
+}
+
 /** out[i] = log p(scan | poses[i]) for Geometry `g`: `g.see(u, w, dz, seen)` (the object at
  *  (u, w) in the sensor's horizontal frame, x ahead, y to port, dz above the sensor: false
  *  when out of view, else its measured quantities) and `g.density(detection, seen)` (the
@@ -64,28 +119,22 @@ void detectorLogLikelihoods(const CObjectDetectorMap& map, const Geometry& g,
     const size_t l = scan.detections.size();
     const double kappa = std::exp(scan.logKappa);
     const size_t nLabels = map.labels().size();
-    // The sensor's heading phi + mount yaw by the sum's formulas (the same bits as its own
-    // cosine and sine for a mount along the vehicle's axis, yaw 0).
     const double cm = std::cos(scan.mountYaw), sm = std::sin(scan.mountYaw);
     thread_local std::vector<double> acc;
     acc.resize(l);
     for (size_t i = 0; i < n; i++)
     {
-        const auto& pose = poses[i];
-        const double c = std::cos(pose.phi), s = std::sin(pose.phi);
-        const double sx = pose.x + c * scan.mountX - s * scan.mountY;
-        const double sy = pose.y + s * scan.mountX + c * scan.mountY;
-        const double ch = c * cm - s * sm, sh = s * cm + c * sm;
+        const SensorInWorld sensor(scan, poses[i], cm, sm);
         std::fill(acc.begin(), acc.end(), kappa);
         double missed = 0;
-        map.forEachCellNear(sx, sy, p.max_range_m,
+        map.forEachCellNear(sensor.x, sensor.y, p.max_range_m,
                             [&](uint32_t b, uint32_t e)
                             {
                                 for (uint32_t k = b; k < e; k++)
                                 {
                                     const auto& o = objects[cells[k]];
-                                    const double dx = o.x - sx, dy = o.y - sy;
-                                    const double u = ch * dx + sh * dy, w = -sh * dx + ch * dy;
+                                    double u = 0, w = 0;
+                                    sensor.toSensor(o, u, w);
                                     TSeen seen;
                                     if (!g.see(u, w, o.z - scan.sensorZ, seen))
                                     {

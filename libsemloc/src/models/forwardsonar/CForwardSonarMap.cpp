@@ -63,14 +63,27 @@ double CForwardSonarMap::measurementVolume() const
     return (p.max_range_m - p.min_range_m) * likelihoodOptions.fan.fov_deg * kDeg;
 }
 
+namespace
+{
+ForwardSonarGeometry geometryOf(const CForwardSonarMap::TLikelihoodOptions& likelihoodOptions)
+{
+    const auto& f = likelihoodOptions.fan;
+    return ForwardSonarGeometry{{likelihoodOptions.detector, 0.5 * f.fov_deg * kDeg,
+                                 f.tilt_deg * kDeg, 0.5 * f.vertical_fov_deg * kDeg},
+                                f.sigma_bearing_deg * kDeg};
+}
+}  // namespace
+
 void CForwardSonarMap::scoreScan(const TScan& scan, const mrpt::math::TPose2D* poses, size_t n,
                                  double* out) const
 {
-    const auto& f = likelihoodOptions.fan;
-    const ForwardSonarGeometry g{{likelihoodOptions.detector, 0.5 * f.fov_deg * kDeg,
-                                  f.tilt_deg * kDeg, 0.5 * f.vertical_fov_deg * kDeg},
-                                 f.sigma_bearing_deg * kDeg};
-    detail::detectorLogLikelihoods(*this, g, scan, poses, n, out);
+    detail::detectorLogLikelihoods(*this, geometryOf(likelihoodOptions), scan, poses, n, out);
+}
+
+std::vector<CObjectDetectorMap::TInView> CForwardSonarMap::inView(
+    const TScan& scan, const mrpt::math::TPose2D& pose) const
+{
+    return detail::detectorInView(*this, geometryOf(likelihoodOptions), scan, pose);
 }
 
 CForwardSonarMap::TMapDefinition::TMapDefinition() = default;

@@ -86,12 +86,25 @@ double CSideScanMap::measurementVolume() const
     return 2 * (p.max_range_m - p.min_range_m);
 }
 
+namespace
+{
+SideScanGeometry geometryOf(const CSideScanMap::TLikelihoodOptions& o)
+{
+    const double s = std::sin(0.5 * o.beam_width_deg * kDeg);
+    return {o.detector, s * s, o.nadir_gap_m};
+}
+}  // namespace
+
 void CSideScanMap::scoreScan(const TScan& scan, const mrpt::math::TPose2D* poses, size_t n,
                              double* out) const
 {
-    const double s = std::sin(0.5 * likelihoodOptions.beam_width_deg * kDeg);
-    const SideScanGeometry g{likelihoodOptions.detector, s * s, likelihoodOptions.nadir_gap_m};
-    detail::detectorLogLikelihoods(*this, g, scan, poses, n, out);
+    detail::detectorLogLikelihoods(*this, geometryOf(likelihoodOptions), scan, poses, n, out);
+}
+
+std::vector<CObjectDetectorMap::TInView> CSideScanMap::inView(const TScan& scan,
+                                                              const mrpt::math::TPose2D& pose) const
+{
+    return detail::detectorInView(*this, geometryOf(likelihoodOptions), scan, pose);
 }
 
 CSideScanMap::TMapDefinition::TMapDefinition() = default;

@@ -28,6 +28,9 @@ public:
     const TDetectorParam& detectorParam() const override { return likelihoodOptions.detector; }
     void scoreScan(const TScan& scan, const mrpt::math::TPose2D* poses, size_t n,
                    double* out) const override;
+    std::vector<TInView> inView(const TScan& scan, const mrpt::math::TPose2D& pose) const override;
+    bool measuresRange() const override { return false; }
+    bool measuresBearing() const override { return true; }
 
     MAP_DEFINITION_START(CBearingCameraMap)
     std::string world_file;

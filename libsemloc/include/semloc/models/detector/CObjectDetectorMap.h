@@ -130,6 +130,25 @@ public:
     virtual void scoreScan(const TScan& scan, const mrpt::math::TPose2D* poses, size_t n,
                            double* out) const = 0;
 
+    /** An object in view, as the kind's geometry predicts its detections. */
+    struct TInView
+    {
+        /** Index in objects(). */
+        uint32_t object = 0;
+        /** The range the kind measures [m] and the bearing in the sensor's frame [rad]. */
+        double range_m = 0, bearing_rad = 0;
+        /** The side-scan's side: +1 port, -1 starboard (0: the other kinds). */
+        int side = 0;
+    };
+    /** The objects in view of `scan`'s sensor with the vehicle at `pose`, by the geometry
+     *  scoreScan() scores with (semloc-calibrate matches the detections against it). */
+    virtual std::vector<TInView> inView(const TScan& scan,
+                                        const mrpt::math::TPose2D& pose) const = 0;
+    /** Whether the kind's detections carry a range (all but the camera) and a bearing (all
+     *  but the side-scan, whose bearing's sign is its side). */
+    virtual bool measuresRange() const = 0;
+    virtual bool measuresBearing() const = 0;
+
     // CMetricMap
     bool isEmpty() const override { return m_objects.empty(); }
     std::string asString() const override;

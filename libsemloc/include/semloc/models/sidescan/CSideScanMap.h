@@ -42,6 +42,9 @@ public:
     const TDetectorParam& detectorParam() const override { return likelihoodOptions.detector; }
     void scoreScan(const TScan& scan, const mrpt::math::TPose2D* poses, size_t n,
                    double* out) const override;
+    std::vector<TInView> inView(const TScan& scan, const mrpt::math::TPose2D& pose) const override;
+    bool measuresRange() const override { return true; }
+    bool measuresBearing() const override { return false; }
 
     MAP_DEFINITION_START(CSideScanMap)
     std::string world_file;
