@@ -4,7 +4,9 @@
  *                    -o calibrated.ini [--report DIR]
  * docs/tools.md, "semloc-calibrate". */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
+#include <mrpt/config/CConfigFileMemory.h>
 #include <semloc/calibration/SensorCalibration.h>
+#include <semloc/calibration/SensorModelCalibration.h>
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/experiment/LocalizationExperiment.h>
 #include <semloc/io/ConfigHelpers.h>
@@ -113,10 +115,105 @@ std::vector<std::string> inputFiles()
     return in;
 }
 
+/** What is fitted and written. */
+struct Calibration
+{
+    /** The base has a semantic map (SensorCalibration) and models of the water column
+     *  (SensorModelCalibration). */
+    bool semantic = false;
+    semloc::TCalibrationResult result;
+    std::vector<semloc::TModelFits> modelFits;
+    std::string ini;
+};
+
+/** Checks the base (as semloc-localize would), then fits what it runs. */
+Calibration calibrate(semloc::SensorCalibration::TOptions o)
+{
+    const std::string base = argBase.getValue(), rawlogPath = argRawlog.getValue();
+    // Everything is read and checked before anything is written.
+    const std::string baseText = semloc::config::readIniText(base);  // its bases resolved
+    Calibration c;
+    c.semantic =
+        mrpt::config::CConfigFileMemory(baseText).read_int("MetricMap", "semanticMap_count", 0) > 0;
+    const bool models = semloc::SensorModelCalibration::HasModels(baseText);
+    if (c.semantic || !models)
+    {
+        semloc::SensorCalibration::CheckBase(base, argWorld.getValue());
+    }
+    else
+    {
+        semloc::LocalizationExperiment::CheckConfig(base, argWorld.getValue());
+    }
+    semloc::SensorCalibration::ReadBaseOptions(baseText, o);
+    const auto world = semloc::World::FromFile(argWorld.getValue());
+    auto gt = semloc::GroundTruthFile::Read(argGroundTruth.getValue());
+    if (models)
+    {
+        c.modelFits = semloc::SensorModelCalibration::Estimate(
+            rawlogPath, baseText, base, argWorld.getValue(), gt, o.gtTolerance_s, o.gate_m);
+    }
+    semloc::apps::ProgressBar bar;
+    if (c.semantic)
+    {
+        // The rawlog is streamed through the passes: memory does not grow with its length.
+        c.result = semloc::SensorCalibration::EstimateFromFile(rawlogPath, world, std::move(gt), o,
+                                                               progressOn(bar));
+        bar.erase();
+        if (argConsistencySeeds.getValue() > 0)
+        {
+            c.result = consistency(std::move(c.result), baseText, bar);
+            bar.erase();
+        }
+        c.ini =
+            semloc::SensorCalibration::ApplyToIni(baseText, base, c.result, argWorld.getValue());
+    }
+    else
+    {
+        c.ini = std::string(semloc::SensorCalibration::kIniHeader) + "the fits written into " +
+                base + "\n" + baseText;
+    }
+    c.ini = semloc::SensorModelCalibration::ApplyToIni(c.ini, base, c.modelFits,
+                                                       c.semantic ? "" : argWorld.getValue());
+    return c;
+}
+
+/** The warnings on stderr, then the values as the ini has them on stdout, and why where they
+ *  are not the fits. */
+void printOutcome(const Calibration& c, const std::vector<semloc::TFigureWarning>& figureWarnings)
+{
+    for (const auto& w : figureWarnings)
+    {
+        std::cerr << "semloc-calibrate: warning: " << w.text() << "\n";
+    }
+    auto warnings = semloc::SensorModelCalibration::Warnings(c.modelFits);
+    if (c.semantic)
+    {
+        const auto w = semloc::SensorCalibration::Warnings(c.result);
+        warnings.insert(warnings.begin(), w.begin(), w.end());
+    }
+    for (const auto& w : warnings)
+    {
+        std::cerr << "semloc-calibrate: warning: " << w << "\n";
+    }
+    const std::string report = argReport.getValue();
+    const std::string wrote =
+        "wrote " + argOut.getValue() + (report.empty() ? "" : " and " + report) + "\n";
+    if (c.semantic)
+    {
+        std::cout << "semloc-calibrate: " << semloc::SensorCalibration::SummaryText(c.result, c.ini)
+                  << "; " << wrote << semloc::SensorCalibration::BiasText(c.result)
+                  << semloc::SensorCalibration::ConsistencyText(c.result);
+    }
+    else
+    {
+        std::cout << "semloc-calibrate: " << wrote;
+    }
+    std::cout << semloc::SensorModelCalibration::SummaryText(c.modelFits);
+}
+
 void run()
 {
-    const std::string rawlogPath = argRawlog.getValue(), out = argOut.getValue(),
-                      report = argReport.getValue(), base = argBase.getValue();
+    const std::string out = argOut.getValue(), report = argReport.getValue();
     const std::vector<std::string> inputs = inputFiles();
     semloc::checkOutputFile(
         out, inputs,
@@ -137,36 +234,21 @@ void run()
     {
         throw std::invalid_argument("--consistency-seeds must be in [0, 100]");
     }
-    // Everything is read and checked before anything is written.
-    const std::string baseText = semloc::config::readIniText(base);  // its bases resolved
-    semloc::SensorCalibration::CheckBase(base, argWorld.getValue());
-    semloc::SensorCalibration::ReadBaseOptions(baseText, o);
-    const auto world = semloc::World::FromFile(argWorld.getValue());
-    auto gt = semloc::GroundTruthFile::Read(argGroundTruth.getValue());
-    // The rawlog is streamed through the passes: memory does not grow with its length.
-    semloc::apps::ProgressBar bar;
-    auto result = semloc::SensorCalibration::EstimateFromFile(rawlogPath, world, std::move(gt), o,
-                                                              progressOn(bar));
-    bar.erase();
-    if (argConsistencySeeds.getValue() > 0)
-    {
-        result = consistency(std::move(result), baseText, bar);
-        bar.erase();
-    }
-    const std::string ini =
-        semloc::SensorCalibration::ApplyToIni(baseText, base, result, argWorld.getValue());
+    const Calibration c = calibrate(o);
 
     semloc::installInterruptHandlers();
     std::vector<semloc::TFigureWarning> figureWarnings;
     if (staged)
     {
-        figureWarnings = semloc::SensorCalibration::WriteReport(result, *staged);
+        figureWarnings = c.semantic
+                             ? semloc::SensorCalibration::WriteReport(c.result, *staged)
+                             : semloc::SensorModelCalibration::WriteReport(c.modelFits, *staged);
     }
     semloc::writeOutputFiles({out},
                              [&](const std::vector<std::string>& tmp)
                              {
                                  std::ofstream f(tmp[0], std::ios::binary);
-                                 f << ini;
+                                 f << c.ini;
                                  if (!f.flush())
                                  {
                                      throw std::runtime_error("cannot write '" + out + "'");
@@ -178,19 +260,7 @@ void run()
     {
         staged->commit();
     }
-    for (const auto& w : figureWarnings)
-    {
-        std::cerr << "semloc-calibrate: warning: " << w.text() << "\n";
-    }
-    for (const auto& w : semloc::SensorCalibration::Warnings(result))
-    {
-        std::cerr << "semloc-calibrate: warning: " << w << "\n";
-    }
-    // The values as the ini has them, and why where they are not the fits.
-    std::cout << "semloc-calibrate: " << semloc::SensorCalibration::SummaryText(result, ini)
-              << "; wrote " << out << (report.empty() ? "" : " and " + report) << "\n"
-              << semloc::SensorCalibration::BiasText(result)
-              << semloc::SensorCalibration::ConsistencyText(result);
+    printOutcome(c, figureWarnings);
 }
 }  // namespace
 

@@ -1,14 +1,14 @@
 /* semloc-import: a vehicle's dataset in plain-text CSV files (odometry, detections, optional
- * ground truth and landmarks) as a semantic rawlog semloc-localize runs on:
+ * ground truth, landmarks, depth, heading and position fixes) as a semantic rawlog
+ * semloc-localize runs on:
  *   semloc-import -o run.rawlog --odometry odom.csv --detections det.csv \
  *                 --ground-truth gt.csv --landmarks lm.csv
  * writes run.rawlog, run_gt.txt (with --ground-truth) and run_world.yaml (with --landmarks).
  * Each file may be gz-compressed. The summary line counts what real logs bring (repeated
- * times, a scan's readings milliseconds apart, detections of no landmark, ground-truth gaps)
- * and a warning says where a rule may have made the result wrong. The format: docs/tools.md,
- * "semloc-import". */
+ * times, a scan's readings milliseconds apart, detections of no landmark, ground-truth gaps,
+ * readings superseded by later ones) and a warning says where a rule may have made the result
+ * wrong. The format: docs/tools.md, "semloc-import". */
 #include <mrpt/3rdparty/tclap/CmdLine.h>
-#include <mrpt/core/bits_math.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/system/filesystem.h>
 #include <semloc/dataset/DatasetImport.h>
@@ -22,7 +22,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -31,28 +30,47 @@
 namespace
 {
 TCLAP::CmdLine cmd(
-    "semloc-import: a CSV dataset (odometry, detections, ground truth, "
-    "landmarks; plain or gz-compressed) as a semantic rawlog",
+    "semloc-import: a CSV dataset (odometry, detections, ground truth, landmarks, depth, heading, "
+    "position fixes; plain or gz-compressed) as a semantic rawlog",
     ' ', "0.1");
 TCLAP::ValueArg<std::string> argOut("o", "output", "Rawlog to write", true, "", "out.rawlog", cmd);
-TCLAP::ValueArg<std::string> argOdometry("", "odometry", "Odometry CSV: t,x,y,phi or t,v,w", true,
-                                         "", "odom.csv", cmd);
+TCLAP::ValueArg<std::string> argOdometry("", "odometry",
+                                         "Odometry CSV: t,x,y,phi, t,v,w or t,vx,vy,w", true, "",
+                                         "odom.csv", cmd);
 TCLAP::ValueArg<std::string> argDetections(
-    "", "detections", "Detections CSV: t,label,range_m,bearing_rad[,id][,confidence]", true, "",
-    "det.csv", cmd);
+    "", "detections",
+    "Detections CSV: t,label,range_m,bearing_rad[,id][,confidence][,sensor][,side] (range_m "
+    "empty: bearing-only; side port/starboard: a side-scan's, bearing_rad empty)",
+    true, "", "det.csv", cmd);
 TCLAP::ValueArg<std::string> argGroundTruth("", "ground-truth", "Ground truth CSV: t,x,y,phi",
                                             false, "", "gt.csv", cmd);
 TCLAP::ValueArg<std::string> argLandmarks("", "landmarks",
                                           "Landmarks CSV: id,label,x,y[,sigma_x_m,sigma_y_m]",
                                           false, "", "lm.csv", cmd);
-TCLAP::ValueArg<double> argMaxRange("", "max-range-m", "Detector's maximum range [m] (default 20)",
-                                    false, 20.0, "R", cmd);
-TCLAP::ValueArg<double> argFov("", "fov-deg",
-                               "Detector's horizontal field of view [deg] (default 120)", false,
-                               120.0, "F", cmd);
-TCLAP::ValueArg<std::string> argSensorPose(
-    "", "sensor-pose", "Detector's pose on the vehicle [m, m, deg] (default 0,0,0)", false, "0,0,0",
-    "x,y,yaw_deg", cmd);
+TCLAP::ValueArg<std::string> argDepth("", "depth",
+                                      "Depth CSV: t,depth_m[,altitude_m] (CObservationDepth "
+                                      "'depth')",
+                                      false, "", "depth.csv", cmd);
+TCLAP::ValueArg<std::string> argHeading("", "heading",
+                                        "Heading CSV: t,heading_rad (CObservationIMU 'compass')",
+                                        false, "", "heading.csv", cmd);
+TCLAP::ValueArg<std::string> argFixes(
+    "", "fixes",
+    "Position fixes CSV: t,x,y[,z][,sigma_m | ,sigma_x_m,sigma_y_m] (CObservationRobotPose "
+    "'usbl')",
+    false, "", "fixes.csv", cmd);
+TCLAP::MultiArg<std::string> argMaxRange(
+    "", "max-range-m", "Detectors' maximum range [m] (default 20); NAME=R: of the sensor NAME only",
+    false, "[NAME=]R", cmd);
+TCLAP::MultiArg<std::string> argFov(
+    "", "fov-deg",
+    "Detectors' horizontal field of view [deg] (default 120); NAME=F: of the sensor NAME only",
+    false, "[NAME=]F", cmd);
+TCLAP::MultiArg<std::string> argSensorPose(
+    "", "sensor-pose",
+    "Detectors' pose on the vehicle: forward, to port [m], yaw [deg], height up [m] (default "
+    "0,0,0, z 0); NAME=...: of the sensor NAME only",
+    false, "[NAME=]x,y,yaw_deg[,z_m]", cmd);
 TCLAP::ValueArg<double> argMaxStep("", "max-step-s",
                                    "Longest step without detections [s] (default 0.5)", false, 0.5,
                                    "S", cmd);
@@ -68,20 +86,6 @@ TCLAP::ValueArg<double> argGtMaxGap(
     "Longest ground-truth gap interpolated across [s]; steps inside a longer one have no ground "
     "truth (default: the larger of 1 s and 10 times the ground truth's median period)",
     false, 0.0, "G", cmd);
-
-/** `x,y,yaw_deg` as a pose (yaw in radians). */
-mrpt::math::TPose2D sensorPose(const std::string& text)
-{
-    std::istringstream ss(text);
-    double v[3];
-    char comma1 = 0, comma2 = 0;
-    if (!(ss >> v[0] >> comma1 >> v[1] >> comma2 >> v[2]) || comma1 != ',' || comma2 != ',' ||
-        !(ss >> std::ws).eof())
-    {
-        THROW_EXCEPTION("--sensor-pose '" + text + "': expected x,y,yaw_deg (three numbers)");
-    }
-    return {v[0], v[1], mrpt::DEG2RAD(v[2])};
-}
 
 bool isWorldFile(const std::string& p)
 {
@@ -120,30 +124,60 @@ void printSummary(const std::string& out, const semloc::TDatasetImportStats& s,
     if (s.detectionsOutsideCoverage > 0)
     {
         std::cerr << "semloc-import: warning: " << s.detectionsOutsideCoverage
-                  << " detections lie beyond --max-range-m or outside --fov-deg (semloc-localize "
-                     "skips them as detections_invalid)\n";
+                  << " detections lie beyond --max-range-m or outside --fov-deg"
+                  << (s.semanticWithoutRange == 0
+                          ? std::string()
+                          : " or, " + std::to_string(s.semanticWithoutRange) +
+                                " of them of sensor SEMANTIC, have no range (the semantic "
+                                "models need one)")
+                  << " (semloc-localize skips them as detections_invalid)\n";
     }
 }
 
-void run()
+/** The depth, heading and fixes files given (the fixes' default z from the depth). */
+semloc::VehicleReadings readVehicleReadings(semloc::TDatasetImportStats& stats)
 {
     using semloc::DatasetImport;
+    semloc::VehicleReadings r;
+    if (!argDepth.getValue().empty())
+    {
+        r.depth = DatasetImport::readDepth(argDepth.getValue(), &stats);
+    }
+    if (!argHeading.getValue().empty())
+    {
+        r.heading = DatasetImport::readHeading(argHeading.getValue(), &stats);
+    }
+    if (!argFixes.getValue().empty())
+    {
+        r.fixes = DatasetImport::readFixes(argFixes.getValue(), r.depth, &stats);
+    }
+    return r;
+}
+
+/** The options of the command line, checked. */
+semloc::TDatasetImportOptions importOptions()
+{
     semloc::TDatasetImportOptions o;
-    o.maxRange_m = argMaxRange.getValue();
-    o.fov_deg = argFov.getValue();
-    o.sensorPose = sensorPose(argSensorPose.getValue());
+    o.setSensorOption("--max-range-m", argMaxRange.getValue());
+    o.setSensorOption("--fov-deg", argFov.getValue());
+    o.setSensorOption("--sensor-pose", argSensorPose.getValue());
     o.maxStep_s = argMaxStep.getValue();
     o.margin_m = argMargin.getValue();
     o.scanWindow_s = argScanWindow.getValue();
     o.gtMaxGap_s = argGtMaxGap.getValue();
     o.check();
-    const std::string out = argOut.getValue(), gtIn = argGroundTruth.getValue(),
-                      lmIn = argLandmarks.getValue();
-    const std::string gtOut = semloc::GroundTruthFile::PathFor(out);
-    const std::filesystem::path op(out);
-    const std::string worldOut = (op.parent_path() / (op.stem().string() + "_world.yaml")).string();
-    const std::vector<std::string> inputs = {argOdometry.getValue(), argDetections.getValue(), gtIn,
-                                             lmIn};
+    return o;
+}
+
+/** The files to write: the rawlog `out`, then `gtOut` with a ground truth and `worldOut` with
+ *  landmarks, each checked against the inputs (semloc::checkOutputFile). */
+std::vector<std::string> outputFiles(const std::string& out, const std::string& gtOut,
+                                     const std::string& worldOut)
+{
+    const std::string gtIn = argGroundTruth.getValue(), lmIn = argLandmarks.getValue();
+    const std::vector<std::string> inputs = {
+        argOdometry.getValue(), argDetections.getValue(), gtIn, lmIn, argDepth.getValue(),
+        argHeading.getValue(),  argFixes.getValue()};
     if (gtOut == out || worldOut == out)
     {
         THROW_EXCEPTION("output rawlog '" + out +
@@ -168,6 +202,19 @@ void run()
         semloc::checkOutputFile(worldOut, inputs, isWorldFile);
         outputs.push_back(worldOut);
     }
+    return outputs;
+}
+
+void run()
+{
+    using semloc::DatasetImport;
+    const semloc::TDatasetImportOptions o = importOptions();
+    const std::string out = argOut.getValue(), gtIn = argGroundTruth.getValue(),
+                      lmIn = argLandmarks.getValue();
+    const std::string gtOut = semloc::GroundTruthFile::PathFor(out);
+    const std::filesystem::path op(out);
+    const std::string worldOut = (op.parent_path() / (op.stem().string() + "_world.yaml")).string();
+    const std::vector<std::string> outputs = outputFiles(out, gtOut, worldOut);
 
     // Everything is read and checked before anything is written.
     semloc::TDatasetImportStats stats;
@@ -178,8 +225,11 @@ void run()
                                  : DatasetImport::readGroundTruth(gtIn, &stats);
     const auto landmarks =
         lmIn.empty() ? semloc::LandmarkSet{} : DatasetImport::readLandmarkSet(lmIn);
-    const auto steps = DatasetImport::steps(scans, odometry, o.maxStep_s, stats,
-                                            argOdometry.getValue(), argDetections.getValue());
+    const auto readings = readVehicleReadings(stats);
+    DatasetImport::checkSensors(scans, o, stats);
+    const auto steps =
+        DatasetImport::steps(scans, odometry, o.maxStep_s, stats, argOdometry.getValue(),
+                             argDetections.getValue(), o.scanWindow_s);
     const auto gtRows =
         gt.empty() ? gt : DatasetImport::groundTruthAtSteps(gt, steps, gtIn, o.gtMaxGap_s, &stats);
     DatasetImport::checkLandmarkSet(steps, scans, landmarks, stats);
@@ -193,8 +243,8 @@ void run()
                              [&](const std::vector<std::string>& tmp)
                              {
                                  // Entry by entry: memory holds the parsed files only.
-                                 DatasetImport::writeRawlog(steps, scans, odometry, o, stats,
-                                                            tmp[0]);
+                                 DatasetImport::writeRawlog(steps, scans, odometry, readings, o,
+                                                            stats, tmp[0]);
                                  size_t next = 1;
                                  if (!gtRows.empty())
                                  {

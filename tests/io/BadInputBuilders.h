@@ -152,6 +152,8 @@ Cases importCases();
 Cases csvBytesCases();
 Cases csvValueCases();
 Cases csvRealLogCases();
+Cases csvAuvDetectionCases();
+Cases csvAuvReadingCases();
 Cases iniMessageCases();
 Cases calibrateCases();
 Cases runPlotCases();
@@ -184,6 +186,8 @@ inline std::vector<Cases> allCaseGroups()
             csvBytesCases(),
             csvValueCases(),
             csvRealLogCases(),
+            csvAuvDetectionCases(),
+            csvAuvReadingCases(),
             iniMessageCases(),
             calibrateCases(),
             runPlotCases(),

@@ -555,6 +555,8 @@ Cases calibrateCases()
          }},
         {"calibrate-too-little-data",
          [](const fs::path& d) { return calibrate(d, 100, "semantic", "out.ini"); }},
+        {"calibrate-sensor-model-without-readings",
+         [](const fs::path& d) { return calibrate(d, 100, "auv/dead_reckoning", "out.ini"); }},
         {"calibrate-out-not-semloc",
          [](const fs::path& d)
          {

@@ -24,6 +24,13 @@ void writeGz(const fs::path& path, const std::string& text)
     f.Write(text.data(), text.size());
     f.close();
 }
+
+/** `text` as `file`, given to semloc-import with `option`. */
+std::vector<std::string> importWith(const fs::path& d, const std::string& option,
+                                    const std::string& file, const std::string& text)
+{
+    return importCsv(d, {{file, text}}, {option, file});
+}
 }  // namespace
 
 /** semloc-import: the bytes of the CSV files. */
@@ -156,6 +163,98 @@ Cases csvRealLogCases()
              writeText(d / "odom.csv.gz", gz.substr(0, gz.size() / 2));
              std::replace(a.begin(), a.end(), std::string("odom.csv"), std::string("odom.csv.gz"));
              return a;
+         }},
+    };
+}
+
+/** semloc-import: an AUV's odometry and detections (the DVL's velocities, several sensors). */
+Cases csvAuvDetectionCases()
+{
+    return {
+        {"import-csv-dvl-vx-without-vy",
+         [](const fs::path& d) {
+             return importCsv(d, {{"odom.csv", "t,vx,w\n1,1,0\n2,1,0\n3,1,0\n"}});
+         }},
+        {"import-csv-dvl-mixed-forms",
+         [](const fs::path& d) {
+             return importCsv(d, {{"odom.csv", "t,v,vx,vy,w\n1,1,1,0,0\n2,1,1,0,0\n3,1,1,0,0\n"}});
+         }},
+        {"import-csv-side-with-bearing",
+         [](const fs::path& d) {
+             return importCsv(d, {{"det.csv", kDetHeader + ",side\n1,buoy,3,0.1,port\n"}});
+         }},
+        {"import-csv-side-unknown",
+         [](const fs::path& d) {
+             return importCsv(d, {{"det.csv", kDetHeader + ",side\n1,buoy,3,,aft\n"}});
+         }},
+        {"import-csv-sensor-label-blank",
+         [](const fs::path& d) {
+             return importCsv(d, {{"det.csv", kDetHeader + ",sensor\n1,buoy,3,0.1,side scan\n"}});
+         }},
+    };
+}
+
+/** semloc-import: an AUV's depth, heading and fixes files, the per-sensor options and a whole
+ *  AUV log. */
+Cases csvAuvReadingCases()
+{
+    const std::string auvOdom = "t,vx,vy,w\n1,1,0.2,0\n2,1,0.2,0.1\n3,1,0,0\n";
+    const std::string auvDet =
+        "t,sensor,label,range_m,bearing_rad,side\n1,sidescan,buoy,3,,port\n"
+        "1.004,camera,buoy,,0.1,\n2,sidescan,,,,\n3,sidescan,buoy,2,,starboard\n";
+    return {
+        {"import-csv-depth-not-a-number", [](const fs::path& d)
+         { return importWith(d, "--depth", "depth.csv", "t,depth_m\n1,deep\n"); }},
+        {"import-csv-altitude-negative", [](const fs::path& d)
+         { return importWith(d, "--depth", "depth.csv", "t,depth_m,altitude_m\n1,25,-0.5\n"); }},
+        {"import-csv-heading-column-missing", [](const fs::path& d)
+         { return importWith(d, "--heading", "heading.csv", "t,heading_deg\n1,90\n"); }},
+        {"import-csv-readings-time-back",
+         [](const fs::path& d) {
+             return importWith(d, "--heading", "heading.csv", "t,heading_rad\n1,0\n3,0.1\n2,0.2\n");
+         }},
+        {"import-csv-fix-sigma-not-positive", [](const fs::path& d)
+         { return importWith(d, "--fixes", "fixes.csv", "t,x,y,sigma_m\n1,5,5,0\n"); }},
+        {"import-csv-fix-both-sigma-forms",
+         [](const fs::path& d)
+         {
+             return importWith(d, "--fixes", "fixes.csv",
+                               "t,x,y,sigma_m,sigma_x_m,sigma_y_m\n1,5,5,1,1,1\n");
+         }},
+        {"import-csv-fixes-without-sigma",
+         [](const fs::path& d) { return importWith(d, "--fixes", "fixes.csv", "t,x,y\n2,6,5\n"); }},
+        {"import-csv-max-range-named-malformed",
+         [](const fs::path& d) {
+             return importCsv(d, {}, {"--max-range-m", "20", "--max-range-m", "sonar="});
+         }},
+        {"import-csv-sensor-pose-named-malformed",
+         [](const fs::path& d) {
+             return importCsv(d, {}, {"--sensor-pose", "sonar=1,2"});
+         }},
+        {"import-csv-sensor-name-unused",
+         [](const fs::path& d) {
+             return importCsv(d, {}, {"--max-range-m", "sonar=30"});
+         }},
+        {"import-csv-readings-superseded",
+         [](const fs::path& d)
+         {
+             return importWith(d, "--depth", "depth.csv",
+                               "t,depth_m\n0.9,20\n1,21\n1.2,21\n1.4,22\n1.6,22\n2,23\n2.2,23\n"
+                               "3,24\n3.5,25\n");
+         }},
+        {"import-csv-auv-log",
+         [=](const fs::path& d)
+         {
+             return importCsv(
+                 d,
+                 {{"odom.csv", auvOdom},
+                  {"det.csv", auvDet},
+                  {"depth.csv", "t,depth_m,altitude_m\n0.5,25,5\n1.5,25.2,\n2.9,25.1,4.8\n"},
+                  {"heading.csv", "t,heading_rad\n1,0\n2,0.1\n"},
+                  {"fixes.csv", "t,x,y,sigma_m\n2.5,6,5,2\n"}},
+                 {"--depth", "depth.csv", "--heading", "heading.csv", "--fixes", "fixes.csv",
+                  "--fov-deg", "sidescan=360", "--max-range-m", "camera=8", "--sensor-pose",
+                  "camera=0.3,0,0,-0.2"});
          }},
     };
 }

@@ -15,60 +15,13 @@
 #include <stdexcept>
 #include <vector>
 
+#include "calibration/IniText.h"
 #include "io/Text.h"
 
 namespace semloc
 {
-namespace
+namespace detail
 {
-using detail::trim;
-
-const char* const kLikelihood = "MetricMap_semanticMap_00_likelihoodOpts";
-
-std::string lower(std::string s)
-{
-    std::transform(s.begin(), s.end(), s.begin(),
-                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    return s;
-}
-
-/** The section a line opens ("" when it opens none). */
-std::string sectionOf(const std::string& line)
-{
-    const std::string t = trim(line);
-    return t.size() >= 2 && t.front() == '[' && t.back() == ']' ? trim(t.substr(1, t.size() - 2))
-                                                                : std::string();
-}
-
-/** The key a line sets ("" for a comment, a blank line or a section). */
-std::string keyOf(const std::string& line)
-{
-    const std::string t = trim(line);
-    const auto eq = t.find('=');
-    if (t.empty() || t[0] == '#' || t[0] == ';' || t[0] == '[' || t.rfind("//", 0) == 0 ||
-        eq == std::string::npos)
-    {
-        return "";
-    }
-    return trim(t.substr(0, eq));
-}
-
-std::string number(double v)
-{
-    std::ostringstream s;
-    s << std::setprecision(4) << v;
-    return s.str();
-}
-
-std::string keyLine(const std::string& key, const std::string& value, const std::string& comment)
-{
-    std::string k = key;
-    k.resize(std::max<size_t>(key.size() + 1, 24), ' ');  // a blank before "=" always
-    std::string v = value + " ";  // MRPT reads "//" as a comment only after a blank
-    v.resize(std::max<size_t>(v.size(), 10), ' ');
-    return k + "= " + v + (comment.empty() ? "" : "// " + comment);
-}
-
 std::string fitComment(const TCalibrationFit& f)
 {
     if (f.widenedBy != 1)
@@ -95,6 +48,20 @@ std::string fitComment(const TCalibrationFit& f)
     return "calibrated: n = " + std::to_string(f.n) + ", +/- " + number(f.ci95) + " (95 %), " +
            f.method;
 }
+}  // namespace detail
+
+namespace
+{
+using detail::fitComment;
+using detail::IniText;
+using detail::keyLine;
+using detail::keyOf;
+using detail::lower;
+using detail::number;
+using detail::sectionOf;
+using detail::trim;
+
+const char* const kLikelihood = "MetricMap_semanticMap_00_likelihoodOpts";
 
 std::string rangeBiasText(const TCalibrationResult& r)
 {
@@ -125,110 +92,6 @@ std::string rangeBiasComment(const TCalibrationResult& r)
            number(c[0]) + " m on the axis, " + number(c[0] - c[1] + c[2] - c[3]) +
            " m at bearing -fov/2, " + number(c[0] + c[1] + c[2] + c[3]) + " m at +fov/2";
 }
-
-/** The base's lines, with `key` of `section` set (replaced where the base has it, else added
- *  at the end of the section, or in a new section at the end). */
-class IniText
-{
-public:
-    IniText(const std::string& text, std::string name) : m_name(std::move(name))
-    {
-        std::istringstream in(text);
-        for (std::string line; std::getline(in, line);)
-        {
-            m_lines.push_back(line);
-        }
-    }
-    void set(const std::string& section, const std::string& key, const std::string& value,
-             const std::string& comment)
-    {
-        std::string cur;
-        size_t found = m_lines.size(), lastInSection = m_lines.size();
-        bool inSection = false;
-        for (size_t i = 0; i < m_lines.size(); i++)
-        {
-            if (const std::string s = sectionOf(m_lines[i]); !s.empty())
-            {
-                inSection = lower(s) == lower(section);
-                cur = s;
-            }
-            if (!inSection)
-            {
-                continue;
-            }
-            if (!trim(m_lines[i]).empty())
-            {
-                lastInSection = i;
-            }
-            if (lower(keyOf(m_lines[i])) == lower(key))
-            {
-                if (found < m_lines.size())
-                {
-                    std::string msg = "ini '" + m_name + "': line ";
-                    msg += std::to_string(i + 1);
-                    msg += ": [" + section;
-                    msg += "] " + key;
-                    msg += ": set twice (first on line " + std::to_string(found + 1);
-                    msg += ")";
-                    throw std::runtime_error(msg);
-                }
-                found = i;
-            }
-        }
-        const std::string line = keyLine(key, value, comment);
-        if (found < m_lines.size())
-        {
-            m_lines[found] = line;
-        }
-        else if (lastInSection < m_lines.size())
-        {
-            m_lines.insert(m_lines.begin() + static_cast<std::ptrdiff_t>(lastInSection + 1), line);
-        }
-        else
-        {
-            m_lines.emplace_back("");
-            m_lines.push_back("[" + section + "]");
-            m_lines.push_back(line);
-        }
-    }
-    /** Adds the comment line "// `comment`" at the end of `section`; false when the text has
-     *  no such section. */
-    bool note(const std::string& section, const std::string& comment)
-    {
-        size_t last = m_lines.size();
-        bool inSection = false;
-        for (size_t i = 0; i < m_lines.size(); i++)
-        {
-            if (const std::string s = sectionOf(m_lines[i]); !s.empty())
-            {
-                inSection = lower(s) == lower(section);
-            }
-            if (inSection && !trim(m_lines[i]).empty())
-            {
-                last = i;
-            }
-        }
-        if (last == m_lines.size())
-        {
-            return false;
-        }
-        m_lines.insert(m_lines.begin() + static_cast<std::ptrdiff_t>(last + 1), "// " + comment);
-        return true;
-    }
-    std::string text() const
-    {
-        std::string out;
-        for (const auto& l : m_lines)
-        {
-            out += l + "\n";
-        }
-        return out;
-    }
-
-private:
-    std::string m_name;
-    std::vector<std::string> m_lines;
-};
 
 /** The base ini's values, and the defaults of the keys it does not set. */
 class BaseValues
@@ -292,7 +155,10 @@ void requireSemanticMap(const std::string& baseIni, const std::string& baseName)
     {
         throw std::runtime_error("ini '" + baseName +
                                  "': [MetricMap] semanticMap_count: the base configuration has "
-                                 "no semantic map to calibrate (needs >= 1)");
+                                 "no semantic map to calibrate (needs >= 1) and no model of an "
+                                 "AUV's sensors (a sideScanMap, forwardSonarMap, "
+                                 "bearingCameraMap, compassMap, poseFixMap, or [MotionModel] "
+                                 "kind = dvl)");
     }
 }
 /** The comment of `key` in `section` of the ini text `ini` ("" when it has none). */
@@ -401,6 +267,11 @@ std::string SensorCalibration::ApplyToIni(const std::string& baseIni, const std:
                     " by the consistency stage (the base's " + number(basePow) + ")");
     }
     const char* mm = MotionModelConfig::kSection;
+    if (mrpt::config::CConfigFileMemory(baseIni).read_string(mm, "kind", "") == "dvl")
+    {
+        // The DVL's model is not MRPT's Gaussian one: SensorModelCalibration fits it.
+        return header + ini.text();
+    }
     if (r.a1.status == TCalibrationFit::Status::TooLittleData)
     {
         const std::string why = "semloc-calibrate: not fitted, too little data (" + r.a1.why +

@@ -1,12 +1,15 @@
 /* semloc — DatasetImport: the steps, rawlog, ground truth and world of an imported dataset
- * (the CSV readers are in DatasetImportReaders.cpp; the ground truth at the steps and the
- * counts of the summary line in DatasetImportChecks.cpp). */
+ * (the CSV readers are in DatasetImportReaders.cpp, DatasetImportDetections.cpp and
+ * DatasetImportReadings.cpp; the ground truth at the steps and the counts of the summary line
+ * in DatasetImportChecks.cpp). */
 #include <mrpt/core/Clock.h>
 #include <mrpt/core/bits_math.h>
 #include <mrpt/core/exceptions.h>
 #include <mrpt/core/format.h>
 #include <mrpt/obs/CActionCollection.h>
 #include <mrpt/obs/CActionRobotMovement2D.h>
+#include <mrpt/obs/CObservationIMU.h>
+#include <mrpt/obs/CObservationRobotPose.h>
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
 #include <mrpt/poses/CPose3D.h>
@@ -15,11 +18,13 @@
 #include <semloc/dataset/GroundTruthFile.h>
 #include <semloc/dataset/LandmarkImport.h>
 #include <semloc/io/RawlogWriter.h>
+#include <semloc/observation/CObservationDepth.h>
 
 #include <algorithm>
 #include <cmath>
 #include <functional>
 
+#include "dataset/ImportCells.h"
 #include "io/Text.h"
 
 namespace semloc
@@ -67,26 +72,111 @@ void checkStepCount(const std::vector<DetectionScan>& scans, const OdometryTrack
     }
 }
 
-/** The scan's observation: the detector's pose, coverage and detections at time `t`. */
+/** The scan's observation: its sensor's label, pose, coverage and detections at time `t`. */
 CObservationSemantic::Ptr semanticObservation(const DetectionScan& scan,
                                               const TDatasetImportOptions& o,
                                               TDatasetImportStats& stats)
 {
+    const TImportSensor sensor = o.sensor(scan.sensor);
     auto obs = CObservationSemantic::Create();
-    obs->sensorLabel = "SEMANTIC";
+    obs->sensorLabel = scan.sensor;
     obs->timestamp = mrpt::Clock::fromDouble(scan.t);
     obs->sensorPose =
-        mrpt::poses::CPose3D(o.sensorPose.x, o.sensorPose.y, 0, o.sensorPose.phi, 0, 0);
-    obs->maxRange_m = o.maxRange_m;
-    obs->fov_rad = mrpt::DEG2RAD(o.fov_deg);
+        mrpt::poses::CPose3D(sensor.pose.x, sensor.pose.y, sensor.z_m, sensor.pose.phi, 0, 0);
+    obs->maxRange_m = sensor.maxRange_m;
+    obs->fov_rad = mrpt::DEG2RAD(sensor.fov_deg);
     obs->detections = scan.detections;
     for (const auto& d : scan.detections)
     {
-        stats.detectionsOutsideCoverage += obs->isValid(d) ? 0 : 1;
+        // A bearing-only detection (no range) of a camera, a sonar... is in coverage when its
+        // bearing is in the field of view: isValid() wants a range, as the semantic models
+        // of sensor SEMANTIC do.
+        const bool bearingOnly = std::isnan(d.range_m);
+        const bool semantic = scan.sensor == kDefaultImportSensor;
+        TSemanticDetection inView = d;
+        inView.range_m = bearingOnly && !semantic ? 0.0 : d.range_m;
+        stats.detectionsOutsideCoverage += obs->isValid(inView) ? 0 : 1;
+        stats.detectionsWithoutRange += bearingOnly ? 1 : 0;
+        stats.semanticWithoutRange += bearingOnly && semantic ? 1 : 0;
     }
     stats.detections += scan.detections.size();
+    stats.scanObservations++;
+    stats.sensorScans[scan.sensor]++;
     return obs;
 }
+
+/** A depth file's reading as semloc's observation (label `depth`). */
+mrpt::obs::CObservation::Ptr depthObservation(const DepthReading& r)
+{
+    auto obs = CObservationDepth::Create();
+    obs->sensorLabel = "depth";
+    obs->timestamp = mrpt::Clock::fromDouble(r.t);
+    obs->depth_m = r.depth_m;
+    obs->altitude_m = r.altitude_m;
+    return obs;
+}
+
+/** A heading file's reading as MRPT's IMU observation of a yaw (label `compass`). */
+mrpt::obs::CObservation::Ptr headingObservation(const HeadingReading& r)
+{
+    auto obs = mrpt::obs::CObservationIMU::Create();
+    obs->sensorLabel = "compass";
+    obs->timestamp = mrpt::Clock::fromDouble(r.t);
+    obs->set(mrpt::obs::IMU_YAW, r.heading_rad);
+    return obs;
+}
+
+/** A fixes file's reading as MRPT's pose observation (label `usbl`): the position and its
+ *  variances (1 m^2 without standard deviations), 1 m^2 on z and 100 on the attitude (a fix
+ *  has none). */
+mrpt::obs::CObservation::Ptr fixObservation(const FixReading& r)
+{
+    auto obs = mrpt::obs::CObservationRobotPose::Create();
+    obs->sensorLabel = "usbl";
+    obs->timestamp = mrpt::Clock::fromDouble(r.t);
+    obs->pose.mean = mrpt::poses::CPose3D(r.x, r.y, r.z, 0, 0, 0);
+    obs->pose.cov.setZero();
+    obs->pose.cov(0, 0) = std::isnan(r.sigma_x_m) ? 1.0 : r.sigma_x_m * r.sigma_x_m;
+    obs->pose.cov(1, 1) = std::isnan(r.sigma_y_m) ? 1.0 : r.sigma_y_m * r.sigma_y_m;
+    obs->pose.cov(2, 2) = 1;
+    for (int i = 3; i < 6; i++)
+    {
+        obs->pose.cov(i, i) = 100;  // no attitude in a fix
+    }
+    return obs;
+}
+
+/** The readings of one file (times increasing) handed to the steps in order: each in the frame
+ *  of the first step at or after its time, the last of those before one step only. */
+template <typename Reading>
+class ReadingPlacer
+{
+public:
+    ReadingPlacer(const std::vector<Reading>& readings, TImportReadingCounts& counts)
+        : m_readings(readings), m_counts(counts)
+    {
+    }
+    /** The reading of the step at `t` (nullptr: none since the previous step); the earlier
+     *  ones since then counted as superseded. */
+    const Reading* at(double t)
+    {
+        const Reading* last = nullptr;
+        for (; m_next < m_readings.size() && m_readings[m_next].t <= t; m_next++)
+        {
+            m_counts.superseded += last != nullptr ? 1 : 0;
+            last = &m_readings[m_next];
+        }
+        m_counts.written += last != nullptr ? 1 : 0;
+        return last;
+    }
+    /** Counts the readings after the last step as dropped. */
+    void finish() { m_counts.dropped += m_readings.size() - m_next; }
+
+private:
+    const std::vector<Reading>& m_readings;
+    TImportReadingCounts& m_counts;
+    size_t m_next = 0;
+};
 
 /** The odometry action of the step from `from` to `to` (poses of the odometry track). */
 mrpt::obs::CActionCollection::Ptr odometryAction(const mrpt::math::TPose2D& from,
@@ -101,6 +191,30 @@ mrpt::obs::CActionCollection::Ptr odometryAction(const mrpt::math::TPose2D& from
     auto actions = mrpt::obs::CActionCollection::Create();
     actions->insert(action);
     return actions;
+}
+/** Whether scan `k` shares the last step of `out`: the scan that follows its scans, of a sensor
+ *  none of them is of, within `window_s` of its time. */
+bool joinsStep(const std::vector<ImportStep>& out, const std::vector<DetectionScan>& scans,
+               size_t k, double window_s)
+{
+    if (out.empty() || out.back().scan < 0)
+    {
+        return false;
+    }
+    const ImportStep& s = out.back();
+    const auto first = static_cast<size_t>(s.scan);
+    if (first + s.scanCount != k || !detail::inScan(s.t, scans[k].t, window_s))
+    {
+        return false;
+    }
+    for (size_t j = first; j < k; j++)
+    {
+        if (scans[j].sensor == scans[k].sensor)
+        {
+            return false;
+        }
+    }
+    return true;
 }
 }  // namespace
 
@@ -147,7 +261,7 @@ std::vector<ImportStep> DatasetImport::steps(const std::vector<DetectionScan>& s
                                              const OdometryTrack& odometry, double maxStep_s,
                                              TDatasetImportStats& stats,
                                              const std::string& odometryName,
-                                             const std::string& detectionsName)
+                                             const std::string& detectionsName, double scanWindow_s)
 {
     ASSERT_(!odometry.t.empty());
     checkTimeUnit(scans, odometry, odometryName, detectionsName);
@@ -161,6 +275,11 @@ std::vector<ImportStep> DatasetImport::steps(const std::vector<DetectionScan>& s
             stats.scansOutsideOdometry++;
             continue;
         }
+        if (joinsStep(out, scans, k, scanWindow_s))
+        {
+            out.back().scanCount++;  // another sensor's scan within the window: one step
+            continue;
+        }
         if (!out.empty())
         {
             // Evenly spaced odometry-only steps, none of the gaps longer than maxStep_s.
@@ -171,11 +290,11 @@ std::vector<ImportStep> DatasetImport::steps(const std::vector<DetectionScan>& s
                 const double ti = t0 + gap * static_cast<double>(i) / static_cast<double>(n);
                 if (ti != 0 && ti > out.back().t && ti < t)  // 0: MRPT's "no timestamp"
                 {
-                    out.push_back({ti, -1});
+                    out.push_back({ti, -1, 0});
                 }
             }
         }
-        out.push_back({t, static_cast<long>(k)});
+        out.push_back({t, static_cast<long>(k), 1});
     }
     if (out.empty())
     {
@@ -192,22 +311,44 @@ namespace
 {
 /** Hands each entry of the steps' rawlog (makeRawlog) to `out`, in order. */
 void forEachEntry(const std::vector<ImportStep>& steps, const std::vector<DetectionScan>& scans,
-                  const OdometryTrack& odometry, const TDatasetImportOptions& options,
-                  TDatasetImportStats& stats,
+                  const OdometryTrack& odometry, const VehicleReadings& readings,
+                  const TDatasetImportOptions& options, TDatasetImportStats& stats,
                   const std::function<void(const mrpt::serialization::CSerializable::Ptr&)>& out)
 {
+    ReadingPlacer<DepthReading> depth(readings.depth, stats.depth);
+    ReadingPlacer<HeadingReading> heading(readings.heading, stats.heading);
+    ReadingPlacer<FixReading> fixes(readings.fixes, stats.fixes);
     mrpt::math::TPose2D previous = odometry.at(steps.front().t);
     for (const auto& s : steps)
     {
         const mrpt::math::TPose2D pose = odometry.at(s.t);
         out(odometryAction(previous, pose, s.t));
         previous = pose;
-        // An odometry-only step's frame is empty: the detector did not report then.
+        // The depth first: the detector models take the frame's last depth reading before
+        // they score its scans. An odometry-only step's frame holds no scan: the detectors
+        // did not report then.
         auto frame = mrpt::obs::CSensoryFrame::Create();
+        if (const auto* r = depth.at(s.t))
+        {
+            frame->insert(depthObservation(*r));
+        }
+        if (const auto* r = heading.at(s.t))
+        {
+            frame->insert(headingObservation(*r));
+        }
+        if (const auto* r = fixes.at(s.t))
+        {
+            frame->insert(fixObservation(*r));
+        }
         if (s.scan >= 0)
         {
-            frame->insert(semanticObservation(scans[static_cast<size_t>(s.scan)], options, stats));
+            for (size_t k = 0; k < s.scanCount; k++)
+            {
+                const auto& scan = scans[static_cast<size_t>(s.scan) + k];
+                frame->insert(semanticObservation(scan, options, stats));
+            }
             stats.scans++;
+            stats.stepsOfSeveralScans += s.scanCount > 1 ? 1 : 0;
         }
         else
         {
@@ -216,8 +357,24 @@ void forEachEntry(const std::vector<ImportStep>& steps, const std::vector<Detect
         out(frame);
         stats.steps++;
     }
+    depth.finish();
+    heading.finish();
+    fixes.finish();
 }
 }  // namespace
+
+mrpt::obs::CRawlog DatasetImport::makeRawlog(const std::vector<ImportStep>& steps,
+                                             const std::vector<DetectionScan>& scans,
+                                             const OdometryTrack& odometry,
+                                             const VehicleReadings& readings,
+                                             const TDatasetImportOptions& options,
+                                             TDatasetImportStats& stats)
+{
+    mrpt::obs::CRawlog log;
+    forEachEntry(steps, scans, odometry, readings, options, stats,
+                 [&](const mrpt::serialization::CSerializable::Ptr& e) { log.insert(e); });
+    return log;
+}
 
 mrpt::obs::CRawlog DatasetImport::makeRawlog(const std::vector<ImportStep>& steps,
                                              const std::vector<DetectionScan>& scans,
@@ -225,10 +382,22 @@ mrpt::obs::CRawlog DatasetImport::makeRawlog(const std::vector<ImportStep>& step
                                              const TDatasetImportOptions& options,
                                              TDatasetImportStats& stats)
 {
-    mrpt::obs::CRawlog log;
-    forEachEntry(steps, scans, odometry, options, stats,
-                 [&](const mrpt::serialization::CSerializable::Ptr& e) { log.insert(e); });
-    return log;
+    return makeRawlog(steps, scans, odometry, VehicleReadings{}, options, stats);
+}
+
+void DatasetImport::writeRawlog(const std::vector<ImportStep>& steps,
+                                const std::vector<DetectionScan>& scans,
+                                const OdometryTrack& odometry, const VehicleReadings& readings,
+                                const TDatasetImportOptions& options, TDatasetImportStats& stats,
+                                const std::string& path)
+{
+    // As saveRawlog() writes makeRawlog()'s CRawlog: the signature, then each entry in order.
+    GzOutputFile f(path);
+    auto a = mrpt::serialization::archiveFrom(f);
+    writeRawlogSignature(a, "semloc-import");
+    forEachEntry(steps, scans, odometry, readings, options, stats,
+                 [&](const mrpt::serialization::CSerializable::Ptr& e) { a << *e; });
+    f.close();
 }
 
 void DatasetImport::writeRawlog(const std::vector<ImportStep>& steps,
@@ -236,13 +405,7 @@ void DatasetImport::writeRawlog(const std::vector<ImportStep>& steps,
                                 const OdometryTrack& odometry, const TDatasetImportOptions& options,
                                 TDatasetImportStats& stats, const std::string& path)
 {
-    // As saveRawlog() writes makeRawlog()'s CRawlog: the signature, then each entry in order.
-    GzOutputFile f(path);
-    auto a = mrpt::serialization::archiveFrom(f);
-    writeRawlogSignature(a, "semloc-import");
-    forEachEntry(steps, scans, odometry, options, stats,
-                 [&](const mrpt::serialization::CSerializable::Ptr& e) { a << *e; });
-    f.close();
+    writeRawlog(steps, scans, odometry, VehicleReadings{}, options, stats, path);
 }
 
 World DatasetImport::makeWorld(const std::vector<ImportedLandmark>& landmarks,

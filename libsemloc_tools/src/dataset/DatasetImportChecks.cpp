@@ -256,26 +256,32 @@ void DatasetImport::checkLandmarkSet(const std::vector<ImportStep>& steps,
                    : &landmarks.labelOf(std::prev(it)->second);
     };
     DetectionKind unknown, idNotLandmark, otherLabel;
+    auto check = [&](const TSemanticDetection& d)
+    {
+        const std::string* label = d.object_id > 0 ? labelOf(d.object_id) : nullptr;
+        if (label != nullptr)
+        {
+            if (*label != d.label)
+            {
+                otherLabel.add(d);
+            }
+        }
+        else if (labels.count(d.label) == 0)
+        {
+            unknown.add(d);
+        }
+        else if (d.object_id > 0)
+        {
+            idNotLandmark.add(d);
+        }
+    };
     for (const auto& s : steps)
     {
-        for (const auto& d : s.scan < 0 ? std::vector<TSemanticDetection>{}
-                                        : scans[static_cast<size_t>(s.scan)].detections)
+        for (size_t k = 0; s.scan >= 0 && k < s.scanCount; k++)
         {
-            const std::string* label = d.object_id > 0 ? labelOf(d.object_id) : nullptr;
-            if (label != nullptr)
+            for (const auto& d : scans[static_cast<size_t>(s.scan) + k].detections)
             {
-                if (*label != d.label)
-                {
-                    otherLabel.add(d);
-                }
-            }
-            else if (labels.count(d.label) == 0)
-            {
-                unknown.add(d);
-            }
-            else if (d.object_id > 0)
-            {
-                idNotLandmark.add(d);
+                check(d);
             }
         }
     }
@@ -284,6 +290,57 @@ void DatasetImport::checkLandmarkSet(const std::vector<ImportStep>& steps,
     stats.detectionsLabelNotLandmarks += otherLabel.count;
     warnLandmarks(unknown, idNotLandmark, otherLabel, stats);
 }
+
+namespace
+{
+/** The summary's parts of one reading file: "120 depth readings written (3 superseded, 1
+ *  after the last step dropped), 2 repeated depth times (the later reading kept)". */
+void addReadingCounts(std::vector<std::string>& parts, const TImportReadingCounts& c,
+                      const char* one, const char* many, const char* what)
+{
+    if (c.written + c.superseded + c.dropped > 0)
+    {
+        std::string left;
+        if (c.superseded > 0)
+        {
+            left = std::to_string(c.superseded) + " superseded";
+        }
+        if (c.dropped > 0)
+        {
+            left += (left.empty() ? "" : ", ") + std::to_string(c.dropped) +
+                    " after the last step dropped";
+        }
+        parts.push_back(counted(c.written, one, many) + " written" +
+                        (left.empty() ? std::string() : " (" + left + ")"));
+    }
+    if (c.repeatedTimes > 0)
+    {
+        parts.push_back(std::to_string(c.repeatedTimes) + " repeated " + what +
+                        (c.repeatedTimes == 1 ? " time" : " times") + " (the later reading kept)");
+    }
+}
+
+/** The summary's part of the scans by sensor, when any is not SEMANTIC: "scans by sensor:
+ *  camera 420, sidescan 1388 (400 steps hold several)". */
+void addSensorCounts(std::vector<std::string>& parts, const TDatasetImportStats& s)
+{
+    if (s.sensorScans.empty() ||
+        (s.sensorScans.size() == 1 && s.sensorScans.begin()->first == kDefaultImportSensor))
+    {
+        return;
+    }
+    std::string text = "scans by sensor:";
+    for (const auto& [label, n] : s.sensorScans)
+    {
+        text += (text.back() == ':' ? " " : ", ") + label + " " + std::to_string(n);
+    }
+    if (s.stepsOfSeveralScans > 0)
+    {
+        text += " (" + counted(s.stepsOfSeveralScans, "step holds", "steps hold") + " several)";
+    }
+    parts.push_back(text);
+}
+}  // namespace
 
 std::string DatasetImport::summaryCounts(const TDatasetImportStats& s)
 {
@@ -295,6 +352,12 @@ std::string DatasetImport::summaryCounts(const TDatasetImportStats& s)
             parts.push_back(text);
         }
     };
+    addSensorCounts(parts, s);
+    add(s.detectionsWithoutRange, counted(s.detectionsWithoutRange, "detection", "detections") +
+                                      " without a range (bearing-only)");
+    addReadingCounts(parts, s.depth, "depth reading", "depth readings", "depth");
+    addReadingCounts(parts, s.heading, "heading reading", "heading readings", "heading");
+    addReadingCounts(parts, s.fixes, "fix", "fixes", "fix");
     add(s.odometryRepeatedTimes,
         counted(s.odometryRepeatedTimes, "repeated odometry time", "repeated odometry times") +
             " (the later reading kept)");

@@ -90,6 +90,8 @@ void forEachLandmark(const CsvTable& t, const std::function<void(const ImportedL
         }
         l.object.shape = ShapeType::Point;
         l.object.center = {detail::positionCell(t, r, "x"), detail::positionCell(t, r, "y")};
+        // Metres up from the surface (docs/design.md, "The water column"): 0 when not given.
+        l.object.z = t.empty(r, "z") ? 0.0 : detail::positionCell(t, r, "z");
         for (auto [col, sigma] :
              {std::pair{"sigma_x_m", &l.sigma_x_m}, {"sigma_y_m", &l.sigma_y_m}})
         {
@@ -118,7 +120,7 @@ void forEachLandmark(const CsvTable& t, const std::function<void(const ImportedL
 }
 
 const std::vector<std::string> kRequired = {"id", "label", "x", "y"};
-const std::vector<std::string> kOptional = {"sigma_x_m", "sigma_y_m"};
+const std::vector<std::string> kOptional = {"sigma_x_m", "sigma_y_m", "z"};
 
 std::vector<ImportedLandmark> landmarksOf(std::istream* in, const std::string& path)
 {
@@ -150,7 +152,7 @@ LandmarkSet DatasetImport::readLandmarkSet(const std::string& path)
                     [&](const ImportedLandmark& l)
                     {
                         const auto& o = l.object;
-                        out.add(o.id, o.label, o.center.x, o.center.y, 0, o.sigma_m);
+                        out.add(o.id, o.label, o.center.x, o.center.y, o.z, o.sigma_m);
                     });
     return out;
 }
