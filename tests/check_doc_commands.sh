@@ -15,8 +15,9 @@
 # - the build steps at the head of an `&&` chain (bash .ci/setup, cmake -S, cmake --build)
 #   are the ones that made this build: they are checked for syntax and the rest of the
 #   chain runs;
-# - docs/your-own-data.md is run by walkthrough_your_own_data (check_walkthrough.sh), with
-#   its outputs checked, so not again here;
+# - docs/your-own-data.md and docs/auv-own-log.md are run by walkthrough_your_own_data
+#   (check_walkthrough.sh) and walkthrough_auv_own_log (check_auv_walkthrough.sh), with their
+#   outputs checked, so not again here;
 # - a block whose first line is a comment starting `# long` reproduces a figure of real data
 #   over many minutes: checked for syntax only, unless DOC_COMMANDS_LONG=1 (then it runs).
 # A command of the tools (a line starting `build/bin/`, `bash `, `cmake `, `ctest `) in a
@@ -26,7 +27,7 @@
 #   DOC_COMMANDS_LONG=1 runs the long blocks too.
 set -euo pipefail
 src=$(cd "$1" && pwd) build=$(cd "$2" && pwd) scratch=$3
-pages=${DOC_COMMANDS_PAGES:-$(cd "$src" && ls README.md docs/*.md | grep -v '^docs/your-own-data\.md$')}
+pages=${DOC_COMMANDS_PAGES:-$(cd "$src" && ls README.md docs/*.md | grep -Ev '^docs/(your-own-data|auv-own-log)\.md$')}
 rm -rf "$scratch"
 mkdir -p "$scratch"
 scratch=$(cd "$scratch" && pwd)

@@ -13,11 +13,13 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose3D.h>
 #include <mrpt/serialization/CArchive.h>
+#include <semloc/dataset/DatasetImport.h>
 #include <semloc/observation/CObservationDepth.h>
 #include <semloc/observation/CObservationSemantic.h>
 #include <semloc/simulator/Simulator.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -268,4 +270,63 @@ TEST(AuvSensors, BadKeysAreNamed)
     EXPECT_NE(loadError("[DVL]\nscale_error=nan\n").find("scale_error"), std::string::npos);
     EXPECT_NE(loadError("[Compass]\ndeviation=1\n").find("deviation"), std::string::npos);
     EXPECT_EQ(loadError("[SideScan]\nenabled=true\nbeam_width_deg=2\n"), "");
+}
+
+TEST(AuvSensors, TheCsvFilesImportBackToTheRawlogsReadings)
+{
+    namespace fs = std::filesystem;
+    auto o = allSensors(150);
+    o.detector.enabled = false;  // the AUV's detectors only
+    const Simulator sim(o);
+    const auto r = sim.run();
+    const fs::path dir = fs::path(SEMLOC_TEST_OUT) / "auv_csv";
+    fs::remove_all(dir);
+    sim.writeCsvDataset(r, dir.string());
+    for (const char* f : {"odometry.csv", "detections.csv", "ground_truth.csv", "landmarks.csv",
+                          "depth.csv", "heading.csv", "fixes.csv"})
+    {
+        EXPECT_TRUE(fs::exists(dir / f)) << f;
+    }
+    // The DVL's t,vx,vy,w rows integrate back to each step's increment.
+    const auto odo = semloc::DatasetImport::readOdometry((dir / "odometry.csv").string());
+    ASSERT_EQ(odo.t.size(), r.steps);
+    for (size_t k = 1; k < r.steps; k++)
+    {
+        const mrpt::poses::CPose2D want = actionOf(r, k)->poseChange->getMeanVal();
+        const mrpt::poses::CPose2D got =
+            mrpt::poses::CPose2D(odo.pose[k]) - mrpt::poses::CPose2D(odo.pose[k - 1]);
+        ASSERT_NEAR(got.x(), want.x(), 1e-9) << k;
+        ASSERT_NEAR(got.y(), want.y(), 1e-9) << k;
+        ASSERT_NEAR(got.phi(), want.phi(), 1e-12) << k;
+    }
+    // Every detector's scan, with its sensor, its side-scan sides and its camera's missing ranges.
+    const auto scans = semloc::DatasetImport::readDetections((dir / "detections.csv").string());
+    size_t want = 0, got = 0, semantic = 0;
+    for (size_t k = 0; k < r.steps; k++)
+    {
+        for (const auto& obs : *frameOf(r, k))
+        {
+            if (const auto* s = dynamic_cast<const CObservationSemantic*>(obs.get()))
+            {
+                want += s->detections.size();
+                semantic += s->sensorLabel == "SEMANTIC" ? 1 : 0;
+            }
+        }
+    }
+    EXPECT_EQ(semantic, 0u) << "[SemanticDetector] enabled = false: no SEMANTIC scans";
+    EXPECT_EQ(scans.size(), 3 * r.steps) << "one scan per detector and step";
+    for (const auto& s : scans)
+    {
+        got += s.detections.size();
+        for (const auto& d : s.detections)
+        {
+            if (s.sensor == o.auv.sidescan.sensor_label)
+            {
+                EXPECT_EQ(std::abs(d.bearing_rad), M_PI / 2);
+            }
+            EXPECT_EQ(std::isnan(d.range_m), s.sensor == o.auv.camera.sensor_label);
+        }
+    }
+    EXPECT_EQ(got, want);
+    EXPECT_GT(want, 20u);
 }

@@ -20,6 +20,7 @@ void SemanticDetectorModel::TOptions::loadFromConfigFile(const mrpt::config::CCo
                                                          const std::string& s)
 {
     config::rejectUnknownKeys(c, s, config::keysOf(*this));
+    config::readBool(c, s, "enabled", enabled);
     config::readDouble(c, s, "max_range_m", max_range_m, 1e-3, 1e5);
     config::readDouble(c, s, "fov_deg", fov_deg, 1e-6, 360);
     config::readDouble(c, s, "range_noise_std_m", range_noise_std_m, 0, 1e3);
@@ -55,6 +56,7 @@ void SemanticDetectorModel::TOptions::saveToConfigFile(mrpt::config::CConfigFile
                                                        const std::string& s) const
 {
     using detail::writeExact;
+    c.write(s, "enabled", enabled, 24, 24, "false: no CObservationSemantic in the frames");
     writeExact(c, s, "max_range_m", max_range_m, "maximum detection range [m]");
     writeExact(c, s, "fov_deg", fov_deg, "field of view, centred ahead [deg]");
     writeExact(c, s, "range_noise_std_m", range_noise_std_m, "range noise [m]");

@@ -290,10 +290,13 @@ void recordStep(const Sensors& sensors, SimStreams& rng, const mrpt::poses::CPos
     {
         counts.validBeams += scan->getScanRangeValidity(b) ? 1 : 0;
     }
-    counts.detections += semantic->detections.size();
     auto frame = mrpt::obs::CSensoryFrame::Create();
     frame->insert(scan);
-    frame->insert(semantic);
+    if (sensors.detector.options().enabled)
+    {
+        counts.detections += semantic->detections.size();
+        frame->insert(semantic);
+    }
     if (ping)
     {
         auto ranges = sensors.beacons.measure(pose, rng.beacons);

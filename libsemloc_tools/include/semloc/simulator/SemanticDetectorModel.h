@@ -67,6 +67,10 @@ public:
     /** Section [SemanticDetector]. */
     struct TOptions : public mrpt::config::CLoadableOptions
     {
+        /** False: the frames hold no CObservationSemantic of this detector (its noise is
+         *  drawn all the same, so the other sensors' streams are those of a run with it): a
+         *  vehicle that carries only the detectors of [SideScan], [ForwardSonar], [Camera]. */
+        bool enabled = true;
         /** Maximum detection range [m]. */
         double max_range_m = 20.0;
         /** Horizontal field of view [deg], centred on the sensor's x axis, (0, 360]. */

@@ -22,6 +22,7 @@
 
 namespace semloc
 {
+class StagedDirectory;
 namespace detail
 {
 class VehicleMotion;
@@ -192,7 +193,15 @@ public:
      *  `id` empty unless the detector reports ids; a scan without detections is a row with
      *  only `t`; a comment gives semloc-import's detector options), `ground_truth.csv`
      *  (`t,x,y,phi`) and `landmarks.csv` (`id,label,x,y`: every object of the world at its
-     *  centre). semloc-import of these files gives back the rawlog's steps. */
+     *  centre). semloc-import of these files gives back the rawlog's steps.
+     *
+     *  With any of the AUV's sensors on (TAuvSensorOptions), the AUV form: `odometry.csv` is
+     *  `t,vx,vy,w` with a DVL (the body-frame velocities whose exact arc over each step is its
+     *  increment), `detections.csv` is `t,sensor,label,range_m,bearing_rad,side,id,confidence`
+     *  with every detector's scans (the side-scan's in `side`, a camera's range empty),
+     *  `landmarks.csv` has `z`, and `depth.csv` (`t,depth_m,altitude_m`), `heading.csv`
+     *  (`t,heading_rad`) and `fixes.csv` (`t,x,y,z,sigma_m`) are written for the sensors that
+     *  are on. */
     void writeCsvDataset(const SimulationResult& result, const std::string& dir,
                          const std::vector<std::string>& inputs = {}) const;
 
@@ -213,6 +222,8 @@ public:
 
 private:
     double speed() const;
+    /** writeCsvDataset()'s AUV form, into `out` (not committed). */
+    void writeAuvCsvDataset(const SimulationResult& result, StagedDirectory& out) const;
     /** The simulation loop of run() and runDriven(). */
     SimulationResult simulate(detail::VehicleMotion& motion, const mrpt::math::TPose2D& start,
                               size_t maxSteps) const;
