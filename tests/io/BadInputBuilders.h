@@ -154,6 +154,7 @@ Cases csvValueCases();
 Cases csvRealLogCases();
 Cases csvAuvDetectionCases();
 Cases csvAuvReadingCases();
+Cases auvModelCases();
 Cases iniMessageCases();
 Cases calibrateCases();
 Cases runPlotCases();
@@ -188,6 +189,7 @@ inline std::vector<Cases> allCaseGroups()
             csvRealLogCases(),
             csvAuvDetectionCases(),
             csvAuvReadingCases(),
+            auvModelCases(),
             iniMessageCases(),
             calibrateCases(),
             runPlotCases(),
