@@ -33,7 +33,7 @@ std::string survey(const semloc::TSimulatorOptions& o, const std::string& name)
     const fs::path dir = fs::path(SEMLOC_TEST_OUT) / "sensor_model_calibration";
     fs::create_directories(dir);
     const semloc::Simulator sim(o);
-    const std::string rawlog = (dir / (name + ".rawlog")).string();
+    std::string rawlog = (dir / (name + ".rawlog")).string();
     sim.writeDataset(sim.run(), rawlog);
     return rawlog;
 }

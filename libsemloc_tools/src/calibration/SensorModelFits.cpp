@@ -219,10 +219,11 @@ struct DetectorFit
         const size_t n = dr.size();
         const auto sigmaFit = [n](double sigma, double scale, const char* what)
         {
-            return fitValue(sigma * scale, n,
-                            1.96 * sigma * scale / std::sqrt(2.0 * std::max<size_t>(n, 1)),
-                            std::string("1.4826 MAD of the matched ") + what + " residuals",
-                            TCalibrationResult::kMinResiduals, 1e-6, 1e6);
+            return fitValue(
+                sigma * scale, n,
+                1.96 * sigma * scale / std::sqrt(2.0 * static_cast<double>(std::max<size_t>(n, 1))),
+                std::string("1.4826 MAD of the matched ") + what + " residuals",
+                TCalibrationResult::kMinResiduals, 1e-6, 1e6);
         };
         if (map->measuresRange())
         {

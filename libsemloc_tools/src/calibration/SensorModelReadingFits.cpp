@@ -48,7 +48,8 @@ void CompassFit::fit()
     const double sigma = rms * std::sqrt(tau) / kDeg;
     out.keys.emplace_back(
         "sigma_deg",
-        fitValue(sigma, m, 1.96 * sigma / std::sqrt(2.0 * std::max(m / tau, 1.0)),
+        fitValue(sigma, m,
+                 1.96 * sigma / std::sqrt(2.0 * std::max(static_cast<double>(m) / tau, 1.0)),
                  "RMS of the residuals within 5 robust sigmas (" + number(rms / kDeg) +
                      " deg) x sqrt of their autocorrelation time (" + number(tau) + " readings)",
                  TCalibrationResult::kMinResiduals, 1e-6, 180));
@@ -85,10 +86,12 @@ void FixFit::fit()
     const size_t n = ex.size();
     const double sigma = std::sqrt(in2 / (2.0 * static_cast<double>(std::max<size_t>(nIn, 1))));
     out.keys.emplace_back(
-        "sigma_m", fitValue(sigma, nIn, 1.96 * sigma / std::sqrt(4.0 * std::max<size_t>(nIn, 1)),
-                            "RMS of the x and y residuals within the 99.99 % radius "
-                            "of their robust sigma",
-                            TCalibrationResult::kMinResiduals, 1e-3, 1e6));
+        "sigma_m",
+        fitValue(sigma, nIn,
+                 1.96 * sigma / std::sqrt(4.0 * static_cast<double>(std::max<size_t>(nIn, 1))),
+                 "RMS of the x and y residuals within the 99.99 % radius "
+                 "of their robust sigma",
+                 TCalibrationResult::kMinResiduals, 1e-3, 1e6));
     const double k = static_cast<double>(nOut);
     out.keys.emplace_back("p_outlier",
                           fitValue((k + 0.5) / (static_cast<double>(n) + 1), n,

@@ -392,6 +392,7 @@ static std::vector<GroundTruthRow> groundTruthOf(std::istream* in, const std::st
         stats->groundTruthRepeatedTimes += repeated;
     }
     std::vector<GroundTruthRow> rows;
+    rows.reserve(kept.size());
     for (const size_t r : kept)
     {
         rows.push_back({t.number(r, "t"), t.number(r, "x"), t.number(r, "y"), headingCell(t, r)});

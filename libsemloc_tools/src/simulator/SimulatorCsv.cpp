@@ -43,19 +43,30 @@ bool anyAuvSensor(const TAuvSensorOptions& a)
 std::string auvImportOptions(const TAuvSensorOptions& a, const SemanticDetectorModel::TOptions& d,
                              bool semantic)
 {
-    std::string o = semantic ? importOptions(d) : "";
+    std::string o = semantic ? " " + importOptions(d) : "";
     for (const auto* s : {&a.sidescan, &a.fls, &a.camera})
     {
         if (!s->enabled)
         {
             continue;
         }
-        const std::string n = " --", eq = " " + s->sensor_label + "=";
         const bool side = s->kind == TObjectDetectorSimOptions::Kind::SideScan;
-        o += n + "max-range-m" + eq + detail::shortestText(s->max_range_m) + n + "fov-deg" + eq +
-             detail::shortestText(side ? 360 : s->fov_deg) + n + "sensor-pose" + eq +
-             detail::shortestText(s->sensor_x_m) + "," + detail::shortestText(s->sensor_y_m) + "," +
-             detail::shortestText(s->sensor_yaw_deg) + "," + detail::shortestText(s->sensor_z_m);
+        const auto option = [&](const char* name, const std::string& value) {
+            o.append(" --")
+                .append(name)
+                .append(" ")
+                .append(s->sensor_label)
+                .append("=")
+                .append(value);
+        };
+        option("max-range-m", detail::shortestText(s->max_range_m));
+        option("fov-deg", detail::shortestText(side ? 360 : s->fov_deg));
+        std::string pose = detail::shortestText(s->sensor_x_m);
+        for (const double v : {s->sensor_y_m, s->sensor_yaw_deg, s->sensor_z_m})
+        {
+            pose += "," + detail::shortestText(v);
+        }
+        option("sensor-pose", pose);
     }
     return o;
 }
