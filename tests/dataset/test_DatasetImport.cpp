@@ -7,7 +7,6 @@
 #include <mrpt/obs/CSensoryFrame.h>
 #include <mrpt/poses/CPose2D.h>
 #include <semloc/dataset/DatasetImport.h>
-#include <semloc/io/ErrorMessage.h>
 #include <semloc/io/RawlogWriter.h>
 #include <semloc/simulator/Simulator.h>
 #include <semloc/world/World.h>
@@ -49,19 +48,7 @@ std::string write(const fs::path& p, const std::string& text)
     return p.string();
 }
 
-template <typename F>
-std::string errorOf(F&& f)
-{
-    try
-    {
-        f();
-    }
-    catch (const std::exception& e)
-    {
-        return semloc::errorMessage(e);
-    }
-    return "";
-}
+using semloc::test::errorOf;
 
 TEST(DatasetImport, OdometryPosesOrSpeeds)
 {

@@ -5,14 +5,21 @@
 #include <mrpt/math/TPose2D.h>
 #include <semloc/calibration/SensorCalibration.h>
 #include <semloc/dataset/GroundTruthFile.h>
+#include <semloc/io/ConfigHelpers.h>
 #include <semloc/observation/CObservationSemantic.h>
 
 #include <cstddef>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace semloc::detail
 {
+/** Marks `f` TooLittleData when `have` < `need` (`tooLittle`: why) or its value is not finite,
+ *  else clamps it into `range` (Clamped, `outside`: why it fell outside). */
+void limit(TCalibrationFit& f, const config::TValueRange& range, size_t have, size_t need,
+           const std::string& tooLittle, const std::string& outside);
+
 /** 1.4826 x the median absolute deviation from the median (a Gaussian's sigma); 0 if empty. */
 double madSigma(std::vector<double> x);
 

@@ -15,8 +15,34 @@
 
 namespace semloc
 {
+namespace detail
+{
+/** Marks `f` TooLittleData when `have` < `need`, else clamps it into `range` (`outside`: why
+ *  it fell outside, as the data show it). */
+void limit(TCalibrationFit& f, const config::TValueRange& range, size_t have, size_t need,
+           const std::string& tooLittle, const std::string& outside)
+{
+    if (have < need || !std::isfinite(f.value))
+    {
+        f.status = TCalibrationFit::Status::TooLittleData;
+        f.why = have < need ? tooLittle : "the fit is not a finite number";
+        return;
+    }
+    const double v = range.clamp(f.value);
+    if (v != f.value)
+    {
+        f.status = TCalibrationFit::Status::Clamped;
+        f.fitted = f.value;
+        f.why = outside;
+        f.value = v;
+    }
+}
+
+}  // namespace detail
+
 namespace
 {
+using detail::limit;
 using Status = TCalibrationFit::Status;
 
 std::string num(double v)
@@ -29,27 +55,6 @@ std::string num(double v)
 std::string count(size_t n)
 {
     return std::to_string(n);
-}
-
-/** Marks `f` TooLittleData when `have` < `need`, else clamps it into `range` (`outside`: why
- *  it fell outside, as the data show it). */
-void limit(TCalibrationFit& f, const config::TValueRange& range, size_t have, size_t need,
-           const std::string& tooLittle, const std::string& outside)
-{
-    if (have < need || !std::isfinite(f.value))
-    {
-        f.status = Status::TooLittleData;
-        f.why = have < need ? tooLittle : "the fit is not a finite number";
-        return;
-    }
-    const double v = range.clamp(f.value);
-    if (v != f.value)
-    {
-        f.status = Status::Clamped;
-        f.fitted = f.value;
-        f.why = outside;
-        f.value = v;
-    }
 }
 
 /** "k detections of n in-view objects <where>" over the in-view objects whose range `in`. */

@@ -32,22 +32,13 @@ TCalibrationFit fitValue(double value, size_t n, double ci95, const std::string&
                          size_t minSamples, double lo, double hi)
 {
     TCalibrationFit f;
+    f.value = value;
     f.n = n;
-    f.method = method;
-    if (n < minSamples)
-    {
-        f.status = TCalibrationFit::Status::TooLittleData;
-        f.why = std::to_string(n) + " samples, fewer than " + std::to_string(minSamples);
-        return f;
-    }
-    f.value = std::clamp(value, lo, hi);
     f.ci95 = ci95;
-    if (f.value != value)
-    {
-        f.status = TCalibrationFit::Status::Clamped;
-        f.fitted = value;
-        f.why = value < lo ? "below " + number(lo) : "above " + number(hi);
-    }
+    f.method = method;
+    limit(f, {lo, hi}, n, minSamples,
+          std::to_string(n) + " samples, fewer than " + std::to_string(minSamples),
+          value < lo ? "below " + number(lo) : "above " + number(hi));
     return f;
 }
 
@@ -109,7 +100,7 @@ const GroundTruthRow* truthAt(const GroundTruth& gt, mrpt::Clock::time_point t, 
 }
 
 /** The section of the `index`-th map of kind `kind`. */
-std::string sectionOf(const std::string& kind, size_t index)
+std::string likelihoodSection(const std::string& kind, size_t index)
 {
     return mrpt::format("MetricMap_%s_%02zu_likelihoodOpts", kind.c_str(), index);
 }
@@ -300,12 +291,16 @@ struct Fits
                  bool detectorsOnly)
     {
         const GroundTruthRow* truth = truthAt(gt, obs.timestamp, tol);
+        const auto* sem = dynamic_cast<const CObservationSemantic*>(&obs);
         for (auto& d : detectors)
         {
-            // Every observation in frame order: the depth readings set the sensor's height.
-            d.map->prepareObservation(obs);
-            const auto* sem = dynamic_cast<const CObservationSemantic*>(&obs);
-            if (sem != nullptr && truth != nullptr && d.map->uses(obs))
+            if (sem == nullptr)
+            {
+                // The other observations in frame order: a depth reading sets the sensor's
+                // height for the scans after it.
+                d.map->prepareObservation(obs);
+            }
+            else if (truth != nullptr && d.map->uses(obs))
             {
                 d.addScan(*sem, {truth->x, truth->y, truth->phi});
             }
@@ -373,7 +368,7 @@ Fits modelsOf(const LocalizationMap& lm, double gate_m)
     for (const auto& m : lm.map->maps)
     {
         const std::string kind = LocalizationMap::kindOf(*m);
-        const std::string section = sectionOf(kind, count[kind]++);
+        const std::string section = likelihoodSection(kind, count[kind]++);
         if (const auto* d = dynamic_cast<const CObjectDetectorMap*>(m.get()))
         {
             DetectorFit fit;

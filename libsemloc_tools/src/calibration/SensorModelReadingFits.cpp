@@ -8,6 +8,7 @@
 
 #include "calibration/CalibrationFits.h"
 #include "calibration/SensorModelFits.h"
+#include "experiment/Statistics.h"
 
 namespace semloc::detail
 {
@@ -24,15 +25,11 @@ void CompassFit::add(const mrpt::obs::CObservationIMU& imu, const GroundTruthRow
 
 void CompassFit::fit()
 {
-    std::vector<double> sorted = e;
-    const double s = madSigma(e);
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<long>(sorted.size() / 2),
-                     sorted.end());
-    const double median = sorted.empty() ? 0 : sorted[sorted.size() / 2];
+    const double s = madSigma(e), mid = median(e);
     std::vector<double> in;
     for (const double v : e)
     {
-        if (std::abs(v - median) <= 5 * s)
+        if (std::abs(v - mid) <= 5 * s)
         {
             in.push_back(v);
         }
